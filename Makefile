@@ -1,0 +1,70 @@
+# rtaccel: the user's interface. `make help` lists the targets.
+# Every user-facing target depends on `setup`, so each one works on a fresh
+# Debian machine: setup installs only what is missing and is cheap when warm.
+SHELL := /bin/bash
+.SHELLFLAGS := -euo pipefail -c
+.DEFAULT_GOAL := help
+
+SBT       := ./sbt
+CARGO     := cargo
+BRIDGE_MANIFEST := nori-bridge/Cargo.toml
+BRIDGE    := nori-bridge/target/release/nori-bridge
+BUILD     := build
+SBT_LAUNCH_VERSION := $(shell sed -n 's/^sbt.version *= *//p' project/build.properties)
+SBT_LAUNCH_JAR := $(HOME)/.m2/repository/org/scala-sbt/sbt-launch/$(SBT_LAUNCH_VERSION)/sbt-launch-$(SBT_LAUNCH_VERSION).jar
+APT_PACKAGES := verilator yosys libembree-dev maven pkg-config
+
+.PHONY: help setup setup-apt setup-sbt setup-cargo test test-scala test-rust test-hls demo verilog regress clean
+
+help: ## List the targets and what each does
+	@grep -hE '^[a-zA-Z0-9_.-]+:.*## ' $(MAKEFILE_LIST) | sort -u | \
+	  awk 'BEGIN {FS = ":.*## "}; {printf "  make %-18s %s\n", $$1, $$2}'
+
+setup: setup-apt setup-sbt setup-cargo ## Install what is missing (apt packages, sbt launcher, Rust build); idempotent
+
+setup-apt: ## Install the Debian packages rtaccel needs, if any is missing
+	@missing=""; for p in $(APT_PACKAGES); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; done; \
+	  command -v javac >/dev/null || missing="$$missing openjdk-17-jdk-headless"; \
+	  command -v cargo >/dev/null || missing="$$missing cargo"; \
+	  if [ -n "$$missing" ]; then \
+	    echo "setup: installing$$missing"; \
+	    SUDO=""; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
+	    $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing >/dev/null; \
+	  else echo "setup: apt packages present"; fi
+
+setup-sbt: setup-apt ## Fetch the sbt launcher jar from Maven Central, if missing
+	@if [ -f "$(SBT_LAUNCH_JAR)" ]; then echo "setup: sbt launcher $(SBT_LAUNCH_VERSION) present"; \
+	else mvn -q dependency:get -Dartifact=org.scala-sbt:sbt-launch:$(SBT_LAUNCH_VERSION) -Dtransitive=false; fi
+
+setup-cargo: setup-apt ## Build nori-bridge (release), fetching crates from crates.io
+	@$(CARGO) build --release --quiet --manifest-path $(BRIDGE_MANIFEST)
+
+test: setup test-scala test-rust test-hls ## Run every test: sbt test, cargo test, the hls/ C-simulation tests
+	@echo "make test: all test suites passed"
+
+test-scala: setup-sbt ## Chisel/chiseltest specs (treadle and Verilator)
+	$(SBT) test
+
+test-rust: setup-cargo ## nori-bridge tests
+	$(CARGO) test --release --manifest-path $(BRIDGE_MANIFEST)
+
+test-hls: setup-apt ## Build and run the HLS twins' C-simulation test benches
+	$(MAKE) -C hls test
+
+demo: setup ## The main job on the default shipped scene
+	@./scripts/demo.sh
+
+verilog: setup ## SystemVerilog for the ZC706 into build/verilog/ (not built yet)
+	@echo "make verilog: not built yet (the accelerator top level is issue 5)" >&2; exit 1
+
+regress: setup ## Scene regression: make regress SCENE=scenes/...xml (not built yet)
+	@echo "make regress: not built yet (the accelerator and its regression are issue 5)" >&2; exit 1
+
+clean: ## Remove build outputs (keeps downloaded toolchains and caches)
+	rm -rf $(BUILD) target project/target project/project test_run_dir
+	$(MAKE) -C hls clean
+	$(CARGO) clean --manifest-path $(BRIDGE_MANIFEST)
+
+# Area-specific targets (floating point, scenes, benchmarks) live in mk/*.mk.
+-include mk/*.mk

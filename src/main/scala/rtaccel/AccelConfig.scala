@@ -1,0 +1,43 @@
+package rtaccel
+
+import chisel3.util.log2Ceil
+import rtaccel.fp.FloatFormat
+
+/** The one configuration every rtaccel module derives its widths and depths
+  * from. Nothing else in the generator retypes a width: ask the config.
+  *
+  * @param numRayIds   rays in flight at once; each carries an ID in [0, numRayIds)
+  * @param stackDepth  per-ray traversal stack entries (>= BVH depth of the scene)
+  * @param maxNodes    largest node count the node index must address
+  * @param maxTriangles largest triangle count the triangle index must address
+  * @param maxLeafSize largest triangle count in one leaf
+  * @param float       number format of the intersection datapaths
+  */
+case class AccelConfig(
+    numRayIds: Int = 64,
+    stackDepth: Int = 32,
+    maxNodes: Int = 1 << 21,
+    maxTriangles: Int = 1 << 20,
+    maxLeafSize: Int = 16,
+    float: FloatFormat = FloatFormat.FP32
+) {
+  require(numRayIds >= 2, s"AccelConfig: numRayIds must be >= 2, got $numRayIds")
+  require(stackDepth >= 1, s"AccelConfig: stackDepth must be >= 1, got $stackDepth")
+  require(maxNodes >= 1, s"AccelConfig: maxNodes must be >= 1, got $maxNodes")
+  require(maxTriangles >= 1, s"AccelConfig: maxTriangles must be >= 1, got $maxTriangles")
+  require(maxLeafSize >= 1, s"AccelConfig: maxLeafSize must be >= 1, got $maxLeafSize")
+
+  /** Width of a ray ID. At least 1 bit so that a 1-entry pool still has a wire. */
+  val rayIdBits: Int = log2Ceil(numRayIds).max(1)
+  /** Width of a stack pointer, which counts 0..stackDepth inclusive. */
+  val stackPtrBits: Int = log2Ceil(stackDepth + 1)
+  val nodeIndexBits: Int = log2Ceil(maxNodes).max(1)
+  val triIndexBits: Int = log2Ceil(maxTriangles).max(1)
+  /** Counts 0..maxLeafSize inclusive. */
+  val leafCountBits: Int = log2Ceil(maxLeafSize + 1)
+}
+
+object AccelConfig {
+  /** The generic configuration `make verilog` targets on the ZC706 (xc7z045). */
+  val zc706: AccelConfig = AccelConfig()
+}

@@ -1,0 +1,62 @@
+package rtaccel
+
+import chisel3._
+import chisel3.util._
+
+/** A pool of ray IDs `0 until numIds`, handed out on `alloc` and returned on
+  * `free`, both ready/valid.
+  *
+  * IDs never issued yet come from a counter, so the pool is full straight out
+  * of reset with no initialisation phase; returned IDs go through a FIFO of
+  * depth `numIds`, which can therefore never overflow.
+  *
+  * An `inUse` bit per ID guards the invariant "no ray is lost or duplicated":
+  * freeing an ID that is not allocated is dropped (so the ID cannot be handed
+  * out twice) and raises the sticky `doubleFree` flag for the testbench and the
+  * error counters.
+  */
+class RayIdFreeList(numIds: Int) extends Module {
+  require(numIds >= 2, s"RayIdFreeList: numIds must be >= 2, got $numIds")
+  private val idBits = log2Ceil(numIds)
+
+  val io = IO(new Bundle {
+    val alloc      = Decoupled(UInt(idBits.W))
+    val free       = Flipped(Decoupled(UInt(idBits.W)))
+    /** Number of IDs currently allocated. */
+    val inFlight   = Output(UInt(log2Ceil(numIds + 1).W))
+    /** Sticky: some `free` named an ID that was not allocated. */
+    val doubleFree = Output(Bool())
+  })
+  override def desiredName = s"RayIdFreeList_n$numIds"
+
+  // IDs below freshReg have been issued at least once.
+  private val freshReg      = RegInit(0.U(log2Ceil(numIds + 1).W))
+  private val returned      = Module(new Queue(UInt(idBits.W), numIds))
+  private val inUseReg      = RegInit(VecInit(Seq.fill(numIds)(false.B)))
+  private val inFlightReg   = RegInit(0.U(log2Ceil(numIds + 1).W))
+  private val doubleFreeReg = RegInit(false.B)
+
+  private val haveFresh = freshReg =/= numIds.U
+  io.alloc.valid := haveFresh || returned.io.deq.valid
+  io.alloc.bits  := Mux(haveFresh, freshReg(idBits - 1, 0), returned.io.deq.bits)
+  returned.io.deq.ready := io.alloc.ready && !haveFresh
+
+  // The FIFO holds at most numIds - inFlight entries, so it always has room.
+  io.free.ready := true.B
+  private val freeLegal = inUseReg(io.free.bits)
+  returned.io.enq.valid := io.free.valid && freeLegal
+  returned.io.enq.bits  := io.free.bits
+
+  private val allocFire = io.alloc.fire
+  private val freeFire  = io.free.valid && freeLegal
+  when(allocFire && haveFresh) { freshReg := freshReg + 1.U }
+  // Order matters when the same ID is freed and re-allocated in one cycle:
+  // it cannot be, because a freed ID enters the FIFO and leaves it a cycle later.
+  when(freeFire) { inUseReg(io.free.bits) := false.B }
+  when(allocFire) { inUseReg(io.alloc.bits) := true.B }
+  when(io.free.valid && !freeLegal) { doubleFreeReg := true.B }
+  inFlightReg := inFlightReg + allocFire.asUInt - freeFire.asUInt
+
+  io.inFlight   := inFlightReg
+  io.doubleFree := doubleFreeReg
+}
