@@ -1,0 +1,69 @@
+package rtaccel.scene
+
+import java.nio.{ByteBuffer, ByteOrder}
+import java.nio.file.{Files, Path}
+
+/** A nori-bridge memory image (`image.bin`), as specified in
+  * docs/memory-format.md: a 64-byte little-endian header, then 32-byte BVH
+  * nodes and 48-byte triangle records, each section 64-byte aligned.
+  *
+  * The hardware sees this file as its memory, byte address 0 = file offset 0.
+  */
+final class MemoryImage private (val source: String, val bytes: Array[Byte]) {
+  import MemoryImage._
+  private val header = ByteBuffer.wrap(bytes, 0, HeaderBytes).order(ByteOrder.LITTLE_ENDIAN)
+  private def u32(offset: Int): Long = header.getInt(offset).toLong & 0xffffffffL
+
+  val version: Long     = u32(8)
+  val nodeCount: Long   = u32(12)
+  val triCount: Long    = u32(16)
+  val nodeOffset: Long  = u32(20)
+  val triOffset: Long   = u32(24)
+  val nodeBytes: Long   = u32(28)
+  val triBytes: Long    = u32(32)
+  val maxLeafSize: Long = u32(36)
+  val bvhDepth: Long    = u32(40)
+
+  private def fail(what: String): Nothing = throw new IllegalArgumentException(s"$source: $what")
+  if (version != Version) fail(s"format version $version, this build reads version $Version")
+  if (nodeBytes != NodeBytes) fail(s"nodeBytes = $nodeBytes, expected $NodeBytes")
+  if (triBytes != TriBytes) fail(s"triBytes = $triBytes, expected $TriBytes")
+  if (nodeCount < 1) fail("nodeCount = 0: an image needs at least a root node")
+  if (nodeOffset % 64 != 0 || triOffset % 64 != 0) fail(s"sections not 64-byte aligned (nodeOffset=$nodeOffset, triOffset=$triOffset)")
+  if (nodeOffset + nodeCount * NodeBytes > bytes.length) fail(s"node section [$nodeOffset, +${nodeCount * NodeBytes}) runs past the file end (${bytes.length} bytes)")
+  if (triOffset + triCount * TriBytes > bytes.length) fail(s"triangle section [$triOffset, +${triCount * TriBytes}) runs past the file end (${bytes.length} bytes)")
+
+  def nodeAddr(index: Long): Long = nodeOffset + index * NodeBytes
+  def triAddr(index: Long): Long  = triOffset + index * TriBytes
+
+  /** `n` bytes at `addr` as an unsigned little-endian integer (byte 0 in bits 7..0). */
+  def readLE(addr: Long, n: Int): BigInt = {
+    if (addr < 0 || addr + n > bytes.length)
+      throw new IndexOutOfBoundsException(s"$source: read of $n bytes at address $addr is outside the image (${bytes.length} bytes)")
+    var v = BigInt(0)
+    var i = n - 1
+    while (i >= 0) { v = (v << 8) | (bytes(addr.toInt + i) & 0xff); i -= 1 }
+    v
+  }
+}
+
+object MemoryImage {
+  val Magic: Array[Byte] = "RTACCEL\u0000".getBytes("US-ASCII")
+  val Version = 1L
+  val HeaderBytes = 64
+  val NodeBytes = 32
+  val TriBytes = 48
+
+  def load(path: Path): MemoryImage = {
+    if (!Files.exists(path))
+      throw new IllegalArgumentException(s"$path: no such memory image (make one with `nori-bridge compile <scene.xml> --out <dir>`)")
+    fromBytes(path.toString, Files.readAllBytes(path))
+  }
+
+  def fromBytes(source: String, bytes: Array[Byte]): MemoryImage = {
+    if (bytes.length < HeaderBytes) throw new IllegalArgumentException(s"$source: ${bytes.length} bytes is shorter than the $HeaderBytes-byte header")
+    if (!bytes.take(8).sameElements(Magic))
+      throw new IllegalArgumentException(s"$source: bad magic ${bytes.take(8).map(b => f"${b & 0xff}%02x").mkString} (expected 'RTACCEL\\0')")
+    new MemoryImage(source, bytes)
+  }
+}
