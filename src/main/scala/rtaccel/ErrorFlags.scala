@@ -1,0 +1,27 @@
+package rtaccel
+
+import chisel3._
+
+/** Per-ray error bits, OR-ed in by any unit and returned with the hit. A ray
+  * the hardware cannot finish correctly always comes back with one set; it
+  * never comes back with a silently wrong hit.
+  */
+object ErrorFlags {
+  /** A push found the ray's stack full: the BVH is deeper than `stackDepth`. */
+  val StackOverflow = 0
+  /** A node or triangle index does not fit the generated index widths. */
+  val IndexOverflow = 1
+  /** A leaf holds more triangles than `maxLeafSize`. */
+  val LeafTooBig = 2
+  /** The ray has a NaN or infinite origin/direction component (or NaN tmin/tmax). */
+  val InvalidRay = 3
+
+  val width = 4
+  def apply(): UInt = UInt(width.W)
+  def bit(i: Int): UInt = (BigInt(1) << i).U(width.W)
+
+  /** Names of the set bits, for reports and failing tests. */
+  def describe(bits: BigInt): String =
+    Seq(StackOverflow -> "stack-overflow", IndexOverflow -> "index-overflow", LeafTooBig -> "leaf-too-big", InvalidRay -> "invalid-ray")
+      .collect { case (i, n) if bits.testBit(i) => n }.mkString("|")
+}
