@@ -12,6 +12,7 @@ import rtaccel.fp.FloatFormat
   * @param maxTriangles largest triangle count the triangle index must address
   * @param maxLeafSize largest triangle count in one leaf
   * @param float       number format of the intersection datapaths
+  * @param addrBits    byte-address width of the memory ports (32 on the ZC706)
   */
 case class AccelConfig(
     numRayIds: Int = 64,
@@ -19,13 +20,15 @@ case class AccelConfig(
     maxNodes: Int = 1 << 21,
     maxTriangles: Int = 1 << 20,
     maxLeafSize: Int = 16,
-    float: FloatFormat = FloatFormat.FP32
+    float: FloatFormat = FloatFormat.FP32,
+    addrBits: Int = 32
 ) {
   require(numRayIds >= 2, s"AccelConfig: numRayIds must be >= 2, got $numRayIds")
   require(stackDepth >= 1, s"AccelConfig: stackDepth must be >= 1, got $stackDepth")
   require(maxNodes >= 1, s"AccelConfig: maxNodes must be >= 1, got $maxNodes")
   require(maxTriangles >= 1, s"AccelConfig: maxTriangles must be >= 1, got $maxTriangles")
   require(maxLeafSize >= 1, s"AccelConfig: maxLeafSize must be >= 1, got $maxLeafSize")
+  require(addrBits >= 8 && addrBits <= 48, s"AccelConfig: addrBits must be in 8..48, got $addrBits")
 
   /** Width of a ray ID. At least 1 bit so that a 1-entry pool still has a wire. */
   val rayIdBits: Int = log2Ceil(numRayIds).max(1)

@@ -1,0 +1,55 @@
+package rtaccel.traversal
+
+import chisel3._
+import chisel3.util._
+import rtaccel.mem.{MemPort, MemPortParams}
+import rtaccel.{AccelConfig, BvhNode}
+
+/** Turns "ray `id` wants node `k`" into a node request tagged with `id`, and
+  * each response back into (token, node).
+  *
+  * Tokens wait in a queue of `numRayIds` entries, which can never overflow
+  * because each ray is in at most one place. While memory works, a ray's token
+  * waits in a per-ray slot indexed by its ID, so responses can return in any
+  * order. The response channel is always ready (docs/architecture.md: the
+  * accelerator never back-pressures memory); the output is a valid pipe.
+  */
+class PrepFetch(cfg: AccelConfig) extends Module {
+  val port: MemPortParams = MemPortParams(cfg.addrBits, cfg.rayIdBits, BvhNode.RecordBytes)
+  val io = IO(new Bundle {
+    val in       = Flipped(Decoupled(new TraversalToken(cfg)))
+    /** Byte address of node 0 in memory. */
+    val nodeBase = Input(UInt(cfg.addrBits.W))
+    val mem      = new MemPort(port)
+    val out      = Valid(new FetchedNode(cfg))
+    /** Rays waiting in the queue or for memory (a performance counter input). */
+    val waiting  = Output(UInt(log2Ceil(cfg.numRayIds + 1).W))
+  })
+  override def desiredName = s"PrepFetch_n${cfg.numRayIds}"
+
+  private val queue = Module(new Queue(new TraversalToken(cfg), cfg.numRayIds))
+  queue.io.enq <> io.in
+
+  private val parked = Mem(cfg.numRayIds, new TraversalToken(cfg))
+  io.mem.req.valid     := queue.io.deq.valid
+  io.mem.req.bits.addr := io.nodeBase + (queue.io.deq.bits.nodeIdx << log2Ceil(BvhNode.RecordBytes))
+  io.mem.req.bits.tag  := queue.io.deq.bits.rayId
+  queue.io.deq.ready   := io.mem.req.ready
+  when(io.mem.req.fire) { parked.write(queue.io.deq.bits.rayId, queue.io.deq.bits) }
+
+  io.mem.resp.ready := true.B
+  private val fetched = Wire(new FetchedNode(cfg))
+  fetched.token := parked.read(io.mem.resp.bits.tag)
+  fetched.node  := BvhNode.decode(cfg, io.mem.resp.bits.data)
+  io.out := Pipe(io.mem.resp.valid, fetched, 1)
+
+  private val inMemoryReg = RegInit(0.U(log2Ceil(cfg.numRayIds + 1).W))
+  inMemoryReg := inMemoryReg + io.mem.req.fire.asUInt - io.mem.resp.fire.asUInt
+  io.waiting := queue.io.count +& inMemoryReg
+}
+
+/** A ray's token with the node it fetched. */
+class FetchedNode(cfg: AccelConfig) extends Bundle {
+  val token = new TraversalToken(cfg)
+  val node  = new BvhNode(cfg)
+}

@@ -1,0 +1,121 @@
+package rtaccel.traversal
+
+import chisel3._
+import chiseltest._
+import org.scalatest.flatspec.AnyFlatSpec
+import rtaccel.mem._
+import rtaccel.scene.MemoryImage
+import rtaccel.testutil.{Backends, Seeded}
+import rtaccel.{AccelConfig, ErrorFlags}
+
+import scala.collection.mutable
+import scala.util.Random
+
+class PrepFetchSpec extends AnyFlatSpec with ChiselScalatestTester {
+  behavior of "PrepFetch"
+
+  private val cfg = AccelConfig(numRayIds = 8, stackDepth = 4, maxNodes = 64, maxTriangles = 1024, maxLeafSize = 8)
+
+  private def pokeToken(dut: PrepFetch, id: Int, node: Int, sp: Int): Unit = {
+    val t = dut.io.in.bits
+    t.rayId.poke(id.U); t.nodeIdx.poke(node.U); t.sp.poke(sp.U)
+    for (a <- 0 until 3) t.dirNeg(a).poke((((id >> a) & 1) == 1).B)
+    t.shadow.poke((id % 2 == 1).B); t.errors.poke(0.U)
+  }
+
+  /** Checks an output against the image: the token's ray, and the node's fields decoded from its bytes. */
+  private def expectFetched(dut: PrepFetch, img: MemoryImage, expected: Map[Int, (Int, Int)], what: String): Int = {
+    val o = dut.io.out.bits
+    val id = o.token.rayId.peek().litValue.toInt
+    val (node, sp) = expected.getOrElse(id, fail(s"$what: output for ray $id, which has no request outstanding"))
+    o.token.nodeIdx.expect(node.U, what); o.token.sp.expect(sp.U, what)
+    o.token.shadow.expect((id % 2 == 1).B, what)
+    val words = (0 until 8).map(w => img.readLE(img.nodeAddr(node) + 4 * w, 4))
+    val leaf = words(0).testBit(31)
+    o.node.links.isLeaf.expect(leaf.B, what)
+    for (a <- 0 until 3) {
+      o.node.boxMin(a).expect(words(2 + a).U, s"$what: min[$a]")
+      o.node.boxMax(a).expect(words(5 + a).U, s"$what: max[$a]")
+    }
+    // Random bytes make most nodes too wide for this config: the flags must say so.
+    val low = words(0) & 0x7fffffffL
+    val tooWide = if (leaf) (words(1) >> cfg.triIndexBits) != 0 else (words(1) >> cfg.nodeIndexBits) != 0 || low > 2
+    val leafBig = leaf && low > cfg.maxLeafSize
+    val flags = (if (tooWide) 1 << ErrorFlags.IndexOverflow else 0) | (if (leafBig) 1 << ErrorFlags.LeafTooBig else 0)
+    o.node.links.errors.expect(flags.U, s"$what: errors")
+    id
+  }
+
+  it should "pair each response with its ray when memory answers in reverse order" in {
+    val img = SyntheticImage(nodes = 64, tris = 4, new Random(11))
+    test(new PrepFetch(cfg)).withAnnotations(Backends.treadle) { dut =>
+      dut.io.nodeBase.poke(img.nodeOffset.U)
+      dut.io.mem.resp.valid.poke(false.B)
+      dut.io.mem.req.ready.poke(false.B) // memory busy: all eight queue up first
+      val reqs = mutable.ArrayBuffer.empty[(Int, Long)]
+      val expected = (0 until 8).map(id => id -> ((id * 7 + 3) % 64, id % 4)).toMap
+      for (id <- 0 until 8) {
+        dut.io.in.valid.poke(true.B)
+        pokeToken(dut, id, expected(id)._1, expected(id)._2)
+        dut.io.in.ready.expect(true.B)
+        dut.clock.step()
+      }
+      dut.io.in.valid.poke(false.B)
+      dut.io.waiting.expect(8.U)
+      dut.io.mem.req.ready.poke(true.B)
+      while (dut.io.mem.req.valid.peek().litToBoolean) {
+        reqs += ((dut.io.mem.req.bits.tag.peek().litValue.toInt, dut.io.mem.req.bits.addr.peek().litValue.toLong))
+        dut.clock.step()
+      }
+      assert(reqs.map(_._1) == (0 until 8), s"requests leave in arrival order: $reqs")
+      for ((tag, addr) <- reqs) assert(addr == img.nodeAddr(expected(tag)._1), s"ray $tag: address $addr")
+      dut.io.waiting.expect(8.U)
+      for ((tag, addr) <- reqs.reverse) {
+        dut.io.mem.resp.valid.poke(true.B)
+        dut.io.mem.resp.bits.tag.poke(tag.U)
+        dut.io.mem.resp.bits.data.poke(img.readLE(addr, 32).U)
+        dut.clock.step()
+        dut.io.mem.resp.valid.poke(false.B)
+        dut.io.out.valid.expect(true.B)
+        assert(expectFetched(dut, img, expected, s"response for ray $tag") == tag)
+      }
+      dut.clock.step()
+      dut.io.out.valid.expect(false.B)
+      dut.io.waiting.expect(0.U)
+    }
+  }
+
+  it should "lose and duplicate nothing under random stalls and out-of-order memory" in Seeded("PrepFetch.random") { rnd =>
+    val img = SyntheticImage(nodes = 64, tris = 4, new Random(rnd.nextLong()))
+    test(new PrepFetch(cfg)).withAnnotations(Backends.treadle) { dut =>
+      val model = new MemorySystemModel(img, 32, MemoryParams(latency = Latency.Uniform(1, 30), maxOutstanding = 5, seed = rnd.nextLong()), "node")
+      val mem = new MemPortHarness(dut.io.mem, model, refuse = 0.3, rnd = rnd)
+      dut.io.nodeBase.poke(img.nodeOffset.U)
+      val outstanding = mutable.Map.empty[Int, (Int, Int)]
+      var sent, received = 0
+      for (cycle <- 0 until 3000) {
+        val free = (0 until 8).filterNot(outstanding.contains)
+        val offer = free.nonEmpty && rnd.nextBoolean()
+        val id = if (offer) free(rnd.nextInt(free.size)) else 0
+        val (node, sp) = (rnd.nextInt(64), rnd.nextInt(5))
+        dut.io.in.valid.poke(offer.B)
+        if (offer) pokeToken(dut, id, node, sp)
+        if (dut.io.out.valid.peek().litToBoolean) {
+          val got = expectFetched(dut, img, outstanding.toMap, s"cycle $cycle")
+          outstanding.remove(got); received += 1
+        }
+        val accepted = offer && dut.io.in.ready.peek().litToBoolean
+        mem.drive()
+        dut.clock.step(); mem.tick()
+        if (accepted) { outstanding(id) = (node, sp); sent += 1 }
+      }
+      dut.io.in.valid.poke(false.B)
+      for (_ <- 0 until 200) {
+        if (dut.io.out.valid.peek().litToBoolean) { outstanding.remove(expectFetched(dut, img, outstanding.toMap, "drain")); received += 1 }
+        mem.drive(); dut.clock.step(); mem.tick()
+      }
+      assert(outstanding.isEmpty && sent == received, s"sent $sent, received $received, still waiting: ${outstanding.keys}")
+      assert(sent > 500, s"only $sent fetches in 3000 cycles")
+    }
+  }
+}
