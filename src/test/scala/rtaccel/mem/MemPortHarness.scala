@@ -15,6 +15,8 @@ import scala.util.Random
 final class MemPortHarness(port: MemPort, val model: MemorySystemModel, refuse: Double = 0.0, rnd: Random = new Random(0)) {
   var requestsAccepted = 0L
   var responsesDelivered = 0L
+  /** The request accepted in the last `drive()`, as (address, tag). */
+  var lastRequest: Option[(Long, Int)] = None
 
   def drive(): Unit = {
     val reqValid = port.req.valid.peek().litToBoolean
@@ -30,8 +32,11 @@ final class MemPortHarness(port: MemPort, val model: MemorySystemModel, refuse: 
       case None =>
         port.resp.valid.poke(false.B)
     }
+    lastRequest = None
     if (reqValid && ready) {
-      model.accept(addr, port.req.bits.tag.peek().litValue.toInt)
+      val tag = port.req.bits.tag.peek().litValue.toInt
+      model.accept(addr, tag)
+      lastRequest = Some((addr, tag))
       requestsAccepted += 1
     } else if (reqValid) model.stalled()
   }

@@ -1,0 +1,189 @@
+package rtaccel.leaf
+
+import chisel3._
+import chisel3.util._
+import rtaccel.fp.FpOrder
+import rtaccel.mem.{MemPort, MemPortParams}
+import rtaccel.traversal.{RayBufferRead, TmaxUpdate, TraversalToken}
+import rtaccel.{AccelConfig, ErrorFlags}
+
+class LeafJob(cfg: AccelConfig) extends Bundle {
+  val token = new TraversalToken(cfg)
+  val first = UInt(cfg.triIndexBits.W)
+  val count = UInt(cfg.leafCountBits.W)
+}
+
+class LeafExit(cfg: AccelConfig) extends Bundle {
+  val token    = new TraversalToken(cfg)
+  /** A shadow ray found an occluder: its traversal is over. */
+  val occluded = Bool()
+}
+
+class BestHit(cfg: AccelConfig) extends Bundle {
+  val t    = UInt(cfg.float.width.W)
+  val u    = UInt(cfg.float.width.W)
+  val v    = UInt(cfg.float.width.W)
+  val prim = UInt(cfg.triIndexBits.W)
+}
+
+/** Tests a ray against every triangle of a leaf and keeps its closest hit.
+  *
+  *  - Issue: one leaf at a time, one triangle request per cycle, tagged with
+  *    the ray ID. A shadow ray that has found an occluder stops issuing.
+  *  - Answer: each triangle goes through `PrimUnit` (II = 1) with the ray read
+  *    from the RayBuffer, and is reduced into the ray's best hit: smallest t,
+  *    ties to the smaller prim, a total order, so the result does not depend
+  *    on the order memory answers in.
+  *  - Exit: a ray leaves when every request it issued has been reduced, never
+  *    earlier, so its ID is never reused while memory still owes it data. Its
+  *    new tmax is written to the RayBuffer in the same cycle it leaves, so its
+  *    next box test sees it (the golden model relies on that).
+  *
+  * Every queue holds up to `numRayIds` entries, and each ray is in one place,
+  * so none can overflow and the response channel is always ready.
+  */
+class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimUnit[T]) extends Module {
+  val port: MemPortParams = MemPortParams(cfg.addrBits, cfg.rayIdBits, TriangleRecord.RecordBytes)
+  val io = IO(new Bundle {
+    val in      = Flipped(Decoupled(new LeafJob(cfg)))
+    val triBase = Input(UInt(cfg.addrBits.W))
+    val mem     = new MemPort(port)
+    val rayRead = Flipped(new RayBufferRead(cfg, gen))
+    val out     = Decoupled(new LeafExit(cfg))
+    val tmax    = Decoupled(new TmaxUpdate(cfg))
+    /** A ray enters the accelerator: forget any hit of the ID's previous ray. */
+    val clear   = Flipped(Valid(UInt(cfg.rayIdBits.W)))
+    /** The best hit of a finished ray, read combinationally by the output stage. */
+    val resultId = Input(UInt(cfg.rayIdBits.W))
+    val result   = Output(Valid(new BestHit(cfg)))
+    /** Triangle tests done (performance counter input). */
+    val tested  = Output(Bool())
+  })
+  override def desiredName = s"LeafIntersect_n${cfg.numRayIds}"
+
+  private val n = cfg.numRayIds
+  private val jobs  = Module(new Queue(new LeafJob(cfg), n))
+  private val exits = Module(new Queue(new LeafExit(cfg), n))
+  jobs.io.enq <> io.in
+
+  private val parked         = Mem(n, new TraversalToken(cfg))
+  private val best           = Mem(n, new BestHit(cfg))
+  private val hasHitReg      = RegInit(VecInit(Seq.fill(n)(false.B)))
+  private val occludedReg    = RegInit(VecInit(Seq.fill(n)(false.B)))
+  private val leafErrorsReg  = RegInit(VecInit(Seq.fill(n)(0.U(ErrorFlags.width.W))))
+  private val outstandingReg = RegInit(VecInit(Seq.fill(n)(0.U(cfg.leafCountBits.W))))
+
+  // ---- Issue ----
+  private val busyReg      = RegInit(false.B)
+  private val stoppingReg  = RegInit(false.B) // done issuing, owes an exit from the issue side
+  private val issueIdReg   = Reg(UInt(cfg.rayIdBits.W))
+  private val nextTriReg   = Reg(UInt(cfg.triIndexBits.W))
+  private val remainingReg = Reg(UInt(cfg.leafCountBits.W))
+
+  jobs.io.deq.ready := !busyReg && !stoppingReg
+  when(jobs.io.deq.fire) {
+    val j = jobs.io.deq.bits
+    parked.write(j.token.rayId, j.token)
+    issueIdReg   := j.token.rayId
+    nextTriReg   := j.first
+    remainingReg := j.count
+    busyReg      := j.count =/= 0.U
+    stoppingReg  := j.count === 0.U // an empty leaf: straight out
+  }
+  private val stopEarly = busyReg && occludedReg(issueIdReg)
+  io.mem.req.valid     := busyReg && !stopEarly
+  io.mem.req.bits.addr := io.triBase + nextTriReg * TriangleRecord.RecordBytes.U
+  io.mem.req.bits.tag  := issueIdReg
+  when(io.mem.req.fire) {
+    nextTriReg   := nextTriReg + 1.U
+    remainingReg := remainingReg - 1.U
+    when(remainingReg === 1.U) { busyReg := false.B }
+  }
+  when(stopEarly) { busyReg := false.B; stoppingReg := true.B }
+
+  // ---- Answer: memory -> RayBuffer read -> PrimUnit -> reduce ----
+  io.mem.resp.ready := true.B
+  io.rayRead.en    := io.mem.resp.valid
+  io.rayRead.rayId := io.mem.resp.bits.tag
+  private val respValidReg = RegNext(io.mem.resp.valid, false.B)
+  private val respReg      = RegEnable(io.mem.resp.bits, io.mem.resp.valid)
+
+  private val prim = Module(mkPrim())
+  prim.io.in.valid         := respValidReg
+  prim.io.in.bits.ray      := io.rayRead.statics
+  prim.io.in.bits.tmax     := io.rayRead.tmax
+  prim.io.in.bits.triangle := respReg.data
+
+  class Carry extends Bundle {
+    val rayId = UInt(cfg.rayIdBits.W)
+    val prim  = UInt(32.W)
+  }
+  private val carryIn = Wire(new Carry)
+  carryIn.rayId := respReg.tag
+  carryIn.prim  := TriangleRecord.prim(respReg.data)
+  private val carry = Pipe(respValidReg, carryIn, prim.latency)
+  io.tested := prim.io.out.valid
+
+  private val doneId  = carry.bits.rayId
+  private val ans     = prim.io.out.bits
+  private val primIdx = carry.bits.prim(cfg.triIndexBits - 1, 0)
+  private val primTooWide = if (cfg.triIndexBits >= 32) false.B else carry.bits.prim(31, cfg.triIndexBits).orR
+  private val old = best.read(doneId)
+  private val (tKey, oldKey) = (FpOrder.key(cfg.float, ans.t), FpOrder.key(cfg.float, old.t))
+  private val closer = !hasHitReg(doneId) || tKey < oldKey || (tKey === oldKey && primIdx < old.prim)
+  private val reduce = prim.io.out.valid
+  when(reduce && ans.hit && !primTooWide && closer) {
+    val b = Wire(new BestHit(cfg))
+    b.t := ans.t; b.u := ans.u; b.v := ans.v; b.prim := primIdx
+    best.write(doneId, b)
+    hasHitReg(doneId) := true.B
+    when(parked.read(doneId).shadow) { occludedReg(doneId) := true.B }
+  }
+  when(reduce && primTooWide) {
+    leafErrorsReg(doneId) := leafErrorsReg(doneId) | ErrorFlags.bit(ErrorFlags.IndexOverflow)
+  }
+
+  // ---- Outstanding counts: +1 per request, -1 per reduced answer ----
+  for (i <- 0 until n) {
+    val inc = io.mem.req.fire && issueIdReg === i.U
+    val dec = reduce && doneId === i.U
+    outstandingReg(i) := outstandingReg(i) + inc.asUInt - dec.asUInt
+  }
+  private val lastAnswer = reduce && outstandingReg(doneId) === 1.U && !((busyReg || stoppingReg) && issueIdReg === doneId)
+  private val issueDrained = outstandingReg(issueIdReg) === 0.U ||
+    (outstandingReg(issueIdReg) === 1.U && reduce && doneId === issueIdReg)
+
+  // ---- Exit: the answer side first (it cannot wait), then the issue side ----
+  private def exitOf(id: UInt): LeafExit = {
+    val e = Wire(new LeafExit(cfg))
+    e.token := parked.read(id)
+    e.token.errors := parked.read(id).errors | leafErrorsReg(id)
+    e.occluded := occludedReg(id) || (reduce && doneId === id && ans.hit && parked.read(id).shadow)
+    e
+  }
+  private val issueExit = stoppingReg && issueDrained && !lastAnswer
+  exits.io.enq.valid := lastAnswer || issueExit
+  exits.io.enq.bits  := Mux(lastAnswer, exitOf(doneId), exitOf(issueIdReg))
+  when(issueExit && exits.io.enq.ready) { stoppingReg := false.B }
+
+  // A ray leaves only together with its tmax write (see the class comment);
+  // a ray with no hit yet keeps the tmax it entered with and writes nothing.
+  private val exitHead  = exits.io.deq
+  private val headId    = exitHead.bits.token.rayId
+  private val needWrite = hasHitReg(headId)
+  private val writeOk   = io.tmax.ready || !needWrite
+  io.out.valid       := exitHead.valid && writeOk
+  io.out.bits        := exitHead.bits
+  io.tmax.valid      := exitHead.valid && needWrite && io.out.ready
+  io.tmax.bits.rayId := headId
+  io.tmax.bits.tmax  := best.read(headId).t
+  exitHead.ready     := io.out.ready && writeOk
+
+  when(io.clear.valid) {
+    hasHitReg(io.clear.bits)     := false.B
+    occludedReg(io.clear.bits)   := false.B
+    leafErrorsReg(io.clear.bits) := 0.U
+  }
+  io.result.valid := hasHitReg(io.resultId)
+  io.result.bits  := best.read(io.resultId)
+}

@@ -1,0 +1,45 @@
+package rtaccel.leaf
+
+import chisel3._
+import chisel3.util._
+import rtaccel.AccelConfig
+
+/** A triangle record as stored (docs/memory-format.md): nine FP32 vertex
+  * coordinates, the primitive number, flags. 48 bytes, little-endian.
+  */
+object TriangleRecord {
+  val RecordBytes = 48
+  def vertexWord(record: UInt, vertex: Int, axis: Int): UInt = {
+    val w = 3 * vertex + axis
+    record(32 * w + 31, 32 * w)
+  }
+  def prim(record: UInt): UInt  = record(9 * 32 + 31, 9 * 32)
+  def flags(record: UInt): UInt = record(10 * 32 + 31, 10 * 32)
+}
+
+class PrimQuery[T <: Data](cfg: AccelConfig, gen: T) extends Bundle {
+  val ray      = gen.cloneType
+  val tmax     = UInt(cfg.float.width.W)
+  val triangle = UInt((TriangleRecord.RecordBytes * 8).W)
+}
+
+/** Hit or not; t, u, v in the datapath format (u, v as in Embree:
+  * point = (1-u-v) v0 + u v1 + v v2). The test includes tmin <= t <= tmax.
+  */
+class PrimAnswer(cfg: AccelConfig) extends Bundle {
+  val hit = Bool()
+  val t   = UInt(cfg.float.width.W)
+  val u   = UInt(cfg.float.width.W)
+  val v   = UInt(cfg.float.width.W)
+}
+
+/** What LeafIntersect needs of a ray/triangle unit: one query per cycle in,
+  * the answer exactly `latency` cycles later, no back-pressure (II = 1).
+  */
+abstract class PrimUnit[T <: Data](val cfg: AccelConfig, val gen: T) extends Module {
+  def latency: Int
+  val io = IO(new Bundle {
+    val in  = Flipped(Valid(new PrimQuery(cfg, gen)))
+    val out = Valid(new PrimAnswer(cfg))
+  })
+}

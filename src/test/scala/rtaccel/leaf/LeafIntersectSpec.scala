@@ -1,0 +1,138 @@
+package rtaccel.leaf
+
+import chisel3._
+import chiseltest._
+import org.scalatest.flatspec.AnyFlatSpec
+import rtaccel.AccelConfig
+import rtaccel.mem._
+import rtaccel.scene.MemoryImage
+import rtaccel.testutil.{Backends, Seeded}
+
+import java.nio.{ByteBuffer, ByteOrder}
+import scala.collection.mutable
+import scala.util.Random
+
+class LeafIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
+  behavior of "LeafIntersect"
+
+  private val cfg = AccelConfig(numRayIds = 4, stackDepth = 4, maxNodes = 256, maxTriangles = 1024, maxLeafSize = 15)
+  private val numTris = 400
+
+  /** Triangle i: t from a small set (so ties happen), hit with probability 1/2, prim = a scrambled index. */
+  private def craftImage(rnd: Random): (MemoryImage, IndexedSeq[(Boolean, Long, Long, Long, Long)]) = {
+    val img = SyntheticImage(nodes = 4, tris = numTris, rnd)
+    val tris = (0 until numTris).map { i =>
+      val t = java.lang.Float.floatToRawIntBits(1.0f + rnd.nextInt(6)).toLong
+      (rnd.nextBoolean(), t, BigInt(31, rnd).toLong, BigInt(31, rnd).toLong, ((i * 37) % 1000).toLong)
+    }
+    for ((tri, i) <- tris.zipWithIndex) {
+      val b = ByteBuffer.wrap(img.bytes, img.triAddr(i).toInt, 48).order(ByteOrder.LITTLE_ENDIAN)
+      b.putInt(tri._2.toInt).putInt(tri._3.toInt).putInt(tri._4.toInt).putInt(if (tri._1) 1 else 0)
+      b.position(img.triAddr(i).toInt + 36); b.putInt(tri._5.toInt)
+    }
+    (img, tris)
+  }
+
+  private case class Life(id: Int, shadow: Boolean, var tmax: Long, var leavesLeft: Int,
+      var best: Option[(Long, Long, Long, Long)] = None, var occluded: Boolean = false,
+      var issued: Int = 0, var leaf: (Int, Int) = (0, 0))
+
+  private def run(latency: Latency, primLatency: Int, cycles: Int, name: String): Unit = Seeded(name) { rnd =>
+    val (img, tris) = craftImage(rnd)
+    test(new LeafIntersect(cfg, UInt(16.W), () => new FieldPrim(cfg, primLatency))).withAnnotations(Backends.verilator) { dut =>
+      val model = new MemorySystemModel(img, 48, MemoryParams(latency = latency, maxOutstanding = 8, seed = rnd.nextLong()), "tri")
+      val mem = new MemPortHarness(dut.io.mem, model, refuse = 0.2, rnd = rnd)
+      dut.io.triBase.poke(img.triOffset.U)
+      val lives = mutable.Map.empty[Int, Life]        // rays in flight, by ID
+      val waiting = mutable.Queue.empty[Int]          // IDs with a job to send
+      var readReq: Option[Int] = None
+      var exitsSeen, shadowEarly, leavesDone = 0
+      for (cycle <- 0 until cycles) {
+        // Start new rays on free IDs.
+        val freeIds = (0 until cfg.numRayIds).filterNot(lives.contains)
+        val start = freeIds.nonEmpty && rnd.nextInt(3) == 0
+        dut.io.clear.valid.poke(start.B)
+        if (start) {
+          val id = freeIds(rnd.nextInt(freeIds.size))
+          dut.io.clear.bits.poke(id.U)
+          lives(id) = Life(id, rnd.nextInt(3) == 0, java.lang.Float.floatToRawIntBits(1.0f + rnd.nextInt(7)).toLong, 1 + rnd.nextInt(3))
+          waiting.enqueue(id)
+        }
+        // Offer the next job.
+        val job = waiting.headOption
+        dut.io.in.valid.poke(job.isDefined.B)
+        job.foreach { id =>
+          val l = lives(id)
+          if (l.leaf == (0, 0) || l.issued == -1) l.leaf = (rnd.nextInt(numTris - cfg.maxLeafSize), rnd.nextInt(cfg.maxLeafSize + 1))
+          dut.io.in.bits.token.rayId.poke(id.U); dut.io.in.bits.token.shadow.poke(l.shadow.B)
+          dut.io.in.bits.token.nodeIdx.poke((id + 10).U); dut.io.in.bits.token.sp.poke(1.U)
+          dut.io.in.bits.token.errors.poke(0.U); for (a <- 0 until 3) dut.io.in.bits.token.dirNeg(a).poke(false.B)
+          dut.io.in.bits.first.poke(l.leaf._1.U); dut.io.in.bits.count.poke(l.leaf._2.U)
+        }
+        // The RayBuffer answers last cycle's read.
+        readReq.foreach { id => dut.io.rayRead.statics.poke(id.U); dut.io.rayRead.tmax.poke(lives(id).tmax.U) }
+        // Consumers, with random back-pressure.
+        val outReady = rnd.nextInt(4) != 0; val tmaxReady = rnd.nextInt(4) != 0
+        dut.io.out.ready.poke(outReady.B); dut.io.tmax.ready.poke(tmaxReady.B)
+        if (dut.io.out.valid.peek().litToBoolean && outReady) {
+          val id = dut.io.out.bits.token.rayId.peek().litValue.toInt
+          val l = lives.getOrElse(id, fail(s"cycle $cycle: exit of ray $id, which is not in flight"))
+          assert(!waiting.contains(id), s"cycle $cycle: ray $id left before its job was taken")
+          // Expected: reduce this leaf's triangles into the ray's best hit.
+          val (first, count) = l.leaf
+          val hits = (first until first + count).map(tris).filter(t => t._1 && t._2 <= l.tmax)
+          if (l.shadow) {
+            assert(l.issued <= count, s"ray $id issued ${l.issued} requests for a $count-triangle leaf")
+            if (l.issued < count) shadowEarly += 1
+            val issuedHits = (first until first + l.issued).map(tris).exists(t => t._1 && t._2 <= l.tmax)
+            dut.io.out.bits.occluded.expect(issuedHits.B, s"cycle $cycle ray $id occluded")
+            if (issuedHits) l.occluded = true
+            if (!issuedHits) assert(l.issued == count, s"unoccluded shadow ray $id issued ${l.issued}/$count")
+          } else {
+            assert(l.issued == count, s"cycle $cycle: ray $id issued ${l.issued} requests for a $count-triangle leaf")
+            dut.io.out.bits.occluded.expect(false.B)
+            val cands = hits.map(t => (t._2, t._5, t._3, t._4)) ++ l.best.map(b => (b._1, b._4, b._2, b._3))
+            if (cands.nonEmpty) { val m = cands.minBy(c => (c._1, c._2)); l.best = Some((m._1, m._3, m._4, m._2)) }
+          }
+          dut.io.out.bits.token.nodeIdx.expect((id + 10).U); dut.io.out.bits.token.sp.expect(1.U)
+          dut.io.resultId.poke(id.U)
+          if (!l.shadow) {
+            dut.io.result.valid.expect(l.best.isDefined.B, s"cycle $cycle ray $id has a hit")
+            l.best.foreach { case (t, u, v, p) =>
+              dut.io.result.bits.t.expect(t.U, s"ray $id t"); dut.io.result.bits.u.expect(u.U, s"ray $id u")
+              dut.io.result.bits.v.expect(v.U, s"ray $id v"); dut.io.result.bits.prim.expect(p.U, s"ray $id prim")
+            }
+            if (l.best.isDefined) {
+              dut.io.tmax.valid.expect(true.B, s"ray $id must write its tmax as it leaves")
+              dut.io.tmax.bits.tmax.expect(l.best.get._1.U)
+              l.tmax = l.best.get._1
+            }
+          }
+          exitsSeen += 1; leavesDone += 1
+          l.leavesLeft -= 1; l.issued = -1
+          if (l.leavesLeft == 0 || l.occluded) lives.remove(id) else waiting.enqueue(id)
+        }
+        val accepted = job.isDefined && dut.io.in.ready.peek().litToBoolean
+        mem.drive()
+        // The read follows this cycle's memory response, so look after driving it.
+        readReq = if (dut.io.rayRead.en.peek().litToBoolean) Some(dut.io.rayRead.rayId.peek().litValue.toInt) else None
+        mem.lastRequest.foreach { case (addr, tag) =>
+          val l = lives(tag)
+          assert(addr == img.triAddr(l.leaf._1 + l.issued), s"cycle $cycle ray $tag: request ${l.issued} at address $addr")
+          l.issued += 1
+        }
+        dut.clock.step(); mem.tick()
+        if (accepted) { val id = waiting.dequeue(); lives(id).issued = 0 }
+      }
+      assert(leavesDone > cycles / 60, s"only $leavesDone leaves finished in $cycles cycles")
+      assert(shadowEarly > 0, "no shadow ray ever stopped early: the early exit went untested")
+    }
+  }
+
+  it should "reduce every leaf to its closest hit and stop shadow rays early (memory latency 1)" in {
+    run(Latency.Fixed(1), primLatency = 2, cycles = 6000, "LeafIntersect.lat1")
+  }
+  it should "do the same with out-of-order memory (latency 5-60)" in {
+    run(Latency.Uniform(5, 60), primLatency = 6, cycles = 20000, "LeafIntersect.ooo")
+  }
+}
