@@ -7,6 +7,11 @@ import rtaccel.mem.{MemPort, MemPortParams}
 import rtaccel.traversal.{RayBufferRead, TmaxUpdate, TraversalToken}
 import rtaccel.{AccelConfig, ErrorFlags}
 
+object LeafIntersect {
+  /** Triangle requests are tagged with the ray ID. */
+  def port(cfg: AccelConfig): MemPortParams = MemPortParams(cfg.addrBits, cfg.rayIdBits, TriangleRecord.RecordBytes)
+}
+
 class LeafJob(cfg: AccelConfig) extends Bundle {
   val token = new TraversalToken(cfg)
   val first = UInt(cfg.triIndexBits.W)
@@ -36,14 +41,14 @@ class BestHit(cfg: AccelConfig) extends Bundle {
   *    on the order memory answers in.
   *  - Exit: a ray leaves when every request it issued has been reduced, never
   *    earlier, so its ID is never reused while memory still owes it data. Its
-  *    new tmax is written to the RayBuffer in the same cycle it leaves, so its
-  *    next box test sees it (the golden model relies on that).
+  *    new tmax is written to the RayBuffer before it leaves, so its next box
+  *    test sees it (the golden model relies on that).
   *
   * Every queue holds up to `numRayIds` entries, and each ray is in one place,
   * so none can overflow and the response channel is always ready.
   */
 class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimUnit[T]) extends Module {
-  val port: MemPortParams = MemPortParams(cfg.addrBits, cfg.rayIdBits, TriangleRecord.RecordBytes)
+  val port: MemPortParams = LeafIntersect.port(cfg)
   val io = IO(new Bundle {
     val in      = Flipped(Decoupled(new LeafJob(cfg)))
     val triBase = Input(UInt(cfg.addrBits.W))
@@ -166,18 +171,22 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimUnit[
   exits.io.enq.bits  := Mux(lastAnswer, exitOf(doneId), exitOf(issueIdReg))
   when(issueExit && exits.io.enq.ready) { stoppingReg := false.B }
 
-  // A ray leaves only together with its tmax write (see the class comment);
-  // a ray with no hit yet keeps the tmax it entered with and writes nothing.
-  private val exitHead  = exits.io.deq
-  private val headId    = exitHead.bits.token.rayId
-  private val needWrite = hasHitReg(headId)
-  private val writeOk   = io.tmax.ready || !needWrite
-  io.out.valid       := exitHead.valid && writeOk
-  io.out.bits        := exitHead.bits
-  io.tmax.valid      := exitHead.valid && needWrite && io.out.ready
+  // A ray leaves only after its tmax is written (see the class comment): first
+  // the write, then the exit. (Valid never waits on ready, which an RRArbiter
+  // downstream would turn into a combinational loop.) A ray with no hit yet
+  // keeps the tmax it entered with and writes nothing.
+  private val exitHead   = exits.io.deq
+  private val headId     = exitHead.bits.token.rayId
+  private val writtenReg = RegInit(false.B)
+  private val needWrite  = hasHitReg(headId) && !writtenReg
+  io.tmax.valid      := exitHead.valid && needWrite
   io.tmax.bits.rayId := headId
   io.tmax.bits.tmax  := best.read(headId).t
-  exitHead.ready     := io.out.ready && writeOk
+  when(io.tmax.fire) { writtenReg := true.B }
+  io.out.valid   := exitHead.valid && !needWrite
+  io.out.bits    := exitHead.bits
+  exitHead.ready := io.out.ready && !needWrite
+  when(io.out.fire) { writtenReg := false.B }
 
   when(io.clear.valid) {
     hasHitReg(io.clear.bits)     := false.B

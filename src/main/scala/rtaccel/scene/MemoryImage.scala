@@ -67,3 +67,23 @@ object MemoryImage {
     new MemoryImage(source, bytes)
   }
 }
+
+/** A node record's raw fields (docs/memory-format.md). */
+final case class NodeRecord(word0: Long, word1: Long, boxMin: Seq[Long], boxMax: Seq[Long]) {
+  def isLeaf: Boolean = (word0 >> 31) != 0
+  def low31: Long = word0 & 0x7fffffffL
+}
+
+/** A triangle record's raw fields: nine FP32 vertex words, prim, flags. */
+final case class TriangleRecord(vertexWords: Seq[Long], prim: Long, flags: Long)
+
+object Records {
+  def node(img: MemoryImage, i: Long): NodeRecord = {
+    val w = (0 until 8).map(k => img.readLE(img.nodeAddr(i) + 4 * k, 4).toLong)
+    NodeRecord(w(0), w(1), w.slice(2, 5), w.slice(5, 8))
+  }
+  def triangle(img: MemoryImage, i: Long): TriangleRecord = {
+    val w = (0 until 11).map(k => img.readLE(img.triAddr(i) + 4 * k, 4).toLong)
+    TriangleRecord(w.take(9), w(9), w(10))
+  }
+}

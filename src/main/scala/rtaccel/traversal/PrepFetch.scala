@@ -15,7 +15,7 @@ import rtaccel.{AccelConfig, BvhNode}
   * accelerator never back-pressures memory); the output is a valid pipe.
   */
 class PrepFetch(cfg: AccelConfig) extends Module {
-  val port: MemPortParams = MemPortParams(cfg.addrBits, cfg.rayIdBits, BvhNode.RecordBytes)
+  val port: MemPortParams = PrepFetch.port(cfg)
   val io = IO(new Bundle {
     val in       = Flipped(Decoupled(new TraversalToken(cfg)))
     /** Byte address of node 0 in memory. */
@@ -46,6 +46,11 @@ class PrepFetch(cfg: AccelConfig) extends Module {
   private val inMemoryReg = RegInit(0.U(log2Ceil(cfg.numRayIds + 1).W))
   inMemoryReg := inMemoryReg + io.mem.req.fire.asUInt - io.mem.resp.fire.asUInt
   io.waiting := queue.io.count +& inMemoryReg
+}
+
+object PrepFetch {
+  /** Node requests are tagged with the ray ID. */
+  def port(cfg: AccelConfig): MemPortParams = MemPortParams(cfg.addrBits, cfg.rayIdBits, BvhNode.RecordBytes)
 }
 
 /** A ray's token with the node it fetched. */

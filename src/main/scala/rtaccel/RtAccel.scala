@@ -1,0 +1,99 @@
+package rtaccel
+
+import chisel3._
+import chisel3.util._
+import rtaccel.fetch.{FetchBVH, RayIn}
+import rtaccel.leaf.LeafIntersect
+import rtaccel.mem.{MemPort, TaggedPortArbiter}
+import rtaccel.traversal.{PrepFetch, RayBuffer, Traversal, TraversalState}
+
+/** The accelerator: rays in, one hit per ray out (docs/architecture.md).
+  *
+  * Two memory ports: nodes (FetchBVH's root fetch and Traversal's node
+  * fetches, round-robin, tagged by source) and triangles (LeafIntersect).
+  * Both response channels are always ready. `nodeBase` and `triBase` are the
+  * byte addresses of node 0 and triangle 0 (from the memory image header);
+  * change them only when no ray is in flight.
+  */
+class RtAccel[T <: Data](val cfg: AccelConfig, val dp: Datapath[T]) extends Module {
+  private val nodeArb = Module(new TaggedPortArbiter(PrepFetch.port(cfg), 2))
+  val io = IO(new Bundle {
+    val rays     = Flipped(Decoupled(new RayIn))
+    val hits     = Decoupled(new HitOut(cfg))
+    val nodeBase = Input(UInt(cfg.addrBits.W))
+    val triBase  = Input(UInt(cfg.addrBits.W))
+    val nodeMem  = new MemPort(nodeArb.shared)
+    val triMem   = new MemPort(LeafIntersect.port(cfg))
+    val perf     = Output(new PerfCounters)
+    /** Sticky: a ray was lost or duplicated. Never set; the specs check it. */
+    val broken   = Output(Bool())
+  })
+  override def desiredName = s"RtAccel_${dp.name}_n${cfg.numRayIds}_d${cfg.stackDepth}"
+
+  private val fetch  = Module(new FetchBVH(cfg, dp))
+  private val trav   = Module(new Traversal(cfg, dp))
+  private val leaf   = Module(new LeafIntersect(cfg, dp.gen, () => dp.prim(cfg)))
+  private val rayBuf = Module(new RayBuffer(cfg, dp.gen, readers = 2))
+
+  fetch.io.rays <> io.rays
+  fetch.io.nodeBase := io.nodeBase
+  trav.io.nodeBase  := io.nodeBase
+  leaf.io.triBase   := io.triBase
+  nodeArb.io.clients(0) <> fetch.io.mem
+  nodeArb.io.clients(1) <> trav.io.mem
+  io.nodeMem <> nodeArb.io.mem
+  io.triMem <> leaf.io.mem
+
+  rayBuf.io.enter <> fetch.io.enter
+  rayBuf.io.update <> leaf.io.tmax
+  rayBuf.io.read(0) <> trav.io.rayRead
+  rayBuf.io.read(1) <> leaf.io.rayRead
+  trav.io.entry <> fetch.io.out
+  leaf.io.in <> trav.io.leafOut
+  trav.io.leafIn <> leaf.io.out
+  leaf.io.clear := fetch.io.started
+
+  // ---- Output: one hit per finished ray, then its ID goes back ----
+  private val done = trav.io.done
+  private val id   = done.bits.rayId
+  leaf.io.resultId  := id
+  fetch.io.numberId := id
+  private val ok   = done.bits.errors === 0.U
+  private val best = leaf.io.result
+  private val h    = io.hits.bits
+  h.number := fetch.io.number
+  h.hit    := ok && best.valid
+  h.t      := Mux(h.hit, dp.toFloat32(cfg, best.bits.t), 0.U)
+  h.u      := Mux(h.hit, dp.toFloat32(cfg, best.bits.u), 0.U)
+  h.v      := Mux(h.hit, dp.toFloat32(cfg, best.bits.v), 0.U)
+  h.prim   := Mux(h.hit, best.bits.prim, 0.U)
+  h.errors := done.bits.errors
+  io.hits.valid := done.valid
+  done.ready    := io.hits.ready
+  fetch.io.free.valid := io.hits.fire
+  fetch.io.free.bits  := id
+  io.broken := trav.io.overflow || fetch.io.doubleFree
+
+  // ---- Performance counters ----
+  private def count(event: Bool): UInt = {
+    val r = RegInit(0.U(64.W))
+    when(event) { r := r + 1.U }
+    r
+  }
+  private val p = io.perf
+  p.cycles        := count(true.B)
+  p.raysIn        := count(io.rays.fire)
+  p.hitsOut       := count(io.hits.fire)
+  p.nodeFetches   := count(io.nodeMem.req.fire)
+  p.triFetches    := count(io.triMem.req.fire)
+  p.boxTests      := count(trav.io.boxTests)
+  p.triTests      := count(leaf.io.tested)
+  p.decisions     := count(trav.io.control.valid)
+  p.nodePortStall := count(io.nodeMem.req.valid && !io.nodeMem.req.ready)
+  p.triPortStall  := count(io.triMem.req.valid && !io.triMem.req.ready)
+  p.raysInStall   := count(io.rays.valid && !io.rays.ready)
+  p.hitsOutStall  := count(io.hits.valid && !io.hits.ready)
+  private val inFlightSumReg = RegInit(0.U(64.W))
+  inFlightSumReg := inFlightSumReg + fetch.io.inFlight
+  p.inFlightSum := inFlightSumReg
+}

@@ -1,0 +1,100 @@
+package rtaccel.golden
+
+import rtaccel.fp.{FloatFormat, FpOrder}
+import rtaccel.scene.{MemoryImage, NodeRecord, Records, TriangleRecord}
+import rtaccel.{AccelConfig, ErrorFlags}
+
+import scala.collection.mutable
+
+/** A ray as the host sends it (FP32 bit patterns). */
+final case class RayRecord(number: Long, origin: Seq[Long], dir: Seq[Long], tmin: Long, tmax: Long, shadow: Boolean)
+
+/** The answer for one ray, as the hardware's `hits` port gives it. */
+final case class HitRecord(number: Long, hit: Boolean, t: Long, u: Long, v: Long, prim: Long, errors: Int)
+
+/** A ray's constants as a datapath's golden model computes them. */
+final case class PreparedGolden[S](statics: S, tmax: BigInt, dirNeg: Seq[Boolean], errors: Int)
+
+/** The golden model of a datapath's arithmetic, bit for bit with its units. */
+trait ArithGolden[S] {
+  def format: FloatFormat
+  def prep(ray: RayRecord): PreparedGolden[S]
+  def box(s: S, tmax: BigInt, node: NodeRecord): Boolean
+  /** (t, u, v) in the datapath format, or None. Includes tmin <= t <= tmax. */
+  def prim(s: S, tmax: BigInt, tri: TriangleRecord): Option[(BigInt, BigInt, BigInt)]
+  def toFloat32(x: BigInt): Long
+}
+
+/** The whole accelerator's answer for one ray, visiting nodes in the
+  * hardware's order (ControlGolden) and reducing each leaf as LeafIntersect
+  * does (smallest t, ties to smaller prim, against the tmax at leaf entry).
+  * The hardware must match it bit for bit, whatever its memory does.
+  */
+object TraversalGolden {
+  final case class Trace(hit: HitRecord, boxTests: Int, triTests: Int, decisions: Int)
+
+  def trace[S](cfg: AccelConfig, img: MemoryImage, arith: ArithGolden[S], ray: RayRecord): Trace = {
+    val fmt = arith.format
+    val p = arith.prep(ray)
+    val stack = mutable.ArrayBuffer.empty[Long]
+    var tok = ControlGolden.Token(0, 0, 0, p.dirNeg, ray.shadow, p.errors)
+    var tmax = p.tmax
+    var best: Option[(BigInt, BigInt, BigInt, Long)] = None
+    var occluded = false
+    var boxTests, triTests, decisions = 0
+    var state: ControlGolden.State = ControlGolden.Traverse
+    var node = Records.node(img, 0)
+    var fromLeaf = false
+    while (state != ControlGolden.Done) {
+      val hitBox = if (fromLeaf) false else { boxTests += 1; arith.box(p.statics, tmax, node) }
+      val out = ControlGolden.step(cfg.stackDepth, stack, tok, fromLeaf, occluded, hitBox, links(cfg, node))
+      decisions += 1
+      tok = out.token
+      state = out.state
+      fromLeaf = false
+      state match {
+        case ControlGolden.Traverse | ControlGolden.GoBack => node = Records.node(img, tok.nodeIdx)
+        case ControlGolden.Leaf =>
+          var leafErrors = 0
+          val leafTmax = tmax
+          var i = 0
+          // A shadow ray stops at its first occluder; which one the hardware
+          // finds first depends on timing, so only `hit` is compared for them.
+          while (i < out.leafCount && !(ray.shadow && occluded)) {
+            val tri = Records.triangle(img, out.leafFirst + i)
+            triTests += 1
+            if (tri.prim >= (1L << cfg.triIndexBits)) leafErrors |= 1 << ErrorFlags.IndexOverflow
+            else arith.prim(p.statics, leafTmax, tri).foreach { case (t, u, v) =>
+              val closer = best.forall { case (bt, _, _, bp) =>
+                val (k, bk) = (FpOrder.keyOf(fmt, t), FpOrder.keyOf(fmt, bt))
+                k < bk || (k == bk && tri.prim < bp)
+              }
+              if (closer) best = Some((t, u, v, tri.prim))
+              if (ray.shadow) occluded = true
+            }
+            i += 1
+          }
+          best.foreach(b => tmax = b._1)
+          tok = tok.copy(errors = tok.errors | leafErrors)
+          fromLeaf = true
+        case ControlGolden.Done => ()
+      }
+    }
+    val ok = tok.errors == 0
+    val hit = ok && best.isDefined
+    val h = best.filter(_ => hit)
+    Trace(HitRecord(ray.number, hit, h.fold(0L)(b => arith.toFloat32(b._1)), h.fold(0L)(b => arith.toFloat32(b._2)),
+      h.fold(0L)(b => arith.toFloat32(b._3)), h.fold(0L)(_._4), tok.errors), boxTests, triTests, decisions)
+  }
+
+  /** A node's steering fields as the hardware decodes them for `cfg`. */
+  def links(cfg: AccelConfig, n: NodeRecord): ControlGolden.Links = {
+    def fits(w: Long, bits: Int) = bits >= 32 || (w >> bits) == 0
+    val tooWide = if (n.isLeaf) !fits(n.word1, cfg.triIndexBits) else !fits(n.word1, cfg.nodeIndexBits) || n.low31 > 2
+    val leafBig = n.isLeaf && n.low31 > cfg.maxLeafSize
+    val errors = (if (tooWide) 1 << ErrorFlags.IndexOverflow else 0) | (if (leafBig) 1 << ErrorFlags.LeafTooBig else 0)
+    val mask = (1L << cfg.leafCountBits) - 1
+    ControlGolden.Links(n.isLeaf, (n.word0 & 3).toInt, n.word1 & ((1L << cfg.nodeIndexBits) - 1),
+      n.word1 & ((1L << cfg.triIndexBits) - 1), (n.word0 & mask).toInt, errors)
+  }
+}

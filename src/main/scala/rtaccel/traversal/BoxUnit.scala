@@ -1,0 +1,30 @@
+package rtaccel.traversal
+
+import chisel3._
+import chisel3.util._
+import rtaccel.AccelConfig
+
+/** A ray against one node's box. The box comes raw from memory (FP32); the
+  * unit narrows it to its format (outward, in conservative mode).
+  */
+class BoxQuery[T <: Data](cfg: AccelConfig, gen: T) extends Bundle {
+  val ray    = gen.cloneType
+  val tmax   = UInt(cfg.float.width.W)
+  val boxMin = Vec(3, UInt(32.W))
+  val boxMax = Vec(3, UInt(32.W))
+}
+
+class BoxAnswer(cfg: AccelConfig) extends Bundle {
+  val hit  = Bool()
+  /** Entry distance, in the datapath format. */
+  val near = UInt(cfg.float.width.W)
+}
+
+/** One box test per cycle in, the answer `latency` cycles later (II = 1). */
+abstract class BoxUnit[T <: Data](val cfg: AccelConfig, val gen: T) extends Module {
+  def latency: Int
+  val io = IO(new Bundle {
+    val in  = Flipped(Valid(new BoxQuery(cfg, gen)))
+    val out = Valid(new BoxAnswer(cfg))
+  })
+}

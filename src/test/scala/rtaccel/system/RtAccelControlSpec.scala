@@ -1,0 +1,102 @@
+package rtaccel.system
+
+import chisel3._
+import chiseltest._
+import org.scalatest.flatspec.AnyFlatSpec
+import rtaccel.golden.{HitRecord, RayRecord, TraversalGolden}
+import rtaccel.mem.{Latency, MemoryParams}
+import rtaccel.scene.MemoryImage
+import rtaccel.testutil.{Backends, Seeded}
+import rtaccel.{AccelConfig, ErrorFlags, RtAccel}
+
+import scala.util.Random
+
+/** The whole accelerator's control path, with FieldDatapath's cheap
+  * arithmetic: every ray checked against the golden traversal, under every
+  * kind of back-pressure and memory behaviour. (The real arithmetic is
+  * checked against Embree by the scene specs.)
+  */
+class RtAccelControlSpec extends AnyFlatSpec with ChiselScalatestTester {
+  behavior of "RtAccel (control path)"
+
+  private def f(x: Float): Long = java.lang.Float.floatToRawIntBits(x).toLong & 0xffffffffL
+
+  private def makeRays(rnd: Random, n: Int): IndexedSeq[RayRecord] = (0 until n).map { i =>
+    val bad = rnd.nextInt(50) == 0 // NaN or inf: must come back with InvalidRay
+    val o = Seq.fill(3)(rnd.nextInt().toLong & 0xffffffffL).map(w => w & 0x7f7fffffL | (w & 0x80000000L))
+    val d = Seq.fill(3)(rnd.nextInt().toLong & 0xff7fffffL)
+    RayRecord(i.toLong * 3 + 7, if (bad) o.updated(1, f(Float.NaN)) else o, if (bad && rnd.nextBoolean()) d.updated(2, f(Float.PositiveInfinity)) else d,
+      f(0f), f((1 + rnd.nextInt(9)).toFloat), rnd.nextInt(4) == 0)
+  }
+
+  private def check(cfg: AccelConfig, img: MemoryImage, rays: IndexedSeq[RayRecord], got: Seq[HitRecord], what: String): Unit = {
+    assert(got.size == rays.size, s"$what: ${got.size} hits for ${rays.size} rays")
+    assert(got.map(_.number).toSet == rays.map(_.number).toSet, s"$what: the set of ray numbers differs")
+    val byNumber = got.map(h => h.number -> h).toMap
+    for (r <- rays) {
+      val e = TraversalGolden.trace(cfg, img, FieldDatapath.Golden, r).hit
+      val h = byNumber(r.number)
+      val same = if (r.shadow) h.hit == e.hit && h.errors == e.errors else h == e
+      assert(same, s"$what: ray ${r.number} (shadow=${r.shadow}): hardware $h, golden $e (errors ${ErrorFlags.describe(h.errors)})")
+    }
+  }
+
+  private val envs = Seq(
+    "latency 1"           -> Environment(MemoryParams(Latency.Fixed(1)), MemoryParams(Latency.Fixed(1))),
+    "latency 10, stalls"  -> Environment(MemoryParams(Latency.Fixed(10)), MemoryParams(Latency.Fixed(10)), rayGap = 0.3, hitRefuse = 0.5, memRefuse = 0.3),
+    "latency 100"         -> Environment(MemoryParams(Latency.Fixed(100)), MemoryParams(Latency.Fixed(100)), hitRefuse = 0.1),
+    "random 50-300, OOO"  -> Environment(MemoryParams(Latency.Uniform(50, 300), maxOutstanding = 16), MemoryParams(Latency.Uniform(50, 300), maxOutstanding = 16),
+                                         rayGap = 0.2, hitRefuse = 0.3, memRefuse = 0.2),
+    "in-order, cached"    -> Environment(MemoryParams(Latency.Fixed(40), inOrder = true, cache = Some(rtaccel.mem.CacheParams(mshrs = 4))),
+                                         MemoryParams(Latency.Fixed(40), inOrder = true), hitRefuse = 0.2)
+  )
+
+  for ((ids, rayCount) <- Seq(2 -> 150, 4 -> 250, 16 -> 600)) {
+    it should s"answer every ray exactly once, bit-exact with the golden model, with $ids ray IDs in every environment" in
+      Seeded(s"RtAccelControl.ids$ids") { rnd =>
+        val cfg = AccelConfig(numRayIds = ids, stackDepth = 5, maxNodes = 4096, maxTriangles = 4096, maxLeafSize = 4)
+        test(new RtAccel(cfg, FieldDatapath)).withAnnotations(Backends.verilator) { dut =>
+          var first = true
+          for (((name, env), k) <- envs.zipWithIndex) {
+            // Depth up to 7 with a 5-entry stack: some rays must overflow and say so.
+            val img = SyntheticBvh(new Random(rnd.nextLong()), maxDepth = 7, maxLeaf = 4)
+            val rays = makeRays(rnd, rayCount)
+            if (!first) dut.reset.poke(true.B)
+            dut.clock.step(); dut.reset.poke(false.B)
+            first = false
+            val run = AccelHarness.run(dut, img, rays, env.copy(seed = rnd.nextLong() + k))
+            check(cfg, img, rays, run.hits, s"$ids IDs, $name")
+            assert(run.perf("raysIn") == rays.size && run.perf("hitsOut") == rays.size, s"$name: counters ${run.perf}")
+          }
+        }
+      }
+  }
+
+  it should "flag stack overflow and invalid rays, never returning their hits" in Seeded("RtAccelControl.errors") { rnd =>
+    val cfg = AccelConfig(numRayIds = 4, stackDepth = 5, maxNodes = 4096, maxTriangles = 4096, maxLeafSize = 4)
+    val img = SyntheticBvh(new Random(rnd.nextLong()), maxDepth = 7, maxLeaf = 4, leafChance = 0.05)
+    val rays = makeRays(rnd, 300)
+    val traces = rays.map(r => TraversalGolden.trace(cfg, img, FieldDatapath.Golden, r).hit)
+    // The golden model must itself see both kinds of error, or this spec checks nothing.
+    assert(traces.exists(h => (h.errors >> ErrorFlags.StackOverflow & 1) == 1), "no ray overflowed its stack")
+    assert(traces.exists(h => (h.errors >> ErrorFlags.InvalidRay & 1) == 1), "no invalid ray")
+    assert(traces.filter(_.errors != 0).forall(!_.hit), "a ray with an error reported a hit")
+    test(new RtAccel(cfg, FieldDatapath)).withAnnotations(Backends.verilator) { dut =>
+      val run = AccelHarness.run(dut, img, rays, Environment(MemoryParams(Latency.Fixed(5)), MemoryParams(Latency.Fixed(5)), seed = rnd.nextLong()))
+      check(cfg, img, rays, run.hits, "errors")
+    }
+  }
+
+  it should "take the same number of cycles for the same inputs" in Seeded("RtAccelControl.determinism") { rnd =>
+    val cfg = AccelConfig(numRayIds = 4, stackDepth = 5, maxNodes = 4096, maxTriangles = 4096, maxLeafSize = 4)
+    val img = SyntheticBvh(new Random(rnd.nextLong()), maxDepth = 7, maxLeaf = 4)
+    val rays = makeRays(rnd, 200)
+    val env = Environment(MemoryParams(Latency.Uniform(20, 80)), MemoryParams(Latency.Uniform(20, 80)), rayGap = 0.2, hitRefuse = 0.2, seed = rnd.nextLong())
+    test(new RtAccel(cfg, FieldDatapath)).withAnnotations(Backends.verilator) { dut =>
+      val a = AccelHarness.run(dut, img, rays, env)
+      dut.reset.poke(true.B); dut.clock.step(); dut.reset.poke(false.B)
+      val b = AccelHarness.run(dut, img, rays, env)
+      assert(a.cycles == b.cycles && a.hits == b.hits, s"cycles ${a.cycles} vs ${b.cycles}")
+    }
+  }
+}
