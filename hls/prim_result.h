@@ -11,6 +11,16 @@ struct PrimResult {
   float v;   // weight of p2
 };
 
+// Final output stage of both kernels: on a miss t = u = v = +0, so no NaN or
+// stale value ever leaves a kernel.
+inline void set_prim_result(bool hit, bool err, float t, float u, float v, PrimResult* out) {
+  out->hit = hit;
+  out->err = err;
+  out->t = hit ? t : 0.0f;
+  out->u = hit ? u : 0.0f;
+  out->v = hit ? v : 0.0f;
+}
+
 // Exactly coincident vertices (any pair, compared with IEEE ==). Such a
 // triangle is never hit by either kernel. 9 comparators, no arithmetic.
 inline bool coincident_vertices(const float p0[3], const float p1[3], const float p2[3]) {

@@ -79,11 +79,7 @@ void prim_intersect_wt(const float o[3], const float d[3], float tmin, float tma
   const bool t_ok = t >= tmin && t <= tmax;
   const bool err = ray_error(o, d, tmin, tmax);
   const bool hit = !err && !coincident_vertices(p0, p1, p2) && !outside && det_ok && t_ok;
-  out->hit = hit;
-  out->err = err;
-  out->t = hit ? t : 0.0f;
-  out->u = hit ? u : 0.0f;
-  out->v = hit ? v : 0.0f;
+  set_prim_result(hit, err, t, u, v, out);
 }
 
 }  // namespace rt

@@ -7,6 +7,7 @@
 
 #include "case_gen.h"
 #include "case_io.h"
+#include "hard_groups.h"
 #include "prim_mt.h"
 #include "prim_wt.h"
 #include "ref_f64.h"
@@ -87,11 +88,6 @@ void check_uv_convention(Failures& fail) {
     }
 }
 
-bool same_ray(const TriCase& a, const TriCase& b) {
-  for (int i = 0; i < 3; ++i)
-    if (bits(a.o[i]) != bits(b.o[i]) || bits(a.d[i]) != bits(b.d[i])) return false;
-  return a.family == b.family;
-}
 
 }  // namespace
 
@@ -113,8 +109,7 @@ int main() {
     std::fprintf(out_mt, "# prim_mt.out: family o[3] d[3] tmin tmax p0[3] p1[3] p2[3] : hit err t u v\n");
     std::fprintf(out_wt, "# prim_wt.out: family o[3] d[3] tmin tmax p0[3] p1[3] p2[3] kx ky kz sx sy sz : hit err t u v\n");
     for (FILE* f : {out_mt, out_wt}) std::fprintf(f, head, n_hard, n_random, static_cast<unsigned long long>(seed));
-    size_t group_start = 0;
-    bool group_wt_hit = false, group_mt_hit = false;
+    std::vector<bool> hits_mt, hits_wt;
     for (size_t k = 0; k < cases.size(); ++k) {
       const TriCase& c = cases[k];
       const std::string fam = c.family, inputs = tri_inputs_line(c);
@@ -144,23 +139,18 @@ int main() {
       const bool nori_defined = !mt.err && !coincident_vertices(c.p0, c.p1, c.p2) && !(nori && (std::isnan(nu) || std::isnan(nv)));
       if (nori_defined && (nori != mt.hit || (nori && (bits(nu) != bits(mt.u) || bits(nv) != bits(mt.v) || bits(nt) != bits(mt.t)))))
         fail.add("mt differs from Nori's rayIntersect, " + where);
-      // Groups of "shared_*" hard cases: the triangles around one edge/vertex.
-      if (k < n_hard && fam.rfind("shared_", 0) == 0) {
-        if (k == group_start || !same_ray(cases[group_start], c)) {
-          group_start = k;
-          group_wt_hit = group_mt_hit = false;
-        }
-        group_wt_hit = group_wt_hit || wt.hit;
-        group_mt_hit = group_mt_hit || mt.hit;
-        const bool last = k + 1 == n_hard || !same_ray(cases[k + 1], c);
-        if (last) {
-          tally.add(fam, "groups");
-          if (!group_mt_hit) tally.add(fam, "mt_leaks");
-          if (!group_wt_hit) {
-            tally.add(fam, "wt_leaks");
-            fail.add("watertight leak: no triangle of the group hit, " + where);
-          }
-        }
+      hits_mt.push_back(mt.hit);
+      hits_wt.push_back(wt.hit);
+    }
+    for (const CaseGroup& g : shared_groups(cases, n_hard)) {
+      bool mt_any = false, wt_any = false;
+      for (size_t k = g.begin; k < g.end; ++k) { mt_any = mt_any || hits_mt[k]; wt_any = wt_any || hits_wt[k]; }
+      tally.add(g.family, "groups");
+      if (!mt_any) tally.add(g.family, "mt_leaks");
+      if (!wt_any) {
+        tally.add(g.family, "wt_leaks");
+        fail.add("watertight leak: no triangle of the group hit, hard case " + std::to_string(g.begin) + ": " +
+                 tri_inputs_line(cases[g.begin]));
       }
     }
     std::fclose(out_mt);
