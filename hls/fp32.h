@@ -7,8 +7,15 @@
 
 namespace rt {
 
+// Bit casts. HLS tools synthesize the union form (pure wiring); g++ uses
+// memcpy, the portable C++ way. Both give the same bits.
+#ifdef __SYNTHESIS__
+inline uint32_t bits(float x) { union { float f; uint32_t u; } c; c.f = x; return c.u; }
+inline float from_bits(uint32_t b) { union { float f; uint32_t u; } c; c.u = b; return c.f; }
+#else
 inline uint32_t bits(float x) { uint32_t b; std::memcpy(&b, &x, 4); return b; }
 inline float from_bits(uint32_t b) { float x; std::memcpy(&x, &b, 4); return x; }
+#endif
 
 inline bool is_nan(float x) { return (bits(x) & 0x7fffffffu) > 0x7f800000u; }
 inline bool is_nonfinite(float x) { return (bits(x) & 0x7f800000u) == 0x7f800000u; }
