@@ -3,7 +3,7 @@
 // Families starting with "shared_" come in groups: consecutive lines with the
 // same family and the same ray are the triangles around one edge or vertex,
 // and the ray must hit at least one of them (tb_prim checks this).
-#include <cmath>
+#include <cmath>  // std::nextafter
 #include <cstdio>
 #include <string>
 
@@ -57,10 +57,12 @@ void shared_edge_group(const std::string& fam, float off, float scale) {
 // at v and at the midpoint of every spoke.
 void shared_vertex_group(const std::string& fam, float off, float scale) {
   const P v = shift({0.3f, 0.7f, 2.1f}, off, scale);
-  const float ang[6] = {0.1f, 1.2f, 2.0f, 3.3f, 4.1f, 5.3f};
+  // Irregular rim directions around v (no libm: the file must be the same on
+  // every host, and `make -C hls test` compares it with the committed one).
+  const float dir[6][2] = {{1.0f, 0.1f}, {0.36f, 0.93f}, {-0.42f, 0.91f}, {-0.99f, -0.16f}, {-0.57f, -0.82f}, {0.55f, -0.83f}};
   P rim[6];
   for (int i = 0; i < 6; ++i)
-    rim[i] = add(v, {std::cos(ang[i]) * scale, std::sin(ang[i]) * scale, 0.13f * (i % 3) * scale - 0.1f * scale});
+    rim[i] = add(v, {dir[i][0] * scale, dir[i][1] * scale, 0.13f * (i % 3) * scale - 0.1f * scale});
   const P o = shift({0.2f, 0.5f, 0.1f}, off, scale);
   for (int target = -1; target < 6; ++target) {
     const P aim = target < 0 ? v : mid(v, rim[target]);
