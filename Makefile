@@ -40,7 +40,9 @@ setup-sbt: setup-apt ## Fetch the sbt launcher jar from Maven Central, if missin
 setup-cargo: setup-apt ## Build nori-bridge (release), fetching crates from crates.io
 	@$(CARGO) build --release --quiet --manifest-path $(BRIDGE_MANIFEST)
 
-test: setup test-scala test-rust test-hls ## Run every test: sbt test, cargo test, the hls/ C-simulation tests
+# The HLS test benches run first: they write hls/build/vectors/*.out, which the
+# Chisel datapath specs compare against bit for bit.
+test: setup test-hls test-scala test-rust ## Run every test: the hls/ C-simulation tests, sbt test, cargo test
 	@echo "make test: all test suites passed"
 
 test-scala: setup-sbt ## Chisel/chiseltest specs (treadle and Verilator)
