@@ -6,8 +6,9 @@ import rtaccel.testutil.{Backends, Seeded}
 
 /** Every unit, every format the project uses, every rounding mode, bit-exact
   * against the golden model (and FP32 RNE against JVM `Float`), on Verilator.
-  * One build per harness: 7 builds in all (six formats with a runtime `rm`
-  * port, plus FP32 with the mode fixed at elaboration and other latencies).
+  * One build per harness: 7 Verilator builds in all (six formats with a
+  * runtime `rm` port, plus FP32 with the mode fixed at elaboration and other
+  * latencies), and three short treadle runs for fixed directed modes.
   */
 class FpUnitsSpec extends AnyFlatSpec with ChiselScalatestTester {
   import RoundingMode._
@@ -15,10 +16,14 @@ class FpUnitsSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   /** Corners in all modes, then `perMode(rm)` random vectors per mode; asserts every port saw them all. */
   private def runHarness(fmt: FloatFormat, rm: Option[RoundingMode], lat: FpHarnessLatencies,
-      perMode: RoundingMode => Int, name: String): Unit = Seeded(name) { rnd =>
+      perMode: RoundingMode => Int, name: String, minValidRandomRne: Int = 0,
+      annos: firrtl2.AnnotationSeq = Backends.verilator): Unit = Seeded(name) { rnd =>
     val modes = rm.map(Seq(_)).getOrElse(RoundingMode.all)
-    val vectors = (FpVector.corners(fmt, modes) ++ modes.flatMap(m => FpVector.random(fmt, m, perMode(m), rnd))).toIndexedSeq
-    test(new FpUnitsHarness(fmt, rm, lat)).withAnnotations(Backends.verilator) { dut =>
+    val random = modes.flatMap(m => FpVector.random(fmt, m, perMode(m), rnd))
+    val validRne = random.count(v => v.valid && v.rm == RNE)
+    assert(validRne >= minValidRandomRne, s"only $validRne valid random RNE vectors, need $minValidRandomRne")
+    val vectors = (FpVector.corners(fmt, modes) ++ random).toIndexedSeq
+    test(new FpUnitsHarness(fmt, rm, lat)).withAnnotations(annos) { dut =>
       val t0 = System.nanoTime()
       val checked = FpUnitsDriver.run(dut, vectors, jvmCheck = fmt == F32)
       val valid = vectors.count(_.valid)
@@ -29,7 +34,8 @@ class FpUnitsSpec extends AnyFlatSpec with ChiselScalatestTester {
   }
 
   "FP units (e8m23, runtime rm)" should "match JVM Float in RNE (corners + 100,000 random) and the model in RTZ/RDN/RUP (20,000 each)" in
-    runHarness(F32, None, FpHarnessLatencies.defaults(F32), m => if (m == RNE) 106000 else 20000, "FpUnits.e8m23.dyn")
+    runHarness(F32, None, FpHarnessLatencies.defaults(F32), m => if (m == RNE) 110000 else 20000, "FpUnits.e8m23.dyn",
+      minValidRandomRne = 100000)
 
   for (fmt <- Seq(FloatFormat(8, 15), FloatFormat(8, 12), FloatFormat(8, 10), FloatFormat(8, 7), FloatFormat(6, 9))) {
     s"FP units ($fmt, runtime rm)" should "match the golden model on corners and 20,000 random vectors per mode" in
@@ -38,4 +44,12 @@ class FpUnitsSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   "FP units (e8m23, fixed RNE, other latencies)" should "match JVM Float with the mode fixed at elaboration" in
     runHarness(F32, Some(RNE), FpHarnessLatencies(add = 0, mul = 3, div = 1, cmp = 0, conv = 2), _ => 20000, "FpUnits.e8m23.rne")
+
+  // Fixed directed modes (constant rm folded into the rounder): short runs on
+  // treadle, which needs no Verilator build.
+  for (mode <- Seq(RDN, RUP, RTZ)) {
+    s"FP units (e6m9, fixed $mode, latency 1)" should "match the golden model on corners and 1,000 random vectors (treadle)" in
+      runHarness(FloatFormat(6, 9), Some(mode), FpHarnessLatencies(1, 1, 1, 1, 1), _ => 1000, s"FpUnits.e6m9.$mode",
+        annos = Backends.treadle)
+  }
 }
