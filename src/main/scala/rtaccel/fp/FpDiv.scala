@@ -1,0 +1,102 @@
+package rtaccel.fp
+
+import chisel3._
+import chisel3.util._
+
+/** One step of the divider pipeline: partial remainder, quotient bits so far,
+  * and what the rounder needs later.
+  */
+class FpDivState(fmt: FloatFormat, dynamicRm: Boolean) extends Bundle {
+  private val p = fmt.precision
+  /** Partial remainder; always < 2 * divisor. */
+  val rem = UInt((p + 1).W)
+  val divisor = UInt(p.W)
+  val quo = UInt((p + 2).W)
+  val meta = new FpRawStage(p + 2, FpUnpack.expWidth(fmt) + 2, dynamicRm)
+}
+
+/** Correctly rounded division by radix-2 restoring digit recurrence.
+  *
+  * Both significands are normalised to [2^(p-1), 2^p) (subnormals by a
+  * leading-zero shift), so A/B lies in (1/2, 2). `p + 2` recurrence steps give
+  * Q = floor(A * 2^(p+1) / B), which has p+1 or p+2 significant bits, and the
+  * final remainder says whether the quotient is exact (the sticky bit). One
+  * [[FpRound]] then rounds Q + sticky in the mode, so every mode is correctly
+  * rounded (not just faithfully, as a Newton-Raphson estimate without a
+  * remainder correction would be).
+  *
+  * Pipelining: `p + 4` cut points (after normalisation, after each recurrence
+  * step, at the output) share the `latency` registers evenly ([[FpPipeline]]).
+  * Each step is one (p+1)-bit compare-subtract, i.e. one carry chain.
+  */
+object FpDivCore {
+  def cuts(fmt: FloatFormat): Int = fmt.precision + 4
+  /** About four recurrence steps per register stage, plus front and output. */
+  def defaultLatency(fmt: FloatFormat): Int = (fmt.precision + 2 + 3) / 4 + 2
+
+  /** Builds the divider for dividend `a` and divisor `b` (bits of `fmt`). */
+  def apply(fmt: FloatFormat, rm: Option[RoundingMode], latency: Int, valid: Bool, a: UInt, b: UInt,
+      rmPort: Option[UInt]): Valid[UInt] = {
+    val p = fmt.precision
+    val pipe = new FpPipeline(latency, cuts(fmt))
+    val ua = FpUnpack(fmt, a)
+    val ub = FpUnpack(fmt, b)
+    def normalise(u: FpUnpacked): (UInt, SInt) = {
+      val lz = PriorityEncoder(Reverse(u.sig))
+      ((u.sig << lz)(p - 1, 0), u.exp -& lz.zext)
+    }
+    val (sigA, expA) = normalise(ua)
+    val (sigB, expB) = normalise(ub)
+
+    val s0 = Wire(new FpDivState(fmt, rm.isEmpty))
+    val raw = s0.meta.raw
+    s0.meta.rm.foreach(_ := rmPort.get)
+    raw.isNaN := ua.isNaN || ub.isNaN || (ua.isZero && ub.isZero) || (ua.isInf && ub.isInf)
+    raw.isInf := ua.isInf || ub.isZero
+    raw.isZero := ua.isZero || ub.isInf
+    raw.sign := ua.sign ^ ub.sign
+    // Q has weight 2^-(p+1) relative to A/B.
+    raw.exp := expA -& expB - (p + 1).S
+    raw.sig := DontCare
+    raw.sticky := DontCare
+    s0.rem := sigA
+    s0.divisor := sigB
+    s0.quo := 0.U
+
+    var stage = pipe.cut(valid, s0)
+    for (_ <- 0 until p + 2) {
+      val s = stage.bits
+      val next = Wire(new FpDivState(fmt, rm.isEmpty))
+      next := s
+      val fits = s.rem >= s.divisor
+      val left = Mux(fits, s.rem - s.divisor, s.rem) // < divisor < 2^p
+      next.rem := left << 1
+      next.quo := Cat(s.quo(p, 0), fits)
+      stage = pipe.cut(stage.valid, next)
+    }
+    val last = WireInit(stage.bits.meta)
+    last.raw.sig := stage.bits.quo
+    last.raw.sticky := stage.bits.rem =/= 0.U
+    val out = pipe.cut(stage.valid, FpRound(fmt, last.raw, FpUnitIO.roundingMode(rm, last.rm)))
+    pipe.done()
+    out
+  }
+}
+
+/** Divider `a / b`, correctly rounded in every mode (see [[FpDivCore]]). */
+class FpDiv(val fmt: FloatFormat, val rm: Option[RoundingMode], val latency: Int) extends Module {
+  def this(fmt: FloatFormat, rm: Option[RoundingMode]) = this(fmt, rm, FpDivCore.defaultLatency(fmt))
+  val io = IO(new FpUnitIO(new FpBinaryIn(fmt, rm.isEmpty), UInt(fmt.width.W)))
+  override def desiredName: String = FpUnitIO.name("FpDiv", fmt, rm, latency)
+  io.out := FpDivCore(fmt, rm, latency, io.in.valid, io.in.bits.a, io.in.bits.b, io.in.bits.rm)
+}
+
+/** Reciprocal `1 / a`: the divider with a constant dividend, which synthesis
+  * simplifies (the first partial remainder is a constant).
+  */
+class FpRecip(val fmt: FloatFormat, val rm: Option[RoundingMode], val latency: Int) extends Module {
+  def this(fmt: FloatFormat, rm: Option[RoundingMode]) = this(fmt, rm, FpDivCore.defaultLatency(fmt))
+  val io = IO(new FpUnitIO(new FpUnaryIn(fmt, rm.isEmpty), UInt(fmt.width.W)))
+  override def desiredName: String = FpUnitIO.name("FpRecip", fmt, rm, latency)
+  io.out := FpDivCore(fmt, rm, latency, io.in.valid, fmt.one(false).U(fmt.width.W), io.in.bits.a, io.in.bits.rm)
+}

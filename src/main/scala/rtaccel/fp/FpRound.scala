@@ -1,0 +1,61 @@
+package rtaccel.fp
+
+import chisel3._
+import chisel3.util._
+
+/** The hardware rounder shared by every arithmetic unit: normalise (leading
+  * zero count and shift, clamped at the subnormal boundary), round once in the
+  * mode, encode, and substitute special values. It computes exactly what
+  * [[FpRounding.round]] computes in the model.
+  */
+object FpRound {
+  def apply(fmt: FloatFormat, raw: FpRaw, rm: UInt): UInt = {
+    val p = fmt.precision
+    // At least a guard bit and one more below the kept bits.
+    val pad = (p + 2 - raw.sigWidth).max(0)
+    val w = raw.sigWidth + pad
+    val ew = raw.expWidth.max(FpUnpack.expWidth(fmt)) + log2Ceil(w + 1) + 2
+    val sig = if (pad > 0) Cat(raw.sig, 0.U(pad.W)) else raw.sig
+    val exp = raw.exp.pad(ew) - pad.S(ew.W)
+
+    val lz = PriorityEncoder(Reverse(sig))
+    // Biased exponent of the leading one.
+    val biasedExp = exp + (w - 1 + fmt.bias).S(ew.W) - lz.zext.pad(ew)
+    val tiny = biasedExp < 1.S
+    // Extra right shift that brings a tiny value onto the subnormal grid.
+    val subShift = Mux(tiny, (1.S(ew.W) - biasedExp).asUInt, 0.U)
+    val leftward = lz >= subShift
+    val shiftedLeft = (sig << (lz - subShift(lz.getWidth - 1, 0)))(w - 1, 0)
+    val (shiftedRight, lost) = FpUnpack.shiftRightSticky(sig, subShift - lz)
+    val norm = Mux(leftward, shiftedLeft, shiftedRight)
+
+    val kept = norm(w - 1, w - p)
+    val guard = norm(w - p - 1)
+    val rest = (if (w - p - 2 >= 0) norm(w - p - 2, 0).orR else false.B) || raw.sticky || (!leftward && lost)
+    val inexact = guard || rest
+    val sign = raw.sign
+    val up = MuxLookup(rm, false.B)(Seq(
+      RoundingMode.RNE.code.U -> (guard && (rest || kept(0))),
+      RoundingMode.RTZ.code.U -> false.B,
+      RoundingMode.RDN.code.U -> (sign && inexact),
+      RoundingMode.RUP.code.U -> (!sign && inexact)
+    ))
+    val rounded = kept +& up
+    val carry = rounded(p) // 1.11..1 rounded up to 10.00..0: next binade
+    val expNormal = Mux(tiny, 1.S(ew.W), biasedExp)
+    val expOut = Mux(carry, expNormal + 1.S, Mux(rounded(p - 1), expNormal, 0.S))
+    val fracOut = Mux(carry, 0.U, rounded(p - 2, 0))
+    val overflow = expOut >= fmt.maxExpField.S
+
+    // Overflow goes to infinity only when the mode rounds away from zero on this side.
+    val overflowToInf = rm === RoundingMode.RNE.code.U ||
+      (rm === RoundingMode.RUP.code.U && !sign) || (rm === RoundingMode.RDN.code.U && sign)
+    val signBit = Cat(sign, 0.U((fmt.width - 1).W))
+    MuxCase(Cat(sign, expOut(fmt.expBits - 1, 0), fracOut), Seq(
+      raw.isNaN -> fmt.canonicalNaN.U(fmt.width.W),
+      raw.isInf -> (signBit | fmt.infinity(false).U),
+      (raw.isZero || sig === 0.U) -> signBit,
+      overflow -> (signBit | Mux(overflowToInf, fmt.infinity(false).U, fmt.maxFinite(false).U))
+    ))
+  }
+}
