@@ -65,10 +65,13 @@ enum Cmd {
         hits: PathBuf,
         #[arg(long)]
         out: PathBuf,
-        #[arg(long, default_value_t = Tolerances::default().t_rel)]
-        t_rel_tol: f64,
-        #[arg(long, default_value_t = Tolerances::default().edge)]
-        edge_tol: f64,
+        /// Mantissa bits (hidden bit included) of the hardware's arithmetic:
+        /// tolerances scale with 2^-bits (24 = f32).
+        #[arg(long, default_value_t = Tolerances::default().precision_bits)]
+        precision_bits: u32,
+        /// Multiplier on the per-hit error bounds (see docs/memory-format.md).
+        #[arg(long, default_value_t = Tolerances::default().slack)]
+        slack: f64,
     },
     /// PNGs (hits, reference, diff) for a camera-ray package.
     Render {
@@ -120,10 +123,10 @@ pub fn run() -> Result<()> {
                 m.timings_seconds.bvh_build, m.timings_seconds.total
             );
         }
-        Cmd::Compare { package, hits, out, t_rel_tol, edge_tol } => {
+        Cmd::Compare { package, hits, out, precision_bits, slack } => {
             let pkg = Package::load(&package)?;
             let got = crate::csv_io::read_hits(&hits)?;
-            let tol = Tolerances { t_rel: t_rel_tol, edge: edge_tol };
+            let tol = Tolerances { precision_bits, slack };
             let (acc, _) = compare(&pkg.image.by_prim(), &pkg.rays, &got, &pkg.reference, tol)?;
             write_json(&out, &acc)?;
             println!("{}", summary(&acc));

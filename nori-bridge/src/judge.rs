@@ -2,7 +2,7 @@
 //! independent f64 evaluation (exact.rs) deciding disagreements.
 
 use crate::exact::{eval64_in_range, eval64_plane, Hit64};
-use crate::geom::Tri;
+use crate::geom::{add64, dot64, len64, scale64, sub64, to64, Tri};
 use crate::ray::{Hit, Ray};
 use serde::Serialize;
 
@@ -13,9 +13,9 @@ pub enum Class {
     Agree,
     /// Different prims hit at the same t in f64 (shared edge or coplanar).
     Tie,
-    /// The deciding f64 hit lies within `edge_tol` (barycentric) of an edge
-    /// or vertex, or t within tolerance of tmin/tmax: both answers are
-    /// defensible for an f32 evaluator.
+    /// The deciding f64 hit lies within its error bound (see Tolerances) of
+    /// an edge or vertex, or of tmin/tmax: both answers are defensible for
+    /// an evaluator of the given precision.
     Edge,
     /// f64 says the hits file is right and the reference wrong.
     ReferenceWrong,
@@ -31,21 +31,48 @@ impl Class {
     }
 }
 
+/// Tolerances scale with the unit roundoff u = 2^-precision_bits of the
+/// evaluator under test and with the conditioning of each hit, because an
+/// f32 ray/triangle test is only as good as its inputs allow:
+/// - t is good to about u (|t| |d| + M) k / (|d| |cos a|) absolute, where
+///   a = angle between ray and normal (a grazing ray meets the plane at an
+///   ill-determined t), M = largest coordinate magnitude among origin and
+///   vertices (o - v0 is rounded at that scale) and k = |e1| |e2| / |n| =
+///   1 / sin(angle at v0) >= 1 (Moller-Trumbore's t = s.(e1 x e2) / det is
+///   formed from products of the edges, which cancel on slivers);
+/// - barycentrics are good to about u (distance + M) / (size |cos a|),
+///   size = sqrt(2 area): the same position error in triangle units.
+/// `slack` multiplies both (default 16: observed f32 errors stay below ~1x
+/// these bounds, so 16 leaves room for a different operation order and
+/// still catches any real bug, which is off by far more).
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct Tolerances {
-    /// Relative t tolerance. Default 1e-4 (~840 f32 ulps): f32
-    /// Moller-Trumbore t is good to a few ulps times the conditioning of the
-    /// hit; narrower hardware formats pass a larger value.
-    pub t_rel: f64,
-    /// Barycentric distance to an edge below which a hit is ambiguous in
-    /// f32. Default 1e-5 (~84 f32 ulps of a unit barycentric).
-    pub edge: f64,
+    /// Mantissa bits (with the hidden bit) of the evaluator: 24 for f32.
+    pub precision_bits: u32,
+    pub slack: f64,
 }
 
 impl Default for Tolerances {
     fn default() -> Self {
-        Tolerances { t_rel: 1e-4, edge: 1e-5 }
+        Tolerances { precision_bits: 24, slack: 16.0 }
     }
+}
+
+impl Tolerances {
+    pub fn unit(&self) -> f64 {
+        self.slack * (-(self.precision_bits as f64)).exp2()
+    }
+}
+
+/// One prim's f64 view of a ray: where it meets the plane and how well an
+/// evaluator can know that.
+#[derive(Clone, Copy, Debug)]
+struct Cond {
+    h: Hit64,
+    inside: bool,
+    /// Absolute t error bound.
+    t_tol: f64,
+    bary_tol: f64,
 }
 
 pub struct Judge<'a> {
@@ -54,24 +81,49 @@ pub struct Judge<'a> {
 }
 
 impl Judge<'_> {
-    fn t_close(&self, a: f64, b: f64) -> bool {
-        (a - b).abs() <= self.tol.t_rel * a.abs().max(b.abs()).max(f64::MIN_POSITIVE)
+    fn cond(&self, prim: i64, ray: &Ray) -> Option<Cond> {
+        let tri = usize::try_from(prim).ok().and_then(|p| self.tris.get(p))?;
+        let h = eval64_plane(tri, ray)?;
+        let n = tri.normal64();
+        let d = to64(ray.d);
+        let cos = (dot64(n, d) / (len64(n) * len64(d))).abs().max(1e-300);
+        let size = len64(n).sqrt();
+        let c = tri.vertices64();
+        let centroid = scale64(add64(add64(c[0], c[1]), c[2]), 1.0 / 3.0);
+        let dist = len64(sub64(centroid, to64(ray.o)));
+        let m = c.iter().chain(std::iter::once(&to64(ray.o))).flatten().fold(0.0f64, |a, x| a.max(x.abs()));
+        let u = self.tol.unit();
+        let dl = len64(d);
+        let k = (len64(sub64(c[1], c[0])) * len64(sub64(c[2], c[0])) / len64(n)).max(1.0);
+        let in_range = h.t >= ray.tmin as f64 && h.t <= ray.tmax as f64;
+        Some(Cond {
+            h,
+            inside: h.margin >= 0.0 && in_range,
+            t_tol: u * (h.t.abs() * dl + m) * k / (dl * cos.min(1.0)),
+            bary_tol: u * ((dist + m) / (size * cos)).max(1.0),
+        })
     }
 
-    fn tri(&self, prim: i64) -> Option<&Tri> {
-        usize::try_from(prim).ok().and_then(|p| self.tris.get(p))
+    fn t_close(a: f64, b: f64, abs_tol: f64) -> bool {
+        (a - b).abs() <= abs_tol
     }
 
     /// f64 hit of `prim` within the ray's range, if any.
-    fn eval(&self, prim: i64, ray: &Ray) -> Option<Hit64> {
-        self.tri(prim).and_then(|t| eval64_in_range(t, ray))
+    fn eval(&self, prim: i64, ray: &Ray) -> Option<Cond> {
+        self.cond(prim, ray).filter(|c| c.inside)
     }
 
-    /// Close to an edge or to the ends of [tmin, tmax]: f32 may go either way.
+    /// Within the error bound of an edge/vertex or of tmin/tmax: an f32
+    /// evaluator may go either way.
     fn ambiguous(&self, prim: i64, ray: &Ray) -> bool {
-        let Some(h) = self.tri(prim).and_then(|t| eval64_plane(t, ray)) else { return false };
-        let near_end = |end: f32| end.is_finite() && self.t_close(h.t, end as f64);
-        h.margin > -self.tol.edge && (h.margin < self.tol.edge || near_end(ray.tmin) || near_end(ray.tmax))
+        let Some(c) = self.cond(prim, ray) else { return false };
+        let near_end = |end: f32| end.is_finite() && Self::t_close(c.h.t, end as f64, c.t_tol);
+        c.h.margin > -c.bary_tol && (c.h.margin < c.bary_tol || near_end(ray.tmin) || near_end(ray.tmax))
+    }
+
+    /// Is the reported t right for this prim (within its error bound)?
+    fn t_ok(&self, t: f32, c: &Cond) -> bool {
+        Self::t_close(t as f64, c.h.t, c.t_tol)
     }
 
     pub fn classify(&self, ray: &Ray, got: &Hit, want: &Hit) -> Class {
@@ -80,19 +132,23 @@ impl Judge<'_> {
         }
         match (got.hit, want.hit) {
             (false, false) => Class::Agree,
-            (true, true) if got.prim == want.prim => {
-                if self.t_close(got.t as f64, want.t as f64) {
-                    Class::Agree
-                } else {
-                    match self.eval(got.prim, ray) {
-                        Some(h) if self.t_close(got.t as f64, h.t) => Class::ReferenceWrong,
-                        _ => Class::TError,
+            (true, true) if got.prim == want.prim => match self.cond(got.prim, ray) {
+                None if Self::t_close(got.t as f64, want.t as f64, self.tol.unit() * (want.t as f64).abs()) => Class::Agree,
+                None => Class::TError,
+                Some(c) => {
+                    let (got_ok, want_ok) = (self.t_ok(got.t, &c), self.t_ok(want.t, &c));
+                    if Self::t_close(got.t as f64, want.t as f64, c.t_tol) || (got_ok && want_ok) {
+                        Class::Agree
+                    } else if got_ok {
+                        Class::ReferenceWrong
+                    } else {
+                        Class::TError
                     }
                 }
-            }
+            },
             (true, false) => match self.eval(got.prim, ray) {
                 _ if self.ambiguous(got.prim, ray) => Class::Edge,
-                Some(h) if self.t_close(got.t as f64, h.t) => Class::ReferenceWrong,
+                Some(c) if self.t_ok(got.t, &c) => Class::ReferenceWrong,
                 Some(_) => Class::TError,
                 None => Class::FalseHit,
             },
@@ -108,19 +164,19 @@ impl Judge<'_> {
     fn classify_prims(&self, ray: &Ray, got: &Hit, want: &Hit) -> Class {
         let (hg, hw) = (self.eval(got.prim, ray), self.eval(want.prim, ray));
         if let (Some(a), Some(b)) = (hg, hw) {
-            if self.t_close(a.t, b.t) {
-                return if self.t_close(got.t as f64, a.t) { Class::Tie } else { Class::TError };
+            if Self::t_close(a.h.t, b.h.t, a.t_tol.max(b.t_tol)) {
+                return if self.t_ok(got.t, &a) { Class::Tie } else { Class::TError };
             }
         }
         let edge = self.ambiguous(got.prim, ray) || self.ambiguous(want.prim, ray);
         let got_wins = match (hg, hw) {
-            (Some(a), Some(b)) => a.t < b.t,
+            (Some(a), Some(b)) => a.h.t < b.h.t,
             (Some(_), None) => true,
             _ => false,
         };
         match (edge, got_wins) {
             (true, _) => Class::Edge,
-            (false, true) if self.t_close(got.t as f64, hg.unwrap().t) => Class::ReferenceWrong,
+            (false, true) if hg.is_some_and(|c| self.t_ok(got.t, &c)) => Class::ReferenceWrong,
             (false, true) => Class::TError,
             (false, false) => Class::WrongPrim,
         }
