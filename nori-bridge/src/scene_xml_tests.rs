@@ -59,7 +59,7 @@ fn shipped_cornell_box_camera_and_light() {
     let cam = s.camera.unwrap();
     assert_eq!((cam.width, cam.height), (64, 64));
     assert_eq!(cam.to_world.point([0.0; 3]), [278.0, 273.0, -800.0]);
-    assert_eq!(s.point_light, Some([278.0, 548.0, 279.5]));
+    assert_eq!(s.point_light, Some([278.0, 500.0, 279.5]));
     // room 5 quads + short 5 + tall 5 + light 1 = 16 quads = 32 triangles.
     assert_eq!(s.tris.len(), 32);
     assert_eq!(s.meshes.iter().map(|m| m.first_prim).collect::<Vec<_>>(), vec![0, 10, 20, 30]);
