@@ -21,10 +21,16 @@ pub fn bench(pkg: &Package, min_rays: usize, robust: bool) -> Result<()> {
     let secs = t.elapsed().as_secs_f64();
     let n = reps * pkg.rays.len();
     let t = Instant::now();
+    for _ in 0..reps {
+        std::hint::black_box(scene.trace_single(&pkg.rays));
+    }
+    let single = n as f64 / t.elapsed().as_secs_f64() / 1e6;
+    assert_eq!(scene.trace_single(&pkg.rays), scene.trace(&pkg.rays), "packet and single-ray paths disagree");
+    let t = Instant::now();
     std::hint::black_box(crate::traverse::trace_all(&pkg.image, &pkg.rays));
     let ours = pkg.rays.len() as f64 / t.elapsed().as_secs_f64() / 1e6;
     println!(
-        "{}: {} triangles, {} rays x {reps} ({}): Embree{} {:.2} Mrays/s on {} threads (scene build {:.3} s); our f32 layout walk {:.2} Mrays/s",
+        "{}: {} triangles, {} rays x {reps} ({}): Embree{} {:.2} Mrays/s in packets of 8, {single:.2} Mrays/s one by one, on {} threads (scene build {:.3} s); our f32 layout walk {:.2} Mrays/s",
         pkg.dir.display(), tris.len(), pkg.rays.len(), pkg.manifest.ray_kind, if robust { " ROBUST" } else { "" },
         n as f64 / secs / 1e6, rayon::current_num_threads(), build, ours
     );

@@ -83,14 +83,18 @@ pub fn compile(o: &CompileOpts) -> Result<Manifest> {
     let t = Instant::now();
     let bvh = build_bvh(&device, &scene.tris, o.max_leaf_size)?;
     tm.bvh_build = t.elapsed().as_secs_f64();
+    let t = Instant::now();
     std::fs::create_dir_all(&o.out).with_context(|| format!("{}: cannot create package directory", o.out.display()))?;
     let image = Image::from_bvh(&bvh, &scene.tris);
     image.write(&o.out.join("image.bin"))?;
     let needs = needs::compute(&scene.tris, &bvh);
     write_json(&o.out.join("scene.json"), &needs)?;
+    tm.image_write = t.elapsed().as_secs_f64();
 
     let t = Instant::now();
     let embree = EmbreeScene::new(device.clone(), &scene.tris, o.robust)?;
+    tm.reference_scene = t.elapsed().as_secs_f64();
+    let t = Instant::now();
     let rays = make_rays(o, &scene, &embree)?;
     tm.rays = t.elapsed().as_secs_f64();
     let t = Instant::now();

@@ -43,7 +43,7 @@ impl EmbreeScene {
             if robust {
                 sys::rtcSetSceneFlags(scene, sys::RTCSceneFlags::ROBUST);
             }
-            sys::rtcSetSceneBuildQuality(scene, sys::RTCBuildQuality::HIGH);
+            sys::rtcSetSceneBuildQuality(scene, sys::RTCBuildQuality::MEDIUM);
             sys::rtcAttachGeometry(scene, geom);
             sys::rtcReleaseGeometry(geom);
             sys::rtcCommitScene(scene);
@@ -60,6 +60,34 @@ impl EmbreeScene {
         let mut hits = vec![Hit::MISS; rays.len()];
         hits.par_chunks_mut(8).zip(rays.par_chunks(8)).for_each(|(h, r)| self.trace8(r, h));
         hits
+    }
+
+    /// The same answers one ray at a time (rtcIntersect1/rtcOccluded1), for
+    /// throughput comparison with the packet path.
+    pub fn trace_single(&self, rays: &[Ray]) -> Vec<Hit> {
+        rays.par_iter().map(|r| self.trace1(r)).collect()
+    }
+
+    fn trace1(&self, r: &Ray) -> Hit {
+        let mut rh: sys::RTCRayHit = unsafe { std::mem::zeroed() };
+        let ray = &mut rh.ray;
+        (ray.org_x, ray.org_y, ray.org_z, ray.tnear) = (r.o[0], r.o[1], r.o[2], r.tmin);
+        (ray.dir_x, ray.dir_y, ray.dir_z, ray.tfar) = (r.d[0], r.d[1], r.d[2], r.tmax);
+        ray.mask = u32::MAX;
+        rh.hit.geomID = u32::MAX;
+        let mut ctx = new_context();
+        unsafe {
+            if r.shadow {
+                sys::rtcOccluded1(self.scene, &mut ctx, &mut rh.ray);
+                return Hit::occluded(rh.ray.tfar == f32::NEG_INFINITY);
+            }
+            sys::rtcIntersect1(self.scene, &mut ctx, &mut rh);
+        }
+        if rh.hit.geomID == u32::MAX {
+            Hit::MISS
+        } else {
+            Hit { hit: true, t: rh.ray.tfar, u: rh.hit.u, v: rh.hit.v, prim: rh.hit.primID as i64, error: 0 }
+        }
     }
 
     fn trace8(&self, rays: &[Ray], out: &mut [Hit]) {

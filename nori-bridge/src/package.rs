@@ -64,6 +64,10 @@ pub struct FileEntry {
 pub struct Timings {
     pub load: f64,
     pub bvh_build: f64,
+    /// Writing image.bin and scene.json.
+    pub image_write: f64,
+    /// Building Embree's own scene for the reference.
+    pub reference_scene: f64,
     pub rays: f64,
     pub reference: f64,
     pub total: f64,
