@@ -11,6 +11,10 @@ use std::collections::BTreeMap;
 /// Ray numbers listed per class are capped so a broken run stays readable.
 pub const LIST_CAP: usize = 10_000;
 pub const WORST_CAP: usize = 20;
+/// Shadow disagreements are judged by an f64 brute force over all
+/// triangles; above this many ray x triangle tests (about a minute on two
+/// cores) they are reported as mismatches without judging.
+pub const SHADOW_JUDGE_BUDGET: f64 = 5e9;
 
 #[derive(Serialize)]
 pub struct Case {
@@ -38,6 +42,9 @@ pub struct Accuracy {
     pub format_version: u32,
     pub rays: usize,
     pub shadow_rays: usize,
+    /// false when shadow disagreements were too many to judge (see
+    /// SHADOW_JUDGE_BUDGET): they are then all counted as mismatches.
+    pub shadow_judged: bool,
     pub tolerances: Tolerances,
     /// Count per class (agree, tie, edge, reference_wrong, false_miss, ...).
     pub counts: BTreeMap<Class, usize>,
@@ -61,7 +68,11 @@ pub fn classify_all(judge: &Judge, rays: &[Ray], got: &[Hit], want: &[Hit]) -> R
 }
 
 pub fn compare(tris: &[crate::geom::Tri], rays: &[Ray], got: &[Hit], want: &[Hit], tol: Tolerances) -> Result<(Accuracy, Vec<Class>)> {
-    let judge = Judge { tris, tol };
+    let shadow_disagreements = (0..rays.len().min(got.len()).min(want.len()))
+        .filter(|&i| rays[i].shadow && got[i].hit != want[i].hit)
+        .count();
+    let judge_shadow = shadow_disagreements as f64 * tris.len() as f64 <= SHADOW_JUDGE_BUDGET;
+    let judge = Judge { tris, tol, judge_shadow };
     let classes = classify_all(&judge, rays, got, want)?;
     let mut counts = BTreeMap::new();
     let mut lists: BTreeMap<Class, Vec<usize>> = BTreeMap::new();
@@ -94,6 +105,7 @@ pub fn compare(tris: &[crate::geom::Tri], rays: &[Ray], got: &[Hit], want: &[Hit
         format_version: crate::image_bin::VERSION,
         rays: rays.len(),
         shadow_rays: rays.iter().filter(|r| r.shadow).count(),
+        shadow_judged: judge_shadow,
         tolerances: tol,
         mismatches: classes.iter().filter(|c| c.is_mismatch()).count(),
         error_flagged: got.iter().filter(|h| h.error != 0).count(),

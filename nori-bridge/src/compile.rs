@@ -98,7 +98,9 @@ pub fn compile(o: &CompileOpts) -> Result<Manifest> {
     let rays = make_rays(o, &scene, &embree)?;
     tm.rays = t.elapsed().as_secs_f64();
     let t = Instant::now();
-    let reference = if o.double_reference { trace_double(&scene.tris, &rays)? } else { embree.trace(&rays) };
+    let reference = with_progress("reference", &rays, |chunk| {
+        if o.double_reference { trace_double(&scene.tris, chunk) } else { Ok(embree.trace(chunk)) }
+    })?;
     tm.reference = t.elapsed().as_secs_f64();
     write_rays(&o.out.join("rays.csv"), &rays)?;
     write_hits(&o.out.join("reference.csv"), &reference)?;
@@ -155,6 +157,18 @@ fn make_rays(o: &CompileOpts, scene: &Scene, embree: &EmbreeScene) -> Result<Vec
         RaySpec::Random => ray_gen::random(&scene.tris, &bounds, o.count, &mut rng),
         RaySpec::File(f) => rays_txt::read_rays_txt(f)?,
     })
+}
+
+/// Trace in chunks so a progress bar (stderr terminals only) can advance.
+fn with_progress(what: &'static str, rays: &[Ray], f: impl Fn(&[Ray]) -> Result<Vec<Hit>>) -> Result<Vec<Hit>> {
+    let pb = crate::progress::bar(rays.len() as u64, what);
+    let mut out = Vec::with_capacity(rays.len());
+    for chunk in rays.chunks(1 << 15) {
+        out.extend(f(chunk)?);
+        pb.inc(chunk.len() as u64);
+    }
+    pb.finish_and_clear();
+    Ok(out)
 }
 
 pub fn write_json<T: serde::Serialize>(path: &std::path::Path, v: &T) -> Result<()> {

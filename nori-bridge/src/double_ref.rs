@@ -24,7 +24,7 @@ fn closest(tris: &[Tri], ray: &Ray) -> Hit {
             if ray.shadow {
                 return Hit::occluded(true);
             }
-            if best.map_or(true, |(_, b)| h.t < b.t) {
+            if best.is_none_or(|(_, b)| h.t < b.t) {
                 best = Some((i, h));
             }
         }

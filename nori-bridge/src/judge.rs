@@ -44,6 +44,7 @@ impl Class {
 ///   formed from products of the edges, which cancel on slivers);
 /// - barycentrics are good to about u (distance + M) / (size |cos a|),
 ///   size = sqrt(2 area): the same position error in triangle units.
+///
 /// `slack` multiplies both (default 16: observed f32 errors stay below ~1x
 /// these bounds, so 16 leaves room for a different operation order and
 /// still catches any real bug, which is off by far more).
@@ -80,6 +81,10 @@ struct Cond {
 pub struct Judge<'a> {
     pub tris: &'a [Tri],
     pub tol: Tolerances,
+    /// Judge shadow disagreements by f64 brute force (compare turns this
+    /// off when disagreements x triangles exceeds its budget; they then
+    /// count as mismatches unjudged).
+    pub judge_shadow: bool,
 }
 
 impl Judge<'_> {
@@ -198,6 +203,9 @@ impl Judge<'_> {
     fn classify_shadow(&self, ray: &Ray, got: &Hit, want: &Hit) -> Class {
         if got.hit == want.hit {
             return Class::Agree;
+        }
+        if !self.judge_shadow {
+            return if got.hit { Class::FalseHit } else { Class::FalseMiss };
         }
         let (mut occluded, mut edge) = (false, false);
         for (i, t) in self.tris.iter().enumerate() {

@@ -1,6 +1,9 @@
 //! nori-bridge: Nori scenes in; rtaccel memory images, rays and Embree
 //! reference hits out; hits back to accuracy reports and images.
 
+// x/y/z loops index several arrays at once; iterators would read worse.
+#![allow(clippy::needless_range_loop)]
+
 pub mod bvh;
 pub mod bvh_build;
 pub mod cli;

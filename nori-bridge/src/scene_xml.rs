@@ -120,7 +120,7 @@ impl Ctx<'_, '_> {
             near: float("nearClip", 1e-4)?,
             far: float("farClip", 1e4)?,
         };
-        if !(cam.fov_deg > 0.0 && cam.fov_deg < 180.0) || !(cam.near > 0.0 && cam.near < cam.far) {
+        if !(cam.fov_deg > 0.0 && cam.fov_deg < 180.0 && cam.near > 0.0 && cam.near < cam.far) {
             return Err(self.err(el, format!(
                 "camera fov {} must be in (0,180) and 0 < nearClip {} < farClip {}", cam.fov_deg, cam.near, cam.far)));
         }

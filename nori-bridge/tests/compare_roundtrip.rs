@@ -64,7 +64,7 @@ fn reference_as_hits_has_no_mismatch_and_corruptions_are_all_reported() {
                 } else {
                     // a prim whose plane the ray meets far outside the triangle, or never
                     let p = rng.gen_range(0..tris.len());
-                    let far = eval64_plane(&tris[p], r).map_or(true, |e| e.margin < -0.5);
+                    let far = eval64_plane(&tris[p], r).is_none_or(|e| e.margin < -0.5);
                     if far {
                         hits[i] = Hit { hit: true, t: if h.hit { h.t } else { 1.0 }, u: 0.2, v: 0.2, prim: p as i64, error: 0 };
                     }

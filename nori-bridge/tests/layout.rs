@@ -81,8 +81,8 @@ fn soup(rng: &mut ChaCha8Rng, n: usize) -> Vec<Tri> {
             let mut v = [c; 3];
             if i % 7 != 0 {
                 for p in v.iter_mut().skip(1) {
-                    for k in 0..3 {
-                        p[k] += rng.gen_range(-3.0..3.0);
+                    for c in p.iter_mut() {
+                        *c += rng.gen_range(-3.0..3.0);
                     }
                 }
             } // every 7th triangle is a point: zero area, flagged
