@@ -41,6 +41,19 @@ fn missing_mtl_and_texture_normal_indices_are_fine() {
     assert_eq!(t[1].v[0], [0., 1., 0.]);
 }
 
+/// tobj starts a new model at each g/o/usemtl; prim order must still be
+/// the file's face order, even when a group name comes back.
+#[test]
+fn groups_and_materials_keep_file_face_order() {
+    let t = obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n\
+                 g a\nf 1 2 3\ng b\nusemtl m1\nf 1 2 4\ng a\nf 1 3 4\nusemtl m2\nf 2 3 4\no o2\nf 3 2 1\n").unwrap();
+    let third = |t: &nori_bridge::geom::Tri| t.v[2];
+    assert_eq!(t.iter().map(third).collect::<Vec<_>>(),
+               vec![[0., 1., 0.], [0., 0., 1.], [0., 0., 1.], [0., 0., 1.], [0., 0., 0.]]);
+    assert_eq!(t[3].v[0], [1., 0., 0.]);
+    assert_eq!(t[2].v[1], [0., 1., 0.]);
+}
+
 #[test]
 fn multi_mesh_scene_concatenates_in_xml_order_with_transforms() {
     let s = load_scene(&common::scene_path("multi-mesh")).unwrap();
