@@ -127,7 +127,10 @@ fn rel(a: f32, b: f32) -> f64 {
 }
 
 pub fn summary(acc: &Accuracy) -> String {
-    let mut s = format!("{} rays ({} shadow): {} mismatches", acc.rays, acc.shadow_rays, acc.mismatches);
+    let mut s = format!("{} rays ({} shadow, compared on occlusion only): {} mismatches", acc.rays, acc.shadow_rays, acc.mismatches);
+    if !acc.shadow_judged {
+        s.push_str(" (shadow disagreements too many to judge in f64: all counted)");
+    }
     for (c, n) in &acc.counts {
         s.push_str(&format!(", {} {n}", serde_json::to_value(c).unwrap().as_str().unwrap_or("?")));
     }
