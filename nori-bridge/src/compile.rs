@@ -125,9 +125,9 @@ pub fn compile(o: &CompileOpts) -> Result<Manifest> {
     };
     for name in FILES.iter().filter(|n| **n != "package.json") {
         let bytes = std::fs::metadata(o.out.join(name))?.len();
-        m.files.push(FileEntry { name: name.to_string(), bytes });
+        m.files.push(FileEntry { name: name.to_string(), bytes: Some(bytes) });
     }
-    m.files.push(FileEntry { name: "package.json".into(), bytes: 0 });
+    m.files.push(FileEntry { name: "package.json".into(), bytes: None });
     write_json(&o.out.join("package.json"), &m)?;
     Ok(m)
 }

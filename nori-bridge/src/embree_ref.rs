@@ -58,7 +58,10 @@ impl EmbreeScene {
     /// Trace all rays (closest hit, or occlusion for shadow rays).
     pub fn trace(&self, rays: &[Ray]) -> Vec<Hit> {
         let mut hits = vec![Hit::MISS; rays.len()];
-        hits.par_chunks_mut(8).zip(rays.par_chunks(8)).for_each(|(h, r)| self.trace8(r, h));
+        // 256 rays per rayon task, traced as packets of 8.
+        hits.par_chunks_mut(256).zip(rays.par_chunks(256)).for_each(|(h, r)| {
+            h.chunks_mut(8).zip(r.chunks(8)).for_each(|(h, r)| self.trace8(r, h))
+        });
         hits
     }
 

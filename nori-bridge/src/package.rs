@@ -57,7 +57,8 @@ pub struct ReferenceParams {
 #[derive(Serialize, Deserialize, Clone, Debug)]
 pub struct FileEntry {
     pub name: String,
-    pub bytes: u64,
+    /// Size in bytes; null for package.json itself.
+    pub bytes: Option<u64>,
 }
 
 #[derive(Serialize, Deserialize, Clone, Debug, Default)]
