@@ -36,6 +36,9 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
         warnings: Vec::new(),
     };
     for el in root.children().filter(|n| n.is_element()) {
+        if matches!(el.tag_name().name(), "camera" | "mesh") {
+            ctx.warn_unknown_children(el, &mut scene.warnings);
+        }
         match el.tag_name().name() {
             "camera" => scene.camera = Some(ctx.camera(el)?),
             "mesh" => {
@@ -69,6 +72,18 @@ struct Ctx<'a, 'b> {
 impl Ctx<'_, '_> {
     fn line(&self, n: Node) -> usize {
         self.doc.text_pos_at(n.range().start).row as usize
+    }
+
+    /// Children of <camera>/<mesh> other than parameters and Nori's nested
+    /// objects get a warning naming them.
+    fn warn_unknown_children(&self, el: Node, warnings: &mut Vec<String>) {
+        for c in el.children().filter(|n| n.is_element()) {
+            let name = c.tag_name().name();
+            if !PARAMS.contains(&name) && !IGNORED.contains(&name) {
+                warnings.push(format!("{}:{}: warning: unknown tag <{name}> in <{}> ignored",
+                                      self.path.display(), self.line(c), el.tag_name().name()));
+            }
+        }
     }
 
     fn err(&self, n: Node, msg: String) -> anyhow::Error {

@@ -46,10 +46,11 @@ fn unknown_tags_warn_with_name_and_line() {
     let dir = tempfile::tempdir().unwrap();
     write(dir.path(), "t.obj", TRI);
     let p = write(dir.path(), "s.xml",
-        "<scene>\n<integrator type=\"path\"/>\n<volume type=\"x\"/>\n<mesh type=\"obj\"><string name=\"filename\" value=\"t.obj\"/><bsdf type=\"diffuse\"/></mesh>\n</scene>");
+        "<scene>\n<integrator type=\"path\"/>\n<volume type=\"x\"/>\n<mesh type=\"obj\"><string name=\"filename\" value=\"t.obj\"/><bsdf type=\"diffuse\"/>\n<texture/></mesh>\n</scene>");
     let s = load_scene(&p).unwrap();
-    assert_eq!(s.warnings.len(), 1, "{:?}", s.warnings);
+    assert_eq!(s.warnings.len(), 2, "{:?}", s.warnings);
     assert!(s.warnings[0].contains(":3: warning: unknown tag <volume>"), "{}", s.warnings[0]);
+    assert!(s.warnings[1].contains(":5: warning: unknown tag <texture> in <mesh>"), "{}", s.warnings[1]);
 }
 
 #[test]
