@@ -35,9 +35,10 @@ fn inverse(m: &Mat4) -> Mat4 {
     Mat4 { m: inv }
 }
 
-/// Nori: cameraToSample = Scale(-0.5, -0.5 aspect, 1) * Translate(-1, -1/aspect, 0)
-/// * perspective(fov, near, far); nearP = sampleToCamera * (sx/W, sy/H, 0);
-/// d = normalize(nearP); o = toWorld(0); mint = near / d.z; maxt = far / d.z.
+/// Nori: cameraToSample = Scale(-0.5, -0.5 aspect, 1) times
+/// Translate(-1, -1/aspect, 0) times perspective(fov, near, far);
+/// nearP = sampleToCamera (sx/W, sy/H, 0); d = normalize(nearP);
+/// o = toWorld(0); mint = near / d.z; maxt = far / d.z.
 fn nori_ray(cam: &Camera, sx: f64, sy: f64) -> ([f64; 3], [f64; 3], f64, f64) {
     let aspect = cam.width as f64 / cam.height as f64;
     let cot = 1.0 / (cam.fov_deg.to_radians() / 2.0).tan();
