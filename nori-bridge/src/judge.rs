@@ -42,8 +42,10 @@ impl Class {
 ///   vertices (o - v0 is rounded at that scale) and k = |e1| |e2| / |n| =
 ///   1 / sin(angle at v0) >= 1 (Moller-Trumbore's t = s.(e1 x e2) / det is
 ///   formed from products of the edges, which cancel on slivers);
-/// - barycentrics are good to about u (distance + M) / (size |cos a|),
-///   size = sqrt(2 area): the same position error in triangle units.
+/// - barycentrics are good to about u (distance + M) e / (2 area |cos a|),
+///   e = longest edge: Moller-Trumbore's u = (s . (d x e2)) / det with
+///   |s| ~ distance + M; on a sliver (2 area << e^2) this grows without
+///   bound, and rightly: f32 cannot place a ray relative to it.
 ///
 /// `slack` multiplies both (default 16: observed f32 errors stay below ~1x
 /// these bounds, so 16 leaves room for a different operation order and
@@ -94,8 +96,8 @@ impl Judge<'_> {
         let n = tri.normal64();
         let d = to64(ray.d);
         let cos = (dot64(n, d) / (len64(n) * len64(d))).abs().max(1e-300);
-        let size = len64(n).sqrt();
         let c = tri.vertices64();
+        let longest = (0..3).map(|i| len64(sub64(c[(i + 1) % 3], c[i]))).fold(0.0, f64::max);
         let centroid = scale64(add64(add64(c[0], c[1]), c[2]), 1.0 / 3.0);
         let dist = len64(sub64(centroid, to64(ray.o)));
         let m = c.iter().chain(std::iter::once(&to64(ray.o))).flatten().fold(0.0f64, |a, x| a.max(x.abs()));
@@ -107,7 +109,7 @@ impl Judge<'_> {
             h,
             inside: h.margin >= 0.0 && in_range,
             t_tol: u * (h.t.abs() * dl + m) * k / (dl * cos.min(1.0)),
-            bary_tol: u * ((dist + m) / (size * cos)).max(1.0),
+            bary_tol: u * ((dist + m) * longest / (len64(n) * cos)).max(1.0),
         })
     }
 

@@ -4,7 +4,7 @@
 //! and by `nori-bridge trace` to make a hits.csv without hardware.
 
 use crate::geom::{Aabb, V3};
-use crate::image_bin::Image;
+use crate::image_bin::{Image, FLAG_ZERO_AREA};
 use crate::ray::{Hit, Ray};
 use rayon::prelude::*;
 
@@ -40,6 +40,11 @@ pub fn trace(img: &Image, ray: &Ray) -> (Hit, usize) {
         } else if n.is_leaf() {
             let first = n.word1 as usize;
             for rec in &img.tris[first..first + n.count() as usize] {
+                // Zero-area triangles can never be hit; f32 rounding could
+                // still make their det non-zero, so skip them by their flag.
+                if rec.flags & FLAG_ZERO_AREA != 0 {
+                    continue;
+                }
                 if let Some((t, u, v)) = moller_trumbore(&rec.tri.v, ray) {
                     if t >= ray.tmin && t <= tfar {
                         if ray.shadow {

@@ -119,3 +119,79 @@ fn in_plane_axis_aligned_rays_on_cornell_box() {
     println!("in-plane rays, f64 as hits vs Embree: {:?}", acc.counts);
     assert_eq!(acc.mismatches, 0, "{:?}", acc.counts);
 }
+
+/// A soup of 3000 triangles: exactly degenerate ones (collinear or
+/// coincident vertices on a 1/8 grid, so f64 area is exactly 0) and, if
+/// `slivers`, near-collinear ones (a, a+e, a+2e rounded to f32: 2 area
+/// ~1e-7 with unit edges), the rest ordinary.
+fn soup(seed: u64, slivers: bool) -> (Vec<nori_bridge::geom::Tri>, Vec<Ray>) {
+    use nori_bridge::geom::Tri;
+    use rand::Rng;
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let grid = |rng: &mut ChaCha8Rng, r: i32| -> [f32; 3] { std::array::from_fn(|_| rng.gen_range(-r..=r) as f32 / 8.0) };
+    let tris: Vec<Tri> = (0..3000)
+        .map(|i| {
+            let (a, e, f) = if slivers && i % 3 == 0 {
+                let a: [f32; 3] = std::array::from_fn(|_| rng.gen_range(-10.0..10.0));
+                let e: [f32; 3] = std::array::from_fn(|_| rng.gen_range(-1.0..1.0));
+                (a, e, e.map(|x| 2.0 * x))
+            } else {
+                let (a, e, f) = (grid(&mut rng, 80), grid(&mut rng, 8), grid(&mut rng, 8));
+                match i % 3 {
+                    0 => (a, e, e.map(|x| 2.0 * x)),
+                    1 => (a, [0.0; 3], e),
+                    _ => (a, e, f),
+                }
+            };
+            let add = |p: [f32; 3], q: [f32; 3]| [p[0] + q[0], p[1] + q[1], p[2] + q[2]];
+            Tri { v: [a, add(a, e), add(a, f)] }
+        })
+        .collect();
+    let bounds = tris.iter().fold(nori_bridge::geom::Aabb::empty(), |b, t| b.union(&t.bounds()));
+    let rays = ray_gen::random(&tris, &bounds, 50_000, &mut rng);
+    (tris, rays)
+}
+
+/// Exactly degenerate triangles are flagged and never hit; the walk agrees
+/// with Embree.
+#[test]
+fn degenerate_triangles_are_never_hit() {
+    let seed = 31;
+    let (tris, rays) = soup(seed, false);
+    let img = nori_bridge::image_bin::Image::from_bvh(&nori_bridge::bvh_build::build_bvh(&device(), &tris, 4).unwrap(), &tris);
+    assert_eq!(img.tris.iter().filter(|r| r.flags & nori_bridge::image_bin::FLAG_ZERO_AREA != 0).count(), 2000);
+    let want = EmbreeScene::new(device(), &tris, false).unwrap().trace(&rays);
+    let (got, _) = traverse::trace_all(&img, &rays);
+    for (i, h) in got.iter().enumerate() {
+        assert!(!h.hit || tris[h.prim as usize].double_area64() > 0.0, "seed {seed}: ray {i} hit zero-area prim {}", h.prim);
+    }
+    let (acc, _) = compare(&tris, &rays, &got, &want, Tolerances::default()).unwrap();
+    println!("degenerate soup seed {seed}: {:?}", acc.counts);
+    assert_eq!(acc.mismatches, 0, "seed {seed}: {:?}", acc.counts);
+}
+
+/// Near-collinear slivers (2 area ~1e-7 with unit edges) are below f32's
+/// resolution: f32 Moller-Trumbore reports hits far outside them (det is
+/// pure rounding). The judge's barycentric bound grows as e / (2 area), so
+/// these count as edge cases, never as agreeing or as mismatches, while
+/// the ordinary triangles in the same soup still agree exactly.
+#[test]
+fn sliver_hits_are_judged_edge_cases() {
+    let seed = 32;
+    let (tris, rays) = soup(seed, true);
+    let img = nori_bridge::image_bin::Image::from_bvh(&nori_bridge::bvh_build::build_bvh(&device(), &tris, 4).unwrap(), &tris);
+    let want = EmbreeScene::new(device(), &tris, false).unwrap().trace(&rays);
+    let (got, _) = traverse::trace_all(&img, &rays);
+    let (acc, classes) = compare(&tris, &rays, &got, &want, Tolerances::default()).unwrap();
+    println!("sliver soup seed {seed}: {:?}", acc.counts);
+    assert_eq!(acc.mismatches, 0, "seed {seed}: {:?} worst {}", acc.counts, serde_json::to_string(&acc.worst).unwrap());
+    let sliver = |p: i64| p >= 0 && p % 3 == 0 && tris[p as usize].double_area64() > 0.0;
+    let edge = classes.iter().filter(|c| **c == Class::Edge).count();
+    assert!(edge > 50, "seed {seed}: only {edge} edge cases; the slivers should produce many");
+    for (i, c) in classes.iter().enumerate() {
+        if *c == Class::Edge {
+            assert!(sliver(got[i].prim) || sliver(want[i].prim),
+                    "seed {seed}: ray {i} judged edge without a sliver: {:?} vs {:?}", got[i], want[i]);
+        }
+    }
+}
