@@ -1,5 +1,6 @@
-//! nori-bridge: the software side of rtaccel (issue 7 builds it out).
 fn main() {
-    eprintln!("Error: nori-bridge has no commands yet (issue 7)");
-    std::process::exit(1);
+    if let Err(e) = nori_bridge::cli::run() {
+        eprintln!("Error: {e:#}");
+        std::process::exit(1);
+    }
 }

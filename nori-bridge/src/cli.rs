@@ -1,0 +1,150 @@
+//! Command line (clap derive). Errors go up to main as `Error: {:#}`.
+
+use crate::compare::{compare, summary};
+use crate::compile::{compile, write_json, CompileOpts, RaySpec};
+use crate::judge::Tolerances;
+use crate::package::Package;
+use crate::render::Shade;
+use crate::transform::parse_vec3;
+use anyhow::{anyhow, Result};
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+
+#[derive(Parser)]
+#[command(name = "nori-bridge", version, about = "Nori scenes to rtaccel memory images, rays and Embree reference hits; hits back to reports and images")]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum RefKind {
+    Embree,
+    Double,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Compile a Nori XML scene and a ray set into a package directory.
+    Compile {
+        scene: PathBuf,
+        #[arg(long)]
+        out: PathBuf,
+        /// primary | shadow | ao | random | path to a rays.txt
+        #[arg(long, default_value = "primary")]
+        rays: String,
+        /// Samples per pixel (primary), AO rays per primary hit (ao).
+        #[arg(long, default_value_t = 1)]
+        spp: u32,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        #[arg(long, default_value_t = 4)]
+        max_leaf_size: u32,
+        /// Embree's RTC_SCENE_FLAG_ROBUST for the reference.
+        #[arg(long)]
+        robust: bool,
+        #[arg(long, value_enum, default_value = "embree")]
+        reference: RefKind,
+        /// Override the camera's width / height.
+        #[arg(long)]
+        width: Option<u32>,
+        #[arg(long)]
+        height: Option<u32>,
+        /// Number of rays for --rays random.
+        #[arg(long, default_value_t = 65536)]
+        count: usize,
+        /// Point light "x,y,z" for --rays shadow (default: the scene's point emitter).
+        #[arg(long)]
+        light: Option<String>,
+    },
+    /// Compare a hits.csv with the package's reference; write accuracy JSON.
+    Compare {
+        #[arg(long)]
+        package: PathBuf,
+        #[arg(long)]
+        hits: PathBuf,
+        #[arg(long)]
+        out: PathBuf,
+        /// Mantissa bits (hidden bit included) of the hardware's arithmetic:
+        /// tolerances scale with 2^-bits (24 = f32).
+        #[arg(long, default_value_t = Tolerances::default().precision_bits)]
+        precision_bits: u32,
+        /// Multiplier on the per-hit error bounds (see docs/memory-format.md).
+        #[arg(long, default_value_t = Tolerances::default().slack)]
+        slack: f64,
+    },
+    /// PNGs (hits, reference, diff) for a camera-ray package.
+    Render {
+        #[arg(long)]
+        package: PathBuf,
+        #[arg(long)]
+        hits: PathBuf,
+        #[arg(long)]
+        out_dir: PathBuf,
+        #[arg(long, value_enum, default_value = "normal")]
+        shade: Shade,
+    },
+    /// Trace the package's rays through its own memory image in software
+    /// (f32, the hardware's algorithm) and write a hits.csv.
+    Trace {
+        #[arg(long)]
+        package: PathBuf,
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Measure Embree reference throughput (Mrays/s, 2 threads) on a package's rays.
+    Bench {
+        #[arg(long)]
+        package: PathBuf,
+        /// Trace at least this many rays (the set is repeated).
+        #[arg(long, default_value_t = 2_000_000)]
+        min_rays: usize,
+        #[arg(long)]
+        robust: bool,
+    },
+}
+
+pub fn run() -> Result<()> {
+    rayon::ThreadPoolBuilder::new().num_threads(2).build_global().ok();
+    match Cli::parse().cmd {
+        Cmd::Compile { scene, out, rays, spp, seed, max_leaf_size, robust, reference, width, height, count, light } => {
+            if spp == 0 {
+                return Err(anyhow!("--spp must be at least 1"));
+            }
+            let light = light.map(|l| parse_vec3(&l).map_err(|e| anyhow!("--light: {e}"))).transpose()?;
+            let o = CompileOpts {
+                scene, out, rays: RaySpec::parse(&rays), spp, seed, max_leaf_size, robust,
+                double_reference: reference == RefKind::Double, width, height, count, light,
+            };
+            let m = compile(&o)?;
+            println!(
+                "{}: {} triangles, {} nodes, {} rays ({} hit), build {:.3} s, total {:.3} s",
+                o.out.display(), m.counts.triangles, m.counts.nodes, m.counts.rays, m.counts.reference_hits,
+                m.timings_seconds.bvh_build, m.timings_seconds.total
+            );
+        }
+        Cmd::Compare { package, hits, out, precision_bits, slack } => {
+            let pkg = Package::load(&package)?;
+            let got = crate::csv_io::read_hits(&hits)?;
+            let tol = Tolerances { precision_bits, slack };
+            let (acc, _) = compare(&pkg.image.by_prim(), &pkg.rays, &got, &pkg.reference, tol)?;
+            write_json(&out, &acc)?;
+            println!("{}", summary(&acc));
+        }
+        Cmd::Render { package, hits, out_dir, shade } => {
+            let pkg = Package::load(&package)?;
+            let got = crate::csv_io::read_hits(&hits)?;
+            let (_, classes) = compare(&pkg.image.by_prim(), &pkg.rays, &got, &pkg.reference, Tolerances::default())?;
+            crate::render::render(&pkg, &got, &classes, shade, &out_dir)?;
+            println!("{}: hits.png reference.png diff.png", out_dir.display());
+        }
+        Cmd::Trace { package, out } => {
+            let pkg = Package::load(&package)?;
+            let (hits, stats) = crate::traverse::trace_all(&pkg.image, &pkg.rays);
+            crate::csv_io::write_hits(&out, &hits)?;
+            println!("{}: {} rays, largest stack {} (bvhDepth {})", out.display(), hits.len(), stats.max_stack, pkg.image.bvh_depth);
+        }
+        Cmd::Bench { package, min_rays, robust } => crate::bench::bench(&Package::load(&package)?, min_rays, robust)?,
+    }
+    Ok(())
+}

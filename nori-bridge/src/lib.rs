@@ -1,0 +1,33 @@
+//! nori-bridge: Nori scenes in; rtaccel memory images, rays and Embree
+//! reference hits out; hits back to accuracy reports and images.
+
+// x/y/z loops index several arrays at once; iterators would read worse.
+#![allow(clippy::needless_range_loop)]
+
+pub mod bvh;
+pub mod bvh_build;
+pub mod cli;
+pub mod compare;
+pub mod compile;
+pub mod csv_io;
+pub mod double_ref;
+pub mod embree_dev;
+pub mod embree_ref;
+pub mod error;
+pub mod exact;
+pub mod geom;
+pub mod image_bin;
+pub mod judge;
+pub mod needs;
+pub mod obj;
+pub mod package;
+pub mod progress;
+pub mod ray;
+pub mod ray_gen;
+pub mod rays_txt;
+pub mod render;
+pub mod scene;
+pub mod scene_xml;
+pub mod transform;
+pub mod traverse;
+pub mod bench;
