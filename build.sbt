@@ -10,6 +10,7 @@ lazy val root = (project in file("."))
     name := "rtaccel",
     libraryDependencies ++= Seq(
       "org.chipsalliance" %% "chisel"     % chiselVersion,
+      "com.lihaoyi"       %% "ujson"      % "3.1.0",
       "edu.berkeley.cs"   %% "chiseltest" % "6.0.0" % Test,
       "org.scalatest"     %% "scalatest"  % "3.2.19" % Test
     ),

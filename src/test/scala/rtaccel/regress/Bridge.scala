@@ -1,0 +1,32 @@
+package rtaccel.regress
+
+import java.nio.file.{Files, Path}
+import scala.sys.process._
+
+/** Runs nori-bridge, the software half of the regression. */
+object Bridge {
+  private def exec(bridge: Path, args: Seq[String]): Unit = {
+    if (!Files.isExecutable(bridge))
+      throw new IllegalArgumentException(s"$bridge: nori-bridge not built (run `make setup`)")
+    val cmd = bridge.toString +: args
+    val rc = Process(cmd).!
+    if (rc != 0) throw new IllegalArgumentException(s"`${cmd.mkString(" ")}` failed with exit code $rc")
+  }
+
+  /** Compares out/hits.csv with the package's reference; returns accuracy.json. */
+  def compare(bridge: Path, pkg: Path, out: Path, precisionBits: Int): ujson.Value = {
+    val acc = out.resolve("accuracy.json")
+    exec(bridge, Seq("compare", "--package", pkg.toString, "--hits", out.resolve("hits.csv").toString,
+      "--out", acc.toString, "--precision-bits", precisionBits.toString))
+    ujson.read(Files.readString(acc))
+  }
+
+  /** PNGs for camera rays; other ray kinds have no image, and nothing is drawn. */
+  def render(bridge: Path, pkg: Path, out: Path): Option[Path] = {
+    val manifest = ujson.read(Files.readString(pkg.resolve("package.json")))
+    if (manifest.obj.get("ray_kind").map(_.str).contains("primary")) {
+      exec(bridge, Seq("render", "--package", pkg.toString, "--hits", out.resolve("hits.csv").toString, "--out-dir", out.toString))
+      Some(out.resolve("diff.png"))
+    } else None
+  }
+}

@@ -1,0 +1,94 @@
+package rtaccel.regress
+
+import chisel3.Data
+import chiseltest._
+import chiseltest.simulator.WriteVcdAnnotation
+import firrtl2.options.TargetDirAnnotation
+import rtaccel.golden.{HitRecord, TraversalGolden}
+import rtaccel.scene.{HitsCsv, ScenePackage}
+import rtaccel.system.{AccelHarness, Environment, RunResult, SimTop}
+import rtaccel.{AccelConfig, ErrorFlags, RtAccel}
+
+import java.nio.file.{Files, Path, Paths}
+
+/** `make regress`: one scene package through the RTL under Verilator, with
+  * the memory-system model on both ports; every ray checked bit for bit
+  * against the golden model, then against Embree by `nori-bridge compare`.
+  * Writes hits.csv, stats.json, accuracy.json, report.json, report.md and,
+  * for camera rays, PNGs into the output directory.
+  */
+object Regress {
+  def main(args: Array[String]): Unit =
+    try {
+      val ok = run(RegressArgs.parse(args.toSeq))
+      sys.exit(if (ok) 0 else 1)
+    } catch {
+      case e: IllegalArgumentException =>
+        System.err.println(s"Error: ${e.getMessage}")
+        sys.exit(2)
+    }
+
+  /** The configuration this run generates: the scene decides only what the user left open. */
+  def config(a: RegressArgs, pkg: ScenePackage): AccelConfig = {
+    val fmt = if (a.float == "field") rtaccel.fp.FloatFormat.FP32 else rtaccel.fp.FloatFormat.parse(a.float)
+    AccelConfig(numRayIds = a.numRayIds, stackDepth = a.stackDepth.getOrElse(AccelConfig.zc706.stackDepth), float = fmt)
+  }
+
+  /** Returns false when the run found a real problem (a golden mismatch, or any compare mismatch under --strict 1). */
+  def run(a: RegressArgs): Boolean = {
+    val pkg = ScenePackage.load(a.pkg)
+    val rays = a.maxRays.fold(pkg.rays)(n => pkg.rays.take(n))
+    val cfg = config(a, pkg)
+    val misfits = pkg.misfits(cfg)
+    if (misfits.nonEmpty)
+      throw new IllegalArgumentException(s"${a.pkg}: the scene does not fit the generated hardware:\n  " + misfits.mkString("\n  ") +
+        "\n(raise the limits, e.g. STACK=<n>, or size the hardware to the scene)")
+    val chosen = DatapathChoice.resolve(a.float, a.triangle, a.rounding)
+    Files.createDirectories(a.out)
+    println(s"regress: ${rays.size} rays, ${pkg.needs.triangles} triangles, ${pkg.needs.nodes} nodes; " +
+      s"${cfg.numRayIds} ray IDs, stack ${cfg.stackDepth}; memory ${a.memory(0).describe}")
+    chosen match { case c: Chosen[t, s] => runWith(a, pkg, rays, cfg, c.asInstanceOf[Chosen[Data, s]]) }
+  }
+
+  private def runWith[S](a: RegressArgs, pkg: ScenePackage, rays: IndexedSeq[rtaccel.golden.RayRecord], cfg: AccelConfig,
+      c: Chosen[Data, S]): Boolean = {
+    val simDir = Paths.get("build", "sim", s"RtAccel_${c.dp.name}_n${cfg.numRayIds}_d${cfg.stackDepth}")
+    val annos = Seq(VerilatorBackendAnnotation, chiseltest.internal.CachingAnnotation, TargetDirAnnotation(simDir.toString)) ++
+      (if (a.waves) Seq(WriteVcdAnnotation) else Nil)
+    val env = Environment(a.memory(0), a.memory(1), seed = a.seed)
+    val t0 = System.nanoTime()
+    var result: RunResult = null
+    var simStart = 0L
+    RawTester.test(new SimTop(cfg, c.dp), annos) { dut =>
+      simStart = System.nanoTime()
+      result = AccelHarness.run(dut, pkg.image, rays, env,
+        progress = cyc => println(f"regress: cycle $cyc%,d"))
+    }
+    val simSeconds = (System.nanoTime() - simStart) / 1e9
+    val wallSeconds = (System.nanoTime() - t0) / 1e9
+
+    // Every ray bit for bit against the golden model of the same hardware.
+    val traces = rays.map(r => r.number -> TraversalGolden.trace(cfg, pkg.image, c.golden, r)).toMap
+    val goldenMismatches = result.hits.filter { h =>
+      val e = traces(h.number).hit
+      val r = rays.find(_.number == h.number).get
+      if (r.shadow) h.hit != e.hit || h.errors != e.errors else h != e
+    }
+    goldenMismatches.take(10).foreach(h => println(s"regress: GOLDEN MISMATCH ray ${h.number}: hardware $h, golden ${traces(h.number).hit}"))
+
+    HitsCsv.write(a.out.resolve("hits.csv"), result.hits)
+    val stats = Report.stats(a, cfg, c.dp.name, rays.size, result, simSeconds, wallSeconds, goldenMismatches.size,
+      result.hits.count(_.errors != 0))
+    Files.writeString(a.out.resolve("stats.json"), ujson.write(stats, indent = 2))
+    if (a.waves) println(s"regress: waveform under $simDir")
+
+    val accuracy = Bridge.compare(a.bridge, a.pkg, a.out, cfg.float.manBits + 1)
+    Bridge.render(a.bridge, a.pkg, a.out)
+    val report = Report.combine(stats, accuracy)
+    Files.writeString(a.out.resolve("report.json"), ujson.write(report, indent = 2))
+    Files.writeString(a.out.resolve("report.md"), Report.markdown(report))
+    println(Report.table(report))
+    val compareBad = accuracy.obj.get("mismatches").map(_.num.toLong).getOrElse(0L)
+    goldenMismatches.isEmpty && !(a.strict && compareBad > 0)
+  }
+}
