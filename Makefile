@@ -60,8 +60,8 @@ demo: setup ## The main job on the default shipped scene
 verilog: setup ## SystemVerilog for the ZC706 into build/verilog/ (not built yet)
 	@echo "make verilog: not built yet (the accelerator top level is issue 5)" >&2; exit 1
 
-regress: setup ## Scene regression: make regress SCENE=scenes/...xml (not built yet)
-	@echo "make regress: not built yet (the accelerator and its regression are issue 5)" >&2; exit 1
+regress: setup ## Scene regression: make regress SCENE=scenes/x/x.xml [RAYS= FLOAT= TRIANGLE= ROUNDING= MEM_LATENCY= IDS= STACK= OUT= WAVES=1]
+	@scripts/regress.sh
 
 clean: ## Remove build outputs (keeps downloaded toolchains and caches)
 	rm -rf $(BUILD) target project/target project/project test_run_dir
