@@ -1,0 +1,87 @@
+package rtaccel.datapath
+
+import chisel3._
+import rtaccel.AccelConfig
+import rtaccel.fetch.RayPrepUnit
+import rtaccel.leaf.PrimUnit
+import rtaccel.traversal.BoxUnit
+import rtaccel.fp.FloatFormat
+import rtaccel.tools.FpAreaReport
+
+import java.nio.file.{Files, Path, Paths}
+import scala.concurrent.duration.Duration
+import scala.concurrent.{Await, ExecutionContext, Future}
+import scala.sys.process._
+
+/** First half of `make datapath-report`: emits each datapath unit alone and
+  * synthesises it with Yosys (`synth_xilinx -family xc7`), one module per
+  * run, appending `format variant unit latency lut ff srl dsp carry` rows to
+  * `<dir>/area.tsv`. A unit whose Yosys log already holds a `stat` block is
+  * not synthesised again (a rerun after an interruption resumes).
+  *
+  * Usage: DatapathArea <build dir> [parallel jobs]
+  */
+object DatapathArea {
+  private val firtoolOpts = Array(
+    "--lowering-options=disallowLocalVariables,disallowPackedArrays",
+    "-disable-all-randomization", "-strip-debug-info")
+
+  final case class Job(fmt: FloatFormat, variant: String, unit: String, gen: () => RawModule)
+
+  /** Every unit that differs: the box does not depend on the triangle test, nor the triangle on the box rounding. */
+  def jobs(fmt: FloatFormat): Seq[Job] = {
+    val cfg = AccelConfig(float = fmt)
+    def dp(t: TriangleTest, r: BoxRounding) = FloatDatapath(fmt, t, r)
+    Seq(
+      Job(fmt, "rne", "BoxIntersect", () => dp(TriangleTest.Moller, BoxRounding.Nearest).box(cfg)),
+      Job(fmt, "cons", "BoxIntersect", () => dp(TriangleTest.Moller, BoxRounding.Conservative).box(cfg)),
+      Job(fmt, "mt", "PrimIntersect", () => dp(TriangleTest.Moller, BoxRounding.Nearest).prim(cfg)),
+      Job(fmt, "wt", "PrimIntersect", () => dp(TriangleTest.Watertight, BoxRounding.Nearest).prim(cfg)),
+      Job(fmt, "mt_rne", "RayPrep", () => dp(TriangleTest.Moller, BoxRounding.Nearest).rayPrep(cfg)),
+      Job(fmt, "wt_cons", "RayPrep", () => dp(TriangleTest.Watertight, BoxRounding.Conservative).rayPrep(cfg)))
+  }
+  val formats: Seq[FloatFormat] = Seq(FloatFormat.FP32, FloatFormat(8, 15), FloatFormat(8, 10), FloatFormat(6, 9))
+
+  def main(args: Array[String]): Unit = {
+    require(args.nonEmpty, "usage: DatapathArea <build dir> [jobs]")
+    val dir = Paths.get(args(0))
+    val pool = java.util.concurrent.Executors.newFixedThreadPool(if (args.length > 1) args(1).toInt else 2)
+    implicit val ec: ExecutionContext = ExecutionContext.fromExecutor(pool)
+    Files.createDirectories(dir)
+    // Elaborate serially; Yosys runs in parallel.
+    val futures = formats.flatMap(jobs).map { j =>
+      var unit: RawModule = null
+      val sv = _root_.circt.stage.ChiselStage.emitSystemVerilog({ unit = j.gen(); unit }, firtoolOpts = firtoolOpts)
+      val latency = latencyOf(unit)
+      val top = """(?m)^module (\w+)""".r.findAllMatchIn(sv).map(_.group(1)).toSeq.last
+      Future(row(dir, j, top, sv, latency))
+    }
+    val rows = futures.map(Await.result(_, Duration.Inf))
+    pool.shutdown()
+    Files.writeString(dir.resolve("area.tsv"), rows.mkString("", "\n", "\n"))
+    println(s"datapath-area: wrote ${dir.resolve("area.tsv")}")
+  }
+
+  /** The unit's derived latency, read from the elaborated module. */
+  def latencyOf(m: RawModule): Int = m match {
+    case b: BoxUnit[_]     => b.latency
+    case p: PrimUnit[_]    => p.latency
+    case r: RayPrepUnit[_] => r.latency
+    case other             => throw new IllegalArgumentException(s"not a datapath unit: ${other.name}")
+  }
+
+  private def row(dir: Path, j: Job, top: String, sv: String, latency: Int): String = {
+    val svFile = dir.resolve(s"$top.sv")
+    val logFile = dir.resolve(s"$top.yosys.log")
+    val done = Files.exists(logFile) && Files.readString(logFile).contains("Number of cells:")
+    if (!done) {
+      Files.writeString(svFile, sv)
+      val rc = Seq("yosys", "-q", "-l", logFile.toString, "-p",
+        s"read_verilog -sv $svFile; synth_xilinx -family xc7 -top $top; stat").!(ProcessLogger(_ => ()))
+      require(rc == 0, s"yosys failed on $svFile (exit $rc); see $logFile")
+    }
+    val a = FpAreaReport.parseStat(Files.readString(logFile), logFile)
+    println(s"datapath-area: $top: $a")
+    Seq(j.fmt.name, j.variant, j.unit, latency, a.lut, a.ff, a.srl, a.dsp, a.carry).mkString("\t")
+  }
+}

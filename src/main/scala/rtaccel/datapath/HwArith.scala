@@ -1,0 +1,112 @@
+package rtaccel.datapath
+
+import chisel3._
+import rtaccel.fp._
+
+import scala.collection.mutable
+
+/** A hardware value with the pipeline cycle at which it is valid. `at(c)`
+  * gives it delayed to cycle `c`; delays share one register chain per value
+  * (every consumer taps the same chain), so aligning an operand for several
+  * later operations costs the longest delay once, not once per use.
+  * Constants are valid at every cycle and cost no registers.
+  */
+final class Timed[T <: Data](val value: T, val ready: Int, val constant: Boolean = false) {
+  private val taps = mutable.ArrayBuffer[T](value)
+  def at(cycle: Int): T = {
+    require(constant || cycle >= ready, s"Timed: value ready at $ready used at $cycle")
+    if (constant) value
+    else {
+      while (taps.size <= cycle - ready) taps += RegNext(taps.last)
+      taps(cycle - ready)
+    }
+  }
+}
+
+/** The hardware interpretation of [[KernelArith]]: each rounding operation or
+  * comparison instantiates an FP unit with a fixed mode and its own latency,
+  * fed by operands aligned to the later one's cycle. The result is an II = 1
+  * pipeline whose latency is the `ready` of its outputs: derived from the unit
+  * latencies, never typed. Bit tests, sign flips and muxes are wires.
+  * Must be used inside a Module (it instantiates units there).
+  */
+final class HwArith(val fmt: FloatFormat) extends KernelArith[Timed[UInt], Timed[Bool]] {
+  type F = Timed[UInt]
+  type B = Timed[Bool]
+  private val f32 = FloatFormat.FP32
+  private def when2(a: Timed[_ <: Data], b: Timed[_ <: Data]): Int = a.ready max b.ready
+
+  private def binary(unit: FpUnitIO[FpBinaryIn, UInt], latency: Int, a: F, b: F): F = {
+    val c = when2(a, b)
+    unit.in.valid := true.B
+    unit.in.bits.a := a.at(c)
+    unit.in.bits.b := b.at(c)
+    new Timed(unit.out.bits, c + latency)
+  }
+  def add(a: F, b: F, rm: RoundingMode): F = { val u = Module(new FpAdd(fmt, Some(rm))); binary(u.io, u.latency, a, b) }
+  def sub(a: F, b: F, rm: RoundingMode): F = {
+    val u = Module(new FpAdd(fmt, Some(rm), subtract = true)); binary(u.io, u.latency, a, b)
+  }
+  def mul(a: F, b: F, rm: RoundingMode): F = { val u = Module(new FpMul(fmt, Some(rm))); binary(u.io, u.latency, a, b) }
+  def recip(a: F, rm: RoundingMode): F = {
+    val u = Module(new FpRecip(fmt, Some(rm)))
+    u.io.in.valid := true.B
+    u.io.in.bits.a := a.at(a.ready)
+    new Timed(u.io.out.bits, a.ready + u.latency)
+  }
+  def fromF32(a: F, rm: RoundingMode): F =
+    if (fmt == f32) a
+    else {
+      val u = Module(new FpConvert(f32, fmt, Some(rm)))
+      u.io.in.valid := true.B
+      u.io.in.bits.a := a.at(a.ready)
+      new Timed(u.io.out.bits, a.ready + u.latency)
+    }
+
+  /** One comparator per operand pair, shared by every min/max/lt/le/eq on it. */
+  private val compares = mutable.Map.empty[(F, F), Timed[FpCompareOut]]
+  private def compare(a: F, b: F): Timed[FpCompareOut] = compares.getOrElseUpdate((a, b), {
+    val u = Module(new FpCompare(fmt))
+    val c = when2(a, b)
+    u.io.in.valid := true.B
+    u.io.in.bits.a := a.at(c)
+    u.io.in.bits.b := b.at(c)
+    new Timed(u.io.out.bits, c + u.latency)
+  })
+  private def field[T <: Data](t: Timed[FpCompareOut], f: FpCompareOut => T): Timed[T] = new Timed(f(t.value), t.ready)
+  def min(a: F, b: F): F = field(compare(a, b), _.min)
+  def max(a: F, b: F): F = field(compare(a, b), _.max)
+  def lt(a: F, b: F): B = field(compare(a, b), _.lt)
+  def le(a: F, b: F): B = field(compare(a, b), o => o.lt || o.eq)
+  def eq(a: F, b: F): B = field(compare(a, b), _.eq)
+
+  private def wire1[T <: Data](a: F, f: UInt => T): Timed[T] = new Timed(f(a.value), a.ready, a.constant)
+  private def exp(x: UInt): UInt = x(fmt.width - 2, fmt.manBits)
+  private def man(x: UInt): UInt = x(fmt.manBits - 1, 0)
+  def isNaN(a: F): B = wire1(a, x => exp(x).andR && man(x).orR)
+  def isZero(a: F): B = wire1(a, x => x(fmt.width - 2, 0) === 0.U)
+  def isNonFinite(a: F): B = wire1(a, x => exp(x).andR)
+  def signBit(a: F): B = wire1(a, x => x(fmt.width - 1))
+  def neg(a: F): F = wire1(a, x => (x ^ (BigInt(1) << (fmt.width - 1)).U(fmt.width.W)))
+  def abs(a: F): F = wire1(a, x => x(fmt.width - 2, 0).pad(fmt.width))
+
+  private def comb2[S <: Data, T <: Data](a: Timed[S], b: Timed[S], f: (S, S) => T): Timed[T] = {
+    val c = when2(a, b)
+    new Timed(f(a.at(c), b.at(c)), c, a.constant && b.constant)
+  }
+  private def comb3[S <: Data](c: B, t: Timed[S], e: Timed[S]): Timed[S] = {
+    val r = c.ready max t.ready max e.ready
+    new Timed(Mux(c.at(r), t.at(r), e.at(r)), r, c.constant && t.constant && e.constant)
+  }
+  def mux(c: B, t: F, f: F): F = comb3(c, t, f)
+  def muxB(c: B, t: B, f: B): B = comb3(c, t, f)
+  def and(a: B, b: B): B = comb2[Bool, Bool](a, b, _ && _)
+  def or(a: B, b: B): B = comb2[Bool, Bool](a, b, _ || _)
+  def not(a: B): B = new Timed(!a.value, a.ready, a.constant)
+  def const(bits: BigInt): F = new Timed(fmt.checkBits(bits).U(fmt.width.W), 0, constant = true)
+  def bool(b: Boolean): B = new Timed(b.B, 0, constant = true)
+
+  /** An input valid at cycle 0. */
+  def input(x: UInt): F = new Timed(x, 0)
+  def inputB(x: Bool): B = new Timed(x, 0)
+}

@@ -1,0 +1,85 @@
+package rtaccel.datapath
+
+import rtaccel.fp.{FloatFormat, FpModel, RoundingMode}
+
+/** The arithmetic a kernel is written against. Every kernel (ray setup, box,
+  * Moller-Trumbore, watertight) is written once, generic over this interface,
+  * and run under two interpretations: [[GoldenArith]] (bit patterns through
+  * FpModel) and [[HwArith]] (FP units, pipelined). So the golden model and the
+  * hardware perform the same operations in the same order by construction.
+  *
+  * `F` is a value of `fmt` (or, for `fromF32`, an FP32 value); `B` a bit.
+  * Rounding ops take their mode per call: conservative box distances need
+  * RDN/RUP next to RNE ones.
+  */
+trait KernelArith[F, B] {
+  def fmt: FloatFormat
+  def add(a: F, b: F, rm: RoundingMode): F
+  def sub(a: F, b: F, rm: RoundingMode): F
+  def mul(a: F, b: F, rm: RoundingMode): F
+  def recip(a: F, rm: RoundingMode): F
+  /** FP32 bits to `fmt`, rounded in `rm` (the identity when `fmt` is FP32). */
+  def fromF32(a: F, rm: RoundingMode): F
+  /** maximumNumber/minimumNumber (a NaN operand loses). */
+  def min(a: F, b: F): F
+  def max(a: F, b: F): F
+  def lt(a: F, b: F): B
+  def le(a: F, b: F): B
+  def eq(a: F, b: F): B
+  // Bit-level tests and sign changes: exact, no rounding.
+  def isNaN(a: F): B
+  def isZero(a: F): B
+  def isNonFinite(a: F): B
+  def signBit(a: F): B
+  def neg(a: F): F
+  def abs(a: F): F
+  def mux(c: B, t: F, f: F): F
+  def and(a: B, b: B): B
+  def or(a: B, b: B): B
+  def not(a: B): B
+  def muxB(c: B, t: B, f: B): B
+  def const(bits: BigInt): F
+  def bool(b: Boolean): B
+
+  // ---- derived helpers (no new operations) ----
+  def gt(a: F, b: F): B = lt(b, a)
+  def ge(a: F, b: F): B = le(b, a)
+  def all(bs: Seq[B]): B = bs.reduce(and)
+  def any(bs: Seq[B]): B = bs.reduce(or)
+  /** Picks `vs(i)` for the one-hot `sel(i)`; `sel` has one more entry than needed. */
+  def select(sel: Seq[B], vs: Seq[F]): F = vs.indices.init.foldRight(vs.last)((i, rest) => mux(sel(i), vs(i), rest))
+  /** IEEE `a < 0` and `a > 0` from the bits alone (false for NaN and for either zero). */
+  def ltZero(a: F): B = and(signBit(a), not(or(isZero(a), isNaN(a))))
+  def gtZero(a: F): B = and(not(signBit(a)), not(or(isZero(a), isNaN(a))))
+  def posInf: F = const(fmt.infinity(false))
+  def negInf: F = const(fmt.infinity(true))
+  def posZero: F = const(fmt.zero(false))
+}
+
+/** The golden interpretation: FP bit patterns as BigInt through [[FpModel]]. */
+final class GoldenArith(val fmt: FloatFormat) extends KernelArith[BigInt, Boolean] {
+  def add(a: BigInt, b: BigInt, rm: RoundingMode): BigInt = FpModel.add(fmt, rm, a, b)
+  def sub(a: BigInt, b: BigInt, rm: RoundingMode): BigInt = FpModel.sub(fmt, rm, a, b)
+  def mul(a: BigInt, b: BigInt, rm: RoundingMode): BigInt = FpModel.mul(fmt, rm, a, b)
+  def recip(a: BigInt, rm: RoundingMode): BigInt = FpModel.recip(fmt, rm, a)
+  def fromF32(a: BigInt, rm: RoundingMode): BigInt =
+    if (fmt == FloatFormat.FP32) a else FpModel.fromFloat32(fmt, rm, a)
+  def min(a: BigInt, b: BigInt): BigInt = FpModel.min(fmt, a, b)
+  def max(a: BigInt, b: BigInt): BigInt = FpModel.max(fmt, a, b)
+  def lt(a: BigInt, b: BigInt): Boolean = FpModel.lt(fmt, a, b)
+  def le(a: BigInt, b: BigInt): Boolean = FpModel.le(fmt, a, b)
+  def eq(a: BigInt, b: BigInt): Boolean = FpModel.equal(fmt, a, b)
+  def isNaN(a: BigInt): Boolean = fmt.isNaN(a)
+  def isZero(a: BigInt): Boolean = fmt.isZero(a)
+  def isNonFinite(a: BigInt): Boolean = !fmt.isFinite(a)
+  def signBit(a: BigInt): Boolean = fmt.sign(a)
+  def neg(a: BigInt): BigInt = fmt.negate(a)
+  def abs(a: BigInt): BigInt = fmt.abs(a)
+  def mux(c: Boolean, t: BigInt, f: BigInt): BigInt = if (c) t else f
+  def and(a: Boolean, b: Boolean): Boolean = a && b
+  def or(a: Boolean, b: Boolean): Boolean = a || b
+  def not(a: Boolean): Boolean = !a
+  def muxB(c: Boolean, t: Boolean, f: Boolean): Boolean = if (c) t else f
+  def const(bits: BigInt): BigInt = fmt.checkBits(bits)
+  def bool(b: Boolean): Boolean = b
+}
