@@ -23,8 +23,11 @@ else
   "$bridge" "${args[@]}"
 fi
 start=$(date +%s)
-./sbt "Test/runMain rtaccel.regress.Regress --package $pkg --out $OUT --float ${FLOAT:-e8m23} \
-  --triangle ${TRIANGLE:-watertight} --rounding ${ROUNDING:-rne} --mem-latency ${MEM_LATENCY:-100} \
-  --ids ${IDS:-64} --stack ${STACK:-} --cache ${CACHE:-0} --rays ${MAX_RAYS:-} --waves ${WAVES:-0} \
-  --strict ${STRICT:-0} --seed ${SEED:-1} --bridge $bridge"
+opts="--package $pkg --out $OUT --float ${FLOAT:-e8m23} --triangle ${TRIANGLE:-watertight}"
+opts+=" --rounding ${ROUNDING:-rne} --mem-latency ${MEM_LATENCY:-100} --ids ${IDS:-64} --cache ${CACHE:-0}"
+opts+=" --waves ${WAVES:-0} --strict ${STRICT:-0} --seed ${SEED:-1} --bridge $bridge"
+# Empty values would vanish in sbt's argument splitting: pass only what is set.
+[ -n "${STACK:-}" ] && opts+=" --stack $STACK"
+[ -n "${MAX_RAYS:-}" ] && opts+=" --rays $MAX_RAYS"
+./sbt "Test/runMain rtaccel.regress.Regress $opts"
 echo "regress: $OUT/report.md ($(( $(date +%s) - start )) s)"

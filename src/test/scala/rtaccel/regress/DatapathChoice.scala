@@ -2,6 +2,8 @@ package rtaccel.regress
 
 import chisel3.Data
 import rtaccel.Datapath
+import rtaccel.datapath.{BoxRounding, FloatDatapath, FloatGolden, TriangleTest}
+import rtaccel.fp.FloatFormat
 import rtaccel.golden.ArithGolden
 import rtaccel.system.FieldDatapath
 
@@ -9,12 +11,23 @@ import rtaccel.system.FieldDatapath
 final case class Chosen[T <: Data, S](dp: Datapath[T], golden: ArithGolden[S])
 
 object DatapathChoice {
-  /** Resolves `make regress` FLOAT / TRIANGLE / ROUNDING to a datapath. */
+  /** Resolves `make regress` FLOAT / TRIANGLE / ROUNDING to a datapath.
+    * FLOAT=field selects the control-path test datapath (no real geometry).
+    */
   def resolve(float: String, triangle: String, rounding: String): Chosen[_ <: Data, _] =
-    (float, triangle, rounding) match {
-      case ("field", _, _) => Chosen(FieldDatapath, FieldDatapath.Golden)
-      case _ =>
-        throw new IllegalArgumentException(
-          s"no datapath for FLOAT=$float TRIANGLE=$triangle ROUNDING=$rounding yet: the floating-point datapaths are issue 4")
+    if (float == "field") Chosen(FieldDatapath, FieldDatapath.Golden)
+    else {
+      val test = triangle match {
+        case "watertight" | "wt" => TriangleTest.Watertight
+        case "moller" | "mt"     => TriangleTest.Moller
+        case other => throw new IllegalArgumentException(s"TRIANGLE=$other: expected moller or watertight")
+      }
+      val box = rounding match {
+        case "rne" | "nearest"        => BoxRounding.Nearest
+        case "conservative" | "cons" => BoxRounding.Conservative
+        case other => throw new IllegalArgumentException(s"ROUNDING=$other: expected rne or conservative")
+      }
+      val dp = FloatDatapath(FloatFormat.parse(float), test, box)
+      Chosen(dp, FloatGolden(dp))
     }
 }

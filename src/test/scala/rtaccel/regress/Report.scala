@@ -14,15 +14,18 @@ object Report {
     // Each unit takes one item per cycle, so the busiest one bounds throughput.
     val busiest = Seq("boxTests" -> perRay("boxTests"), "triTests" -> perRay("triTests"), "decisions" -> perRay("decisions"),
       "nodeFetches" -> perRay("nodeFetches"), "triFetches" -> perRay("triFetches")).maxBy(_._2)
-    val bytesPerRay = (r.node.dramBytes + r.tri.dramBytes).toDouble / rays.max(1)
-    val bwBound = (a.bytesPerCycle * 2) / bytesPerRay.max(1e-9) // two ports, each with its own channel
-    val bound = math.min(1.0 / busiest._2.max(1e-9), bwBound)
+    // Each port has its own return channel of bytesPerCycle: the port moving
+    // more bytes per ray bounds throughput by bandwidth.
+    val portBounds = Seq("nodePortBandwidth" -> r.node.dramBytes, "trianglePortBandwidth" -> r.tri.dramBytes)
+      .map { case (n, bytes) => n -> a.bytesPerCycle / (bytes.toDouble / rays.max(1)).max(1e-9) }
+    val unitBound = "unit:" + busiest._1 -> 1.0 / busiest._2.max(1e-9)
+    val (limiter, bound) = (unitBound +: portBounds).minBy(_._2)
     ujson.Obj(
       "rays" -> rays,
       "cycles" -> r.cycles.toDouble,
       "raysPerCycle" -> rays / r.cycles.toDouble,
       "boundRaysPerCycle" -> bound,
-      "boundLimitedBy" -> (if (bwBound < 1.0 / busiest._2) "memoryBandwidth" else busiest._1),
+      "boundLimitedBy" -> limiter,
       "efficiency" -> (rays / r.cycles.toDouble) / bound,
       "nodeTestsPerRay" -> perRay("boxTests"),
       "triangleTestsPerRay" -> perRay("triTests"),
