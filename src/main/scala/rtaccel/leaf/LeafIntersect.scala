@@ -133,6 +133,9 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimUnit[
   private val ans     = prim.io.out.bits
   private val primIdx = carry.bits.prim(cfg.triIndexBits - 1, 0)
   private val primTooWide = if (cfg.triIndexBits >= 32) false.B else carry.bits.prim(31, cfg.triIndexBits).orR
+  // One read port per consumer: every extra `read` replicates the memory.
+  private val doneTok  = parked.read(doneId)
+  private val issueTok = parked.read(issueIdReg)
   private val old = best.read(doneId)
   private val (tKey, oldKey) = (FpOrder.key(cfg.float, ans.t), FpOrder.key(cfg.float, old.t))
   private val closer = !hasHitReg(doneId) || tKey < oldKey || (tKey === oldKey && primIdx < old.prim)
@@ -142,7 +145,7 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimUnit[
     b.t := ans.t; b.u := ans.u; b.v := ans.v; b.prim := primIdx
     best.write(doneId, b)
     hasHitReg(doneId) := true.B
-    when(parked.read(doneId).shadow) { occludedReg(doneId) := true.B }
+    when(doneTok.shadow) { occludedReg(doneId) := true.B }
   }
   when(reduce && primTooWide) {
     leafErrorsReg(doneId) := leafErrorsReg(doneId) | ErrorFlags.bit(ErrorFlags.IndexOverflow)
@@ -159,16 +162,16 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimUnit[
     (outstandingReg(issueIdReg) === 1.U && reduce && doneId === issueIdReg)
 
   // ---- Exit: the answer side first (it cannot wait), then the issue side ----
-  private def exitOf(id: UInt): LeafExit = {
+  private def exitOf(id: UInt, tok: TraversalToken): LeafExit = {
     val e = Wire(new LeafExit(cfg))
-    e.token := parked.read(id)
-    e.token.errors := parked.read(id).errors | leafErrorsReg(id)
-    e.occluded := occludedReg(id) || (reduce && doneId === id && ans.hit && parked.read(id).shadow)
+    e.token := tok
+    e.token.errors := tok.errors | leafErrorsReg(id)
+    e.occluded := occludedReg(id) || (reduce && doneId === id && ans.hit && tok.shadow)
     e
   }
   private val issueExit = stoppingReg && issueDrained && !lastAnswer
   exits.io.enq.valid := lastAnswer || issueExit
-  exits.io.enq.bits  := Mux(lastAnswer, exitOf(doneId), exitOf(issueIdReg))
+  exits.io.enq.bits  := Mux(lastAnswer, exitOf(doneId, doneTok), exitOf(issueIdReg, issueTok))
   when(issueExit && exits.io.enq.ready) { stoppingReg := false.B }
 
   // A ray leaves only after its tmax is written (see the class comment): first
