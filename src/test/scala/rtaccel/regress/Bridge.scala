@@ -7,11 +7,15 @@ import scala.sys.process._
 object Bridge {
   private def exec(bridge: Path, args: Seq[String]): Unit = {
     if (!Files.isExecutable(bridge))
-      throw new IllegalArgumentException(s"$bridge: nori-bridge not built (run `make setup`)")
+      throw new IllegalArgumentException(s"$bridge: nori-bridge is not built (run `make setup`, or `make test`, which builds it first)")
     val cmd = bridge.toString +: args
     val rc = Process(cmd).!
     if (rc != 0) throw new IllegalArgumentException(s"`${cmd.mkString(" ")}` failed with exit code $rc")
   }
+
+  /** Compiles a Nori scene into a package directory (rays: primary|shadow|ao|random|file). */
+  def compile(bridge: Path, scene: Path, pkg: Path, rays: String, extra: Seq[String] = Nil): Unit =
+    exec(bridge, Seq("compile", scene.toString, "--out", pkg.toString, "--rays", rays) ++ extra)
 
   /** Compares out/hits.csv with the package's reference; returns accuracy.json. */
   def compare(bridge: Path, pkg: Path, out: Path, precisionBits: Int): ujson.Value = {

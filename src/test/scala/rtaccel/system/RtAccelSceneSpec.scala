@@ -1,0 +1,87 @@
+package rtaccel.system
+
+import chisel3._
+import chiseltest._
+import org.scalatest.flatspec.AnyFlatSpec
+import rtaccel.datapath.{BoxRounding, FloatDatapath, FloatGolden, TriangleTest}
+import rtaccel.fp.FloatFormat
+import rtaccel.golden.TraversalGolden
+import rtaccel.mem.{CacheParams, Latency, MemoryParams}
+import rtaccel.regress.Bridge
+import rtaccel.scene.{HitsCsv, ScenePackage}
+import rtaccel.testutil.{Backends, Seeded}
+import rtaccel.AccelConfig
+
+import java.nio.file.{Path, Paths}
+
+/** The real accelerator on real scenes: every ray bit-exact with the golden
+  * model, and (in FP32) every ray judged by `nori-bridge compare` against
+  * Embree, with ties, edge cases and Embree's own errors classified apart.
+  * Scenes are compiled by nori-bridge here, so it must be built (make setup).
+  */
+class RtAccelSceneSpec extends AnyFlatSpec with ChiselScalatestTester {
+  behavior of "RtAccel on scenes"
+
+  private val bridge = Paths.get("nori-bridge/target/release/nori-bridge")
+  private val root = Paths.get("build/test-scenes")
+
+  private def compiled(scene: String, rays: String, extra: Seq[String] = Nil): ScenePackage = {
+    val name = Paths.get(scene).getFileName.toString.stripSuffix(".xml")
+    val dir = root.resolve(s"$name-$rays")
+    Bridge.compile(bridge, Paths.get(scene), dir, rays, extra)
+    ScenePackage.load(dir)
+  }
+
+  private val cfg32 = AccelConfig(numRayIds = 16, stackDepth = 24, maxNodes = 1 << 14, maxTriangles = 1 << 13, maxLeafSize = 4)
+
+  private def runScenes(cfg: AccelConfig, dp: FloatDatapath, cases: Seq[(String, () => ScenePackage, Environment)],
+      embreeStrict: Boolean, seed: String): Unit = Seeded(seed) { rnd =>
+    val golden = FloatGolden(dp)
+    test(new SimTop(cfg, dp)).withAnnotations(Backends.verilator) { dut =>
+      for (((what, mk, env), k) <- cases.zipWithIndex) {
+        val pkg = mk()
+        assert(pkg.misfits(cfg).isEmpty, s"$what: ${pkg.misfits(cfg)}")
+        dut.reset.poke(true.B); dut.clock.step(); dut.reset.poke(false.B)
+        val run = AccelHarness.run(dut, pkg.image, pkg.rays, env.copy(seed = rnd.nextLong() + k))
+        val byNumber = pkg.rays.map(r => r.number -> r).toMap
+        for (h <- run.hits) {
+          val r = byNumber(h.number)
+          val e = TraversalGolden.trace(cfg, pkg.image, golden, r).hit
+          val same = if (r.shadow) h.hit == e.hit && h.errors == e.errors else h == e
+          assert(same, s"$what: ray ${h.number}: hardware $h, golden $e")
+        }
+        val out = pkg.dir.resolve(s"hits-${dp.name}")
+        HitsCsv.write(out.resolve("hits.csv"), run.hits)
+        val acc = Bridge.compare(bridge, pkg.dir, out, dp.fmt.manBits + 1)
+        val bad = acc("mismatches").num.toLong
+        println(f"$what (${dp.name}): ${pkg.rays.size} rays in ${run.cycles}%,d cycles, golden exact; vs Embree ${acc("counts")}")
+        if (embreeStrict) assert(bad == 0, s"$what: $bad rays disagree with Embree beyond ties and edge cases; see $out/accuracy.json")
+      }
+    }
+  }
+
+  private val lat100 = Environment(MemoryParams(Latency.Fixed(100)), MemoryParams(Latency.Fixed(100)))
+  private val ooo = Environment(MemoryParams(Latency.Uniform(50, 300), maxOutstanding = 12), MemoryParams(Latency.Uniform(50, 300), maxOutstanding = 12),
+    rayGap = 0.2, hitRefuse = 0.3, memRefuse = 0.2)
+  private val cached = Environment(MemoryParams(Latency.Fixed(60), cache = Some(CacheParams())), MemoryParams(Latency.Fixed(60), cache = Some(CacheParams())))
+
+  it should "match the golden model and Embree in FP32 (watertight) on camera, shadow, AO and random rays" in {
+    val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.Watertight, BoxRounding.Nearest)
+    runScenes(cfg32, dp, Seq(
+      ("cornell primary", () => compiled("scenes/cornell-box/cornell-box.xml", "primary"), lat100),
+      ("cornell shadow", () => compiled("scenes/cornell-box/cornell-box.xml", "shadow"), ooo),
+      ("cornell AO", () => compiled("scenes/cornell-box/cornell-box.xml", "ao"), cached),
+      ("icosphere random", () => compiled("scenes/icosphere/icosphere.xml", "random", Seq("--count", "3000")), ooo),
+      ("multi-mesh AO", () => compiled("scenes/multi-mesh/multi-mesh.xml", "ao", Seq("--width", "40", "--height", "30")), lat100)
+    ), embreeStrict = true, "RtAccelScene.fp32")
+  }
+
+  it should "match the golden model bit for bit in a narrow format (e8m12, Moller-Trumbore, conservative boxes)" in {
+    val fmt = FloatFormat(8, 12)
+    val dp = FloatDatapath(fmt, TriangleTest.Moller, BoxRounding.Conservative)
+    runScenes(cfg32.copy(float = fmt), dp, Seq(
+      ("cornell primary", () => compiled("scenes/cornell-box/cornell-box.xml", "primary"), ooo),
+      ("multi-mesh AO", () => compiled("scenes/multi-mesh/multi-mesh.xml", "ao", Seq("--width", "40", "--height", "30")), cached)
+    ), embreeStrict = false, "RtAccelScene.e8m12")
+  }
+}
