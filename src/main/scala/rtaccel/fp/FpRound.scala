@@ -7,9 +7,15 @@ import chisel3.util._
   * zero count and shift, clamped at the subnormal boundary), round once in the
   * mode, encode, and substitute special values. It computes exactly what
   * [[FpRounding.round]] computes in the model.
+  *
+  * `minExp`, when the caller knows it, is the smallest `raw.exp` that can
+  * occur. The right shift onto the subnormal grid is `2 - exp - w - bias`
+  * (independent of the leading-zero count), so a known lower bound on `exp`
+  * sizes that shifter, or removes it (the adder and same-range conversions
+  * never need it).
   */
 object FpRound {
-  def apply(fmt: FloatFormat, raw: FpRaw, rm: UInt): UInt = {
+  def apply(fmt: FloatFormat, raw: FpRaw, rm: UInt, minExp: Option[Int] = None): UInt = {
     val p = fmt.precision
     // At least a guard bit and one more below the kept bits.
     val pad = (p + 2 - raw.sigWidth).max(0)
@@ -24,10 +30,15 @@ object FpRound {
     val tiny = biasedExp < 1.S
     // Extra right shift that brings a tiny value onto the subnormal grid.
     val subShift = Mux(tiny, (1.S(ew.W) - biasedExp).asUInt, 0.U)
-    val leftward = lz >= subShift
     val shiftedLeft = (sig << (lz - subShift(lz.getWidth - 1, 0)))(w - 1, 0)
-    val (shiftedRight, lost) = FpUnpack.shiftRightSticky(sig, subShift - lz)
-    val norm = Mux(leftward, shiftedLeft, shiftedRight)
+    val maxRightShift = minExp.map(e => 2 - (e - pad) - w - fmt.bias)
+    val (leftward, norm, lost) =
+      if (maxRightShift.exists(_ <= 0)) (true.B, shiftedLeft, false.B)
+      else {
+        val leftward = lz >= subShift
+        val (shiftedRight, lost) = FpUnpack.shiftRightSticky(sig, subShift - lz)
+        (leftward, Mux(leftward, shiftedLeft, shiftedRight), lost)
+      }
 
     val kept = norm(w - 1, w - p)
     val guard = norm(w - p - 1)
