@@ -30,19 +30,25 @@ object FpRound {
     val tiny = biasedExp < 1.S
     // Extra right shift that brings a tiny value onto the subnormal grid.
     val subShift = Mux(tiny, (1.S(ew.W) - biasedExp).asUInt, 0.U)
-    val shiftedLeft = (sig << (lz - subShift(lz.getWidth - 1, 0)))(w - 1, 0)
     val maxRightShift = minExp.map(e => 2 - (e - pad) - w - fmt.bias)
-    val (leftward, norm, lost) =
-      if (maxRightShift.exists(_ <= 0)) (true.B, shiftedLeft, false.B)
-      else {
-        val leftward = lz >= subShift
-        val (shiftedRight, lost) = FpUnpack.shiftRightSticky(sig, subShift - lz)
-        (leftward, Mux(leftward, shiftedLeft, shiftedRight), lost)
+    def below(n: UInt): Bool = if (w > p + 2) n(w - p - 3, 0).orR else false.B
+    // `window`: the kept p bits, the guard bit and the round bit; `tail`: any 1 below them.
+    val (window, tail) =
+      if (maxRightShift.exists(_ <= 0)) {
+        // Never below the subnormal grid: one left shift, stopped at the grid, does both.
+        val n = (sig << (lz - subShift(lz.getWidth - 1, 0)))(w - 1, 0)
+        (n(w - 1, w - p - 2), below(n))
+      } else {
+        // Normalise, keep p+2 bits and a sticky, then shift right onto the subnormal grid
+        // (a (p+2)-bit shifter instead of a 2w-bit one).
+        val n = (sig << lz)(w - 1, 0)
+        val (r, lost) = FpUnpack.shiftRightSticky(n(w - 1, w - p - 2), subShift)
+        (r, below(n) || lost)
       }
 
-    val kept = norm(w - 1, w - p)
-    val guard = norm(w - p - 1)
-    val rest = (if (w - p - 2 >= 0) norm(w - p - 2, 0).orR else false.B) || raw.sticky || (!leftward && lost)
+    val kept = window(p + 1, 2)
+    val guard = window(1)
+    val rest = window(0) || tail || raw.sticky
     val inexact = guard || rest
     val sign = raw.sign
     val up = MuxLookup(rm, false.B)(Seq(
