@@ -9,10 +9,12 @@ import chisel3.util._
   * [[FpRounding.round]] computes in the model.
   *
   * `minExp`, when the caller knows it, is the smallest `raw.exp` that can
-  * occur. The right shift onto the subnormal grid is `2 - exp - w - bias`
-  * (independent of the leading-zero count), so a known lower bound on `exp`
-  * sizes that shifter, or removes it (the adder and same-range conversions
-  * never need it).
+  * occur. A value on the subnormal grid sits `2 - exp - w - bias` places to
+  * the right of "MSB at the top" (independent of the leading-zero count), so
+  * if that is never positive one left shift, stopped at the grid, normalises
+  * every result and the right shifter is left out (the adder and same-range
+  * conversions). Otherwise the rounder normalises fully, keeps p+2 bits plus
+  * a sticky bit, and shifts those right onto the grid.
   */
 object FpRound {
   def apply(fmt: FloatFormat, raw: FpRaw, rm: UInt, minExp: Option[Int] = None): UInt = {
