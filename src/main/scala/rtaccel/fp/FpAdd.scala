@@ -61,7 +61,8 @@ class FpAdd(val fmt: FloatFormat, val rm: Option[RoundingMode], val latency: Int
   raw.sticky := sticky
 
   private val mid = pipe.cut(io.in.valid, front)
-  private val rounded = FpRound(fmt, mid.bits.raw, FpUnitIO.roundingMode(rm, mid.bits.rm))
+  private val rounded = FpRound(fmt, mid.bits.raw, FpUnitIO.roundingMode(rm, mid.bits.rm),
+    minExp = Some(fmt.emin - fmt.manBits - extra))
   io.out := pipe.cut(mid.valid, rounded)
   pipe.done()
 }

@@ -26,7 +26,8 @@ class FpConvert(val from: FloatFormat, val to: FloatFormat, val rm: Option[Round
   front.raw.sticky := false.B
 
   private val mid = pipe.cut(io.in.valid, front)
-  io.out := pipe.cut(mid.valid, FpRound(to, mid.bits.raw, FpUnitIO.roundingMode(rm, mid.bits.rm)))
+  io.out := pipe.cut(mid.valid, FpRound(to, mid.bits.raw, FpUnitIO.roundingMode(rm, mid.bits.rm),
+    minExp = Some(from.emin - from.manBits)))
   pipe.done()
 }
 

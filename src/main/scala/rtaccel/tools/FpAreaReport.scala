@@ -21,22 +21,22 @@ object FpAreaReport {
     "-disable-all-randomization", "-strip-debug-info")
 
   /** One unit to synthesise: table label, latency, and its generator. */
-  final case class Unit_(fmt: FloatFormat, label: String, latency: Int, gen: () => RawModule)
+  final case class AreaUnit(fmt: FloatFormat, label: String, latency: Int, gen: () => RawModule)
 
-  def units(fmt: FloatFormat): Seq[Unit_] = {
+  def units(fmt: FloatFormat): Seq[AreaUnit] = {
     val rne = Some(RoundingMode.RNE)
     val f32 = FloatFormat.FP32
     val base = Seq(
-      Unit_(fmt, "add (RNE)", FpAdd.defaultLatency, () => new FpAdd(fmt, rne)),
-      Unit_(fmt, "mul (RNE)", FpMul.defaultLatency, () => new FpMul(fmt, rne)),
-      Unit_(fmt, "div (RNE)", FpDivCore.defaultLatency(fmt), () => new FpDiv(fmt, rne)),
-      Unit_(fmt, "recip (RNE)", FpDivCore.defaultLatency(fmt), () => new FpRecip(fmt, rne)),
-      Unit_(fmt, "compare/min/max", FpCompare.defaultLatency, () => new FpCompare(fmt)),
-      Unit_(fmt, "add (runtime rm)", FpAdd.defaultLatency, () => new FpAdd(fmt, None))
+      AreaUnit(fmt, "add (RNE)", FpAdd.defaultLatency, () => new FpAdd(fmt, rne)),
+      AreaUnit(fmt, "mul (RNE)", FpMul.defaultLatency, () => new FpMul(fmt, rne)),
+      AreaUnit(fmt, "div (RNE)", FpDivCore.defaultLatency(fmt), () => new FpDiv(fmt, rne)),
+      AreaUnit(fmt, "recip (RNE)", FpDivCore.defaultLatency(fmt), () => new FpRecip(fmt, rne)),
+      AreaUnit(fmt, "compare/min/max", FpCompare.defaultLatency, () => new FpCompare(fmt)),
+      AreaUnit(fmt, "add (runtime rm)", FpAdd.defaultLatency, () => new FpAdd(fmt, None))
     )
     val conv =
       if (fmt == f32) Nil
-      else Seq(Unit_(fmt, s"convert e8m23 -> $fmt (RDN)", FpConvert.defaultLatency, () => new FpConvert(f32, fmt, Some(RoundingMode.RDN))))
+      else Seq(AreaUnit(fmt, s"convert e8m23 -> $fmt (RDN)", FpConvert.defaultLatency, () => new FpConvert(f32, fmt, Some(RoundingMode.RDN))))
     base ++ conv
   }
 

@@ -64,10 +64,13 @@ object FpOperands {
         val n = fmt.negate(a) + rnd.nextInt(5) - 2
         if (n >= 0 && n < (BigInt(1) << fmt.width)) n else a
       case 4 => fmt.pack(rnd.nextBoolean(), 0, BigInt(fmt.manBits, rnd) >> rnd.nextInt(fmt.manBits)) // subnormal
-      case 5 => withExp(fmt, rnd, 2 * fmt.bias - ea + rnd.nextInt(7) - 3) // product/quotient near 1 or its inverse
+      case 5 => withExp(fmt, rnd, 2 * fmt.bias - ea + rnd.nextInt(7) - 3) // product near 1
       case 6 => withExp(fmt, rnd, fmt.bias + fmt.emax - ea + rnd.nextInt(5) - 2) // product near overflow
       case 7 => withExp(fmt, rnd, fmt.bias + fmt.emin - fmt.manBits - ea + fmt.bias + rnd.nextInt(fmt.manBits + 4) - 2) // product near underflow
-      case _ => withExp(fmt, rnd, ea - fmt.bias + fmt.emin + rnd.nextInt(2 * fmt.manBits + 4)) // quotient near underflow/overflow
+      case _ => // quotient a/b near overflow or near underflow (b placed for a/b; the pair may be swapped below)
+        // The quotient's biased exponent is about ea - eb + bias.
+        if (rnd.nextBoolean()) withExp(fmt, rnd, ea + fmt.bias - (fmt.maxExpField - 1) + rnd.nextInt(6) - 2)
+        else withExp(fmt, rnd, ea + fmt.bias - 1 + rnd.nextInt(fmt.manBits + 5) - 2)
     }
     if (rnd.nextBoolean()) (a, b) else (b, a)
   }

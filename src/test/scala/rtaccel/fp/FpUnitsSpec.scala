@@ -6,9 +6,9 @@ import rtaccel.testutil.{Backends, Seeded}
 
 /** Every unit, every format the project uses, every rounding mode, bit-exact
   * against the golden model (and FP32 RNE against JVM `Float`), on Verilator.
-  * One build per harness: 7 Verilator builds in all (six formats with a
-  * runtime `rm` port, plus FP32 with the mode fixed at elaboration and other
-  * latencies), and three short treadle runs for fixed directed modes.
+  * One build per harness: 9 Verilator builds in all (six formats with a
+  * runtime `rm` port, e4m3 exhaustively, FP32 with RNE fixed at elaboration
+  * and other latencies, e6m9 with RDN fixed). Treadle is too slow here (~45 vectors/s).
   */
 class FpUnitsSpec extends AnyFlatSpec with ChiselScalatestTester {
   import RoundingMode._
@@ -16,14 +16,13 @@ class FpUnitsSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   /** Corners in all modes, then `perMode(rm)` random vectors per mode; asserts every port saw them all. */
   private def runHarness(fmt: FloatFormat, rm: Option[RoundingMode], lat: FpHarnessLatencies,
-      perMode: RoundingMode => Int, name: String, minValidRandomRne: Int = 0,
-      annos: firrtl2.AnnotationSeq = Backends.verilator): Unit = Seeded(name) { rnd =>
+      perMode: RoundingMode => Int, name: String, minValidRandomRne: Int = 0): Unit = Seeded(name) { rnd =>
     val modes = rm.map(Seq(_)).getOrElse(RoundingMode.all)
     val random = modes.flatMap(m => FpVector.random(fmt, m, perMode(m), rnd))
     val validRne = random.count(v => v.valid && v.rm == RNE)
     assert(validRne >= minValidRandomRne, s"only $validRne valid random RNE vectors, need $minValidRandomRne")
     val vectors = (FpVector.corners(fmt, modes) ++ random).toIndexedSeq
-    test(new FpUnitsHarness(fmt, rm, lat)).withAnnotations(annos) { dut =>
+    test(new FpUnitsHarness(fmt, rm, lat)).withAnnotations(Backends.verilator) { dut =>
       val t0 = System.nanoTime()
       val checked = FpUnitsDriver.run(dut, vectors, jvmCheck = fmt == F32)
       val valid = vectors.count(_.valid)
@@ -45,11 +44,18 @@ class FpUnitsSpec extends AnyFlatSpec with ChiselScalatestTester {
   "FP units (e8m23, fixed RNE, other latencies)" should "match JVM Float with the mode fixed at elaboration" in
     runHarness(F32, Some(RNE), FpHarnessLatencies(add = 0, mul = 3, div = 1, cmp = 0, conv = 2), _ => 20000, "FpUnits.e8m23.rne")
 
-  // Fixed directed modes (constant rm folded into the rounder): short runs on
-  // treadle, which needs no Verilator build.
-  for (mode <- Seq(RDN, RUP, RTZ)) {
-    s"FP units (e6m9, fixed $mode, latency 1)" should "match the golden model on corners and 1,000 random vectors (treadle)" in
-      runHarness(FloatFormat(6, 9), Some(mode), FpHarnessLatencies(1, 1, 1, 1, 1), _ => 1000, s"FpUnits.e6m9.$mode",
-        annos = Backends.treadle)
-  }
+  "FP units (e4m3, runtime rm)" should "match the golden model on every operand pair in every mode (exhaustive)" in
+    Seeded("FpUnits.e4m3.exhaustive") { rnd =>
+      val fmt = FloatFormat(4, 3)
+      val all = (0 until (1 << fmt.width)).map(BigInt(_))
+      val vectors = (for (m <- RoundingMode.all; a <- all; b <- all)
+        yield FpVector(a, b, FpOperands.single(F32, rnd), m, valid = true)).toIndexedSeq
+      test(new FpUnitsHarness(fmt, None, FpHarnessLatencies.defaults(fmt))).withAnnotations(Backends.verilator) { dut =>
+        val checked = FpUnitsDriver.run(dut, vectors, jvmCheck = false)
+        assert(checked.values.forall(_ == vectors.size) && checked.size == 8, s"checked: $checked")
+      }
+    }
+
+  "FP units (e6m9, fixed RDN, latency 1)" should "match the golden model with a directed mode fixed at elaboration" in
+    runHarness(FloatFormat(6, 9), Some(RDN), FpHarnessLatencies(1, 1, 1, 1, 1), _ => 20000, "FpUnits.e6m9.rdn")
 }
