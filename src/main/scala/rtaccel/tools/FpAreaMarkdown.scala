@@ -5,8 +5,8 @@ object FpAreaMarkdown {
   import FpAreaReport.{Area, AreaUnit}
 
   /** The seed report's Vivado HLS figures (xc7z045), quoted for comparison. */
-  private val seedBox = Area(lut = 5854, ff = 6035, srl = 0, dsp = 30, carry = 0)
-  private val seedTriangle = Area(lut = 12270, ff = 14675, srl = 0, dsp = 129, carry = 0)
+  private val seedBox = Synth.zero.copy(lut = 5854, ff = 6035, dsp = 30)
+  private val seedTriangle = Synth.zero.copy(lut = 12270, ff = 14675, dsp = 129)
 
   def apply(rows: Seq[(AreaUnit, String, Area)], seconds: Double): String = {
     val sb = new StringBuilder
@@ -26,8 +26,8 @@ object FpAreaMarkdown {
     }
     val fp32 = rows.filter(_._1.fmt == rtaccel.fp.FloatFormat.FP32).map(r => r._1.label -> r._3).toMap
     for (add <- fp32.get("add (RNE)"); mul <- fp32.get("mul (RNE)"); cmp <- fp32.get("compare/min/max")) {
-      def times(a: Area, n: Int) = Area(a.lut * n, a.ff * n, a.srl * n, a.dsp * n, a.carry * n)
-      def plus(a: Area, b: Area) = Area(a.lut + b.lut, a.ff + b.ff, a.srl + b.srl, a.dsp + b.dsp, a.carry + b.carry)
+      def times(a: Area, n: Int) = Seq.fill(n)(a).foldLeft(Synth.zero)(_ + _)
+      def plus(a: Area, b: Area) = a + b
       val box = Seq(times(add, 6), times(mul, 6), times(cmp, 9)).reduce(plus)
       sb ++= "## Comparison with the seed's HLS units (FP32)\n\n"
       sb ++= "| what | LUT | FF | DSP |\n|---|---:|---:|---:|\n"

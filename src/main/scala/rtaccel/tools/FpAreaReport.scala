@@ -16,10 +16,6 @@ import scala.sys.process._
   * Usage: FpAreaReport <build dir> <output .md> [parallel jobs]
   */
 object FpAreaReport {
-  private val firtoolOpts = Array(
-    "--lowering-options=disallowLocalVariables,disallowPackedArrays",
-    "-disable-all-randomization", "-strip-debug-info")
-
   /** One unit to synthesise: table label, latency, and its generator. */
   final case class AreaUnit(fmt: FloatFormat, label: String, latency: Int, gen: () => RawModule)
 
@@ -40,18 +36,10 @@ object FpAreaReport {
     base ++ conv
   }
 
-  final case class Area(lut: Int, ff: Int, srl: Int, dsp: Int, carry: Int)
+  type Area = Synth.Area
 
-  /** Sums the cell counts of the flattened top's `stat` block. */
-  def parseStat(log: String, file: Path): Area = {
-    val cells = """(?m)^\s+(\w+)\s+(\d+)\s*$""".r
-    val block = log.lastIndexOf("Number of cells:")
-    require(block >= 0, s"$file: no 'Number of cells' in the Yosys log")
-    val counts = cells.findAllMatchIn(log.substring(block)).map(m => m.group(1) -> m.group(2).toInt).toSeq
-    def sum(p: String => Boolean) = counts.collect { case (c, n) if p(c) => n }.sum
-    Area(lut = sum(_.matches("LUT[1-6].*")), ff = sum(_.matches("FD[A-Z_0-9]*")),
-      srl = sum(_.startsWith("SRL")), dsp = sum(_.startsWith("DSP48")), carry = sum(_ == "CARRY4"))
-  }
+  /** Kept for callers written before [[Synth]]; same as `Synth.parseTotal`. */
+  def parseStat(log: String, file: Path): Area = Synth.parseTotal(log, file)
 
   def main(args: Array[String]): Unit = {
     require(args.length >= 2, "usage: FpAreaReport <build dir> <output .md> [jobs]")
@@ -66,7 +54,7 @@ object FpAreaReport {
     implicit val ec: ExecutionContext = ExecutionContext.fromExecutor(pool)
     val t0 = System.nanoTime()
     val emitted = todo.map { u =>
-      val sv = _root_.circt.stage.ChiselStage.emitSystemVerilog(u.gen(), firtoolOpts = firtoolOpts)
+      val sv = Synth.emit(u.gen())
       (u, sv)
     }
     val results = emitted.map { case (u, sv) =>
@@ -74,11 +62,7 @@ object FpAreaReport {
         val top = """(?m)^module (\w+)""".r.findAllMatchIn(sv).map(_.group(1)).toSeq.last
         val svFile = dir.resolve(s"$top.sv")
         Files.writeString(svFile, sv)
-        val logFile = dir.resolve(s"$top.yosys.log")
-        val rc = Seq("yosys", "-q", "-l", logFile.toString, "-p",
-          s"read_verilog -sv $svFile; synth_xilinx -family xc7 -top $top; stat").!(ProcessLogger(_ => ()))
-        require(rc == 0, s"yosys failed on $svFile (exit $rc); see $logFile")
-        val area = parseStat(Files.readString(logFile), logFile)
+        val area = Synth.yosys(svFile, top)
         println(s"fp-area: $top: $area")
         (u, top, area)
       }
