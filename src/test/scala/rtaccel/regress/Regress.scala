@@ -34,6 +34,23 @@ object Regress {
     AccelConfig(numRayIds = a.numRayIds, stackDepth = a.stackDepth.getOrElse(AccelConfig.zc706.stackDepth), float = fmt)
   }
 
+  /** Every ray bit for bit against the golden model of the same hardware (for
+    * shadow rays: the occlusion answer and error bits). Returns the mismatching
+    * hits, and prints the first few.
+    */
+  def goldenCheck[S](cfg: AccelConfig, pkg: ScenePackage, rays: IndexedSeq[rtaccel.golden.RayRecord], c: Chosen[Data, S],
+      hits: Seq[HitRecord]): Seq[HitRecord] = {
+    val byNumber = rays.map(r => r.number -> r).toMap
+    val bad = hits.flatMap { h =>
+      val r = byNumber(h.number)
+      val e = TraversalGolden.trace(cfg, pkg.image, c.golden, r).hit
+      val same = if (r.shadow) h.hit == e.hit && h.errors == e.errors else h == e
+      if (same) None else Some((h, e))
+    }
+    bad.take(10).foreach { case (h, e) => println(s"regress: GOLDEN MISMATCH ray ${h.number}: hardware $h, golden $e") }
+    bad.map(_._1)
+  }
+
   /** Returns false when the run found a real problem (a golden mismatch, or any compare mismatch under --strict 1). */
   def run(a: RegressArgs): Boolean = {
     val pkg = ScenePackage.load(a.pkg)
@@ -67,14 +84,7 @@ object Regress {
     val simSeconds = (System.nanoTime() - simStart) / 1e9
     val wallSeconds = (System.nanoTime() - t0) / 1e9
 
-    // Every ray bit for bit against the golden model of the same hardware.
-    val traces = rays.map(r => r.number -> TraversalGolden.trace(cfg, pkg.image, c.golden, r)).toMap
-    val goldenMismatches = result.hits.filter { h =>
-      val e = traces(h.number).hit
-      val r = rays.find(_.number == h.number).get
-      if (r.shadow) h.hit != e.hit || h.errors != e.errors else h != e
-    }
-    goldenMismatches.take(10).foreach(h => println(s"regress: GOLDEN MISMATCH ray ${h.number}: hardware $h, golden ${traces(h.number).hit}"))
+    val goldenMismatches = goldenCheck(cfg, pkg, rays, c, result.hits)
 
     HitsCsv.write(a.out.resolve("hits.csv"), result.hits)
     val stats = Report.stats(a, cfg, c.dp.name, rays.size, result, simSeconds, wallSeconds, goldenMismatches.size,
