@@ -6,7 +6,7 @@ import org.scalatest.flatspec.AnyFlatSpec
 import rtaccel.AccelConfig
 import rtaccel.mem._
 import rtaccel.scene.MemoryImage
-import rtaccel.testutil.{Backends, Seeded}
+import rtaccel.testutil.{Backends, Seeded, Waves}
 
 import java.nio.{ByteBuffer, ByteOrder}
 import scala.collection.mutable
@@ -39,7 +39,7 @@ class LeafIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   private def run(latency: Latency, primLatency: Int, cycles: Int, name: String): Unit = Seeded(name) { rnd =>
     val (img, tris) = craftImage(rnd)
-    test(new LeafIntersect(cfg, UInt(16.W), () => new FieldPrim(cfg, primLatency))).withAnnotations(Backends.verilator) { dut =>
+    Waves.onFailure(Backends.verilator) { annos => test(new LeafIntersect(cfg, UInt(16.W), () => new FieldPrim(cfg, primLatency))).withAnnotations(annos) { dut =>
       val model = new MemorySystemModel(img, 48, MemoryParams(latency = latency, maxOutstanding = 8, seed = rnd.nextLong()), "tri")
       val mem = new MemPortHarness(dut.io.mem, model, refuse = 0.2, rnd = rnd)
       dut.io.triBase.poke(img.triOffset.U)
@@ -132,7 +132,7 @@ class LeafIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
       }
       assert(leavesDone > cycles / 60, s"only $leavesDone leaves finished in $cycles cycles")
       assert(shadowEarly > 0, "no shadow ray ever stopped early: the early exit went untested")
-    }
+    } }
   }
 
   it should "reduce every leaf to its closest hit and stop shadow rays early (memory latency 1)" in {

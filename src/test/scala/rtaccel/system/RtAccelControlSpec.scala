@@ -6,7 +6,7 @@ import org.scalatest.flatspec.AnyFlatSpec
 import rtaccel.golden.{HitRecord, RayRecord, TraversalGolden}
 import rtaccel.mem.{Latency, MemoryParams}
 import rtaccel.scene.MemoryImage
-import rtaccel.testutil.{Backends, Seeded}
+import rtaccel.testutil.{Backends, Seeded, Waves}
 import rtaccel.{AccelConfig, ErrorFlags, RtAccel}
 
 import scala.util.Random
@@ -55,7 +55,7 @@ class RtAccelControlSpec extends AnyFlatSpec with ChiselScalatestTester {
     it should s"answer every ray exactly once, bit-exact with the golden model, with $ids ray IDs in every environment" in
       Seeded(s"RtAccelControl.ids$ids") { rnd =>
         val cfg = AccelConfig(numRayIds = ids, stackDepth = 5, maxNodes = 4096, maxTriangles = 4096, maxLeafSize = 4)
-        test(new SimTop(cfg, FieldDatapath)).withAnnotations(Backends.verilator) { dut =>
+        Waves.onFailure(Backends.verilator) { annos => test(new SimTop(cfg, FieldDatapath)).withAnnotations(annos) { dut =>
           var first = true
           for (((name, env), k) <- envs.zipWithIndex) {
             // Depth up to 7 with a 5-entry stack: some rays must overflow and say so.
@@ -68,7 +68,7 @@ class RtAccelControlSpec extends AnyFlatSpec with ChiselScalatestTester {
             check(cfg, img, rays, run.hits, s"$ids IDs, $name")
             assert(run.perf("raysIn") == rays.size && run.perf("hitsOut") == rays.size, s"$name: counters ${run.perf}")
           }
-        }
+        } }
       }
   }
 
@@ -81,10 +81,10 @@ class RtAccelControlSpec extends AnyFlatSpec with ChiselScalatestTester {
     assert(traces.exists(h => (h.errors >> ErrorFlags.StackOverflow & 1) == 1), "no ray overflowed its stack")
     assert(traces.exists(h => (h.errors >> ErrorFlags.InvalidRay & 1) == 1), "no invalid ray")
     assert(traces.filter(_.errors != 0).forall(!_.hit), "a ray with an error reported a hit")
-    test(new SimTop(cfg, FieldDatapath)).withAnnotations(Backends.verilator) { dut =>
+    Waves.onFailure(Backends.verilator) { annos => test(new SimTop(cfg, FieldDatapath)).withAnnotations(annos) { dut =>
       val run = AccelHarness.run(dut, img, rays, Environment(MemoryParams(Latency.Fixed(5)), MemoryParams(Latency.Fixed(5)), seed = rnd.nextLong()))
       check(cfg, img, rays, run.hits, "errors")
-    }
+    } }
   }
 
   it should "take the same number of cycles for the same inputs" in Seeded("RtAccelControl.determinism") { rnd =>
@@ -92,11 +92,11 @@ class RtAccelControlSpec extends AnyFlatSpec with ChiselScalatestTester {
     val img = SyntheticBvh(new Random(rnd.nextLong()), maxDepth = 7, maxLeaf = 4)
     val rays = makeRays(rnd, 200)
     val env = Environment(MemoryParams(Latency.Uniform(20, 80)), MemoryParams(Latency.Uniform(20, 80)), rayGap = 0.2, hitRefuse = 0.2, seed = rnd.nextLong())
-    test(new SimTop(cfg, FieldDatapath)).withAnnotations(Backends.verilator) { dut =>
+    Waves.onFailure(Backends.verilator) { annos => test(new SimTop(cfg, FieldDatapath)).withAnnotations(annos) { dut =>
       val a = AccelHarness.run(dut, img, rays, env)
       dut.reset.poke(true.B); dut.clock.step(); dut.reset.poke(false.B)
       val b = AccelHarness.run(dut, img, rays, env)
       assert(a.cycles == b.cycles && a.hits == b.hits, s"cycles ${a.cycles} vs ${b.cycles}")
-    }
+    } }
   }
 }

@@ -9,7 +9,7 @@ import rtaccel.golden.TraversalGolden
 import rtaccel.mem.{CacheParams, Latency, MemoryParams}
 import rtaccel.regress.Bridge
 import rtaccel.scene.{HitsCsv, ScenePackage}
-import rtaccel.testutil.{Backends, Seeded}
+import rtaccel.testutil.{Backends, Seeded, Waves}
 import rtaccel.AccelConfig
 
 import java.nio.file.{Path, Paths}
@@ -37,7 +37,7 @@ class RtAccelSceneSpec extends AnyFlatSpec with ChiselScalatestTester {
   private def runScenes(cfg: AccelConfig, dp: FloatDatapath, cases: Seq[(String, () => ScenePackage, Environment)],
       embreeStrict: Boolean, seed: String): Unit = Seeded(seed) { rnd =>
     val golden = FloatGolden(dp)
-    test(new SimTop(cfg, dp)).withAnnotations(Backends.verilator) { dut =>
+    Waves.onFailure(Backends.verilator) { annos => test(new SimTop(cfg, dp)).withAnnotations(annos) { dut =>
       for (((what, mk, env), k) <- cases.zipWithIndex) {
         val pkg = mk()
         assert(pkg.misfits(cfg).isEmpty, s"$what: ${pkg.misfits(cfg)}")
@@ -57,7 +57,7 @@ class RtAccelSceneSpec extends AnyFlatSpec with ChiselScalatestTester {
         println(f"$what (${dp.name}): ${pkg.rays.size} rays in ${run.cycles}%,d cycles, golden exact; vs Embree ${acc("counts")}")
         if (embreeStrict) assert(bad == 0, s"$what: $bad rays disagree with Embree beyond ties and edge cases; see $out/accuracy.json")
       }
-    }
+    } }
   }
 
   private val lat100 = Environment(MemoryParams(Latency.Fixed(100)), MemoryParams(Latency.Fixed(100)))
