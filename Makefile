@@ -57,8 +57,8 @@ test-hls: setup-apt ## Build and run the HLS twins' C-simulation test benches
 demo: setup ## The main job on the default shipped scene
 	@./scripts/demo.sh
 
-verilog: setup ## SystemVerilog for the ZC706 into build/verilog/, lint, Yosys resource table [FLOAT= TRIANGLE= ROUNDING= SYNTH=0]
-	$(SBT) "runMain rtaccel.tools.EmitVerilog --out $(BUILD)/verilog --float $(or $(FLOAT),e8m23) --triangle $(or $(TRIANGLE),watertight) --rounding $(or $(ROUNDING),rne) --synth $(or $(SYNTH),1)"
+verilog: setup ## SystemVerilog for the ZC706 into build/verilog/, lint, Yosys resource table [FLOAT= TRIANGLE= ROUNDING= SYNTH=0 PACKAGE=<compiled scene dir>]
+	$(SBT) "runMain rtaccel.tools.EmitVerilog --out $(BUILD)/verilog --float $(or $(FLOAT),e8m23) --triangle $(or $(TRIANGLE),watertight) --rounding $(or $(ROUNDING),rne) --synth $(or $(SYNTH),1)$(if $(PACKAGE), --package $(PACKAGE))"
 
 regress: setup ## Scene regression: make regress SCENE=scenes/x/x.xml [RAYS= FLOAT= TRIANGLE= ROUNDING= MEM_LATENCY= IDS= STACK= OUT= WAVES=1]
 	@scripts/regress.sh

@@ -5,7 +5,7 @@
 #   RAYS=primary|shadow|ao|random|file.txt   SPP=1   WIDTH= HEIGHT=   SEED=1
 #   OUT=build/regress/<scene>   FLOAT=e8m23   TRIANGLE=watertight|moller
 #   ROUNDING=rne|conservative   MEM_LATENCY=100 (or 50-300)   IDS=64   STACK=
-#   CACHE=0 (KiB)   MAX_RAYS=   WAVES=0   STRICT=0
+#   CACHE=0 (KiB)   MAX_RAYS=   WAVES=0   STRICT=0   SIZE=1 (hardware sized to the scene)
 set -euo pipefail
 : "${SCENE:?make regress needs SCENE=scenes/<name>/<name>.xml (or a package directory)}"
 bridge=nori-bridge/target/release/nori-bridge
@@ -29,5 +29,6 @@ opts+=" --waves ${WAVES:-0} --strict ${STRICT:-0} --seed ${SEED:-1} --bridge $br
 # Empty values would vanish in sbt's argument splitting: pass only what is set.
 [ -n "${STACK:-}" ] && opts+=" --stack $STACK"
 [ -n "${MAX_RAYS:-}" ] && opts+=" --rays $MAX_RAYS"
+[ -n "${SIZE:-}" ] && opts+=" --size $SIZE"
 ./sbt "Test/runMain rtaccel.regress.Regress $opts"
 echo "regress: $OUT/report.md ($(( $(date +%s) - start )) s)"

@@ -11,6 +11,14 @@ final case class SceneNeeds(triangles: Long, nodes: Long, bvhDepth: Int, largest
 
 /** A compiled scene package (docs/memory-format.md): memory image, rays, needs. */
 final case class ScenePackage(dir: Path, image: MemoryImage, rays: IndexedSeq[RayRecord], needs: SceneNeeds) {
+  /** `base` cut down to what this scene needs: stack depth = BVH depth, index
+    * widths from the node and triangle counts, leaf size from the largest leaf.
+    * Ray IDs, number format and address width stay as in `base`.
+    */
+  def sized(base: AccelConfig): AccelConfig =
+    base.copy(stackDepth = needs.bvhDepth.max(1), maxNodes = needs.nodes.toInt.max(1),
+      maxTriangles = needs.triangles.toInt.max(1), maxLeafSize = needs.largestLeaf.max(1))
+
   /** Why `cfg` cannot run this scene, one line per reason; empty if it can. */
   def misfits(cfg: AccelConfig): Seq[String] = Seq(
     (needs.bvhDepth > cfg.stackDepth) -> s"BVH depth ${needs.bvhDepth} needs a stack of ${needs.bvhDepth} entries; the hardware has stackDepth = ${cfg.stackDepth}",

@@ -2,6 +2,7 @@ package rtaccel.tools
 
 import rtaccel.datapath.{BoxRounding, FloatDatapath, TriangleTest}
 import rtaccel.fp.FloatFormat
+import rtaccel.scene.ScenePackage
 import rtaccel.{AccelConfig, RtAccel}
 
 import java.nio.file.{Files, Path, Paths}
@@ -28,7 +29,15 @@ object EmitVerilog {
     val test = if (kv.getOrElse("--triangle", "watertight").startsWith("m")) TriangleTest.Moller else TriangleTest.Watertight
     val box = if (kv.getOrElse("--rounding", "rne").startsWith("c")) BoxRounding.Conservative else BoxRounding.Nearest
     val synth = kv.getOrElse("--synth", "1") == "1"
-    val cfg = AccelConfig.zc706.copy(float = fmt)
+    val generic = AccelConfig.zc706.copy(float = fmt)
+    // With a scene package, the hardware is sized to that scene's needs.
+    val cfg = kv.get("--package").filter(_.nonEmpty).fold(generic) { dir =>
+      val pkg = ScenePackage.load(Paths.get(dir))
+      val sized = pkg.sized(generic)
+      println(s"verilog: sized to $dir: stack ${sized.stackDepth} (generic ${generic.stackDepth}), node index ${sized.nodeIndexBits} bits " +
+        s"(${generic.nodeIndexBits}), triangle index ${sized.triIndexBits} bits (${generic.triIndexBits}), leaf ${sized.maxLeafSize} (${generic.maxLeafSize})")
+      sized
+    }
     val dp = FloatDatapath(fmt, test, box)
     run(cfg, dp, out, synth, kv.getOrElse("--jobs", "2").toInt)
   }

@@ -31,7 +31,9 @@ object Regress {
   /** The configuration this run generates: the scene decides only what the user left open. */
   def config(a: RegressArgs, pkg: ScenePackage): AccelConfig = {
     val fmt = if (a.float == "field") rtaccel.fp.FloatFormat.FP32 else rtaccel.fp.FloatFormat.parse(a.float)
-    AccelConfig(numRayIds = a.numRayIds, stackDepth = a.stackDepth.getOrElse(AccelConfig.zc706.stackDepth), float = fmt)
+    val generic = AccelConfig.zc706.copy(numRayIds = a.numRayIds, float = fmt)
+    val base = if (a.sized) pkg.sized(generic) else generic
+    a.stackDepth.fold(base)(d => base.copy(stackDepth = d))
   }
 
   /** Every ray bit for bit against the golden model of the same hardware (for

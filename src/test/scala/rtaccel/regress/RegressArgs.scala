@@ -23,6 +23,8 @@ final case class RegressArgs(
     bridge: Path = Paths.get("nori-bridge/target/release/nori-bridge"),
     waves: Boolean = false,
     strict: Boolean = false,
+    /** Size stack depth, index widths and leaf size to the scene. */
+    sized: Boolean = false,
     seed: Long = 1
 ) {
   def memory(seedOffset: Long): MemoryParams =
@@ -33,7 +35,7 @@ object RegressArgs {
   val usage: String =
     """usage: Regress --package DIR --out DIR [--float e8m23] [--triangle moller|watertight] [--rounding rne|conservative]
       |       [--mem-latency 100|50-300] [--bytes-per-cycle 16] [--outstanding 64] [--cache KiB] [--ids 64]
-      |       [--stack N] [--rays N] [--bridge PATH] [--waves 0|1] [--strict 0|1] [--seed N]""".stripMargin
+      |       [--stack N] [--rays N] [--bridge PATH] [--waves 0|1] [--strict 0|1] [--size 0|1] [--seed N]""".stripMargin
 
   def parse(args: Seq[String]): RegressArgs = {
     if (args.size % 2 != 0) fail(s"options come in pairs: ${args.mkString(" ")}")
@@ -60,6 +62,7 @@ object RegressArgs {
       case "--bridge"          => a = a.copy(bridge = Paths.get(v))
       case "--waves"           => a = a.copy(waves = flag(k, v))
       case "--strict"          => a = a.copy(strict = flag(k, v))
+      case "--size"            => a = a.copy(sized = flag(k, v))
       case "--seed"            => a = a.copy(seed = v.toLongOption.getOrElse(fail(s"--seed: '$v'")))
       case other               => fail(s"unknown option '$other'")
     }
