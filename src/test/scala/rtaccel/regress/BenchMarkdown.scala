@@ -21,7 +21,8 @@ object BenchMarkdown {
       s"${r("boundLimitedBy").str} | ${f(r("nodeTestsPerRay"), 1)} | ${f(r("triangleTestsPerRay"), 1)} | ${f(r("meanRaysInFlight"), 1)} | " +
       s"${r("embreeMismatches").num.toInt} | ${f(r("simulation")("cyclesPerSecond"), 0)} |"
     val sweepPart = Seq("", "## Rays in flight needed to hold the bound", "",
-      "Dragon AO rays (incoherent), first 1,500, memory latency 100, by number of ray IDs:", "",
+      s"Dragon AO rays (incoherent, ${sweep.headOption.fold(0)(_("rays").num.toInt)} of them), memory latency 100, by number of ray IDs.",
+      "Beyond 64 IDs the memory model's 64 outstanding requests per port are the limit: more rays only queue.", "",
       "| ray IDs | rays/cycle | bound | of bound | mean rays in flight |", "| ---: | ---: | ---: | ---: | ---: |") ++
       sweep.sortBy(_("configuration")("numRayIds").num).map(r =>
         s"| ${r("configuration")("numRayIds").num.toInt} | ${f(r("raysPerCycle"), 4)} | ${f(r("boundRaysPerCycle"), 4)} | ${f(r("efficiency"), 2)} | ${f(r("meanRaysInFlight"), 1)} |")
