@@ -16,8 +16,9 @@ import scala.sys.process._
 /** First half of `make datapath-report`: emits each datapath unit alone and
   * synthesises it with Yosys (`synth_xilinx -family xc7`), one module per
   * run, appending `format variant unit latency lut ff srl dsp carry` rows to
-  * `<dir>/area.tsv`. A unit whose Yosys log already holds a `stat` block is
-  * not synthesised again (a rerun after an interruption resumes).
+  * `<dir>/area.tsv`. A unit whose Verilog is unchanged and whose Yosys log
+  * already holds a `stat` block is not synthesised again (a rerun after an
+  * interruption resumes).
   *
   * Usage: DatapathArea <build dir> [parallel jobs]
   */
@@ -73,7 +74,9 @@ object DatapathArea {
   private def row(dir: Path, j: Job, top: String, sv: String, latency: Int): String = {
     val svFile = dir.resolve(s"$top.sv")
     val logFile = dir.resolve(s"$top.yosys.log")
-    val done = Files.exists(logFile) && Files.readString(logFile).contains("Number of cells:")
+    // Reuse a finished run only for the very same Verilog (a changed kernel resynthesises).
+    val done = Files.exists(logFile) && Files.readString(logFile).contains("Number of cells:") &&
+      Files.exists(svFile) && Files.readString(svFile) == sv
     if (!done) {
       Files.writeString(svFile, sv)
       val rc = Seq("yosys", "-q", "-l", logFile.toString, "-p",

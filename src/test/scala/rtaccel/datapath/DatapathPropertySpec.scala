@@ -71,7 +71,7 @@ class DatapathPropertySpec extends AnyFlatSpec {
       val gs = groups(KernelVectors.triHard).filter(_.head.family.matches(families))
       assert(gs.nonEmpty)
       val leaks = gs.filterNot(_.exists(c => GoldenRun.prim(g, c).hit))
-      assert(leaks.isEmpty, leaks.map(_.head.where).mkString("leaking groups:\n", "\n", ""))
+      assert(leaks.size == 0, leaks.map(_.head.where).mkString("leaking groups:\n", "\n", ""))
       info(s"${gs.size} groups, no leak")
     }
   }
