@@ -13,7 +13,10 @@ object ErrorFlags {
   val IndexOverflow = 1
   /** A leaf holds more triangles than `maxLeafSize`. */
   val LeafTooBig = 2
-  /** The ray has a NaN or infinite origin/direction component (or NaN tmin/tmax). */
+  /** The ray has a NaN or infinite origin/direction component, a NaN tmin or
+    * tmax, or an all-zero direction, judged after narrowing to the datapath
+    * format (so an origin too large for a narrow format is an error too).
+    */
   val InvalidRay = 3
 
   val width = 4

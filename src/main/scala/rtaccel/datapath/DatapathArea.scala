@@ -6,12 +6,11 @@ import rtaccel.fetch.RayPrepUnit
 import rtaccel.leaf.PrimUnit
 import rtaccel.traversal.BoxUnit
 import rtaccel.fp.FloatFormat
-import rtaccel.tools.FpAreaReport
+import rtaccel.tools.Synth
 
 import java.nio.file.{Files, Path, Paths}
 import scala.concurrent.duration.Duration
 import scala.concurrent.{Await, ExecutionContext, Future}
-import scala.sys.process._
 
 /** First half of `make datapath-report`: emits each datapath unit alone and
   * synthesises it with Yosys (`synth_xilinx -family xc7`), one module per
@@ -23,10 +22,6 @@ import scala.sys.process._
   * Usage: DatapathArea <build dir> [parallel jobs]
   */
 object DatapathArea {
-  private val firtoolOpts = Array(
-    "--lowering-options=disallowLocalVariables,disallowPackedArrays",
-    "-disable-all-randomization", "-strip-debug-info")
-
   final case class Job(fmt: FloatFormat, variant: String, unit: String, gen: () => RawModule)
 
   /** Every unit that differs: the box does not depend on the triangle test, nor the triangle on the box rounding. */
@@ -52,9 +47,9 @@ object DatapathArea {
     // Elaborate serially; Yosys runs in parallel.
     val futures = formats.flatMap(jobs).map { j =>
       var unit: RawModule = null
-      val sv = _root_.circt.stage.ChiselStage.emitSystemVerilog({ unit = j.gen(); unit }, firtoolOpts = firtoolOpts)
+      val sv = Synth.emit({ unit = j.gen(); unit })
       val latency = latencyOf(unit)
-      val top = """(?m)^module (\w+)""".r.findAllMatchIn(sv).map(_.group(1)).toSeq.last
+      val top = Synth.modules(sv).last
       Future(row(dir, j, top, sv, latency))
     }
     val rows = futures.map(Await.result(_, Duration.Inf))
@@ -77,13 +72,9 @@ object DatapathArea {
     // Reuse a finished run only for the very same Verilog (a changed kernel resynthesises).
     val done = Files.exists(logFile) && Files.readString(logFile).contains("Number of cells:") &&
       Files.exists(svFile) && Files.readString(svFile) == sv
-    if (!done) {
-      Files.writeString(svFile, sv)
-      val rc = Seq("yosys", "-q", "-l", logFile.toString, "-p",
-        s"read_verilog -sv $svFile; synth_xilinx -family xc7 -top $top; stat").!(ProcessLogger(_ => ()))
-      require(rc == 0, s"yosys failed on $svFile (exit $rc); see $logFile")
-    }
-    val a = FpAreaReport.parseStat(Files.readString(logFile), logFile)
+    val a =
+      if (done) Synth.parseTotal(Files.readString(logFile), logFile)
+      else { Files.writeString(svFile, sv); Synth.yosys(svFile, top) }
     println(s"datapath-area: $top: $a")
     Seq(j.fmt.name, j.variant, j.unit, latency, a.lut, a.ff, a.srl, a.dsp, a.carry).mkString("\t")
   }

@@ -6,7 +6,6 @@ import rtaccel.fp._
 import java.nio.file.{Files, Path, Paths}
 import scala.concurrent.duration.Duration
 import scala.concurrent.{Await, ExecutionContext, Future}
-import scala.sys.process._
 
 /** `make fp-area`: emits each floating-point unit at its default latency for
   * several formats, synthesises each one alone with Yosys
@@ -37,9 +36,6 @@ object FpAreaReport {
   }
 
   type Area = Synth.Area
-
-  /** Kept for callers written before [[Synth]]; same as `Synth.parseTotal`. */
-  def parseStat(log: String, file: Path): Area = Synth.parseTotal(log, file)
 
   def main(args: Array[String]): Unit = {
     require(args.length >= 2, "usage: FpAreaReport <build dir> <output .md> [jobs]")
