@@ -8,6 +8,13 @@ object TriangleTest {
   /** Woop-Benthin-Wald shear with the sign-symmetric tie rule: no leaks on a closed mesh. */
   case object Watertight extends TriangleTest("wt")
   val all: Seq[TriangleTest] = Seq(Moller, Watertight)
+
+  /** `make` spelling (TRIANGLE=moller|watertight) or the short tag. */
+  def parse(s: String): TriangleTest = s match {
+    case "moller" | "mt"     => Moller
+    case "watertight" | "wt" => Watertight
+    case other => throw new IllegalArgumentException(s"TRIANGLE=$other: expected moller or watertight")
+  }
 }
 
 /** How the box test rounds (docs/kernels.md section 3). */
@@ -18,4 +25,11 @@ object BoxRounding {
   /** Directed rounding: the computed [near, far] encloses the exact one, so no false misses. */
   case object Conservative extends BoxRounding("cons")
   val all: Seq[BoxRounding] = Seq(Nearest, Conservative)
+
+  /** `make` spelling (ROUNDING=rne|conservative) or the short tag. */
+  def parse(s: String): BoxRounding = s match {
+    case "rne" | "nearest"       => Nearest
+    case "conservative" | "cons" => Conservative
+    case other => throw new IllegalArgumentException(s"ROUNDING=$other: expected rne or conservative")
+  }
 }

@@ -87,6 +87,13 @@ object TraversalGolden {
       h.fold(0L)(b => arith.toFloat32(b._3)), h.fold(0L)(_._4), tok.errors), boxTests, triTests, decisions)
   }
 
+  /** Does the hardware's answer for `ray` agree with the golden one? For a
+    * shadow ray only occlusion and the error bits: which occluder it finds
+    * first depends on memory timing, so its t/u/v/prim are not compared.
+    */
+  def agrees(ray: RayRecord, hw: HitRecord, golden: HitRecord): Boolean =
+    if (ray.shadow) hw.hit == golden.hit && hw.errors == golden.errors else hw == golden
+
   /** A node's steering fields as the hardware decodes them for `cfg`. */
   def links(cfg: AccelConfig, n: NodeRecord): ControlGolden.Links = {
     def fits(w: Long, bits: Int) = bits >= 32 || (w >> bits) == 0

@@ -26,8 +26,8 @@ object EmitVerilog {
     val kv = args.grouped(2).collect { case Array(k, v) => k -> v }.toMap
     val out = Paths.get(kv.getOrElse("--out", "build/verilog"))
     val fmt = FloatFormat.parse(kv.getOrElse("--float", "e8m23"))
-    val test = if (kv.getOrElse("--triangle", "watertight").startsWith("m")) TriangleTest.Moller else TriangleTest.Watertight
-    val box = if (kv.getOrElse("--rounding", "rne").startsWith("c")) BoxRounding.Conservative else BoxRounding.Nearest
+    val test = TriangleTest.parse(kv.getOrElse("--triangle", "watertight"))
+    val box = BoxRounding.parse(kv.getOrElse("--rounding", "rne"))
     val synth = kv.getOrElse("--synth", "1") == "1"
     val generic = AccelConfig.zc706.copy(float = fmt)
     // With a scene package, the hardware is sized to that scene's needs.

@@ -25,13 +25,15 @@ final class MemorySystemModel(image: MemoryImage, recordBytes: Int, params: Memo
   private val rnd  = new Random(params.seed)
   private val dram = new DramModel(params.latency, params.bytesPerCycle, params.inOrder, rnd)
 
-  private final class Req(val seq: Long, val addr: Long, val tag: Int, var waitingLines: Int) {
+  /** `data` is read once, on acceptance (memory is read-only during a run). */
+  private final class Req(val seq: Long, val tag: Int, val data: BigInt, var waitingLines: Int) {
     var readyAt: Long = Long.MaxValue
+    var available: Boolean = false
   }
   private var now: Long = 0
   private var nextSeq: Long = 0
   private val outstanding = mutable.LinkedHashMap.empty[Long, Req] // accepted, not yet answered; in seq order
-  private val ready = mutable.Queue.empty[Req]                     // data available, in order of readiness
+  private val ready = mutable.Queue.empty[Req]                     // out-of-order mode: available, in order of readiness
   private val hitPipe = mutable.Queue.empty[Req]                   // cache hits, ready at readyAt
 
   // Cache state: per set, line addresses in LRU order (head = least recent).
@@ -64,8 +66,8 @@ final class MemorySystemModel(image: MemoryImage, recordBytes: Int, params: Memo
 
   def accept(addr: Long, tag: Int): Unit = {
     require(reqReady(addr), s"$name: request at address $addr accepted while the port was not ready")
-    image.readLE(addr, recordBytes) // fails loudly, naming the address, if outside the image
-    val r = new Req(nextSeq, addr, tag, 0)
+    // readLE fails loudly, naming the address, if the request is outside the image.
+    val r = new Req(nextSeq, tag, image.readLE(addr, recordBytes), 0)
     nextSeq += 1
     requests += 1
     outstanding(r.seq) = r
@@ -96,25 +98,30 @@ final class MemorySystemModel(image: MemoryImage, recordBytes: Int, params: Memo
   }
 
   /** The response on offer this cycle: (tag, record data little-endian). */
-  def response: Option[(Int, BigInt)] = nextResponse.map(r => (r.tag, image.readLE(r.addr, recordBytes)))
+  def response: Option[(Int, BigInt)] = nextResponse.map(r => (r.tag, r.data))
 
   private def nextResponse: Option[Req] =
-    if (params.inOrder) outstanding.headOption.map(_._2).filter(r => ready.contains(r))
+    if (params.inOrder) outstanding.headOption.map(_._2).filter(_.available)
     else ready.headOption
+
+  private def makeAvailable(r: Req): Unit = {
+    r.available = true
+    if (!params.inOrder) ready.enqueue(r)
+  }
 
   def responseTaken(): Unit = {
     val r = nextResponse.getOrElse(throw new IllegalStateException(s"$name: response taken when none was offered"))
-    ready -= r
+    if (!params.inOrder) ready.dequeue()
     outstanding.remove(r.seq)
     responses += 1
   }
 
   def tick(): Unit = {
     for (id <- dram.tick(now)) {
-      if (id >= 0) ready.enqueue(outstanding(id))
+      if (id >= 0) makeAvailable(outstanding(id))
       else fill(-1 - id)
     }
-    while (hitPipe.nonEmpty && hitPipe.head.readyAt <= now) ready.enqueue(hitPipe.dequeue())
+    while (hitPipe.nonEmpty && hitPipe.head.readyAt <= now) makeAvailable(hitPipe.dequeue())
     outstandingSum += outstanding.size
     mshrSum += mshrs.size
     maxOutstandingSeen = maxOutstandingSeen.max(outstanding.size)
@@ -128,7 +135,7 @@ final class MemorySystemModel(image: MemoryImage, recordBytes: Int, params: Memo
     s += line
     for (r <- mshrs.remove(line).get) {
       r.waitingLines -= 1
-      if (r.waitingLines == 0) ready.enqueue(r)
+      if (r.waitingLines == 0) makeAvailable(r)
     }
   }
 

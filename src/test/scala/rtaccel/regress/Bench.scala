@@ -4,6 +4,8 @@ import chisel3._
 import chiseltest._
 import firrtl2.options.TargetDirAnnotation
 import rtaccel.AccelConfig
+import rtaccel.datapath.{BoxRounding, FloatDatapath, FloatGolden, TriangleTest}
+import rtaccel.fp.FloatFormat
 import rtaccel.mem.Latency
 import rtaccel.scene.{HitsCsv, ScenePackage}
 import rtaccel.system.{AccelHarness, Environment, SimTop}
@@ -30,13 +32,14 @@ object Bench {
   def main(args: Array[String]): Unit = {
     val out = Paths.get(args.headOption.getOrElse("docs/performance.md"))
     val t0 = System.nanoTime()
-    val chosen = DatapathChoice.resolve("e8m23", "watertight", "rne").asInstanceOf[Chosen[Data, Any]]
+    val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.Watertight, BoxRounding.Nearest)
+    val chosen: Chosen[Data, Any] = Chosen(dp, FloatGolden(dp)).asInstanceOf[Chosen[Data, Any]]
     val scenes = Seq("cornell-box" -> "scenes/cornell-box/cornell-box.xml", "dragon" -> "scenes/dragon/dragon.xml")
     val packages = for ((name, xml) <- scenes; rays <- Seq("primary", "shadow", "ao")) yield (name, rays, pkg(xml, rays))
     val rows = collection.mutable.ArrayBuffer.empty[ujson.Obj]
 
     def runAll(ids: Int, cases: Seq[(String, String, ScenePackage, Int, Option[Int])]): Unit = {
-      val cfg = AccelConfig(numRayIds = ids, float = chosen.dp.asInstanceOf[rtaccel.datapath.FloatDatapath].fmt)
+      val cfg = AccelConfig(numRayIds = ids, float = dp.fmt)
       val annos = Seq(VerilatorBackendAnnotation, chiseltest.internal.CachingAnnotation,
         TargetDirAnnotation(s"build/sim/SimTop_${chosen.dp.name}_n${ids}_d${cfg.stackDepth}"))
       RawTester.test(new SimTop(cfg, chosen.dp), annos) { dut =>

@@ -17,17 +17,7 @@ object DatapathChoice {
   def resolve(float: String, triangle: String, rounding: String): Chosen[_ <: Data, _] =
     if (float == "field") Chosen(FieldDatapath, FieldDatapath.Golden)
     else {
-      val test = triangle match {
-        case "watertight" | "wt" => TriangleTest.Watertight
-        case "moller" | "mt"     => TriangleTest.Moller
-        case other => throw new IllegalArgumentException(s"TRIANGLE=$other: expected moller or watertight")
-      }
-      val box = rounding match {
-        case "rne" | "nearest"        => BoxRounding.Nearest
-        case "conservative" | "cons" => BoxRounding.Conservative
-        case other => throw new IllegalArgumentException(s"ROUNDING=$other: expected rne or conservative")
-      }
-      val dp = FloatDatapath(FloatFormat.parse(float), test, box)
+      val dp = FloatDatapath(FloatFormat.parse(float), TriangleTest.parse(triangle), BoxRounding.parse(rounding))
       Chosen(dp, FloatGolden(dp))
     }
 }
