@@ -7,20 +7,31 @@ import java.nio.file.{Files, Path}
 import scala.jdk.CollectionConverters._
 
 /** What a scene needs of the hardware (`scene.json`, written by nori-bridge). */
-final case class SceneNeeds(triangles: Long, nodes: Long, bvhDepth: Int, largestLeaf: Int, maxPrim: Long)
+final case class SceneNeeds(triangles: Long, nodes: Long, bvhDepth: Int, largestLeaf: Int, maxPrim: Long,
+    /** Largest |coordinate| of the scene's extent, and its shortest triangle edge. */
+    extentAbs: Double, smallestEdge: Double)
 
 /** A compiled scene package (docs/memory-format.md): memory image, rays, needs. */
 final case class ScenePackage(dir: Path, image: MemoryImage, rays: IndexedSeq[RayRecord], needs: SceneNeeds) {
+  /** The magnitudes this scene and its rays put through the kernels. */
+  lazy val range: NumericRange = NumericRange(needs.extentAbs, needs.smallestEdge, rays)
+
   /** `base` cut down to what this scene needs: stack depth = BVH depth, index
-    * widths from the node and triangle counts, leaf size from the largest leaf.
-    * Ray IDs, number format and address width stay as in `base`.
+    * widths from the node and triangle counts, leaf size from the largest leaf,
+    * exponent bits from the numeric range (never above 8: the records are FP32,
+    * and a scene needing more is refused by `misfits`). Ray IDs, mantissa
+    * width and address width stay as in `base`.
     */
   def sized(base: AccelConfig): AccelConfig =
     base.copy(stackDepth = needs.bvhDepth.max(1), maxNodes = needs.nodes.toInt.max(1),
-      maxTriangles = needs.triangles.toInt.max(1), maxLeafSize = needs.largestLeaf.max(1))
+      maxTriangles = needs.triangles.toInt.max(1), maxLeafSize = needs.largestLeaf.max(1),
+      float = rtaccel.fp.FloatFormat(range.expBits.min(8), base.float.manBits))
 
   /** Why `cfg` cannot run this scene, one line per reason; empty if it can. */
-  def misfits(cfg: AccelConfig): Seq[String] = Seq(
+  def misfits(cfg: AccelConfig): Seq[String] = structuralMisfits(cfg) ++ range.misfit(cfg.float)
+
+  /** The misfits of stack, indices, leaf size and addresses (the numeric range apart). */
+  def structuralMisfits(cfg: AccelConfig): Seq[String] = Seq(
     (needs.bvhDepth > cfg.stackDepth) -> s"BVH depth ${needs.bvhDepth} needs a stack of ${needs.bvhDepth} entries; the hardware has stackDepth = ${cfg.stackDepth}",
     (needs.nodes > cfg.maxNodes) -> s"${needs.nodes} nodes exceed maxNodes = ${cfg.maxNodes} (${cfg.nodeIndexBits}-bit node index)",
     (needs.triangles > cfg.maxTriangles) -> s"${needs.triangles} triangles exceed maxTriangles = ${cfg.maxTriangles} (${cfg.triIndexBits}-bit triangle index)",
@@ -50,7 +61,13 @@ object ScenePackage {
     def num(key: String): Long = js.obj.get(key).map(_.num.toLong)
       .getOrElse(throw new IllegalArgumentException(s"$path: no field '$key'"))
     // The largest prim number bounds the index width; it is the triangle count - 1 by construction.
-    SceneNeeds(num("triangles"), num("nodes"), num("bvh_depth").toInt, num("largest_leaf").toInt, num("triangles") - 1)
+    def nums(key: String): Seq[Double] = js.obj.get(key).map(_.arr.map(_.num).toSeq)
+      .getOrElse(throw new IllegalArgumentException(s"$path: no field '$key'"))
+    val extentAbs = (nums("extent_min") ++ nums("extent_max")).map(math.abs).maxOption.getOrElse(0.0)
+    // serde writes an infinite smallest_edge (no triangles) as null.
+    val smallestEdge = js.obj.get("smallest_edge").flatMap(_.numOpt).getOrElse(Double.PositiveInfinity)
+    SceneNeeds(num("triangles"), num("nodes"), num("bvh_depth").toInt, num("largest_leaf").toInt, num("triangles") - 1,
+      extentAbs, smallestEdge)
   }
 
   /** Parses `rays.csv` (header `ray,ox,oy,oz,dx,dy,dz,tmin,tmax,shadow`). */

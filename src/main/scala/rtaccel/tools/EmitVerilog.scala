@@ -6,21 +6,21 @@ import rtaccel.scene.ScenePackage
 import rtaccel.{AccelConfig, RtAccel}
 
 import java.nio.file.{Files, Path, Paths}
-import scala.concurrent.duration.Duration
-import scala.concurrent.{Await, ExecutionContext, Future}
 import scala.sys.process._
 
 /** `make verilog`: the accelerator's SystemVerilog for the ZC706 (xc7z045),
   * lint under `verilator --lint-only -Wall` (waivers with reasons in
   * verilator-waivers.vlt), and a Yosys resource table per unit and in total
-  * beside the device's capacity. Each unit is synthesized on its own (a
-  * flattened run of the whole FP-heavy design takes far longer) and the
-  * results are summed; the top's own glue is synthesized with the units as
-  * black boxes.
+  * beside the device's capacity (AccelArea: each datapath unit alone, the
+  * control with them as black boxes, summed). With `--package`, the hardware
+  * is sized to the scene and `sized.md` says what that saves against the
+  * generic configuration.
   */
 object EmitVerilog {
   /** xc7z045 capacity (Zynq-7000 data sheet DS190). */
   val Zc706: Synth.Area = Synth.Area(lut = 218600, ff = 437200, srl = 0, dsp = 900, carry = 0, ramb36 = 545, ramb18 = 0, lutram = 0)
+  /** Yosys results shared with `make speed-vs-error` (keyed by the Verilog synthesised). */
+  val areaCache: Path = Paths.get("build/area-cache")
 
   def main(args: Array[String]): Unit = {
     val kv = args.grouped(2).collect { case Array(k, v) => k -> v }.toMap
@@ -29,20 +29,37 @@ object EmitVerilog {
     val test = TriangleTest.parse(kv.getOrElse("--triangle", "watertight"))
     val box = BoxRounding.parse(kv.getOrElse("--rounding", "rne"))
     val synth = kv.getOrElse("--synth", "1") == "1"
+    val jobs = kv.getOrElse("--jobs", "2").toInt
     val generic = AccelConfig.zc706.copy(float = fmt)
     // With a scene package, the hardware is sized to that scene's needs.
-    val cfg = kv.get("--package").filter(_.nonEmpty).fold(generic) { dir =>
-      val pkg = ScenePackage.load(Paths.get(dir))
-      val sized = pkg.sized(generic)
-      println(s"verilog: sized to $dir: stack ${sized.stackDepth} (generic ${generic.stackDepth}), node index ${sized.nodeIndexBits} bits " +
-        s"(${generic.nodeIndexBits}), triangle index ${sized.triIndexBits} bits (${generic.triIndexBits}), leaf ${sized.maxLeafSize} (${generic.maxLeafSize})")
+    val pkg = kv.get("--package").filter(_.nonEmpty).map(dir => ScenePackage.load(Paths.get(dir)))
+    val cfg = pkg.fold(generic) { p =>
+      val sized = p.sized(generic)
+      println(s"verilog: sized to ${p.dir}: stack ${sized.stackDepth} (generic ${generic.stackDepth}), node index ${sized.nodeIndexBits} bits " +
+        s"(${generic.nodeIndexBits}), triangle index ${sized.triIndexBits} bits (${generic.triIndexBits}), leaf ${sized.maxLeafSize} " +
+        s"(${generic.maxLeafSize}), ${sized.float.name} (${generic.float.name}: exponents ${p.range.neededEmin}..${p.range.neededEmax} needed)")
+      val why = p.misfits(sized)
+      require(why.isEmpty, s"${p.dir}: no ${generic.float.name}-based configuration holds this scene:\n  " + why.mkString("\n  "))
       sized
     }
-    val dp = FloatDatapath(fmt, test, box)
-    run(cfg, dp, out, synth, kv.getOrElse("--jobs", "2").toInt)
+    val dp = FloatDatapath(cfg.float, test, box)
+    val rows = run(cfg, dp, out, synth, jobs)
+    // Sized hardware: report what it saves against the generic configuration of the same arithmetic.
+    for (p <- pkg; sizedRows <- rows) {
+      val gdp = FloatDatapath(generic.float, test, box)
+      println(s"verilog: the generic ${gdp.name} configuration, for comparison")
+      val gRows = area(Synth.emit(new RtAccel(generic, gdp)), gdp, jobs)
+      val md = SizedSavings(p.dir.toString, cfg, generic, AccelArea.total(sizedRows), AccelArea.total(gRows), Zc706)
+      Files.writeString(out.resolve("sized.md"), md)
+      println(md)
+    }
   }
 
-  def run(cfg: AccelConfig, dp: FloatDatapath, out: Path, synth: Boolean, jobs: Int): Unit = {
+  private def area(sv: String, dp: FloatDatapath, jobs: Int): Seq[(String, Synth.Area)] =
+    AccelArea.measure(sv, Synth.modules(sv).last, dp.name, areaCache, jobs)
+
+  /** Emits, lints and (with `synth`) measures; returns the per-unit rows. */
+  def run(cfg: AccelConfig, dp: FloatDatapath, out: Path, synth: Boolean, jobs: Int): Option[Seq[(String, Synth.Area)]] = {
     Files.createDirectories(out)
     val t0 = System.nanoTime()
     val sv = Synth.emit(new RtAccel(cfg, dp))
@@ -60,19 +77,33 @@ object EmitVerilog {
     require(rc == 0, s"lint: `${lint.mkString(" ")}` found problems; see $lintLog")
     println(s"verilog: lint clean (verilator --lint-only -Wall, waivers in $waivers)")
 
-    if (synth) {
-      val units = mods.filter(m => Seq("FetchBVH_", "Traversal_", "LeafIntersect_", "RayBuffer_", "TaggedPortArbiter_").exists(m.startsWith))
-      val pool = java.util.concurrent.Executors.newFixedThreadPool(jobs)
-      implicit val ec: ExecutionContext = ExecutionContext.fromExecutor(pool)
-      val jobsF = (units.map(u => u -> Future(Synth.yosys(svFile, u))) :+
-        ("(top-level glue)" -> Future(Synth.yosys(svFile, top, blackboxes = units))))
-      val rows = jobsF.map { case (u, f) => val a = Await.result(f, Duration.Inf); println(s"verilog: $u: $a"); u -> a }
-      pool.shutdown()
+    Option.when(synth) {
+      val rows = area(sv, dp, jobs)
+      rows.foreach { case (u, a) => println(s"verilog: $u: $a") }
       val md = ResourceTable(s"RtAccel ${dp.name}, ${cfg.numRayIds} ray IDs, stack ${cfg.stackDepth}", rows, Zc706,
         (System.nanoTime() - t0) / 1e9)
       Files.writeString(out.resolve("resources.md"), md)
       println(md)
+      rows
     }
+  }
+}
+
+/** What hardware sized to a scene saves against the generic configuration. */
+object SizedSavings {
+  def apply(scene: String, sized: AccelConfig, generic: AccelConfig, s: Synth.Area, g: Synth.Area, device: Synth.Area): String = {
+    def pct(a: Double, b: Double) = if (b == 0) "-" else f"${100 * (b - a) / b}%.1f%%"
+    def row(n: String, a: Double, b: Double) = f"| $n | $b%,.1f | $a%,.1f | ${pct(a, b)} |"
+    (Seq(s"# Hardware sized to $scene", "",
+      "| parameter | generic ZC706 | sized |", "| --- | --- | --- |",
+      s"| stack depth | ${generic.stackDepth} | ${sized.stackDepth} |",
+      s"| node index bits | ${generic.nodeIndexBits} | ${sized.nodeIndexBits} |",
+      s"| triangle index bits | ${generic.triIndexBits} | ${sized.triIndexBits} |",
+      s"| largest leaf | ${generic.maxLeafSize} | ${sized.maxLeafSize} |",
+      s"| number format | ${generic.float.name} | ${sized.float.name} |", "",
+      "| resource | generic | sized | saved |", "| --- | ---: | ---: | ---: |",
+      row("LUT", s.lut, g.lut), row("FF", s.ff, g.ff), row("DSP48", s.dsp, g.dsp), row("BRAM36", s.bram36, g.bram36), "",
+      s"Instances on the ZC706: generic ${AccelArea.instances(g, device)}, sized ${AccelArea.instances(s, device)}.", "")).mkString("\n")
   }
 }
 
@@ -82,11 +113,10 @@ object ResourceTable {
     val total = rows.map(_._2).foldLeft(Synth.zero)(_ + _)
     def line(n: String, a: Synth.Area) = f"| $n | ${a.lut}%,d | ${a.ff}%,d | ${a.dsp}%,d | ${a.bram36}%.1f | ${a.lutram}%,d | ${a.carry}%,d |"
     def pct(x: Double, of: Double) = f"${100 * x / of}%.1f%%"
-    val fits = Seq(device.lut.toDouble / total.lut.max(1), device.ff.toDouble / total.ff.max(1),
-      device.dsp.toDouble / total.dsp.max(1), device.bram36 / total.bram36.max(0.5)).min.floor.toInt
+    val fits = AccelArea.instances(total, device)
     // Built line by line: stripMargin would eat the leading `|` of interpolated rows.
     (Seq(s"# Resources: $title", "",
-      f"Generated by `make verilog` (Yosys 0.23 `synth_xilinx -family xc7`, per unit, summed) in $seconds%.0f s; do not edit.", "",
+      f"Generated by `make verilog` (Yosys 0.23 `synth_xilinx -family xc7`; each datapath unit alone, the control with them as black boxes; summed) in $seconds%.0f s; do not edit.", "",
       "| unit | LUT | FF | DSP48 | BRAM36 | LUTRAM cells | CARRY4 |",
       "| --- | ---: | ---: | ---: | ---: | ---: | ---: |") ++
       rows.map { case (n, a) => line(n, a) } ++

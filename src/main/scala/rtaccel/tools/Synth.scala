@@ -38,9 +38,11 @@ object Synth {
     areaOf(cellLine.findAllMatchIn(log.substring(block)).map(m => m.group(1) -> m.group(2).toInt).toSeq)
   }
 
-  /** Runs `synth_xilinx -family xc7` on `top` from `sv` (hierarchy kept), logging beside it. */
-  def yosys(sv: Path, top: String, blackboxes: Seq[String] = Nil): Area = {
-    val log = sv.resolveSibling(s"$top.yosys.log")
+  /** Runs `synth_xilinx -family xc7` on `top` from `sv` (hierarchy kept), logging beside it
+    * (by default as `<top>.yosys.log`; give `log` when several runs share a directory and a top).
+    */
+  def yosys(sv: Path, top: String, blackboxes: Seq[String] = Nil, log0: Option[Path] = None): Area = {
+    val log = log0.getOrElse(sv.resolveSibling(s"$top.yosys.log"))
     val bb = if (blackboxes.isEmpty) "" else s"blackbox ${blackboxes.mkString(" ")}; "
     val script = s"read_verilog -sv $sv; ${bb}synth_xilinx -family xc7 -top $top; stat"
     val rc = Seq("yosys", "-q", "-l", log.toString, "-p", script).!(ProcessLogger(_ => ()))

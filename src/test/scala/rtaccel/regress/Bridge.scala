@@ -25,6 +25,13 @@ object Bridge {
     ujson.read(Files.readString(acc))
   }
 
+  /** Scores a hits file against a hard case's expect.csv (scenes/hard/); returns the JSON it writes. */
+  def hardScore(bridge: Path, pkg: Path, hits: Path, expect: Path, out: Path): ujson.Value = {
+    Files.createDirectories(out.toAbsolutePath.getParent)
+    exec(bridge, Seq("hard-score", "--package", pkg.toString, "--hits", hits.toString, "--expect", expect.toString, "--out", out.toString))
+    ujson.read(Files.readString(out))
+  }
+
   /** PNGs for camera rays; other ray kinds have no image, and nothing is drawn. */
   def render(bridge: Path, pkg: Path, out: Path): Option[Path] = {
     val manifest = ujson.read(Files.readString(pkg.resolve("package.json")))

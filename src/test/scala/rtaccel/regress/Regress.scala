@@ -62,10 +62,11 @@ object Regress {
     if (misfits.nonEmpty)
       throw new IllegalArgumentException(s"${a.pkg}: the scene does not fit the generated hardware:\n  " + misfits.mkString("\n  ") +
         "\n(raise the limits, e.g. STACK=<n>, or size the hardware to the scene)")
-    val chosen = DatapathChoice.resolve(a.float, a.triangle, a.rounding)
+    // Sized hardware may have fewer exponent bits than asked for: build the datapath in the sized format.
+    val chosen = DatapathChoice.resolve(if (a.sized && a.float != "field") cfg.float.name else a.float, a.triangle, a.rounding)
     Files.createDirectories(a.out)
     println(s"regress: ${rays.size} rays, ${pkg.needs.triangles} triangles, ${pkg.needs.nodes} nodes; " +
-      s"${cfg.numRayIds} ray IDs, stack ${cfg.stackDepth}; memory ${a.memory(0).describe}")
+      s"${cfg.numRayIds} ray IDs, stack ${cfg.stackDepth}, ${cfg.float.name}; memory ${a.memory(0).describe}")
     chosen match { case c: Chosen[t, s] => runWith(a, pkg, rays, cfg, c.asInstanceOf[Chosen[Data, s]]) }
   }
 

@@ -1,0 +1,93 @@
+package rtaccel.tools
+
+import java.nio.file.{Files, Path}
+import java.security.MessageDigest
+import scala.concurrent.duration.Duration
+import scala.concurrent.{Await, ExecutionContext, Future}
+
+/** Area of a whole accelerator from its emitted SystemVerilog, summed from
+  * per-unit Yosys runs (`synth_xilinx -family xc7`): each datapath unit
+  * (RayPrep, BoxIntersect, PrimIntersect) with its sub-modules alone, then the
+  * control (everything else) with those three as black boxes. A flattened run
+  * of the whole FP-heavy design takes far longer than the units in parallel.
+  *
+  * Results are cached in `cacheDir`, keyed by a hash of the exact Verilog a
+  * run reads with the datapath's name masked out: the same unit in two
+  * configurations (say the box of the Moller and of the watertight variant,
+  * when its Verilog is identical) is synthesised once, and `make verilog` and
+  * `make speed-vs-error` share their results.
+  */
+object AccelArea {
+  /** The datapath units, by module-name prefix (FloatDatapath's desiredName). */
+  val datapathUnits: Seq[String] = Seq("RayPrep", "BoxIntersect", "PrimIntersect")
+  val controlLabel = "control"
+
+  final case class Module(name: String, text: String)
+
+  def modules(sv: String): Seq[Module] =
+    """(?ms)^module (\w+)\b.*?^endmodule\b[^\n]*\n?""".r.findAllMatchIn(sv).map(m => Module(m.group(1), m.matched)).toSeq
+
+  /** `top` and every module it instantiates, transitively, in file order. */
+  def subtree(mods: Seq[Module], top: String): Seq[Module] = {
+    val byName = mods.map(m => m.name -> m).toMap
+    val inst = """(?m)^\s+(\w+)\s+\w+\s*\(""".r
+    val seen = collection.mutable.LinkedHashSet.empty[String]
+    def visit(n: String): Unit = if (seen.add(n))
+      inst.findAllMatchIn(byName(n).text).map(_.group(1)).filter(byName.contains).foreach(visit)
+    require(byName.contains(top), s"module $top is not in the Verilog")
+    visit(top)
+    mods.filter(m => seen.contains(m.name))
+  }
+
+  private def hash(parts: String*): String = {
+    val md = MessageDigest.getInstance("SHA-256")
+    parts.foreach(p => md.update(p.getBytes("UTF-8")))
+    md.digest().take(8).map(b => f"$b%02x").mkString
+  }
+
+  private def toJson(a: Synth.Area): String = ujson.write(ujson.Obj("lut" -> a.lut, "ff" -> a.ff, "srl" -> a.srl, "dsp" -> a.dsp,
+    "carry" -> a.carry, "ramb36" -> a.ramb36, "ramb18" -> a.ramb18, "lutram" -> a.lutram))
+  def fromJson(j: ujson.Value): Synth.Area = Synth.Area(j("lut").num.toInt, j("ff").num.toInt, j("srl").num.toInt, j("dsp").num.toInt,
+    j("carry").num.toInt, j("ramb36").num.toInt, j("ramb18").num.toInt, j("lutram").num.toInt)
+
+  /** One cached Yosys run on `text` (the Verilog read), top `top`, black boxes `bb`. */
+  private def cached(cacheDir: Path, label: String, mask: String, text: String, top: String, bb: Seq[String]): Synth.Area = {
+    val key = hash(text.replace(mask, "#"), top.replace(mask, "#"), bb.map(_.replace(mask, "#")).mkString(","))
+    val done = cacheDir.resolve(s"$label-$key.json")
+    if (Files.exists(done)) fromJson(ujson.read(Files.readString(done)))
+    else {
+      val sv = cacheDir.resolve(s"$label-$key.sv")
+      Files.writeString(sv, text)
+      val a = Synth.yosys(sv, top, bb, Some(cacheDir.resolve(s"$label-$key.yosys.log")))
+      // Written whole then renamed, so a concurrent reader never sees half a file.
+      val tmp = Files.createTempFile(cacheDir, label, ".tmp")
+      Files.writeString(tmp, toJson(a))
+      Files.move(tmp, done, java.nio.file.StandardCopyOption.REPLACE_EXISTING, java.nio.file.StandardCopyOption.ATOMIC_MOVE)
+      a
+    }
+  }
+
+  /** (unit, area) rows for the accelerator `top` in `sv` whose datapath is named `dpName`. */
+  def measure(sv: String, top: String, dpName: String, cacheDir: Path, jobs: Int): Seq[(String, Synth.Area)] = {
+    Files.createDirectories(cacheDir)
+    val mods = modules(sv)
+    val unitTops = datapathUnits.map(u => u -> s"${u}_$dpName")
+    unitTops.foreach { case (_, m) => require(mods.exists(_.name == m), s"no module $m in the accelerator's Verilog") }
+    val pool = java.util.concurrent.Executors.newFixedThreadPool(jobs)
+    implicit val ec: ExecutionContext = ExecutionContext.fromExecutor(pool)
+    try {
+      val units = unitTops.map { case (u, m) =>
+        u -> Future(cached(cacheDir, u, dpName, subtree(mods, m).map(_.text).mkString, m, Nil))
+      }
+      val control = controlLabel -> Future(cached(cacheDir, controlLabel, dpName, sv, top, unitTops.map(_._2)))
+      (units :+ control).map { case (u, f) => u -> Await.result(f, Duration.Inf) }
+    } finally pool.shutdown()
+  }
+
+  def total(rows: Seq[(String, Synth.Area)]): Synth.Area = rows.map(_._2).foldLeft(Synth.zero)(_ + _)
+
+  /** Whole instances of an accelerator of area `a` that fit on `device`, by its scarcest resource. */
+  def instances(a: Synth.Area, device: Synth.Area): Int =
+    Seq(device.lut.toDouble / a.lut.max(1), device.ff.toDouble / a.ff.max(1), device.dsp.toDouble / a.dsp.max(1),
+      device.bram36 / a.bram36.max(0.5)).min.floor.toInt
+}

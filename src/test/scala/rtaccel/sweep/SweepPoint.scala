@@ -1,0 +1,112 @@
+package rtaccel.sweep
+
+import chisel3._
+import rtaccel.datapath.{DatapathArea, FloatGolden}
+import rtaccel.golden.HitRecord
+import rtaccel.regress.Bridge
+import rtaccel.scene.{HitsCsv, ScenePackage}
+import rtaccel.AccelConfig
+
+import java.nio.file.{Files, Path}
+
+/** One point of `make speed-vs-error` (one command line, so a scheduler can
+  * spread the points over machines): for one configuration, every ray of
+  * every run through the golden model (hits.csv, then `nori-bridge compare`
+  * against the package's reference, or `hard-score` against a hard case's
+  * expectations), the RTL on the speed runs (rays/cycle against the bound,
+  * every simulated ray checked against the golden answer), and the unit
+  * latencies. Writes `<sweep>/points/<name>.json` for `nori-bridge sweep-report`.
+  */
+object SweepPoint {
+  def main(args: Array[String]): Unit =
+    try run(SweepArgs.parse(args.toSeq))
+    catch {
+      case e: IllegalArgumentException =>
+        System.err.println(s"Error: ${e.getMessage}")
+        sys.exit(2)
+    }
+
+  def run(a: SweepArgs): Unit = {
+    val t0 = System.nanoTime()
+    val cfg = AccelConfig.zc706.copy(float = a.fmt)
+    val golden = FloatGolden(a.dp)
+    val packages = a.runs.map(r => r -> ScenePackage.load(a.packageDir(r))).toMap
+    // The numeric range is not checked here: where a narrow format cannot hold a
+    // scene's range is exactly what the sweep measures (`in_range` per run).
+    for ((r, p) <- packages; why <- p.structuralMisfits(cfg).headOption)
+      throw new IllegalArgumentException(s"${p.dir}: does not fit the generic configuration: $why")
+
+    val entries = a.runs.map { run =>
+      val p = packages(run)
+      val t = System.nanoTime()
+      val g = GoldenHits.run(cfg, p.image, golden, p.rays, a.threads)
+      HitsCsv.write(a.hitsFile(run), g.hits)
+      val judged = judge(a, run, p)
+      println(f"sweep ${a.name}: $run: ${p.rays.size}%,d rays in ${(System.nanoTime() - t) / 1e9}%.1f s")
+      run -> (g, judged)
+    }.toMap
+
+    val speed = SpeedRuns.measure(a, cfg, a.speedRuns.map(r => r -> packages(r)),
+      a.speedRuns.map(r => r -> entries(r)._1.hits.take(a.speedRays)).toMap)
+
+    val runs = a.runs.map { run =>
+      val p = packages(run)
+      val (g, judged) = entries(run)
+      val manifest = ujson.read(Files.readString(p.dir.resolve("package.json")))
+      val scene = java.nio.file.Paths.get(manifest("source_scene").str).getFileName.toString.stripSuffix(".xml")
+      val o = ujson.Obj(
+        "run" -> run, "scene" -> scene, "rays" -> manifest("ray_kind").str,
+        "hard_case" -> hardCase(run).fold[ujson.Value](ujson.Null)(ujson.Str(_)),
+        "package" -> p.dir.toString, "hits" -> a.hitsFile(run).toString,
+        "rays_total" -> p.rays.size,
+        "in_range" -> p.range.misfit(a.fmt).isEmpty, "exp_bits_needed" -> p.range.expBits, "error_flagged" -> g.hits.count(_.errors != 0),
+        "node_tests_per_ray" -> g.perRay(g.boxTests), "tri_tests_per_ray" -> g.perRay(g.triTests),
+        "speed" -> speed.getOrElse(run, ujson.Null))
+      o(if (hardCase(run).isDefined) "hard" else "accuracy") = judged
+      o
+    }
+    val point = ujson.Obj(
+      "config" -> ujson.Obj("name" -> a.name, "float" -> a.fmt.name, "exp_bits" -> a.fmt.expBits, "man_bits" -> a.fmt.manBits,
+        "rounding" -> (if (a.rounding.tag == "rne") "rne" else "conservative"),
+        "triangle" -> (if (a.test.tag == "wt") "watertight" else "moller")),
+      "latency" -> latencies(cfg, a),
+      "runs" -> ujson.Arr(runs: _*),
+      "seconds" -> (System.nanoTime() - t0) / 1e9)
+    Files.createDirectories(a.pointFile.getParent)
+    Files.writeString(a.pointFile, ujson.write(point, indent = 2))
+    println(f"sweep ${a.name}: wrote ${a.pointFile} in ${(System.nanoTime() - t0) / 1e9}%.0f s")
+  }
+
+  /** `hard-<case>` runs are hard cases, scored against the case's expectations. */
+  def hardCase(run: String): Option[String] = Option.when(run.startsWith("hard-"))(run.stripPrefix("hard-"))
+
+  private def judge(a: SweepArgs, run: String, p: ScenePackage): ujson.Value = hardCase(run) match {
+    case Some(c) =>
+      val expect = a.hardDir.resolve(c).resolve("expect.csv")
+      if (!Files.exists(expect)) throw new IllegalArgumentException(s"$expect: missing (regenerate with `make hard-cases`)")
+      val out = a.sweep.resolve("hard").resolve(a.name).resolve(s"$run.json")
+      Bridge.hardScore(a.bridge, p.dir, a.hitsFile(run), expect, out)
+    case None =>
+      // Tolerances scale with the format's precision (hidden bit included).
+      val out = a.sweep.resolve("accuracy").resolve(a.name).resolve(run)
+      Files.createDirectories(out)
+      Files.copy(a.hitsFile(run), out.resolve("hits.csv"), java.nio.file.StandardCopyOption.REPLACE_EXISTING)
+      Bridge.compare(a.bridge, p.dir, out, a.fmt.manBits + 1)
+  }
+
+  /** Each unit's derived latency, from its elaborated module (no Verilog emitted). */
+  private def latencies(cfg: AccelConfig, a: SweepArgs): ujson.Obj = {
+    def lat(gen: => RawModule): Int = {
+      var m: RawModule = null
+      _root_.circt.stage.ChiselStage.emitCHIRRTL({ m = gen; m })
+      DatapathArea.latencyOf(m)
+    }
+    ujson.Obj("ray_prep" -> lat(a.dp.rayPrep(cfg)), "box" -> lat(a.dp.box(cfg)), "triangle" -> lat(a.dp.prim(cfg)))
+  }
+
+  /** Same answer as the golden model, under the regression's agreement rule. */
+  def sameAnswers(rays: Map[Long, rtaccel.golden.RayRecord], hw: Seq[HitRecord], golden: Seq[HitRecord]): Int = {
+    val want = golden.map(h => h.number -> h).toMap
+    hw.count(h => !rtaccel.golden.TraversalGolden.agrees(rays(h.number), h, want(h.number)))
+  }
+}
