@@ -57,8 +57,12 @@ test-hls: setup-apt ## Build and run the HLS twins' C-simulation test benches
 demo: setup ## The main job on the default shipped scene
 	@./scripts/demo.sh
 
-verilog: setup ## SystemVerilog for the ZC706 into build/verilog/, lint, Yosys resource table [FLOAT= TRIANGLE= ROUNDING= SYNTH=0 PACKAGE=<compiled scene dir>]
-	$(SBT) "runMain rtaccel.tools.EmitVerilog --out $(BUILD)/verilog --float $(or $(FLOAT),e8m23) --triangle $(or $(TRIANGLE),watertight) --rounding $(or $(ROUNDING),rne) --synth $(or $(SYNTH),1)$(if $(PACKAGE), --package $(PACKAGE))"
+# SCENE= (or an already compiled PACKAGE=) sizes the hardware to that scene and
+# its rays (RAYS=primary by default) and reports the area saved (sized.md).
+VERILOG_PACKAGE = $(or $(PACKAGE),$(if $(SCENE),$(BUILD)/verilog/scene))
+verilog: setup ## SystemVerilog for the ZC706 into build/verilog/, lint, Yosys resource table [FLOAT= TRIANGLE= ROUNDING= SYNTH=0 SCENE=<scene.xml> or PACKAGE=<compiled dir>]
+	$(if $(SCENE),$(BRIDGE) compile $(SCENE) --out $(BUILD)/verilog/scene --rays $(or $(RAYS),primary))
+	$(SBT) "runMain rtaccel.tools.EmitVerilog --out $(BUILD)/verilog --float $(or $(FLOAT),e8m23) --triangle $(or $(TRIANGLE),watertight) --rounding $(or $(ROUNDING),rne) --synth $(or $(SYNTH),1)$(if $(VERILOG_PACKAGE), --package $(VERILOG_PACKAGE))"
 
 regress: setup ## Scene regression: make regress SCENE=scenes/x/x.xml [RAYS= FLOAT= TRIANGLE= ROUNDING= MEM_LATENCY= IDS= STACK= OUT= WAVES=1]
 	@scripts/regress.sh

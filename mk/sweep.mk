@@ -29,6 +29,7 @@ speed-vs-error: setup ## Precision sweep (formats x rounding x triangle test x s
 	  --runtime-note "$(words $(SWEEP_POINTS)) points, $$(( (end - start + 30) / 60 )) min wall with make -j$(SWEEP_JOBS) on $$(nproc) cores ($$(date -u +%Y-%m-%d))"
 
 sweep-jobs: $(addprefix $(SWEEP)/points/,$(addsuffix .json,$(SWEEP_POINTS))) \
+            $(if $(HARD_CASES),$(addprefix $(SWEEP)/points/,$(addsuffix .hard.json,$(SWEEP_POINTS)))) \
             $(addprefix $(SWEEP)/area/,$(addsuffix .json,$(SWEEP_POINTS))) \
             $(foreach c,$(HARD_CASES),$(foreach r,embree robust double,$(SWEEP)/hard-ref/$(c)-$(r).json))
 
@@ -69,12 +70,20 @@ $(SWEEP)/hard-ref/%-robust.json: $(SWEEP)/hard-pkg/%-robust/package.json
 	@mkdir -p $(@D)
 	$(BRIDGE) hard-score --package $(<D) --hits $(<D)/reference.csv --expect scenes/hard/$*/expect.csv --out $@
 
-# One point: $* = <format>-<rne|cons>-<mt|wt>.
+# One point: $* = <format>-<rne|cons>-<mt|wt>. Two jobs per point: the image
+# runs (error on every ray, speed in RTL) and the hard cases (error only);
+# sweep-report merges `<point>.hard.json` into `<point>.json`.
 sweep_field = $(word $(1),$(subst -, ,$(2)))
-$(SWEEP)/points/%.json: $(foreach r,$(SWEEP_RUNS),$(SWEEP)/packages/$(r)/package.json) | $(SWEEP)/classpath
+sweep_point_args = --float $(call sweep_field,1,$(1)) --rounding $(call sweep_field,2,$(1)) --triangle $(call sweep_field,3,$(1)) --sweep $(SWEEP)
+$(SWEEP)/points/%.hard.json: $(foreach c,$(HARD_CASES),$(SWEEP)/packages/hard-$(c)/package.json) | $(SWEEP)/classpath
 	@mkdir -p $(SWEEP)/logs
-	$(SWEEP_JAVA) rtaccel.sweep.SweepPoint --float $(call sweep_field,1,$*) --rounding $(call sweep_field,2,$*) \
-	  --triangle $(call sweep_field,3,$*) --sweep $(SWEEP) --runs $(subst $(space),$(comma),$(SWEEP_RUNS)) \
+	$(SWEEP_JAVA) rtaccel.sweep.SweepPoint $(call sweep_point_args,$*) --group hard \
+	  --runs $(subst $(space),$(comma),$(addprefix hard-,$(HARD_CASES))) > $(SWEEP)/logs/point-$*.hard.log 2>&1 \
+	  || { tail -30 $(SWEEP)/logs/point-$*.hard.log; exit 1; }
+	@tail -1 $(SWEEP)/logs/point-$*.hard.log
+$(SWEEP)/points/%.json: $(foreach r,$(IMAGE_RUNS),$(SWEEP)/packages/$(r)/package.json) | $(SWEEP)/classpath
+	@mkdir -p $(SWEEP)/logs
+	$(SWEEP_JAVA) rtaccel.sweep.SweepPoint $(call sweep_point_args,$*) --runs $(subst $(space),$(comma),$(IMAGE_RUNS)) \
 	  --speed-runs $(subst $(space),$(comma),$(IMAGE_RUNS)) --speed-rays $(SPEED_RAYS) > $(SWEEP)/logs/point-$*.log 2>&1 \
 	  || { tail -30 $(SWEEP)/logs/point-$*.log; exit 1; }
 	@tail -1 $(SWEEP)/logs/point-$*.log

@@ -22,14 +22,16 @@ final case class SweepArgs(
     hardDir: Path,
     bridge: Path,
     threads: Int,
-    seed: Long
+    seed: Long,
+    /** Which group of runs this job measures; "" writes `<name>.json`, else `<name>.<group>.json`. */
+    group: String
 ) {
   def dp: FloatDatapath = FloatDatapath(fmt, test, rounding)
   /** `e8m12-rne-wt`: the point's name in file names and reports. */
   def name: String = SweepArgs.pointName(fmt, rounding, test)
   def packageDir(run: String): Path = sweep.resolve("packages").resolve(run)
   def hitsFile(run: String): Path = sweep.resolve("hits").resolve(name).resolve(s"$run.csv")
-  def pointFile: Path = sweep.resolve("points").resolve(s"$name.json")
+  def pointFile: Path = sweep.resolve("points").resolve(if (group.isEmpty) s"$name.json" else s"$name.$group.json")
 }
 
 object SweepArgs {
@@ -37,13 +39,13 @@ object SweepArgs {
 
   val usage: String =
     "usage: SweepPoint --float e8m12 --rounding rne|conservative --triangle moller|watertight --sweep DIR " +
-      "--runs a,b,... [--speed-runs a,b] [--speed-rays 1024] [--hard-dir scenes/hard] [--bridge PATH] [--threads 1] [--seed 1]"
+      "--runs a,b,... [--speed-runs a,b] [--speed-rays 1024] [--hard-dir scenes/hard] [--bridge PATH] [--threads 1] [--seed 1] [--group NAME]"
 
   def parse(args: Seq[String]): SweepArgs = {
     if (args.size % 2 != 0) fail(s"options come in pairs: ${args.mkString(" ")}")
     val kv = args.grouped(2).map(p => p(0) -> p(1)).toMap
     val known = Set("--float", "--rounding", "--triangle", "--sweep", "--runs", "--speed-runs", "--speed-rays",
-      "--hard-dir", "--bridge", "--threads", "--seed")
+      "--hard-dir", "--bridge", "--threads", "--seed", "--group")
     kv.keys.filterNot(known).foreach(k => fail(s"unknown option '$k'"))
     def req(k: String) = kv.getOrElse(k, fail(s"$k is required"))
     def list(k: String) = kv.get(k).toSeq.flatMap(_.split(',').map(_.trim).filter(_.nonEmpty))
@@ -63,7 +65,8 @@ object SweepArgs {
       hardDir = Paths.get(kv.getOrElse("--hard-dir", "scenes/hard")),
       bridge = Paths.get(kv.getOrElse("--bridge", "nori-bridge/target/release/nori-bridge")),
       threads = int("--threads", 1),
-      seed = kv.get("--seed").fold(1L)(v => v.toLongOption.getOrElse(fail(s"--seed: '$v' is not a whole number"))))
+      seed = kv.get("--seed").fold(1L)(v => v.toLongOption.getOrElse(fail(s"--seed: '$v' is not a whole number"))),
+      group = kv.getOrElse("--group", "").filter(c => c.isLetterOrDigit || c == '-'))
   }
 
   private def fail(why: String): Nothing = throw new IllegalArgumentException(s"$why\n$usage")

@@ -77,6 +77,9 @@ object SweepPoint {
     println(f"sweep ${a.name}: wrote ${a.pointFile} in ${(System.nanoTime() - t0) / 1e9}%.0f s")
   }
 
+  /** Mantissa bits (hidden bit included) of the tolerances every point is judged with: FP32's. */
+  val judgedPrecision = 24
+
   /** `hard-<case>` runs are hard cases, scored against the case's expectations. */
   def hardCase(run: String): Option[String] = Option.when(run.startsWith("hard-"))(run.stripPrefix("hard-"))
 
@@ -87,11 +90,13 @@ object SweepPoint {
       val out = a.sweep.resolve("hard").resolve(a.name).resolve(s"$run.json")
       Bridge.hardScore(a.bridge, p.dir, a.hitsFile(run), expect, out)
     case None =>
-      // Tolerances scale with the format's precision (hidden bit included).
+      // Judged with FP32 tolerances whatever the format: a narrow format's extra
+      // error must show as false misses/hits, not be excused as "edge" by
+      // tolerances scaled to its own precision. Ties (equal t in f64) stay apart.
       val out = a.sweep.resolve("accuracy").resolve(a.name).resolve(run)
       Files.createDirectories(out)
       Files.copy(a.hitsFile(run), out.resolve("hits.csv"), java.nio.file.StandardCopyOption.REPLACE_EXISTING)
-      Bridge.compare(a.bridge, p.dir, out, a.fmt.manBits + 1)
+      Bridge.compare(a.bridge, p.dir, out, SweepPoint.judgedPrecision)
   }
 
   /** Each unit's derived latency, from its elaborated module (no Verilog emitted). */

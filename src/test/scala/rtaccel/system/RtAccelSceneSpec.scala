@@ -76,12 +76,15 @@ class RtAccelSceneSpec extends AnyFlatSpec with ChiselScalatestTester {
     ), embreeStrict = true, "RtAccelScene.fp32")
   }
 
-  it should "match the golden model bit for bit in a narrow format (e8m12, Moller-Trumbore, conservative boxes)" in {
-    val fmt = FloatFormat(8, 12)
-    val dp = FloatDatapath(fmt, TriangleTest.Moller, BoxRounding.Conservative)
-    runScenes(cfg32.copy(float = fmt), dp, Seq(
-      ("cornell primary", () => compiled("scenes/cornell-box/cornell-box.xml", "primary"), ooo),
-      ("multi-mesh AO", () => compiled("scenes/multi-mesh/multi-mesh.xml", "ao", Seq("--width", "40", "--height", "30")), cached)
-    ), embreeStrict = false, "RtAccelScene.e8m12")
+  it should "match the golden model bit for bit on hardware sized to the Cornell box (narrow, Moller-Trumbore, conservative boxes)" in {
+    // Sized from e8m12: stack, indices and leaf size from the BVH, exponent bits from the numeric range.
+    val primary = compiled("scenes/cornell-box/cornell-box.xml", "primary")
+    val cfg = primary.sized(cfg32.copy(float = FloatFormat(8, 12)))
+    assert(cfg.float == FloatFormat(7, 12) && cfg.stackDepth == primary.needs.bvhDepth && cfg.maxLeafSize == primary.needs.largestLeaf, cfg)
+    val dp = FloatDatapath(cfg.float, TriangleTest.Moller, BoxRounding.Conservative)
+    runScenes(cfg, dp, Seq(
+      ("cornell primary", () => primary, ooo),
+      ("cornell AO", () => compiled("scenes/cornell-box/cornell-box.xml", "ao"), cached)
+    ), embreeStrict = false, "RtAccelScene.sized")
   }
 }
