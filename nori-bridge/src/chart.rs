@@ -50,13 +50,15 @@ pub struct Chart {
     pub title: String,
     pub x_desc: String,
     pub y_desc: String,
+    /// Label x ticks as integers (LUTs, bits).
+    pub x_integer: bool,
     pub series: Vec<Series>,
     /// Pareto front, drawn as a staircase through these (x, y) in order.
     pub front: Vec<(f64, f64)>,
 }
 
 /// The log y range: a decade below the smallest non-zero value to above
-/// the largest; the floor band [lo, lo * 4) holds the zeros at lo * 2.
+/// the largest; the floor band [lo, lo * 3) holds the zeros at lo * 1.7.
 fn y_range(ys: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
     let nz = ys.filter(|y| *y > 0.0);
     let min = nz.clone().fold(f64::INFINITY, f64::min);
@@ -94,8 +96,8 @@ fn render(c: &Chart, buf: &mut [u8]) -> Result<(), Box<dyn std::error::Error>> {
     let pts = || c.series.iter().flat_map(|s| s.points.iter());
     let (x0, x1) = x_range(pts().map(|p| p.x));
     let (lo, hi) = y_range(pts().map(|p| p.y));
-    let band_top = lo * 4.0;
-    let at = |y: f64| if y > 0.0 { y } else { lo * 2.0 };
+    let band_top = lo * 3.0;
+    let at = |y: f64| if y > 0.0 { y } else { lo * 1.7 };
     let root = BitMapBackend::with_buffer(buf, SIZE).into_drawing_area();
     root.fill(&WHITE)?;
     let mut ch = ChartBuilder::on(&root)
@@ -105,15 +107,17 @@ fn render(c: &Chart, buf: &mut [u8]) -> Result<(), Box<dyn std::error::Error>> {
         .y_label_area_size(80)
         .build_cartesian_2d(x0..x1, (lo..hi).log_scale())?;
     let y_fmt = |v: &f64| if *v < band_top { String::new() } else { format!("{v:.0e}") };
+    let x_fmt = |v: &f64| if c.x_integer { format!("{v:.0}") } else { format!("{v:.3}") };
     ch.configure_mesh()
         .x_desc(&c.x_desc)
+        .x_label_formatter(&x_fmt)
         .y_desc(&c.y_desc)
         .y_label_formatter(&y_fmt)
         .label_style((FONT, 15))
         .axis_desc_style((FONT, 17))
         .draw()?;
     ch.draw_series(std::iter::once(Rectangle::new([(x0, lo), (x1, band_top)], RGBColor(225, 225, 225).filled())))?;
-    ch.draw_series(std::iter::once(Text::new("0 (none)", (x0, lo * 2.6), (FONT, 15))))?;
+    ch.draw_series(std::iter::once(Text::new("0 (none)", (x0, lo * 2.5), (FONT, 15))))?;
     if !c.front.is_empty() {
         let mut stair = Vec::new();
         for (i, &(x, y)) in c.front.iter().enumerate() {

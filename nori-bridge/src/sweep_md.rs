@@ -5,7 +5,7 @@
 use crate::sweep_metrics::PointOut;
 use crate::sweep_plot::Plot;
 use crate::sweep_report::{Report, ReportOpts};
-use crate::sweep_summary::{sentence, MAX_PIXEL_SHARE};
+use crate::sweep_summary::MAX_PIXEL_SHARE;
 use anyhow::{Context, Result};
 use std::path::{Component, Path, PathBuf};
 
@@ -18,7 +18,7 @@ fn pct(v: Option<f64>) -> String {
 }
 
 fn sci(v: Option<f64>) -> String {
-    opt(v, |x| format!("{x:.2e}"))
+    opt(v, |x| if x == 0.0 { "0".into() } else { format!("{x:.2e}") })
 }
 
 fn x2(v: Option<f64>) -> String {
@@ -177,13 +177,9 @@ pub fn document(r: &Report, o: &ReportOpts, plots: &[Plot]) -> Result<String> {
         r.summary.clone(),
         String::new(),
     ];
-    let mut variants: Vec<&str> = r.points.iter().map(|p| p.variant.as_str()).collect();
-    variants.sort();
-    variants.dedup();
-    for v in variants {
-        let mine: Vec<PointOut> = r.points.iter().filter(|p| p.variant == v).cloned().collect();
-        l.push(format!("- {v}: {}", sentence(&mine, &r.baseline_format)));
-    }
+    l.push("Per variant:".into());
+    l.push(String::new());
+    l.extend(crate::sweep_summary::per_variant(&r.points, &r.baseline_format));
     l.push(String::new());
     l.extend(method(r));
     l.extend([String::new(), "## Points".into(), String::new()]);
@@ -202,7 +198,7 @@ pub fn document(r: &Report, o: &ReportOpts, plots: &[Plot]) -> Result<String> {
     l.extend([String::new(), "## Per run".into(), String::new()]);
     l.extend(run_table(&r.points));
     l.push(String::new());
-    l.extend(crate::sweep_md_hard::section(r));
+    l.extend(crate::sweep_md_hard::section(r, &notes_path(&o.md)));
     l.extend([String::new(), "## Notes (hand-written)".into(), String::new()]);
     let notes = notes_path(&o.md);
     if notes.exists() {

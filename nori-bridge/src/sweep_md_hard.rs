@@ -21,7 +21,7 @@ fn dirty(h: &HardIn) -> bool {
 }
 
 /// Lines of the section (no trailing newline on each).
-pub fn section(r: &Report) -> Vec<String> {
+pub fn section(r: &Report, notes: &std::path::Path) -> Vec<String> {
     let mut out = vec!["## Hard cases".to_string(), String::new()];
     if r.hard_references.is_empty() {
         out.push("The sweep ran no hard case (no run has a `hard_case`).".into());
@@ -77,8 +77,9 @@ pub fn section(r: &Report) -> Vec<String> {
     } else {
         out.push(format!(
             "**Generated placeholder:** {} non-zero cell(s) for watertight + conservative configurations, where the goal is zero. \
-             Each needs an explanation in the hand-written notes (`speed-vs-error-notes.md`, included at the end):",
-            bad.len()
+             Each needs an explanation in the hand-written notes (`{}`, included at the end):",
+            bad.len(),
+            notes.display()
         ));
         out.push(String::new());
         out.extend(bad);

@@ -72,6 +72,7 @@ pub fn write_all(r: &Report, dir: &Path) -> Result<Vec<Plot>> {
         title: "Error against area (Yosys xc7 LUTs, whole accelerator)".into(),
         x_desc: "LUT".into(),
         y_desc: y_desc.into(),
+        x_integer: true,
         series: by_variant(&all, false, lut),
         front: front(r, &r.pareto.error_lut, lut),
     };
@@ -81,6 +82,7 @@ pub fn write_all(r: &Report, dir: &Path) -> Result<Vec<Plot>> {
         title: "Error against speed (rays per cycle, mean over timed runs)".into(),
         x_desc: "rays / cycle".into(),
         y_desc: y_desc.into(),
+        x_integer: false,
         series: by_variant(&timed, false, speed),
         front: front(r, &r.pareto.error_speed, speed),
     });
@@ -90,6 +92,7 @@ pub fn write_all(r: &Report, dir: &Path) -> Result<Vec<Plot>> {
         title: format!("Pixels differing from {} against mantissa bits", r.baseline_format),
         x_desc: "mantissa bits (stored, without the hidden bit)".into(),
         y_desc: "% of pixels differing".into(),
+        x_integer: true,
         series: by_variant(&imaged, true, px),
         front: Vec::new(),
     });

@@ -47,36 +47,55 @@ fn saving(r: Option<f64>) -> String {
     r.map_or("n/a (baseline value 0)".into(), |r| format!("{:.1}%", (1.0 - r) * 100.0))
 }
 
-/// The sentence for the document, about `points` (all points or one variant).
+fn savings(p: &PointOut) -> String {
+    let r = &p.vs_baseline;
+    format!("saving {} LUT ({} FF, {} DSP) against FP32 ({}, same variant)", saving(r.lut), saving(r.ff), saving(r.dsp), p.baseline)
+}
+
+fn none_qualifies(baseline_format: &str) -> String {
+    format!(
+        "No configuration qualifies: none has zero false misses together with fewer than {}% of pixels different from {baseline_format} \
+         (a point without an image run cannot qualify).",
+        MAX_PIXEL_SHARE * 100.0
+    )
+}
+
+/// The issue's sentence about `points`.
 pub fn sentence(points: &[PointOut], baseline_format: &str) -> String {
     let cands: Vec<Candidate> = points.iter().map(Candidate::from).collect();
-    match smallest_safe(&cands) {
-        None => format!(
-            "No configuration qualifies: none has zero false misses together with fewer than {}% of pixels different from {baseline_format} \
-             (a point without an image run cannot qualify).",
-            MAX_PIXEL_SHARE * 100.0
-        ),
-        Some(i) => {
-            let p = &points[i];
-            let r = &p.vs_baseline;
-            format!(
-                "The smallest format with zero false misses and < {}% pixels different from FP32 is **{}** ({}, {} rounding, {} test; point {}), \
-                 saving {} LUT ({} FF, {} DSP) against FP32 ({}, same variant); it differs on {} of pixels and leaks on the hard cases {} times.",
-                MAX_PIXEL_SHARE * 100.0,
-                p.config.float,
-                p.variant,
-                p.config.rounding,
-                p.config.triangle,
-                p.name,
-                saving(r.lut),
-                saving(r.ff),
-                saving(r.dsp),
-                p.baseline,
-                p.pixel_share.map_or("n/a".into(), |s| format!("{:.4}%", s * 100.0)),
-                p.hard.leaks
-            )
-        }
-    }
+    let Some(i) = smallest_safe(&cands) else { return none_qualifies(baseline_format) };
+    let p = &points[i];
+    format!(
+        "The smallest format with zero false misses and < {}% pixels different from FP32 is **{}** ({} rounding, {} test; point {}), {}. \
+         It differs from FP32 on {} of pixels; its hard-case leaks: {} over {} case(s).",
+        MAX_PIXEL_SHARE * 100.0,
+        p.config.float,
+        p.config.rounding,
+        p.config.triangle,
+        p.name,
+        savings(p),
+        p.pixel_share.map_or("n/a".into(), |s| format!("{:.4}%", s * 100.0)),
+        p.hard.leaks,
+        p.hard.cases
+    )
+}
+
+/// One line per variant: its smallest safe format, or none.
+pub fn per_variant(points: &[PointOut], baseline_format: &str) -> Vec<String> {
+    let mut variants: Vec<&str> = points.iter().map(|p| p.variant.as_str()).collect();
+    variants.sort();
+    variants.dedup();
+    variants
+        .into_iter()
+        .map(|v| {
+            let mine: Vec<&PointOut> = points.iter().filter(|p| p.variant == v).collect();
+            let cands: Vec<Candidate> = mine.iter().map(|p| Candidate::from(*p)).collect();
+            match smallest_safe(&cands) {
+                Some(i) => format!("- {v}: {} ({})", mine[i].config.float, savings(mine[i])),
+                None => format!("- {v}: {}", none_qualifies(baseline_format)),
+            }
+        })
+        .collect()
 }
 
 #[cfg(test)]
