@@ -6,6 +6,10 @@
 //! - area/<cfg>.json: Yosys xc7 area of the whole accelerator;
 //! - hard-ref/<case>-<embree|robust|double>.json: hard-score of the
 //!   software references on each hard case.
+//!
+//! Package and hits paths inside a point are used as written: relative
+//! ones are relative to the directory sweep-report runs in (the repo root
+//! under make).
 
 use anyhow::{bail, Context, Result};
 use serde::de::DeserializeOwned;

@@ -56,6 +56,7 @@ fn method(r: &Report) -> Vec<String> {
          Pooled over the non-hard runs. **tie / edge / ref wrong** are not errors: a tie hits another triangle at the same t (shared \
          edge or vertex), an edge case is within the format's error bound of an edge, and `ref wrong` means f64 sides with the hardware."
             .into(),
+        "- **flagged**: rays whose hits-file `error` field is non-zero (the hardware raised its error flag), non-hard runs.".into(),
         "- **error** (plots, Pareto): (false misses + false hits + wrong prims) per million rays, pooled over the non-hard runs.".into(),
         format!(
             "- **% px diff**: share of image pixels that differ from the {b} point of the same variant, pooled over the image runs. \
@@ -81,15 +82,15 @@ fn method(r: &Report) -> Vec<String> {
 
 fn main_table(points: &[PointOut]) -> Vec<String> {
     let mut out = vec![
-        "| point | format | rounding | test | false miss | false hit | wrong prim | t err | tie / edge / ref wrong | % px diff | mean / max rel t | rays/cyc | % of bound | node / tri per ray | latency prep/box/tri | LUT | FF | DSP | ZC706 |".to_string(),
-        "| --- | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |".to_string(),
+        "| point | format | rounding | test | false miss | false hit | wrong prim | t err | flagged | tie / edge / ref wrong | % px diff | mean / max rel t | rays/cyc | % of bound | node / tri per ray | latency prep/box/tri | LUT | FF | DSP | ZC706 |".to_string(),
+        "| --- | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |".to_string(),
     ];
     for p in points {
         let e = &p.errors;
         let l = &p.latency;
         out.push(format!(
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} / {} / {} | {} | {} / {} | {} | {} | {:.2} / {:.2} | {}/{}/{} | {} | {} | {} | {} |",
-            p.name, p.config.float, p.config.rounding, p.config.triangle, e.false_miss, e.false_hit, e.wrong_prim, e.t_error,
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} / {} / {} | {} | {} / {} | {} | {} | {:.2} / {:.2} | {}/{}/{} | {} | {} | {} | {} |",
+            p.name, p.config.float, p.config.rounding, p.config.triangle, e.false_miss, e.false_hit, e.wrong_prim, e.t_error, p.error_flagged,
             e.tie, e.edge, e.reference_wrong, pct(p.pixel_share), sci(p.t_rel_mean), sci(Some(p.t_rel.max)),
             x2(p.speed.map(|s| s.rays_per_cycle)), pct(p.speed.map(|s| s.share_of_bound)), p.node_tests_per_ray, p.tri_tests_per_ray,
             l.ray_prep, l.box_test, l.triangle, p.area.lut, p.area.ff, p.area.dsp, p.area.instances_zc706
@@ -184,6 +185,11 @@ pub fn document(r: &Report, o: &ReportOpts, plots: &[Plot]) -> Result<String> {
     l.extend(method(r));
     l.extend([String::new(), "## Points".into(), String::new()]);
     l.extend(main_table(&r.points));
+    let golden: Vec<String> =
+        r.points.iter().filter_map(|p| p.speed.filter(|s| s.golden_mismatches > 0).map(|s| format!("{} ({})", p.name, s.golden_mismatches))).collect();
+    if !golden.is_empty() {
+        l.extend([String::new(), format!("**Warning:** the timed simulation disagreed with its golden model on: {}.", golden.join(", "))]);
+    }
     l.extend([String::new(), format!("## Against {} (ratio point / baseline of the same variant)", r.baseline_format), String::new()]);
     l.extend(ratio_table(&r.points));
     l.extend([String::new(), "## Plots".into(), String::new()]);

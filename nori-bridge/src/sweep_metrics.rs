@@ -154,6 +154,8 @@ pub struct PointOut {
     pub rays: usize,
     pub errors: ErrorCounts,
     pub errors_per_million_rays: f64,
+    /// Rays the hardware flagged (hits-file `error` != 0), non-hard runs.
+    pub error_flagged: usize,
     pub t_rel: TRel,
     pub t_rel_mean: Option<f64>,
     /// Pooled over the image runs (primary and ao).
@@ -175,12 +177,13 @@ impl PointOut {
     pub fn pool(config: &PointConfig, latency: Latency, area: &AreaIn, baseline: &str, mut runs: Vec<RunOut>) -> PointOut {
         runs.sort_by(|a, b| a.run.cmp(&b.run));
         let (mut errors, mut t_rel, mut pixels, mut hard) = (ErrorCounts::default(), TRel::default(), PixelDiff::default(), HardTotals::default());
-        let (mut rays, mut node, mut tri) = (0usize, 0.0, 0.0);
+        let (mut rays, mut flagged, mut node, mut tri) = (0usize, 0usize, 0.0, 0.0);
         let mut speeds = Vec::new();
         for r in &runs {
             if let Some(e) = &r.errors {
                 errors.add(e);
                 rays += r.rays_total;
+                flagged += r.error_flagged;
                 node += r.node_tests_per_ray * r.rays_total as f64;
                 tri += r.tri_tests_per_ray * r.rays_total as f64;
                 if let Some(s) = &r.speed {
@@ -215,6 +218,7 @@ impl PointOut {
             rays,
             errors_per_million_rays: per_ray(errors.errors() as f64 * 1e6),
             errors,
+            error_flagged: flagged,
             t_rel_mean: t_rel.mean(),
             t_rel,
             pixel_share: pixels.share(),

@@ -87,6 +87,9 @@ fn point_runs(p: &PointIn, base: &PointIn, base_hits: &BTreeMap<String, Vec<Hit>
                 return Ok(RunOut::new(r, None, None));
             }
             let pkg = &pkgs[&r.package];
+            if pkg.manifest.ray_kind != r.rays {
+                bail!("point '{}', run '{}': `rays` is '{}' but package {} holds '{}' rays", p.config.name, r.run, r.rays, r.package.display(), pkg.manifest.ray_kind);
+            }
             let got = pkg.read_answer(&r.hits).with_context(|| format!("point '{}', run '{}'", p.config.name, r.run))?;
             let t_rel = TRel::of(&got, &pkg.reference);
             let pixels = match &pkg.pixels {

@@ -74,7 +74,7 @@ impl Fixture {
         write_json(&ap, &acc).unwrap();
         let acc: Value = serde_json::from_str(&std::fs::read_to_string(&ap).unwrap()).unwrap();
         json!({"run": name, "scene": "cornell-box", "rays": pkg.manifest.ray_kind, "hard_case": null,
-               "package": pkg.dir, "hits": hp, "rays_total": hits.len(), "error_flagged": 0,
+               "package": pkg.dir, "hits": hp, "rays_total": hits.len(), "error_flagged": acc["error_flagged"],
                "node_tests_per_ray": 10.0, "tri_tests_per_ray": 4.0, "accuracy": acc, "speed": speed})
     }
 
@@ -135,6 +135,7 @@ fn synthetic_sweep_gives_the_expected_numbers_fronts_sentence_and_plots() {
     }
     let rc = well_inside(p, &[ra / 2, pix_b]);
     ph[rc].t *= 1.001;
+    ph[rc].error = 2; // flagged by the "hardware"
     // AO changes: one pixel loses an occluded ray; in another, a hit and a
     // miss trade places (same count, same pixel value).
     let map = read_ao_pixels(&a.dir.join(AO_PIXELS_FILE), 64).unwrap();
@@ -187,6 +188,7 @@ fn synthetic_sweep_gives_the_expected_numbers_fronts_sentence_and_plots() {
     assert_eq!(pts[0]["baseline"], "e8m23-conservative-wt");
     assert_eq!(e12["pixels"]["differing"], 3, "2 primary pixels + 1 AO pixel");
     assert_eq!(e12["pixels"]["total"], 128);
+    assert_eq!(e12["error_flagged"], 1);
     let run = |p: &Value, n: &str| p["runs"].as_array().unwrap().iter().find(|r| r["run"] == n).unwrap().clone();
     assert_eq!(run(e12, "cornell-primary")["pixels"]["differing"], 2);
     assert_eq!(run(e12, "cornell-ao")["pixels"]["differing"], 1);
