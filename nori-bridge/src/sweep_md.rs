@@ -187,6 +187,11 @@ pub fn document(r: &Report, o: &ReportOpts, plots: &[Plot]) -> Result<String> {
     l.extend(main_table(&r.points));
     let golden: Vec<String> =
         r.points.iter().filter_map(|p| p.speed.filter(|s| s.golden_mismatches > 0).map(|s| format!("{} ({})", p.name, s.golden_mismatches))).collect();
+    let timed = |p: &PointOut| p.runs.iter().filter(|r| r.speed.is_some() && r.hard_case.is_none()).map(|r| r.run.clone()).collect::<Vec<_>>();
+    let sets: Vec<Vec<String>> = r.points.iter().map(timed).filter(|v| !v.is_empty()).collect();
+    if sets.windows(2).any(|w| w[0] != w[1]) {
+        l.extend([String::new(), "**Warning:** the points were timed on different runs, so their mean rays/cycle are not directly comparable (see the per-run table).".into()]);
+    }
     if !golden.is_empty() {
         l.extend([String::new(), format!("**Warning:** the timed simulation disagreed with its golden model on: {}.", golden.join(", "))]);
     }

@@ -87,6 +87,9 @@ fn point_runs(p: &PointIn, base: &PointIn, base_hits: &BTreeMap<String, Vec<Hit>
                 return Ok(RunOut::new(r, None, None));
             }
             let pkg = &pkgs[&r.package];
+            if pkg.reference.len() != r.rays_total {
+                bail!("point '{}', run '{}': `rays_total` {} but package {} has {} rays", p.config.name, r.run, r.rays_total, r.package.display(), pkg.reference.len());
+            }
             if pkg.manifest.ray_kind != r.rays {
                 bail!("point '{}', run '{}': `rays` is '{}' but package {} holds '{}' rays", p.config.name, r.run, r.rays, r.package.display(), pkg.manifest.ray_kind);
             }

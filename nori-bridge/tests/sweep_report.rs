@@ -222,11 +222,22 @@ fn synthetic_sweep_gives_the_expected_numbers_fronts_sentence_and_plots() {
                  "| sphere | 40 | 2/0/0 | 0/0/0 | 0/0/0 | 0/0/0 | 3/0/0 | 1/0/0 | 0/0/0 |", "Hand-written: the e6m9 leaks are expected."] {
         assert!(doc.contains(want), "missing '{want}' in:\n{doc}");
     }
+    assert!(!doc.contains("**Warning:**"), "{doc}");
     for png in ["error-vs-lut.png", "error-vs-speed.png", "pixels-vs-mantissa.png"] {
         let img = image::open(plots.join(png)).unwrap_or_else(|e| panic!("{png}: {e}")).to_rgb8();
         assert_eq!(img.dimensions(), (1100, 750), "{png}");
         let non_white = img.pixels().filter(|px| px.0 != [255, 255, 255]).count();
         assert!(non_white > 5_000, "{png}: only {non_white} drawn pixels");
+    }
+
+    // Same inputs, same bytes (JSON and plots).
+    let (j2, p2) = (out.join("again.json"), out.join("again"));
+    let o = bridge(&["sweep-report", "--sweep", f.sweep().to_str().unwrap(), "--json", j2.to_str().unwrap(), "--md", out.join("again.md").to_str().unwrap(),
+                     "--plots", p2.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(std::fs::read(&j).unwrap(), std::fs::read(&j2).unwrap(), "JSON differs between two runs");
+    for png in ["error-vs-lut.png", "error-vs-speed.png", "pixels-vs-mantissa.png"] {
+        assert_eq!(std::fs::read(plots.join(png)).unwrap(), std::fs::read(p2.join(png)).unwrap(), "{png} differs between two runs");
     }
 
     // Inputs missing: the error names the file and what is missing.
@@ -249,6 +260,11 @@ fn synthetic_sweep_gives_the_expected_numbers_fronts_sentence_and_plots() {
     let e = bad("latency");
     assert!(e.contains("points/e8m12-rne-wt.json") && e.contains("missing field `latency`"), "{e}");
     std::fs::write(&pf, good).unwrap();
+    let hr = sweep.join("hard-ref/sphere-robust.json");
+    std::fs::rename(&hr, sweep.join("moved")).unwrap();
+    let e = bad("hard-ref");
+    assert!(e.contains("hard-ref/sphere-robust.json: cannot read") && e.contains("reference 'robust' on hard case 'sphere'"), "{e}");
+    std::fs::rename(sweep.join("moved"), &hr).unwrap();
     std::fs::remove_file(sweep.join("points/e8m23-rne-wt.json")).unwrap();
     let e = bad("baseline");
     assert!(e.contains("no baseline for point 'e8m12-rne-wt'") && e.contains("float e8m23, rounding rne, triangle watertight"), "{e}");
