@@ -53,7 +53,7 @@ pub struct Chart {
     /// Label x ticks as integers (LUTs, bits).
     pub x_integer: bool,
     pub series: Vec<Series>,
-    /// Pareto front, drawn as a staircase through these (x, y) in order.
+    /// Pareto front points, joined left to right and ringed.
     pub front: Vec<(f64, f64)>,
 }
 
@@ -119,18 +119,17 @@ fn render(c: &Chart, buf: &mut [u8]) -> Result<(), Box<dyn std::error::Error>> {
     ch.draw_series(std::iter::once(Rectangle::new([(x0, lo), (x1, band_top)], RGBColor(225, 225, 225).filled())))?;
     ch.draw_series(std::iter::once(Text::new("0 (none)", (x0, lo * 2.5), (FONT, 15))))?;
     if !c.front.is_empty() {
-        let mut stair = Vec::new();
-        for (i, &(x, y)) in c.front.iter().enumerate() {
-            if i > 0 {
-                stair.push((x, at(c.front[i - 1].1)));
-            }
-            stair.push((x, at(y)));
-        }
-        ch.draw_series(LineSeries::new(stair, BLACK.stroke_width(2)))?.label("Pareto front").legend(|(x, y)| PathElement::new([(x - 8, y), (x + 8, y)], BLACK.stroke_width(2)));
-        ch.draw_series(c.front.iter().map(|&(x, y)| Circle::new((x, at(y)), 10, BLACK.stroke_width(2))))?;
+        let mut line: Vec<(f64, f64)> = c.front.iter().map(|&(x, y)| (x, at(y))).collect();
+        line.sort_by(|a, b| a.0.total_cmp(&b.0));
+        ch.draw_series(LineSeries::new(line.clone(), BLACK.stroke_width(2)))?.label("Pareto front").legend(|(x, y)| PathElement::new([(x - 8, y), (x + 8, y)], BLACK.stroke_width(2)));
+        ch.draw_series(line.into_iter().map(|q| Circle::new(q, 10, BLACK.stroke_width(2))))?;
     }
-    for s in &c.series {
+    // Labels of the series alternate above and below their points, so the
+    // variants of one format (close in x) do not print over each other.
+    const LABEL_DY: [i32; 4] = [-20, 8, -32, 20];
+    for (k, s) in c.series.iter().enumerate() {
         let color = s.color;
+        let dy = LABEL_DY[k % LABEL_DY.len()];
         if s.joined {
             ch.draw_series(LineSeries::new(s.points.iter().map(|p| (p.x, at(p.y))), color.stroke_width(1)))?;
         }
@@ -140,7 +139,7 @@ fn render(c: &Chart, buf: &mut [u8]) -> Result<(), Box<dyn std::error::Error>> {
             Marker::Triangle => ch.draw_series(xy().map(|q| TriangleMarker::new(q, 7, color.filled())))?.legend(move |(x, y)| TriangleMarker::new((x, y), 7, color.filled())),
         }
         .label(&s.name);
-        ch.draw_series(s.points.iter().map(|p| EmptyElement::at((p.x, at(p.y))) + Text::new(p.label.clone(), (8, -16), (FONT, 13).into_font().color(&color))))?;
+        ch.draw_series(s.points.iter().map(|p| EmptyElement::at((p.x, at(p.y))) + Text::new(p.label.clone(), (8, dy), (FONT, 13).into_font().color(&color))))?;
     }
     ch.configure_series_labels().background_style(WHITE.mix(0.85)).border_style(BLACK).label_font((FONT, 15)).position(SeriesLabelPosition::UpperRight).draw()?;
     root.present()?;
