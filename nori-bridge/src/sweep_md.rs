@@ -17,6 +17,10 @@ fn pct(v: Option<f64>) -> String {
     opt(v, |x| format!("{:.3}%", x * 100.0))
 }
 
+fn pct1(v: Option<f64>) -> String {
+    opt(v, |x| format!("{:.1}%", x * 100.0))
+}
+
 fn sci(v: Option<f64>) -> String {
     opt(v, |x| if x == 0.0 { "0".into() } else { format!("{x:.2e}") })
 }
@@ -92,7 +96,7 @@ fn main_table(points: &[PointOut]) -> Vec<String> {
             "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} / {} / {} | {} | {} / {} | {} | {} | {:.2} / {:.2} | {}/{}/{} | {} | {} | {} | {} |",
             p.name, p.config.float, p.config.rounding, p.config.triangle, e.false_miss, e.false_hit, e.wrong_prim, e.t_error, p.error_flagged,
             e.tie, e.edge, e.reference_wrong, pct(p.pixel_share), sci(p.t_rel_mean), sci(Some(p.t_rel.max)),
-            x2(p.speed.map(|s| s.rays_per_cycle)), pct(p.speed.map(|s| s.share_of_bound)), p.node_tests_per_ray, p.tri_tests_per_ray,
+            x2(p.speed.map(|s| s.rays_per_cycle)), pct1(p.speed.map(|s| s.share_of_bound)), p.node_tests_per_ray, p.tri_tests_per_ray,
             l.ray_prep, l.box_test, l.triangle, p.area.lut, p.area.ff, p.area.dsp, p.area.instances_zc706
         ));
     }
@@ -128,7 +132,7 @@ fn run_table(points: &[PointOut]) -> Vec<String> {
                 p.name, r.run, r.rays_total, e.false_miss, e.false_hit, e.wrong_prim, e.t_error, e.tie, e.edge, e.reference_wrong,
                 r.pixels.map_or("n/a".into(), |d| format!("{} / {}", d.differing, d.total)),
                 sci(r.t_rel_mean), sci(r.t_rel.map(|t| t.max)), r.node_tests_per_ray, r.tri_tests_per_ray,
-                x2(r.speed.map(|s| s.rays_per_cycle)), pct(r.speed.map(|s| s.share_of_bound)),
+                x2(r.speed.map(|s| s.rays_per_cycle)), pct1(r.speed.map(|s| s.share_of_bound)),
                 r.speed.map_or("n/a".into(), |s| s.golden_mismatches.to_string())
             ));
         }

@@ -91,7 +91,7 @@ pub fn per_variant(points: &[PointOut], baseline_format: &str) -> Vec<String> {
             let mine: Vec<&PointOut> = points.iter().filter(|p| p.variant == v).collect();
             let cands: Vec<Candidate> = mine.iter().map(|p| Candidate::from(*p)).collect();
             match smallest_safe(&cands) {
-                Some(i) => format!("- {v}: {} ({})", mine[i].config.float, savings(mine[i])),
+                Some(i) => format!("- {v}: **{}**, {}", mine[i].config.float, savings(mine[i])),
                 None => format!("- {v}: {}", none_qualifies(baseline_format)),
             }
         })
