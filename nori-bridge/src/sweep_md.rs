@@ -66,7 +66,8 @@ fn method(r: &Report) -> Vec<String> {
             "- **% px diff**: share of image pixels that differ from the {b} point of the same variant, pooled over the image runs. \
              Primary rays: pixel = ray / spp; a pixel differs when any of its rays differs in hit flag or prim. Ambient-occlusion rays: \
              each AO ray belongs to the pixel of the primary hit it starts from (`ao_pixels.csv` of the package); a pixel differs when \
-             its number of occluded AO rays differs. Rays classed `tie` still count here: a different triangle changes the image."
+             its number of occluded AO rays differs (the AO rays are fixed by the package, cast from the reference's primary hits; a pixel \
+             whose primary ray missed has none and never differs). Rays classed `tie` still count here: a different triangle changes the image."
         ),
         "- **mean / max rel t**: |t − t_ref| / max(|t|, |t_ref|) over the rays where the hardware and the reference hit the same prim \
          (computed by sweep-report from the hits files and reference.csv, not taken from compare; all same-prim rays, so t errors \
