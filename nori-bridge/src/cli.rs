@@ -102,6 +102,26 @@ enum Cmd {
         #[arg(long)]
         robust: bool,
     },
+    /// Precision sweep report: per-point JSON under --sweep in;
+    /// speed-vs-error JSON, markdown and PNG plots out.
+    SweepReport {
+        /// Directory with points/, area/, hard-ref/ (see sweep_input.rs).
+        #[arg(long, default_value = "build/sweep")]
+        sweep: PathBuf,
+        #[arg(long, default_value = "docs/speed-vs-error.json")]
+        json: PathBuf,
+        #[arg(long, default_value = "docs/speed-vs-error.md")]
+        md: PathBuf,
+        /// Directory for the PNG plots.
+        #[arg(long, default_value = "docs/speed-vs-error")]
+        plots: PathBuf,
+        /// Format of the reference points (pixels and ratios are against it).
+        #[arg(long, default_value = "e8m23")]
+        baseline_format: String,
+        /// How long the sweep took, quoted in the document's header.
+        #[arg(long)]
+        runtime_note: Option<String>,
+    },
 }
 
 pub fn run() -> Result<()> {
@@ -143,6 +163,9 @@ pub fn run() -> Result<()> {
             let (hits, stats) = crate::traverse::trace_all(&pkg.image, &pkg.rays);
             crate::csv_io::write_hits(&out, &hits)?;
             println!("{}: {} rays, largest stack {} (bvhDepth {})", out.display(), hits.len(), stats.max_stack, pkg.image.bvh_depth);
+        }
+        Cmd::SweepReport { sweep, json, md, plots, baseline_format, runtime_note } => {
+            crate::sweep_report::run(&crate::sweep_report::ReportOpts { sweep, json, md, plots, baseline_format, runtime_note })?
         }
         Cmd::Bench { package, min_rays, robust } => crate::bench::bench(&Package::load(&package)?, min_rays, robust)?,
     }

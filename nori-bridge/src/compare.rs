@@ -117,7 +117,8 @@ pub fn compare(tris: &[crate::geom::Tri], rays: &[Ray], got: &[Hit], want: &[Hit
     Ok((acc, classes))
 }
 
-fn rel(a: f32, b: f32) -> f64 {
+/// |a - b| / max(|a|, |b|); 0 when either is infinite.
+pub fn rel(a: f32, b: f32) -> f64 {
     let (a, b) = (a as f64, b as f64);
     if a.is_finite() && b.is_finite() {
         (a - b).abs() / a.abs().max(b.abs()).max(f64::MIN_POSITIVE)

@@ -95,7 +95,7 @@ pub fn compile(o: &CompileOpts) -> Result<Manifest> {
     let embree = EmbreeScene::new(device.clone(), &scene.tris, o.robust)?;
     tm.reference_scene = t.elapsed().as_secs_f64();
     let t = Instant::now();
-    let rays = make_rays(o, &scene, &embree)?;
+    let (rays, ao_pixels) = make_rays(o, &scene, &embree)?;
     tm.rays = t.elapsed().as_secs_f64();
     let t = Instant::now();
     let reference = with_progress("reference", &rays, |chunk| {
@@ -104,6 +104,9 @@ pub fn compile(o: &CompileOpts) -> Result<Manifest> {
     tm.reference = t.elapsed().as_secs_f64();
     write_rays(&o.out.join("rays.csv"), &rays)?;
     write_hits(&o.out.join("reference.csv"), &reference)?;
+    if let Some(p) = &ao_pixels {
+        crate::pixels::write_ao_pixels(&o.out.join(crate::pixels::AO_PIXELS_FILE), p)?;
+    }
     tm.total = t0.elapsed().as_secs_f64();
 
     let cam = scene.camera.as_ref().filter(|_| o.rays == RaySpec::Primary);
@@ -117,13 +120,15 @@ pub fn compile(o: &CompileOpts) -> Result<Manifest> {
         spp: o.spp,
         width: cam.map(|c| c.width),
         height: cam.map(|c| c.height),
+        ao_image: scene.camera.as_ref().filter(|_| ao_pixels.is_some()).map(|c| ImageSize { width: c.width, height: c.height }),
         counts: Counts { triangles: scene.tris.len(), nodes: bvh.nodes.len(), rays: rays.len(), reference_hits: reference.iter().filter(|h| h.hit).count() },
         build: BuildParams { builder: "Embree 3 rtcBuildBVH, binned SAH, MEDIUM quality, branching 2".into(), max_leaf_size: o.max_leaf_size, traversal_cost: 1.0, intersection_cost: 1.0 },
         reference: ReferenceParams { kind: if o.double_reference { "double" } else { "embree" }.into(), robust: o.robust },
         files: Vec::new(),
         timings_seconds: tm,
     };
-    for name in FILES.iter().filter(|n| **n != "package.json") {
+    let extra = ao_pixels.as_ref().map(|_| crate::pixels::AO_PIXELS_FILE);
+    for name in FILES.iter().filter(|n| **n != "package.json").chain(extra.iter()) {
         let bytes = std::fs::metadata(o.out.join(name))?.len();
         m.files.push(FileEntry { name: name.to_string(), bytes: Some(bytes) });
     }
@@ -132,7 +137,8 @@ pub fn compile(o: &CompileOpts) -> Result<Manifest> {
     Ok(m)
 }
 
-fn make_rays(o: &CompileOpts, scene: &Scene, embree: &EmbreeScene) -> Result<Vec<Ray>> {
+/// The rays, and for AO rays the pixel of each (see pixels.rs).
+fn make_rays(o: &CompileOpts, scene: &Scene, embree: &EmbreeScene) -> Result<(Vec<Ray>, Option<Vec<u32>>)> {
     let mut rng = ChaCha8Rng::seed_from_u64(o.seed);
     let bounds = scene.bounds();
     let primary = |rng: &mut ChaCha8Rng| -> Result<(Vec<Ray>, Vec<Hit>)> {
@@ -142,20 +148,21 @@ fn make_rays(o: &CompileOpts, scene: &Scene, embree: &EmbreeScene) -> Result<Vec
         Ok((rays, hits))
     };
     Ok(match &o.rays {
-        RaySpec::Primary => primary(&mut rng)?.0,
+        RaySpec::Primary => (primary(&mut rng)?.0, None),
         RaySpec::Shadow => {
             let light = o.light.or(scene.point_light).with_context(|| format!(
                 "{}: --rays shadow needs a point light: add <emitter type=\"point\"> with <point name=\"position\"> or pass --light x,y,z", o.scene.display()))?;
             let (r, h) = primary(&mut rng)?;
-            ray_gen::shadow(&scene.tris, &r, &h, light)
+            (ray_gen::shadow(&scene.tris, &r, &h, light), None)
         }
         RaySpec::Ao => {
             let (r, h) = primary(&mut rng)?;
             let diag = len64(sub64(to64(bounds.max), to64(bounds.min)));
-            ray_gen::ambient_occlusion(&scene.tris, &r, &h, o.spp, diag, &mut rng)
+            let rays = ray_gen::ambient_occlusion(&scene.tris, &r, &h, o.spp, diag, &mut rng);
+            (rays, Some(crate::pixels::ao_pixels(&h, o.spp, o.spp)))
         }
-        RaySpec::Random => ray_gen::random(&scene.tris, &bounds, o.count, &mut rng),
-        RaySpec::File(f) => rays_txt::read_rays_txt(f)?,
+        RaySpec::Random => (ray_gen::random(&scene.tris, &bounds, o.count, &mut rng), None),
+        RaySpec::File(f) => (rays_txt::read_rays_txt(f)?, None),
     })
 }
 

@@ -23,12 +23,22 @@ pub struct Manifest {
     /// Camera size for primary rays (ray = (y*width + x)*spp + s).
     pub width: Option<u32>,
     pub height: Option<u32>,
+    /// AO packages: the camera image the AO rays shade; ao_pixels.csv
+    /// gives each AO ray's pixel (y * width + x). Absent for other kinds.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ao_image: Option<ImageSize>,
     pub counts: Counts,
     pub build: BuildParams,
     pub reference: ReferenceParams,
     pub files: Vec<FileEntry>,
     /// Wall-clock seconds per step (informative; varies run to run).
     pub timings_seconds: Timings,
+}
+
+#[derive(Serialize, Deserialize, Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ImageSize {
+    pub width: u32,
+    pub height: u32,
 }
 
 #[derive(Serialize, Deserialize, Clone, Debug)]
@@ -74,6 +84,20 @@ pub struct Timings {
     pub total: f64,
 }
 
+impl Manifest {
+    /// package.json of a package directory, format version checked.
+    pub fn load(dir: &Path) -> Result<Manifest> {
+        let mpath = dir.join("package.json");
+        let text = std::fs::read_to_string(&mpath)
+            .with_context(|| format!("{}: cannot read (is {} a package made by `nori-bridge compile`?)", mpath.display(), dir.display()))?;
+        let manifest: Manifest = serde_json::from_str(&text).with_context(|| format!("{}: bad manifest", mpath.display()))?;
+        if manifest.format_version != crate::image_bin::VERSION {
+            anyhow::bail!("{}: format version {}, this tool reads {}", mpath.display(), manifest.format_version, crate::image_bin::VERSION);
+        }
+        Ok(manifest)
+    }
+}
+
 /// A package read back for compare/render/trace.
 pub struct Package {
     pub dir: PathBuf,
@@ -85,13 +109,7 @@ pub struct Package {
 
 impl Package {
     pub fn load(dir: &Path) -> Result<Package> {
-        let mpath = dir.join("package.json");
-        let text = std::fs::read_to_string(&mpath)
-            .with_context(|| format!("{}: cannot read (is {} a package made by `nori-bridge compile`?)", mpath.display(), dir.display()))?;
-        let manifest: Manifest = serde_json::from_str(&text).with_context(|| format!("{}: bad manifest", mpath.display()))?;
-        if manifest.format_version != crate::image_bin::VERSION {
-            anyhow::bail!("{}: format version {}, this tool reads {}", mpath.display(), manifest.format_version, crate::image_bin::VERSION);
-        }
+        let manifest = Manifest::load(dir)?;
         let image = Image::read(&dir.join("image.bin"))?;
         let rays = read_rays(&dir.join("rays.csv"))?;
         let reference = read_hits(&dir.join("reference.csv"))?;
