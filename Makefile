@@ -12,7 +12,7 @@ BRIDGE    := nori-bridge/target/release/nori-bridge
 BUILD     := build
 SBT_LAUNCH_VERSION := $(shell sed -n 's/^sbt.version *= *//p' project/build.properties)
 SBT_LAUNCH_JAR := $(HOME)/.m2/repository/org/scala-sbt/sbt-launch/$(SBT_LAUNCH_VERSION)/sbt-launch-$(SBT_LAUNCH_VERSION).jar
-APT_PACKAGES := verilator yosys libembree-dev maven pkg-config
+APT_PACKAGES := verilator yosys libembree-dev maven pkg-config fonts-dejavu-core
 
 .PHONY: help setup setup-apt setup-sbt setup-cargo test test-scala test-rust test-hls demo verilog regress clean
 

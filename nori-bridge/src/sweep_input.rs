@@ -177,8 +177,21 @@ impl RunIn {
 
 pub fn load(dir: &Path) -> Result<SweepIn> {
     let mut points = Vec::new();
+    // A point may be measured by two jobs: `<cfg>.json` (image runs, speed) and
+    // `<cfg>.hard.json` (the hard cases); their runs are merged here.
     for f in json_files(&dir.join("points"), "sweep points")? {
-        let p: PointIn = read_json(&f)?;
+        if stem(&f).ends_with(".hard") {
+            continue;
+        }
+        let mut p: PointIn = read_json(&f)?;
+        let hard_file = dir.join("points").join(format!("{}.hard.json", stem(&f)));
+        if hard_file.exists() {
+            let h: PointIn = read_json(&hard_file)?;
+            if h.config.name != p.config.name {
+                bail!("{}: `config.name` is '{}', expected '{}'", hard_file.display(), h.config.name, p.config.name);
+            }
+            p.runs.extend(h.runs);
+        }
         if p.config.name != stem(&f) {
             bail!("{}: `config.name` is '{}', expected the file name '{}'", f.display(), p.config.name, stem(&f));
         }
