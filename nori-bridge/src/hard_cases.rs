@@ -181,6 +181,9 @@ pub fn generate(out: &Path) -> Result<usize> {
          (`ray,expect,prims`: hit / miss / any; prims = allowed first-hit prims, empty = any prim).\n\
          Expectations come from the construction and are checked with exact integer arithmetic on the f32 inputs \
          (src/hard_exact.rs); the generator panics if the two disagree.\n\n\
+         Run a case: `nori-bridge compile scenes/hard/C/C.xml --rays scenes/hard/C/rays.txt --reference double --out PKG` \
+         (or `--reference embree [--robust]`), then `nori-bridge hard-score --package PKG --hits HITS.csv \
+         --expect scenes/hard/C/expect.csv --out score.json` (HITS.csv may be PKG/reference.csv).\n\n\
          | case | triangles | rays | hit | miss | any | tests | derivation |\n|---|---|---|---|---|---|---|---|\n");
     let mut json = Vec::new();
     for case in &cases {
