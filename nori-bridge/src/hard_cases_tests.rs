@@ -54,10 +54,12 @@ fn generation_is_deterministic() {
 }
 
 /// f64 leaks of the double reference, by case. tiny-edges rays 161 and 550
-/// aim at vertices of the r = 7.5e-6 sphere: there the spoke edge functions
-/// d.(a x b) are pure cancellation and their f64 rounding gave every face
-/// around the vertex the same sign, so no face accepts the ray (exact
-/// arithmetic, src/hard_exact.rs, finds the hit). Asserted so a change shows.
+/// aim at vertices of the r = 7.5e-6 sphere and d = target - o was exact in
+/// f32, so the ray passes exactly through the vertex: the exact spoke edge
+/// functions d.(a x b) are 0 (src/hard_exact.rs finds the hit), but
+/// exact.rs rounds the cross products in f64 and the noise gave every spoke
+/// the same orientation, so none of the 6 faces around the vertex accepts
+/// the ray. Asserted so that a change (or a fix of exact.rs) shows.
 fn double_leaks(case: &str) -> Vec<usize> {
     if case == "tiny-edges" { vec![161, 550] } else { Vec::new() }
 }
