@@ -66,8 +66,8 @@ fn aimed(g: &Grid, m: &Mesh, first_prim: usize, os: &[V3]) -> Vec<(String, Vec<C
         })
         .collect();
     vec![
-        (format!("{} rays at the vertices of prims {}..{}", m.verts.len(), own.start, own.end), verts),
-        (format!("rays at the edge midpoints of prims {}..{}", own.start, own.end), mids),
+        (format!("{} rays at the vertices of prims {} to {}", m.verts.len(), own.start, own.end - 1), verts),
+        (format!("rays at the edge midpoints of prims {} to {}", own.start, own.end - 1), mids),
     ]
 }
 
