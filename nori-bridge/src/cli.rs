@@ -122,6 +122,22 @@ enum Cmd {
         #[arg(long)]
         runtime_note: Option<String>,
     },
+    /// Write the hard-case suite (scenes, rays.txt, expect.csv; deterministic).
+    HardCases {
+        #[arg(long, default_value = "scenes/hard")]
+        out: PathBuf,
+    },
+    /// Score a hits.csv (or a package's reference.csv) against a hard case's expect.csv.
+    HardScore {
+        #[arg(long)]
+        package: PathBuf,
+        #[arg(long)]
+        hits: PathBuf,
+        #[arg(long)]
+        expect: PathBuf,
+        #[arg(long)]
+        out: PathBuf,
+    },
 }
 
 pub fn run() -> Result<()> {
@@ -168,6 +184,16 @@ pub fn run() -> Result<()> {
             crate::sweep_report::run(&crate::sweep_report::ReportOpts { sweep, json, md, plots, baseline_format, runtime_note })?
         }
         Cmd::Bench { package, min_rays, robust } => crate::bench::bench(&Package::load(&package)?, min_rays, robust)?,
+        Cmd::HardCases { out } => {
+            let n = crate::hard_cases::generate(&out)?;
+            println!("{}: {n} hard cases, seed {}", out.display(), crate::hard_cases::SEED);
+        }
+        Cmd::HardScore { package, hits, expect, out } => {
+            let s = crate::hard_score::hard_score(&package, &hits, &expect)?;
+            write_json(&out, &s)?;
+            println!("{}: {} rays, {} leaks, {} false hits, {} wrong prims, {} flagged, {} ok",
+                     s.case, s.rays, s.leaks, s.false_hits, s.wrong_prims, s.flagged, s.ok);
+        }
     }
     Ok(())
 }

@@ -80,8 +80,14 @@ fn box_hit(b: &Aabb, ray: &Ray, inv: &V3, tfar: f32) -> bool {
     for k in 0..3 {
         let t0 = (b.min[k] - ray.o[k]) * inv[k];
         let t1 = (b.max[k] - ray.o[k]) * inv[k];
-        // NaN (0 * inf: origin on the slab plane, direction parallel) is
-        // ignored by f32::min/max, which treats the slab as not limiting.
+        // A NaN is 0 * inf: the origin lies on a plane of this slab and the
+        // direction is parallel to it, so the ray stays inside the (closed)
+        // slab for every t and the axis does not limit. f32::min/max alone
+        // would not do: min(NaN, inf) is inf, which culled the node (the
+        // axis-aligned hard case found it).
+        if t0.is_nan() || t1.is_nan() {
+            continue;
+        }
         lo = lo.max(t0.min(t1));
         hi = hi.min(t0.max(t1) * BOX_FAR_SCALE);
     }
