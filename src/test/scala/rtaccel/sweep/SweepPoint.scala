@@ -47,7 +47,7 @@ object SweepPoint {
     }.toMap
 
     val speed = SpeedRuns.measure(a, cfg, a.speedRuns.map(r => r -> packages(r)),
-      a.speedRuns.map(r => r -> entries(r)._1.hits.take(a.speedRays)).toMap)
+      a.speedRuns.map(r => r -> entries(r)._1.hits.map(h => h.number -> h).toMap).toMap)
 
     val runs = a.runs.map { run =>
       val p = packages(run)
@@ -110,8 +110,6 @@ object SweepPoint {
   }
 
   /** Same answer as the golden model, under the regression's agreement rule. */
-  def sameAnswers(rays: Map[Long, rtaccel.golden.RayRecord], hw: Seq[HitRecord], golden: Seq[HitRecord]): Int = {
-    val want = golden.map(h => h.number -> h).toMap
-    hw.count(h => !rtaccel.golden.TraversalGolden.agrees(rays(h.number), h, want(h.number)))
-  }
+  def sameAnswers(rays: Map[Long, rtaccel.golden.RayRecord], hw: Seq[HitRecord], golden: Map[Long, HitRecord]): Int =
+    hw.count(h => !rtaccel.golden.TraversalGolden.agrees(rays(h.number), h, golden(h.number)))
 }
