@@ -105,6 +105,9 @@ pub struct PointIn {
     pub config: PointConfig,
     pub latency: Latency,
     pub runs: Vec<RunIn>,
+    /// Wall seconds of the job that measured the point (absent in old files).
+    #[serde(default)]
+    pub seconds: f64,
 }
 
 #[derive(Deserialize, Serialize, Clone, Copy, Debug, PartialEq, Default)]
@@ -123,6 +126,9 @@ pub struct AreaIn {
     pub bram36: f64,
     pub instances_zc706: u64,
     pub units: BTreeMap<String, Cells>,
+    /// Wall seconds of the area job (small when its units came from the Yosys cache; absent in old files).
+    #[serde(default)]
+    pub seconds: f64,
 }
 
 /// Everything one sweep directory holds, points sorted by name.
@@ -191,6 +197,7 @@ pub fn load(dir: &Path) -> Result<SweepIn> {
                 bail!("{}: `config.name` is '{}', expected '{}'", hard_file.display(), h.config.name, p.config.name);
             }
             p.runs.extend(h.runs);
+            p.seconds += h.seconds;
         }
         if p.config.name != stem(&f) {
             bail!("{}: `config.name` is '{}', expected the file name '{}'", f.display(), p.config.name, stem(&f));

@@ -177,6 +177,12 @@ pub fn document(r: &Report, o: &ReportOpts, plots: &[Plot]) -> Result<String> {
             o.sweep.display(), o.json.display(), o.md.display(), o.plots.display(), r.baseline_format, r.points.len()
         ),
         format!("Sweep time: {}.", o.runtime_note.as_deref().unwrap_or("not recorded (the caller passed no --runtime-note)")),
+        format!(
+            "Job time: the wall times of the point jobs sum to {:.0} min and those of the area jobs (Yosys; units already in \
+             `build/area-cache/` cost nothing) to {:.0} min, {:.0} min in all: about {:.0} min of wall time at two jobs at a time (`make -j2`).",
+            r.job_seconds.points / 60.0, r.job_seconds.area / 60.0,
+            (r.job_seconds.points + r.job_seconds.area) / 60.0, (r.job_seconds.points + r.job_seconds.area) / 120.0
+        ),
         String::new(),
         "## Smallest safe format".into(),
         String::new(),

@@ -45,6 +45,15 @@ pub struct Report {
     pub summary: String,
     /// hard case -> embree | robust | double -> hard-score verdict.
     pub hard_references: BTreeMap<String, BTreeMap<String, HardIn>>,
+    /// Sum of the wall seconds of every point job and area job: the sweep's
+    /// cost whatever order or machines the jobs ran on.
+    pub job_seconds: JobSeconds,
+}
+
+#[derive(Serialize, Clone, Copy, Debug, Default)]
+pub struct JobSeconds {
+    pub points: f64,
+    pub area: f64,
 }
 
 /// Resolves the baseline point of every point: same rounding and triangle
@@ -148,7 +157,12 @@ pub fn build(sweep: &Path, baseline_format: &str) -> Result<Report> {
     }
     let pareto = mark_fronts(&mut points);
     let summary = crate::sweep_summary::sentence(&points, baseline_format);
+    let job_seconds = JobSeconds {
+        points: s.points.iter().map(|(p, _)| p.seconds).sum(),
+        area: s.points.iter().map(|(_, a)| a.seconds).sum(),
+    };
     Ok(Report {
+        job_seconds,
         format_version: 1,
         sweep: sweep.display().to_string(),
         baseline_format: baseline_format.to_string(),
