@@ -26,7 +26,7 @@ speed-vs-error: setup ## Precision sweep (formats x rounding x triangle test x s
 	$(MAKE) --no-print-directory -j$(SWEEP_JOBS) sweep-jobs && \
 	end=$$(date +%s); \
 	$(BRIDGE) sweep-report --sweep $(SWEEP) --json docs/speed-vs-error.json --md docs/speed-vs-error.md --plots docs/speed-vs-error \
-	  --runtime-note "$(words $(SWEEP_POINTS)) points; the last `make speed-vs-error` took $$(( (end - start + 30) / 60 )) min wall with make -j$(SWEEP_JOBS) on $$(nproc) cores on $$(date -u +%Y-%m-%d) (jobs already done are not rerun)"
+	  --runtime-note "$(words $(SWEEP_POINTS)) points; the last make speed-vs-error took $$(( (end - start + 30) / 60 )) min wall with make -j$(SWEEP_JOBS) on $$(nproc) cores on $$(date -u +%Y-%m-%d) (jobs already done are not rerun)"
 
 sweep-jobs: $(addprefix $(SWEEP)/points/,$(addsuffix .json,$(SWEEP_POINTS))) \
             $(if $(HARD_CASES),$(addprefix $(SWEEP)/points/,$(addsuffix .hard.json,$(SWEEP_POINTS)))) \

@@ -42,7 +42,7 @@ class NumericRangeSpec extends AnyFlatSpec {
     assert(slow.neededEmax > NumericRange(1.0, 1.0, 1.0, 1.0).neededEmax + 19)
   }
 
-  "ScenePackage.sized" should "narrow the exponent to the range, keep the mantissa, and never widen past 8 bits" in {
+  "ScenePackage.sized" should "fit the exponent to the range, keep the mantissa, keep FP32 whole, and never widen past 8 bits" in {
     // The shipped Cornell box, compiled here (nori-bridge must be built: make setup).
     val dir = java.nio.file.Paths.get("build/test-scenes/numeric-range-cornell")
     rtaccel.regress.Bridge.compile(java.nio.file.Paths.get("nori-bridge/target/release/nori-bridge"),
@@ -53,6 +53,10 @@ class NumericRangeSpec extends AnyFlatSpec {
     val s = p.sized(AccelConfig.zc706.copy(float = FloatFormat(8, 12)))
     assert(s.float == FloatFormat(7, 12))
     assert(s.stackDepth == 7 && s.maxLeafSize == 2)
+    // FP32 keeps its 8 exponent bits: its records then need no converters.
+    assert(p.sized(AccelConfig.zc706).float == FloatFormat.FP32)
+    // A too-narrow exponent is widened to what the range needs.
+    assert(p.sized(AccelConfig.zc706.copy(float = FloatFormat(6, 9))).float == FloatFormat(7, 9))
     val far = p.copy(needs = needs.copy(extentAbs = 1e13))
     assert(far.sized(AccelConfig.zc706).float.expBits == 8)
     assert(far.misfits(far.sized(AccelConfig.zc706)).exists(_.contains("exponent bits")))
