@@ -60,7 +60,7 @@ demo: setup ## The main job on the default shipped scene
 # SCENE= (or an already compiled PACKAGE=) sizes the hardware to that scene and
 # its rays (RAYS=primary by default) and reports the area saved (sized.md).
 VERILOG_PACKAGE = $(or $(PACKAGE),$(if $(SCENE),$(BUILD)/verilog/scene))
-verilog: setup ## SystemVerilog for the ZC706 into build/verilog/, lint, Yosys resource table [FLOAT= TRIANGLE= ROUNDING= SYNTH=0 SCENE=<scene.xml> or PACKAGE=<compiled dir>]
+verilog: setup ## SystemVerilog for the ZC706 into build/verilog/, lint, Yosys resource table [FLOAT=eXmY|auto TRIANGLE= ROUNDING= SYNTH=0 SCENE=<scene.xml> or PACKAGE=<compiled dir>]
 	$(if $(SCENE),$(BRIDGE) compile $(SCENE) --out $(BUILD)/verilog/scene --rays $(or $(RAYS),primary))
 	$(SBT) "runMain rtaccel.tools.EmitVerilog --out $(BUILD)/verilog --float $(or $(FLOAT),e8m23) --triangle $(or $(TRIANGLE),watertight) --rounding $(or $(ROUNDING),rne) --synth $(or $(SYNTH),1)$(if $(VERILOG_PACKAGE), --package $(VERILOG_PACKAGE))"
 

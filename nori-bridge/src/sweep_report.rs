@@ -43,6 +43,8 @@ pub struct Report {
     pub points: Vec<PointOut>,
     pub pareto: Fronts,
     pub summary: String,
+    /// Variant ("rounding/triangle") -> name of its smallest safe point (see sweep_summary).
+    pub smallest_safe: BTreeMap<String, Option<String>>,
     /// hard case -> embree | robust | double -> hard-score verdict.
     pub hard_references: BTreeMap<String, BTreeMap<String, HardIn>>,
     /// Sum of the wall seconds of every point job and area job: the sweep's
@@ -157,6 +159,7 @@ pub fn build(sweep: &Path, baseline_format: &str) -> Result<Report> {
     }
     let pareto = mark_fronts(&mut points);
     let summary = crate::sweep_summary::sentence(&points, baseline_format);
+    let smallest_safe = crate::sweep_summary::safe_by_variant(&points);
     let job_seconds = JobSeconds {
         points: s.points.iter().map(|(p, _)| p.seconds).sum(),
         area: s.points.iter().map(|(_, a)| a.seconds).sum(),
@@ -169,6 +172,7 @@ pub fn build(sweep: &Path, baseline_format: &str) -> Result<Report> {
         points,
         pareto,
         summary,
+        smallest_safe,
         hard_references: s.hard_refs,
     })
 }

@@ -80,6 +80,21 @@ pub fn sentence(points: &[PointOut], baseline_format: &str) -> String {
     )
 }
 
+/// Each variant's smallest safe point (its name), or None: the machine-readable
+/// form of `per_variant`, which `make verilog FLOAT=auto` reads.
+pub fn safe_by_variant(points: &[PointOut]) -> std::collections::BTreeMap<String, Option<String>> {
+    let mut out = std::collections::BTreeMap::new();
+    for p in points {
+        out.entry(p.variant.clone()).or_insert(None);
+    }
+    for (v, slot) in out.iter_mut() {
+        let mine: Vec<&PointOut> = points.iter().filter(|p| &p.variant == v).collect();
+        let cands: Vec<Candidate> = mine.iter().map(|p| Candidate::from(*p)).collect();
+        *slot = smallest_safe(&cands).map(|i| mine[i].name.clone());
+    }
+    out
+}
+
 /// One line per variant: its smallest safe format, or none.
 pub fn per_variant(points: &[PointOut], baseline_format: &str) -> Vec<String> {
     let mut variants: Vec<&str> = points.iter().map(|p| p.variant.as_str()).collect();

@@ -25,9 +25,16 @@ object EmitVerilog {
   def main(args: Array[String]): Unit = {
     val kv = args.grouped(2).collect { case Array(k, v) => k -> v }.toMap
     val out = Paths.get(kv.getOrElse("--out", "build/verilog"))
-    val fmt = FloatFormat.parse(kv.getOrElse("--float", "e8m23"))
     val test = TriangleTest.parse(kv.getOrElse("--triangle", "watertight"))
     val box = BoxRounding.parse(kv.getOrElse("--rounding", "rne"))
+    // FLOAT=auto: the smallest format the precision sweep found safe for this variant.
+    val fmt = kv.getOrElse("--float", "e8m23") match {
+      case "auto" =>
+        val f = SweepChoice.smallestSafe(SweepChoice.defaultJson, test, box)
+        println(s"verilog: FLOAT=auto: ${f.name}, the smallest safe format for ${SweepChoice.variant(test, box)} in ${SweepChoice.defaultJson}")
+        f
+      case other => FloatFormat.parse(other)
+    }
     val synth = kv.getOrElse("--synth", "1") == "1"
     val jobs = kv.getOrElse("--jobs", "2").toInt
     val generic = AccelConfig.zc706.copy(float = fmt)

@@ -1,0 +1,30 @@
+package rtaccel.tools
+
+import rtaccel.datapath.{BoxRounding, TriangleTest}
+import rtaccel.fp.FloatFormat
+
+import java.nio.file.{Files, Path, Paths}
+
+/** `FLOAT=auto`: the number format the precision sweep found smallest and
+  * still safe (zero false misses, < 0.1% pixels differing from FP32) for a
+  * triangle test and box rounding, read from `docs/speed-vs-error.json`
+  * (`make speed-vs-error`).
+  */
+object SweepChoice {
+  val defaultJson: Path = Paths.get("docs/speed-vs-error.json")
+
+  def variant(test: TriangleTest, rounding: BoxRounding): String =
+    s"${if (rounding == BoxRounding.Conservative) "conservative" else "rne"}/${if (test == TriangleTest.Watertight) "watertight" else "moller"}"
+
+  def smallestSafe(json: Path, test: TriangleTest, rounding: BoxRounding): FloatFormat = {
+    if (!Files.exists(json)) throw new IllegalArgumentException(s"$json: missing; FLOAT=auto needs the precision sweep (make speed-vs-error)")
+    val js = ujson.read(Files.readString(json))
+    val v = variant(test, rounding)
+    val name = js.obj.get("smallest_safe").flatMap(_.obj.get(v))
+      .getOrElse(throw new IllegalArgumentException(s"$json: no smallest_safe entry for $v (rerun make speed-vs-error)"))
+    if (name.isNull) throw new IllegalArgumentException(s"$json: no format of the sweep is safe for $v; give FLOAT= explicitly")
+    val point = js("points").arr.find(_("name").str == name.str)
+      .getOrElse(throw new IllegalArgumentException(s"$json: smallest_safe names point ${name.str}, which is not among its points"))
+    FloatFormat.parse(point("config")("float").str)
+  }
+}
