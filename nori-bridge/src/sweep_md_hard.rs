@@ -1,5 +1,5 @@
 //! The hard-case section of docs/speed-vs-error.md: one table of leaks,
-//! false hits and wrong prims per case and configuration, beside Embree,
+//! false hits and wrong prims per configuration and case, with Embree,
 //! Embree ROBUST and the f64 reference; then every non-zero cell of a
 //! watertight + conservative configuration, which the issue wants at zero.
 
@@ -33,22 +33,21 @@ pub fn section(r: &Report, notes: &std::path::Path) -> Vec<String> {
             .into(),
     );
     out.push(String::new());
-    let mut head = "| case | rays |".to_string();
-    let mut rule = "| --- | ---: |".to_string();
-    for p in &r.points {
-        head.push_str(&format!(" {} |", p.name));
-        rule.push_str(" --- |");
-    }
-    for (_, title) in REF_COLUMNS {
-        head.push_str(&format!(" {title} |"));
+    // One row per configuration (and per reference), one column per case:
+    // 24+ configurations fit down the page, 8 cases across it.
+    let cases: Vec<&String> = r.hard_references.keys().collect();
+    let mut head = "| configuration |".to_string();
+    let mut rule = "| --- |".to_string();
+    for case in &cases {
+        head.push_str(&format!(" {case} ({} rays) |", r.hard_references[*case]["double"].rays));
         rule.push_str(" --- |");
     }
     out.push(head);
     out.push(rule);
     let mut bad = Vec::new();
-    for (case, refs) in &r.hard_references {
-        let mut row = format!("| {case} | {} |", refs["double"].rays);
-        for p in &r.points {
+    for p in &r.points {
+        let mut row = format!("| {} |", p.name);
+        for case in &cases {
             let runs = p.runs.iter().filter(|x| x.hard_case.as_deref() == Some(case.as_str()));
             let cells: Vec<String> = runs
                 .filter_map(|x| x.hard.as_ref())
@@ -61,8 +60,12 @@ pub fn section(r: &Report, notes: &std::path::Path) -> Vec<String> {
                 .collect();
             row.push_str(&format!(" {} |", cells.join("; ")));
         }
-        for (key, _) in REF_COLUMNS {
-            row.push_str(&format!(" {} |", cell(&refs[key])));
+        out.push(row);
+    }
+    for (key, title) in REF_COLUMNS {
+        let mut row = format!("| {title} |");
+        for case in &cases {
+            row.push_str(&format!(" {} |", cell(&r.hard_references[*case][key])));
         }
         out.push(row);
     }
