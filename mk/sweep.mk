@@ -4,7 +4,7 @@
 # `make -j` spreads them over cores and a batch scheduler over machines.
 SWEEP          ?= $(BUILD)/sweep
 SWEEP_JOBS     ?= 2
-SWEEP_FORMATS  ?= e8m23 e8m15 e8m12 e8m10 e8m7 e6m9
+SWEEP_FORMATS  ?= e8m23 e8m19 e8m18 e8m15 e8m12 e8m10 e8m7 e6m9
 SWEEP_ROUNDING ?= rne cons
 SWEEP_TESTS    ?= mt wt
 SWEEP_POINTS   := $(foreach f,$(SWEEP_FORMATS),$(foreach r,$(SWEEP_ROUNDING),$(foreach t,$(SWEEP_TESTS),$(f)-$(r)-$(t))))

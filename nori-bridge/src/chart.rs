@@ -141,7 +141,8 @@ fn render(c: &Chart, buf: &mut [u8]) -> Result<(), Box<dyn std::error::Error>> {
         .label(&s.name);
         ch.draw_series(s.points.iter().map(|p| EmptyElement::at((p.x, at(p.y))) + Text::new(p.label.clone(), (8, dy), (FONT, 13).into_font().color(&color))))?;
     }
-    ch.configure_series_labels().background_style(WHITE.mix(0.85)).border_style(BLACK).label_font((FONT, 15)).position(SeriesLabelPosition::UpperRight).draw()?;
+    // Middle right: the sweep's plots fall from upper left to lower right, leaving it empty.
+    ch.configure_series_labels().background_style(WHITE.mix(0.85)).border_style(BLACK).label_font((FONT, 15)).position(SeriesLabelPosition::MiddleRight).draw()?;
     root.present()?;
     Ok(())
 }

@@ -1,5 +1,6 @@
 //! The sweep's plots: error against LUTs, error against rays/cycle (both
-//! with the Pareto front) and pixels differing against mantissa bits.
+//! with the Pareto front), pixels differing and hard-case failures against
+//! mantissa bits.
 
 use crate::chart::{draw, Chart, Marker, Point, Series};
 use crate::sweep_metrics::PointOut;
@@ -96,9 +97,22 @@ pub fn write_all(r: &Report, dir: &Path) -> Result<Vec<Plot>> {
         series: by_variant(&imaged, true, px),
         front: Vec::new(),
     });
+    // The hard cases apart: adversarial rays (vertex- and edge-aimed, on slab
+    // planes, huge offsets) where the rounding variants differ most.
+    let hard: Vec<&PointOut> = r.points.iter().filter(|p| p.hard.cases > 0).collect();
+    let hx = |p: &PointOut| (p.config.man_bits as f64, (p.hard.leaks + p.hard.false_hits + p.hard.wrong_prims) as f64);
+    let d = (!hard.is_empty()).then(|| Chart {
+        title: "Hard-case failures against mantissa bits".into(),
+        x_desc: "mantissa bits (stored, without the hidden bit)".into(),
+        y_desc: "leaks + false hits + wrong prims, all hard cases".into(),
+        x_integer: true,
+        series: by_variant(&hard, true, hx),
+        front: Vec::new(),
+    });
     Ok(vec![
         plot(dir, "error-vs-lut.png", "Error against LUTs", Some(a), "")?,
         plot(dir, "error-vs-speed.png", "Error against rays/cycle", b, "no point has a timed run (`speed` is null everywhere)")?,
         plot(dir, "pixels-vs-mantissa.png", "Pixels differing against mantissa bits", c, "no point has an image run (primary or ao rays)")?,
+        plot(dir, "hard-vs-mantissa.png", "Hard-case failures against mantissa bits", d, "no point ran the hard cases")?,
     ])
 }
