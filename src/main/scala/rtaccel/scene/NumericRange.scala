@@ -40,6 +40,15 @@ final case class NumericRange(maxAbs: Double, smallestEdge: Double, dirMin: Doub
   /** Fewest exponent bits (at least 3) whose emax and emin cover the range. */
   def expBits: Int = Iterator.from(3).find(e => FloatFormat(e, 2).emax >= neededEmax && FloatFormat(e, 2).emin <= neededEmin).get
 
+  /** Stored mantissa bits that keep the shortest edge at least two units in the last place at the
+    * largest coordinate: with fewer, rounding the FP32 inputs into the format can merge a
+    * triangle's vertices (zero area, rejected by rule) or move them enough to change which
+    * triangle a ray meets first. The sweep's hard cases show exactly this below the bound
+    * (docs/speed-vs-error.md); it is reported, not enforced, since a few collapsed slivers
+    * may be acceptable in an image.
+    */
+  def neededManBits: Int = math.max(2, math.ceil(log2(maxAbs.max(smallestEdge) / smallestEdge)).toInt + 1)
+
   /** Why `fmt` cannot hold this range, if it cannot. */
   def misfit(fmt: FloatFormat): Option[String] =
     Option.when(fmt.emax < neededEmax || fmt.emin > neededEmin)(

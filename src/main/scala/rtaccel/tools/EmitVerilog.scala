@@ -45,6 +45,9 @@ object EmitVerilog {
       println(s"verilog: sized to ${p.dir}: stack ${sized.stackDepth} (generic ${generic.stackDepth}), node index ${sized.nodeIndexBits} bits " +
         s"(${generic.nodeIndexBits}), triangle index ${sized.triIndexBits} bits (${generic.triIndexBits}), leaf ${sized.maxLeafSize} " +
         s"(${generic.maxLeafSize}), ${sized.float.name} (${generic.float.name}: exponents ${p.range.neededEmin}..${p.range.neededEmax} needed)")
+      if (sized.float.manBits < p.range.neededManBits)
+        println(s"verilog: warning: ${sized.float.name} has ${sized.float.manBits} mantissa bits; edges of ${p.range.smallestEdge} at coordinates " +
+          s"up to ${p.range.maxAbs} need ${p.range.neededManBits} to keep every triangle intact after rounding")
       val why = p.misfits(sized)
       require(why.isEmpty, s"${p.dir}: no ${generic.float.name}-based configuration holds this scene:\n  " + why.mkString("\n  "))
       sized

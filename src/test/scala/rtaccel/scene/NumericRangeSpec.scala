@@ -36,6 +36,12 @@ class NumericRangeSpec extends AnyFlatSpec {
     assert(tiny.expBits == 7)
   }
 
+  it should "ask for enough mantissa bits to keep the shortest edge two ulps long at the largest coordinate" in {
+    // A radius-1 level-3 icosphere (edges ~0.1) at 1e4: 1e4 / 0.1 = 2^16.6, so 18 bits; e8m15 rounds most of it flat.
+    assert(NumericRange(1e4, 0.1, 1.0, 1.0).neededManBits == 18)
+    assert(NumericRange(800, 105, 1.0, 1.0).neededManBits == 4)
+  }
+
   it should "count a slow ray's direction: a small largest component scales the sheared z" in {
     val slow = NumericRange(1.0, 1.0, Seq(ray((0f, 0f, 0f), (1e-6f, 0f, 0f))))
     assert(slow.dirMin == 1e-6f.toDouble)
