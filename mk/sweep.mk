@@ -34,8 +34,10 @@ sweep-jobs: $(addprefix $(SWEEP)/points/,$(addsuffix .json,$(SWEEP_POINTS))) \
             $(foreach c,$(HARD_CASES),$(foreach r,embree robust double,$(SWEEP)/hard-ref/$(c)-$(r).json))
 
 # Compiled once, before the parallel jobs: each job is then a plain `java` command.
-# Jobs depend on it order-only: `make speed-vs-error` refreshes it, and a rerun
-# after an interruption redoes only the missing points (`make sweep-clean` for all).
+# Jobs depend on it and on the (deterministic) packages order-only: `make
+# speed-vs-error` refreshes the classpath, and a rerun after an interruption
+# redoes only the missing points (`make sweep-clean` to redo everything, e.g.
+# after changing a scene or the hardware).
 $(SWEEP)/classpath:
 	@mkdir -p $(SWEEP)
 	$(SBT) "Test/compile" "export Test/fullClasspath" | tail -1 > $(SWEEP)/classpath.tmp
@@ -44,20 +46,20 @@ $(SWEEP)/classpath:
 
 sweep-packages: $(foreach r,$(SWEEP_RUNS),$(SWEEP)/packages/$(r)/package.json)
 
-$(SWEEP)/packages/cornell-box-primary/package.json: scenes/cornell-box/cornell-box.xml $(BRIDGE)
+$(SWEEP)/packages/cornell-box-primary/package.json: scenes/cornell-box/cornell-box.xml
 	$(BRIDGE) compile $< --out $(@D) --rays primary --width 96 --height 96
-$(SWEEP)/packages/cornell-box-ao/package.json: scenes/cornell-box/cornell-box.xml $(BRIDGE)
+$(SWEEP)/packages/cornell-box-ao/package.json: scenes/cornell-box/cornell-box.xml
 	$(BRIDGE) compile $< --out $(@D) --rays ao --width 64 --height 64 --spp 2
-$(SWEEP)/packages/dragon-primary/package.json: scenes/dragon/dragon.xml $(BRIDGE)
+$(SWEEP)/packages/dragon-primary/package.json: scenes/dragon/dragon.xml
 	$(BRIDGE) compile $< --out $(@D) --rays primary --width 128 --height 128
-$(SWEEP)/packages/dragon-ao/package.json: scenes/dragon/dragon.xml $(BRIDGE)
+$(SWEEP)/packages/dragon-ao/package.json: scenes/dragon/dragon.xml
 	$(BRIDGE) compile $< --out $(@D) --rays ao --width 128 --height 128 --spp 2
 # Hard cases: the sweep's package holds the f64 reference; two more hold Embree's answers without and with ROBUST.
-$(SWEEP)/packages/hard-%/package.json: scenes/hard/%/expect.csv $(BRIDGE)
+$(SWEEP)/packages/hard-%/package.json: scenes/hard/%/expect.csv
 	$(BRIDGE) compile scenes/hard/$*/$*.xml --out $(@D) --rays scenes/hard/$*/rays.txt --reference double
-$(SWEEP)/hard-pkg/%-embree/package.json: scenes/hard/%/expect.csv $(BRIDGE)
+$(SWEEP)/hard-pkg/%-embree/package.json: scenes/hard/%/expect.csv
 	$(BRIDGE) compile scenes/hard/$*/$*.xml --out $(@D) --rays scenes/hard/$*/rays.txt --reference embree
-$(SWEEP)/hard-pkg/%-robust/package.json: scenes/hard/%/expect.csv $(BRIDGE)
+$(SWEEP)/hard-pkg/%-robust/package.json: scenes/hard/%/expect.csv
 	$(BRIDGE) compile scenes/hard/$*/$*.xml --out $(@D) --rays scenes/hard/$*/rays.txt --reference embree --robust
 
 $(SWEEP)/hard-ref/%-double.json: $(SWEEP)/packages/hard-%/package.json
@@ -75,13 +77,13 @@ $(SWEEP)/hard-ref/%-robust.json: $(SWEEP)/hard-pkg/%-robust/package.json
 # sweep-report merges `<point>.hard.json` into `<point>.json`.
 sweep_field = $(word $(1),$(subst -, ,$(2)))
 sweep_point_args = --float $(call sweep_field,1,$(1)) --rounding $(call sweep_field,2,$(1)) --triangle $(call sweep_field,3,$(1)) --sweep $(SWEEP)
-$(SWEEP)/points/%.hard.json: $(foreach c,$(HARD_CASES),$(SWEEP)/packages/hard-$(c)/package.json) | $(SWEEP)/classpath
+$(SWEEP)/points/%.hard.json: | $(foreach c,$(HARD_CASES),$(SWEEP)/packages/hard-$(c)/package.json) $(SWEEP)/classpath
 	@mkdir -p $(SWEEP)/logs
 	$(SWEEP_JAVA) rtaccel.sweep.SweepPoint $(call sweep_point_args,$*) --group hard \
 	  --runs $(subst $(space),$(comma),$(addprefix hard-,$(HARD_CASES))) > $(SWEEP)/logs/point-$*.hard.log 2>&1 \
 	  || { tail -30 $(SWEEP)/logs/point-$*.hard.log; exit 1; }
 	@tail -1 $(SWEEP)/logs/point-$*.hard.log
-$(SWEEP)/points/%.json: $(foreach r,$(IMAGE_RUNS),$(SWEEP)/packages/$(r)/package.json) | $(SWEEP)/classpath
+$(SWEEP)/points/%.json: | $(foreach r,$(IMAGE_RUNS),$(SWEEP)/packages/$(r)/package.json) $(SWEEP)/classpath
 	@mkdir -p $(SWEEP)/logs
 	$(SWEEP_JAVA) rtaccel.sweep.SweepPoint $(call sweep_point_args,$*) --runs $(subst $(space),$(comma),$(IMAGE_RUNS)) \
 	  --speed-runs $(subst $(space),$(comma),$(IMAGE_RUNS)) --speed-rays $(SPEED_RAYS) > $(SWEEP)/logs/point-$*.log 2>&1 \
