@@ -56,9 +56,11 @@ object AccelArea {
     val done = cacheDir.resolve(s"$label-$key.json")
     if (Files.exists(done)) fromJson(ujson.read(Files.readString(done)))
     else {
-      val sv = cacheDir.resolve(s"$label-$key.sv")
+      // Per-process file names: two jobs of `make -j` may synthesise the same unit at once.
+      val run = s"$label-$key.${ProcessHandle.current().pid()}"
+      val sv = cacheDir.resolve(s"$run.sv")
       Files.writeString(sv, text)
-      val a = Synth.yosys(sv, top, bb, Some(cacheDir.resolve(s"$label-$key.yosys.log")))
+      val a = Synth.yosys(sv, top, bb, Some(cacheDir.resolve(s"$run.yosys.log")))
       // Written whole then renamed, so a concurrent reader never sees half a file.
       val tmp = Files.createTempFile(cacheDir, label, ".tmp")
       Files.writeString(tmp, toJson(a))
