@@ -6,19 +6,6 @@ hard-cases: setup-cargo ## Regenerate scenes/hard/ (hard-case scenes, rays.txt, 
 	rm -rf scenes/hard
 	$(BRIDGE) hard-cases --out scenes/hard
 
-HARD_OUT := $(BUILD)/hard
-
-.PHONY: hard-measure
-hard-measure: setup-cargo ## Score Embree (plain, ROBUST), the double reference and the f32 software trace on every hard case -> $(BUILD)/hard/*.json
-	@mkdir -p $(HARD_OUT)
-	@for c in $$(sed -n 's/^ *"name": "\(.*\)",$$/\1/p' scenes/hard/cases.json); do \
-	  for mode in embree robust double; do \
-	    case $$mode in embree) ref="--reference embree";; robust) ref="--reference embree --robust";; double) ref="--reference double";; esac; \
-	    $(BRIDGE) compile scenes/hard/$$c/$$c.xml --rays scenes/hard/$$c/rays.txt $$ref --out $(HARD_OUT)/$$c-$$mode >/dev/null || exit 1; \
-	    $(BRIDGE) hard-score --package $(HARD_OUT)/$$c-$$mode --hits $(HARD_OUT)/$$c-$$mode/reference.csv \
-	      --expect scenes/hard/$$c/expect.csv --out $(HARD_OUT)/$$c-$$mode.json || exit 1; \
-	  done; \
-	  $(BRIDGE) trace --package $(HARD_OUT)/$$c-double --out $(HARD_OUT)/$$c-trace.csv >/dev/null || exit 1; \
-	  $(BRIDGE) hard-score --package $(HARD_OUT)/$$c-double --hits $(HARD_OUT)/$$c-trace.csv \
-	    --expect scenes/hard/$$c/expect.csv --out $(HARD_OUT)/$$c-trace.json || exit 1; \
-	done
+# `make hard-measure` (Embree, Embree ROBUST, the f64 reference and the f32
+# software trace on every case) lives in mk/sweep.mk beside the sweep's
+# hard-case targets, whose packages and scores it reuses.

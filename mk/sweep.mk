@@ -72,6 +72,16 @@ $(SWEEP)/hard-ref/%-robust.json: $(SWEEP)/hard-pkg/%-robust/package.json
 	@mkdir -p $(@D)
 	$(BRIDGE) hard-score --package $(<D) --hits $(<D)/reference.csv --expect scenes/hard/$*/expect.csv --out $@
 
+# The references alone, plus nori-bridge's f32 software trace (the hardware's
+# algorithm in f32), on every hard case.
+.PHONY: hard-measure
+hard-measure: setup-cargo ## Score Embree (plain, ROBUST), the f64 reference and the f32 software trace on every hard case -> $(SWEEP)/hard-ref/*.json
+	@$(MAKE) --no-print-directory $(foreach c,$(HARD_CASES),$(foreach r,embree robust double trace,$(SWEEP)/hard-ref/$(c)-$(r).json))
+$(SWEEP)/hard-ref/%-trace.json: $(SWEEP)/packages/hard-%/package.json
+	@mkdir -p $(@D)
+	$(BRIDGE) trace --package $(<D) --out $(@D)/$*-trace.csv
+	$(BRIDGE) hard-score --package $(<D) --hits $(@D)/$*-trace.csv --expect scenes/hard/$*/expect.csv --out $@
+
 # One point: $* = <format>-<rne|cons>-<mt|wt>. Two jobs per point: the image
 # runs (error on every ray, speed in RTL) and the hard cases (error only);
 # sweep-report merges `<point>.hard.json` into `<point>.json`.

@@ -117,15 +117,23 @@ pub struct Cells {
     pub dsp: u64,
 }
 
-#[derive(Deserialize, Clone, Debug)]
-pub struct AreaIn {
-    pub config: String,
+/// Yosys xc7 area of a whole accelerator and the ZC706 instances it allows.
+#[derive(Deserialize, Serialize, Clone, Debug, PartialEq)]
+pub struct Area {
     pub lut: u64,
     pub ff: u64,
     pub dsp: u64,
     pub bram36: f64,
     pub instances_zc706: u64,
     pub units: BTreeMap<String, Cells>,
+}
+
+#[derive(Deserialize, Clone, Debug)]
+pub struct AreaIn {
+    pub config: String,
+    /// The cost itself, which the report passes on unchanged.
+    #[serde(flatten)]
+    pub cost: Area,
     /// Wall seconds of the area job (small when its units came from the Yosys cache; absent in old files).
     #[serde(default)]
     pub seconds: f64,

@@ -2,10 +2,9 @@
 //! against the FP32 baseline of the same variant. These structs are what
 //! docs/speed-vs-error.json holds.
 
-use crate::sweep_input::{AccuracyIn, AreaIn, Cells, HardIn, Latency, PointConfig, RunIn, SpeedIn};
+use crate::sweep_input::{AccuracyIn, Area, AreaIn, HardIn, Latency, PointConfig, RunIn, SpeedIn};
 use crate::sweep_runs::{PixelDiff, TRel};
 use serde::Serialize;
-use std::collections::BTreeMap;
 
 /// compare's classes. The first four are errors; tie, edge and
 /// reference_wrong are shown apart as "not errors".
@@ -117,15 +116,6 @@ pub struct HardTotals {
     pub flagged: usize,
 }
 
-#[derive(Serialize, Clone, Debug, PartialEq)]
-pub struct AreaOut {
-    pub lut: u64,
-    pub ff: u64,
-    pub dsp: u64,
-    pub bram36: f64,
-    pub instances_zc706: u64,
-    pub units: BTreeMap<String, Cells>,
-}
 
 /// point / baseline; None when the baseline's value is zero or absent.
 #[derive(Serialize, Clone, Copy, Debug, Default, PartialEq)]
@@ -149,7 +139,7 @@ pub struct PointOut {
     /// The FP32 point of the same variant that pixels and ratios refer to.
     pub baseline: String,
     pub latency: Latency,
-    pub area: AreaOut,
+    pub area: Area,
     /// Pooled over the non-hard runs.
     pub rays: usize,
     pub errors: ErrorCounts,
@@ -214,7 +204,7 @@ impl PointOut {
             variant: config.variant(),
             baseline: baseline.to_string(),
             latency,
-            area: AreaOut { lut: area.lut, ff: area.ff, dsp: area.dsp, bram36: area.bram36, instances_zc706: area.instances_zc706, units: area.units.clone() },
+            area: area.cost.clone(),
             rays,
             errors_per_million_rays: per_ray(errors.errors() as f64 * 1e6),
             errors,

@@ -17,10 +17,11 @@ object Bridge {
   def compile(bridge: Path, scene: Path, pkg: Path, rays: String, extra: Seq[String] = Nil): Unit =
     exec(bridge, Seq("compile", scene.toString, "--out", pkg.toString, "--rays", rays) ++ extra)
 
-  /** Compares out/hits.csv with the package's reference; returns accuracy.json. */
-  def compare(bridge: Path, pkg: Path, out: Path, precisionBits: Int): ujson.Value = {
+  /** Compares `hits` (by default out/hits.csv) with the package's reference; writes and returns out/accuracy.json. */
+  def compare(bridge: Path, pkg: Path, out: Path, precisionBits: Int, hits: Option[Path] = None): ujson.Value = {
     val acc = out.resolve("accuracy.json")
-    exec(bridge, Seq("compare", "--package", pkg.toString, "--hits", out.resolve("hits.csv").toString,
+    Files.createDirectories(out)
+    exec(bridge, Seq("compare", "--package", pkg.toString, "--hits", hits.getOrElse(out.resolve("hits.csv")).toString,
       "--out", acc.toString, "--precision-bits", precisionBits.toString))
     ujson.read(Files.readString(acc))
   }

@@ -93,10 +93,8 @@ object SweepPoint {
       // Judged with FP32 tolerances whatever the format: a narrow format's extra
       // error must show as false misses/hits, not be excused as "edge" by
       // tolerances scaled to its own precision. Ties (equal t in f64) stay apart.
-      val out = a.sweep.resolve("accuracy").resolve(a.name).resolve(run)
-      Files.createDirectories(out)
-      Files.copy(a.hitsFile(run), out.resolve("hits.csv"), java.nio.file.StandardCopyOption.REPLACE_EXISTING)
-      Bridge.compare(a.bridge, p.dir, out, SweepPoint.judgedPrecision)
+      Bridge.compare(a.bridge, p.dir, a.sweep.resolve("accuracy").resolve(a.name).resolve(run), SweepPoint.judgedPrecision,
+        hits = Some(a.hitsFile(run)))
   }
 
   /** Each unit's derived latency, from its elaborated module (no Verilog emitted). */

@@ -5,9 +5,8 @@ import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import rtaccel.datapath.{BoxRounding, FloatDatapath, FloatGolden, TriangleTest}
 import rtaccel.fp.FloatFormat
-import rtaccel.golden.TraversalGolden
 import rtaccel.mem.{Latency, MemoryParams}
-import rtaccel.regress.Bridge
+import rtaccel.regress.{Bridge, Chosen, Regress}
 import rtaccel.scene.{HitsCsv, ScenePackage}
 import rtaccel.testutil.{Backends, Seeded, Waves}
 import rtaccel.AccelConfig
@@ -39,7 +38,7 @@ class HardCasesSpec extends AnyFlatSpec with ChiselScalatestTester {
     Seeded("HardCases.fp32-cons-wt") { rnd =>
       val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.Watertight, BoxRounding.Conservative)
       val cfg = AccelConfig(numRayIds = 16, stackDepth = 24, maxNodes = 1 << 13, maxTriangles = 1 << 12, maxLeafSize = 4)
-      val golden = FloatGolden(dp)
+      val chosen = Chosen(dp, FloatGolden(dp)).asInstanceOf[Chosen[Data, Any]]
       val mem = MemoryParams(Latency.Uniform(20, 120), maxOutstanding = 16)
       val env = Environment(mem, mem, rayGap = 0.1, hitRefuse = 0.1)
       Waves.onFailure(Backends.verilator) { annos => test(new SimTop(cfg, dp)).withAnnotations(annos) { dut =>
@@ -51,11 +50,8 @@ class HardCasesSpec extends AnyFlatSpec with ChiselScalatestTester {
           assert(pkg.misfits(cfg).isEmpty, s"$c: ${pkg.misfits(cfg)}")
           dut.reset.poke(true.B); dut.clock.step(); dut.reset.poke(false.B)
           val run = AccelHarness.run(dut, pkg.image, pkg.rays, env.copy(seed = rnd.nextLong() + k))
-          val byNumber = pkg.rays.map(r => r.number -> r).toMap
-          for (h <- run.hits) {
-            val e = TraversalGolden.trace(cfg, pkg.image, golden, byNumber(h.number)).hit
-            assert(TraversalGolden.agrees(byNumber(h.number), h, e), s"$c: ray ${h.number}: hardware $h, golden $e")
-          }
+          val differ = Regress.goldenCheck(cfg, pkg, pkg.rays, chosen, run.hits)
+          assert(differ.isEmpty, s"$c: ${differ.size} rays differ from the golden model (printed above): ${differ.take(3)}")
           val hits = dir.resolve(s"hits-${dp.name}.csv")
           HitsCsv.write(hits, run.hits)
           val s = Bridge.hardScore(bridge, dir, hits, hardDir.resolve(c).resolve("expect.csv"), dir.resolve(s"score-${dp.name}.json"))
