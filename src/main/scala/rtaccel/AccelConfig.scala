@@ -13,6 +13,7 @@ import rtaccel.fp.FloatFormat
   * @param maxLeafSize largest triangle count in one leaf
   * @param float       number format of the intersection datapaths
   * @param addrBits    byte-address width of the memory ports (32 on the ZC706)
+  * @param layout      node layout of the BVH images it reads (BvhLayout), which sets the box lanes
   */
 case class AccelConfig(
     numRayIds: Int = 64,
@@ -21,7 +22,8 @@ case class AccelConfig(
     maxTriangles: Int = 1 << 20,
     maxLeafSize: Int = 16,
     float: FloatFormat = FloatFormat.FP32,
-    addrBits: Int = 32
+    addrBits: Int = 32,
+    layout: BvhLayout = BvhLayout.Wide(4)
 ) {
   require(numRayIds >= 2, s"AccelConfig: numRayIds must be >= 2, got $numRayIds")
   require(stackDepth >= 1, s"AccelConfig: stackDepth must be >= 1, got $stackDepth")
@@ -38,6 +40,17 @@ case class AccelConfig(
   val triIndexBits: Int = log2Ceil(maxTriangles).max(1)
   /** Counts 0..maxLeafSize inclusive. */
   val leafCountBits: Int = log2Ceil(maxLeafSize + 1)
+  /** A child reference holds a node index or a first triangle slot. */
+  val refIndexBits: Int = nodeIndexBits.max(triIndexBits)
+  /** Child boxes tested per node, in parallel. */
+  val boxLanes: Int = layout.lanes
+  /** RayStack banks: a decision's pushes land in consecutive slots, so with at
+    * least as many banks as pushes each bank takes at most one write per cycle.
+    * A power of two, so the bank of a slot is its low bits.
+    */
+  val stackBanks: Int = 1 << log2Ceil(layout.maxPushes)
+  /** Stack rows per ray in each bank. */
+  val stackRows: Int = (stackDepth + stackBanks - 1) / stackBanks
 }
 
 object AccelConfig {

@@ -3,55 +3,80 @@ package rtaccel
 import chisel3._
 import chisel3.util._
 
-/** A decoded 32-byte BVH node (docs/memory-format.md, version 1):
-  * word0 bit 31 = leaf, bits 30..0 = leaf triangle count or inner split axis;
-  * word1 = first triangle (leaf) or right child (inner); then six FP32 bounds.
-  * Bounds stay raw FP32 bits here; BboxIntersect narrows them to its format.
+/** Where a child of a node leads: an inner node to fetch, or a leaf's
+  * triangle range. It is also what a ray's stack holds.
   */
-class BvhNode(cfg: AccelConfig) extends Bundle {
-  val links  = new NodeLinks(cfg)
-  val boxMin = Vec(3, UInt(32.W))
-  val boxMax = Vec(3, UInt(32.W))
+class ChildRef(cfg: AccelConfig) extends Bundle {
+  val isLeaf = Bool()
+  /** Node index (inner child) or first triangle slot (leaf). */
+  val index  = UInt(cfg.refIndexBits.W)
+  /** Triangles in the leaf (leaf only). */
+  val count  = UInt(cfg.leafCountBits.W)
 }
 
-/** The part of a node that steers traversal, without its box. */
-class NodeLinks(cfg: AccelConfig) extends Bundle {
-  val isLeaf     = Bool()
-  val axis       = UInt(2.W)
-  val rightChild = UInt(cfg.nodeIndexBits.W)
-  val first      = UInt(cfg.triIndexBits.W)
-  val count      = UInt(cfg.leafCountBits.W)
-  /** The record does not fit this hardware: see ErrorFlags. */
-  val errors     = ErrorFlags()
+/** One child slot of a decoded node: its box (raw FP32 bits; BboxIntersect
+  * narrows them to its format) and where it leads.
+  */
+class NodeSlot(cfg: AccelConfig) extends Bundle {
+  val present = Bool()
+  val child   = new ChildRef(cfg)
+  val boxMin  = Vec(3, UInt(32.W))
+  val boxMax  = Vec(3, UInt(32.W))
+}
+
+/** A decoded node record (docs/memory-format.md, version 2).
+  *
+  *  - Nori layout: one slot, the node itself (its own box; a leaf's range, or
+  *    for an inner node `ref.index` = its right child, the left being the next
+  *    node), and the split axis that picks the near child.
+  *  - Wide layout: `cfg.boxLanes` slots, one per child, used slots first.
+  */
+class BvhNode(cfg: AccelConfig) extends Bundle {
+  val slots  = Vec(cfg.boxLanes, new NodeSlot(cfg))
+  /** Nori layout only: split axis of an inner node. */
+  val axis   = UInt(2.W)
+  /** The record does not fit this hardware, or is corrupt: see ErrorFlags. */
+  val errors = ErrorFlags()
 }
 
 object BvhNode {
-  val RecordBytes = 32
+  /** Slot `word0` of an empty wide-node slot. */
+  val EmptySlot: Long = 0x40000000L
 
-  /** Decodes a little-endian record, flagging fields too wide for `cfg`. */
+  /** Decodes a little-endian node record of `cfg.layout`, flagging fields too
+    * wide for `cfg` and corrupt kind words. Only used slots can flag.
+    */
   def decode(cfg: AccelConfig, record: UInt): BvhNode = {
-    require(record.getWidth == RecordBytes * 8, s"BvhNode.decode: record must be ${RecordBytes * 8} bits")
-    def word(i: Int): UInt = record(32 * i + 31, 32 * i)
-    val w0 = word(0)
-    val w1 = word(1)
-    val n = Wire(new BvhNode(cfg))
-    val l = n.links
-    l.isLeaf     := w0(31)
-    l.axis       := w0(1, 0)
-    l.rightChild := w1(cfg.nodeIndexBits - 1, 0)
-    l.first      := w1(cfg.triIndexBits - 1, 0)
-    l.count      := w0(cfg.leafCountBits - 1, 0)
-    for (a <- 0 until 3) {
-      n.boxMin(a) := word(2 + a)
-      n.boxMax(a) := word(5 + a)
-    }
+    val bytes = cfg.layout.nodeBytes
+    require(record.getWidth == bytes * 8, s"BvhNode.decode: record must be ${bytes * 8} bits")
+    def word(slot: Int, i: Int): UInt = record(256 * slot + 32 * i + 31, 256 * slot + 32 * i)
     def highBitsSet(w: UInt, keep: Int): Bool = if (keep >= 32) false.B else w(31, keep).orR
-    val indexTooWide = Mux(w0(31), highBitsSet(w1, cfg.triIndexBits), highBitsSet(w1, cfg.nodeIndexBits))
-    val leafTooBig   = w0(31) && (w0(30, 0) > cfg.maxLeafSize.U)
-    // An inner node's axis must be 0, 1 or 2; anything else is a corrupt image.
-    val badAxis      = !w0(31) && (w0(30, 0) > 2.U)
-    l.errors := Mux(indexTooWide || badAxis, ErrorFlags.bit(ErrorFlags.IndexOverflow), 0.U) |
-      Mux(leafTooBig, ErrorFlags.bit(ErrorFlags.LeafTooBig), 0.U)
+    val n = Wire(new BvhNode(cfg))
+    val slotErrors = for (s <- 0 until cfg.boxLanes) yield {
+      val (w0, w1) = (word(s, 0), word(s, 1))
+      val slot = n.slots(s)
+      val leaf = w0(31)
+      slot.child.isLeaf := leaf
+      slot.child.index  := w1(cfg.refIndexBits - 1, 0)
+      slot.child.count  := w0(cfg.leafCountBits - 1, 0)
+      for (a <- 0 until 3) {
+        slot.boxMin(a) := word(s, 2 + a)
+        slot.boxMax(a) := word(s, 5 + a)
+      }
+      val indexTooWide = Mux(leaf, highBitsSet(w1, cfg.triIndexBits), highBitsSet(w1, cfg.nodeIndexBits))
+      val leafTooBig = leaf && (w0(30, 0) > cfg.maxLeafSize.U)
+      // Nori: an inner node's word0 is its split axis, 0..2. Wide: an inner
+      // child's word0 is 0, an empty slot's is EmptySlot; nothing else is valid.
+      val (present, badKind) = cfg.layout match {
+        case BvhLayout.Nori    => (true.B, !leaf && (w0(30, 0) > 2.U))
+        case _: BvhLayout.Wide => (w0 =/= EmptySlot.U, !leaf && w0 =/= 0.U && w0 =/= EmptySlot.U)
+      }
+      slot.present := present
+      Mux(present && (indexTooWide || badKind), ErrorFlags.bit(ErrorFlags.IndexOverflow), 0.U) |
+        Mux(present && leafTooBig, ErrorFlags.bit(ErrorFlags.LeafTooBig), 0.U)
+    }
+    n.axis   := word(0, 0)(1, 0)
+    n.errors := slotErrors.reduce(_ | _)
     n
   }
 }

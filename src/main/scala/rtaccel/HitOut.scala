@@ -26,9 +26,14 @@ class PerfCounters extends Bundle {
   val hitsOut       = UInt(64.W)
   val nodeFetches   = UInt(64.W)
   val triFetches    = UInt(64.W)
+  /** Nodes tested by BboxIntersect (all of a node's child boxes at once). */
   val boxTests      = UInt(64.W)
+  /** Used child boxes among them (boxTests in the nori layout). */
+  val childBoxTests = UInt(64.W)
   val triTests      = UInt(64.W)
   val decisions     = UInt(64.W)
+  /** Decisions for rays back from a leaf (a pop that costs a decision of its own). */
+  val leafReturns   = UInt(64.W)
   /** Cycles a unit wanted to move and could not. */
   val nodePortStall = UInt(64.W)
   val triPortStall  = UInt(64.W)

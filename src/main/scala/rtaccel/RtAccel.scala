@@ -5,7 +5,7 @@ import chisel3.util._
 import rtaccel.fetch.{FetchBVH, RayIn}
 import rtaccel.leaf.LeafIntersect
 import rtaccel.mem.{MemPort, TaggedPortArbiter}
-import rtaccel.traversal.{PrepFetch, RayBuffer, Traversal, TraversalState}
+import rtaccel.traversal.{InitTraversal, PrepFetch, RayBuffer, Traversal, TraversalState}
 
 /** The accelerator: rays in, one hit per ray out (docs/architecture.md).
   *
@@ -25,12 +25,14 @@ class RtAccel[T <: Data](val cfg: AccelConfig, val dp: Datapath[T]) extends Modu
     val nodeMem  = new MemPort(nodeArb.shared)
     val triMem   = new MemPort(LeafIntersect.port(cfg))
     val perf     = Output(new PerfCounters)
-    /** Sticky: a ray was lost or duplicated. Never set; the specs check it. */
+    /** Sticky: a ray was lost or duplicated (an enqueue found its queue full, or
+      * an ID was freed twice). Never set; the harnesses fail at once if it is. */
     val broken   = Output(Bool())
   })
-  override def desiredName = s"RtAccel_${dp.name}_n${cfg.numRayIds}_d${cfg.stackDepth}"
+  override def desiredName = s"RtAccel_k${cfg.boxLanes}_${dp.name}_n${cfg.numRayIds}_d${cfg.stackDepth}"
 
   private val fetch  = Module(new FetchBVH(cfg, dp))
+  private val init   = Module(new InitTraversal(cfg, dp.gen))
   private val trav   = Module(new Traversal(cfg, dp))
   private val leaf   = Module(new LeafIntersect(cfg, dp.gen, () => dp.prim(cfg)))
   private val rayBuf = Module(new RayBuffer(cfg, dp.gen, readers = 2))
@@ -44,11 +46,13 @@ class RtAccel[T <: Data](val cfg: AccelConfig, val dp: Datapath[T]) extends Modu
   io.nodeMem <> nodeArb.io.mem
   io.triMem <> leaf.io.mem
 
-  rayBuf.io.enter <> fetch.io.enter
+  init.io.in   := fetch.io.prepared
+  init.io.root := fetch.io.root
+  rayBuf.io.enter <> init.io.enter
   rayBuf.io.update <> leaf.io.tmax
   rayBuf.io.read(0) <> trav.io.rayRead
   rayBuf.io.read(1) <> leaf.io.rayRead
-  trav.io.entry <> fetch.io.out
+  trav.io.entry <> init.io.out
   leaf.io.in <> trav.io.leafOut
   trav.io.leafIn <> leaf.io.out
   leaf.io.clear := fetch.io.started
@@ -72,7 +76,7 @@ class RtAccel[T <: Data](val cfg: AccelConfig, val dp: Datapath[T]) extends Modu
   done.ready    := io.hits.ready
   fetch.io.free.valid := io.hits.fire
   fetch.io.free.bits  := id
-  io.broken := trav.io.overflow || fetch.io.doubleFree
+  io.broken := trav.io.overflow || fetch.io.doubleFree || init.io.broken || leaf.io.broken
 
   // ---- Performance counters ----
   private def count(event: Bool): UInt = {
@@ -87,6 +91,10 @@ class RtAccel[T <: Data](val cfg: AccelConfig, val dp: Datapath[T]) extends Modu
   p.nodeFetches   := count(io.nodeMem.req.fire)
   p.triFetches    := count(io.triMem.req.fire)
   p.boxTests      := count(trav.io.boxTests)
+  private val childBoxesReg = RegInit(0.U(64.W))
+  childBoxesReg := childBoxesReg + trav.io.childBoxes
+  p.childBoxTests := childBoxesReg
+  p.leafReturns   := count(trav.io.leafReturn)
   p.triTests      := count(leaf.io.tested)
   p.decisions     := count(trav.io.control.valid)
   p.nodePortStall := count(io.nodeMem.req.valid && !io.nodeMem.req.ready)

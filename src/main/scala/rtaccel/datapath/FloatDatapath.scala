@@ -71,7 +71,7 @@ class FloatRayPrep(cfg: AccelConfig, dp: FloatDatapath) extends RayPrepUnit[RayC
 }
 
 class FloatBox(cfg: AccelConfig, dp: FloatDatapath) extends BoxUnit[RayConsts](cfg, dp.gen) {
-  override def desiredName: String = s"BoxIntersect_${dp.name}"
+  override def desiredName: String = s"BoxLane_${dp.name}"
   private val ar = new HwArith(dp.fmt)
   private val q = io.in.bits
   private val out = BoxKernel(ar, dp.rounding, RayConsts.read(ar, q.ray), ar.input(q.tmax),

@@ -28,8 +28,8 @@ final case class FloatGolden(dp: FloatDatapath) extends ArithGolden[RayK[BigInt,
     val o = BoxKernel(arith, dp.rounding, s, tmax, bmin, bmax)
     (o.hit, o.near)
   }
-  def box(s: Ray, tmax: BigInt, node: NodeRecord): Boolean =
-    boxTest(s, tmax, node.boxMin.map(BigInt(_)), node.boxMax.map(BigInt(_)))._1
+  def box(s: Ray, tmax: BigInt, node: NodeRecord): (Boolean, BigInt) =
+    boxTest(s, tmax, node.boxMin.map(BigInt(_)), node.boxMax.map(BigInt(_)))
 
   /** Triangle test on nine FP32 vertex words (p0, p1, p2). */
   def primTest(s: Ray, tmax: BigInt, p: Seq[BigInt]): PrimOut[BigInt, Boolean] = dp.test match {

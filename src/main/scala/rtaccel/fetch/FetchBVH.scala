@@ -3,26 +3,26 @@ package rtaccel.fetch
 import chisel3._
 import chisel3.util._
 import rtaccel.mem.{MemPort, MemPortParams}
-import rtaccel.traversal.{PrepFetch, RayEntry, TraversalToken}
+import rtaccel.traversal.PrepFetch
 import rtaccel.{AccelConfig, BvhNode, Datapath, RayIdFreeList}
 
-/** A new ray, at the root, with the root node it will be tested against. */
-class EntryToken(cfg: AccelConfig) extends Bundle {
-  val token = new TraversalToken(cfg)
-  val root  = new BvhNode(cfg)
+/** A ray with its ID, out of RayPrep. */
+class PreparedEntry[T <: Data](cfg: AccelConfig, gen: T) extends Bundle {
+  val rayId  = UInt(cfg.rayIdBits.W)
+  val shadow = Bool()
+  val ray    = new PreparedRay(cfg, gen)
 }
 
 /** Where rays come in.
   *
-  *  - Each ray takes an ID from the free list; its host number is kept by ID
-  *    for the output stage.
-  *  - RayPrep computes its constants once; the ray is written to the
-  *    RayBuffer, and only then sent to the root, so its first box test reads
-  *    what was written.
+  *  - Each ray takes an ID from the free list (so at most `numRayIds` rays are
+  *    ever inside); its host number is kept by ID for the output stage.
+  *  - RayPrep computes its constants once; the prepared ray goes on to
+  *    InitTraversal, `prepared` being a valid pipe that cannot wait.
   *  - The root node is fetched once, after reset and whenever `nodeBase`
-  *    changes, and kept on chip: new rays never use the node port, fixing
-  *    the seed's per-ray root fetch that competed with traversal. Rays wait
-  *    until the root has arrived.
+  *    changes, and kept on chip (`root`): new rays never use the node port,
+  *    fixing the seed's per-ray root fetch that competed with traversal. Rays
+  *    wait until the root has arrived.
   */
 class FetchBVH[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   val port: MemPortParams = PrepFetch.port(cfg)
@@ -30,8 +30,9 @@ class FetchBVH[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
     val rays     = Flipped(Decoupled(new RayIn))
     val nodeBase = Input(UInt(cfg.addrBits.W))
     val mem      = new MemPort(port)
-    val enter    = Decoupled(new RayEntry(cfg, dp.gen))
-    val out      = Decoupled(new EntryToken(cfg))
+    val prepared = Valid(new PreparedEntry(cfg, dp.gen))
+    /** The on-chip root, valid whenever a ray can have entered. */
+    val root     = Output(new BvhNode(cfg))
     /** A ray took this ID: LeafIntersect forgets the ID's previous hit. */
     val started  = Valid(UInt(cfg.rayIdBits.W))
     /** IDs coming back from the output stage. */
@@ -43,7 +44,7 @@ class FetchBVH[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
     /** Sticky: an ID was freed twice (a lost-or-duplicated-ray bug). */
     val doubleFree = Output(Bool())
   })
-  override def desiredName = s"FetchBVH_n${cfg.numRayIds}"
+  override def desiredName = s"FetchBVH_k${cfg.boxLanes}_n${cfg.numRayIds}"
 
   // ---- Root node, fetched once per scene base ----
   // Requests carry a generation number, so a late answer for an old base is
@@ -69,6 +70,7 @@ class FetchBVH[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
     rootReg      := BvhNode.decode(cfg, io.mem.resp.bits.data)
     rootValidReg := true.B
   }
+  io.root := rootReg
 
   // ---- IDs and ray constants ----
   private val ids = Module(new RayIdFreeList(cfg.numRayIds))
@@ -97,37 +99,8 @@ class FetchBVH[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   carryIn.rayId  := id
   carryIn.shadow := io.rays.bits.shadow
   private val carry = Pipe(io.rays.fire, carryIn, prep.latency)
-
-  // Prepared rays wait here; at most numRayIds rays exist, so it never overflows.
-  class Prepared extends Bundle {
-    val carry = new Carry
-    val ray   = new PreparedRay(cfg, dp.gen)
-  }
-  private val ready = Module(new Queue(new Prepared, cfg.numRayIds))
-  ready.io.enq.valid      := prep.io.out.valid
-  ready.io.enq.bits.carry := carry.bits
-  ready.io.enq.bits.ray   := prep.io.out.bits
-
-  // First the RayBuffer write, then the ray goes to the root, so its first box
-  // test reads what was written. (Valid never waits on ready: the RayBuffer's
-  // round-robin arbiter would close a combinational loop.)
-  private val head       = ready.io.deq.bits
-  private val enteredReg = RegInit(false.B)
-  io.enter.valid        := ready.io.deq.valid && !enteredReg
-  io.enter.bits.rayId   := head.carry.rayId
-  io.enter.bits.statics := head.ray.statics
-  io.enter.bits.tmax    := head.ray.tmax
-  when(io.enter.fire) { enteredReg := true.B }
-  io.out.valid          := ready.io.deq.valid && enteredReg
-  ready.io.deq.ready    := io.out.ready && enteredReg
-  when(io.out.fire) { enteredReg := false.B }
-
-  private val t = io.out.bits.token
-  t.rayId   := head.carry.rayId
-  t.nodeIdx := 0.U
-  t.sp      := 0.U
-  t.dirNeg  := head.ray.dirNeg
-  t.shadow  := head.carry.shadow
-  t.errors  := head.ray.errors
-  io.out.bits.root := rootReg
+  io.prepared.valid       := prep.io.out.valid
+  io.prepared.bits.rayId  := carry.bits.rayId
+  io.prepared.bits.shadow := carry.bits.shadow
+  io.prepared.bits.ray    := prep.io.out.bits
 }

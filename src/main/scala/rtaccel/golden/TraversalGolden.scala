@@ -2,7 +2,7 @@ package rtaccel.golden
 
 import rtaccel.fp.{FloatFormat, FpOrder}
 import rtaccel.scene.{MemoryImage, NodeRecord, Records, TriangleRecord}
-import rtaccel.{AccelConfig, ErrorFlags}
+import rtaccel.{AccelConfig, BvhLayout, BvhNode, ErrorFlags}
 
 import scala.collection.mutable
 
@@ -19,7 +19,8 @@ final case class PreparedGolden[S](statics: S, tmax: BigInt, dirNeg: Seq[Boolean
 trait ArithGolden[S] {
   def format: FloatFormat
   def prep(ray: RayRecord): PreparedGolden[S]
-  def box(s: S, tmax: BigInt, node: NodeRecord): Boolean
+  /** One box (a nori node's, or one child slot's): (hit, entry distance in the format). */
+  def box(s: S, tmax: BigInt, node: NodeRecord): (Boolean, BigInt)
   /** (t, u, v) in the datapath format, or None. Includes tmin <= t <= tmax. */
   def prim(s: S, tmax: BigInt, tri: TriangleRecord): Option[(BigInt, BigInt, BigInt)]
   def toFloat32(x: BigInt): Long
@@ -36,7 +37,7 @@ object TraversalGolden {
   def trace[S](cfg: AccelConfig, img: MemoryImage, arith: ArithGolden[S], ray: RayRecord): Trace = {
     val fmt = arith.format
     val p = arith.prep(ray)
-    val stack = mutable.ArrayBuffer.empty[Long]
+    val stack = mutable.ArrayBuffer.empty[ControlGolden.Ref]
     var tok = ControlGolden.Token(0, 0, 0, p.dirNeg, ray.shadow, p.errors)
     var tmax = p.tmax
     var best: Option[(BigInt, BigInt, BigInt, Long)] = None
@@ -46,8 +47,16 @@ object TraversalGolden {
     var node = Records.node(img, 0)
     var fromLeaf = false
     while (state != ControlGolden.Done) {
-      val hitBox = if (fromLeaf) false else { boxTests += 1; arith.box(p.statics, tmax, node) }
-      val out = ControlGolden.step(cfg.stackDepth, stack, tok, fromLeaf, occluded, hitBox, links(cfg, node))
+      val hits = if (fromLeaf) Nil else {
+        boxTests += 1
+        val view = nodeView(cfg, node)
+        node.indices.map { i =>
+          val present = view.present(i)
+          val (hit, near) = if (present) arith.box(p.statics, tmax, node(i)) else (false, BigInt(0))
+          ControlGolden.SlotHit(present && hit, FpOrder.keyOf(fmt, near))
+        }
+      }
+      val out = ControlGolden.step(cfg.layout, cfg.stackDepth, stack, tok, fromLeaf, occluded, hits, nodeView(cfg, node).view)
       decisions += 1
       tok = out.token
       state = out.state
@@ -94,14 +103,26 @@ object TraversalGolden {
   def agrees(ray: RayRecord, hw: HitRecord, golden: HitRecord): Boolean =
     if (ray.shadow) hw.hit == golden.hit && hw.errors == golden.errors else hw == golden
 
-  /** A node's steering fields as the hardware decodes them for `cfg`. */
-  def links(cfg: AccelConfig, n: NodeRecord): ControlGolden.Links = {
+  /** A node's slots as the hardware decodes them for `cfg` (BvhNode.decode). */
+  final case class Decoded(view: ControlGolden.NodeView, present: IndexedSeq[Boolean])
+
+  def nodeView(cfg: AccelConfig, slots: IndexedSeq[NodeRecord]): Decoded = {
+    require(slots.size == cfg.boxLanes, s"a ${cfg.layout.name} node has ${cfg.boxLanes} slots, got ${slots.size}")
     def fits(w: Long, bits: Int) = bits >= 32 || (w >> bits) == 0
-    val tooWide = if (n.isLeaf) !fits(n.word1, cfg.triIndexBits) else !fits(n.word1, cfg.nodeIndexBits) || n.low31 > 2
-    val leafBig = n.isLeaf && n.low31 > cfg.maxLeafSize
-    val errors = (if (tooWide) 1 << ErrorFlags.IndexOverflow else 0) | (if (leafBig) 1 << ErrorFlags.LeafTooBig else 0)
-    val mask = (1L << cfg.leafCountBits) - 1
-    ControlGolden.Links(n.isLeaf, (n.word0 & 3).toInt, n.word1 & ((1L << cfg.nodeIndexBits) - 1),
-      n.word1 & ((1L << cfg.triIndexBits) - 1), (n.word0 & mask).toInt, errors)
+    val decoded = slots.map { n =>
+      val (present, badKind) = cfg.layout match {
+        case BvhLayout.Nori    => (true, !n.isLeaf && n.low31 > 2)
+        case _: BvhLayout.Wide => (n.word0 != BvhNode.EmptySlot, !n.isLeaf && n.word0 != 0 && n.word0 != BvhNode.EmptySlot)
+      }
+      val tooWide = badKind || !fits(n.word1, if (n.isLeaf) cfg.triIndexBits else cfg.nodeIndexBits)
+      val leafBig = n.isLeaf && n.low31 > cfg.maxLeafSize
+      val errors = if (!present) 0 else
+        (if (tooWide) 1 << ErrorFlags.IndexOverflow else 0) | (if (leafBig) 1 << ErrorFlags.LeafTooBig else 0)
+      val mask = (1L << cfg.leafCountBits) - 1
+      val index = if (n.isLeaf) n.word1 & ((1L << cfg.triIndexBits) - 1) else n.word1 & ((1L << cfg.nodeIndexBits) - 1)
+      (ControlGolden.Ref(n.isLeaf, index, (n.word0 & mask).toInt), present, errors)
+    }
+    Decoded(ControlGolden.NodeView(decoded.map(_._1), (slots(0).word0 & 3).toInt, decoded.map(_._3).foldLeft(0)(_ | _)),
+      decoded.map(_._2))
   }
 }

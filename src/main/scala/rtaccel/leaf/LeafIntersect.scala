@@ -45,7 +45,9 @@ class BestHit(cfg: AccelConfig) extends Bundle {
   *    test sees it (the golden model relies on that).
   *
   * Every queue holds up to `numRayIds` entries, and each ray is in one place,
-  * so none can overflow and the response channel is always ready.
+  * so none can overflow and the response channel is always ready. The one
+  * enqueue that cannot wait (a ray's last answer, into `exits`) is checked:
+  * `broken` latches if it ever found the queue full.
   */
 class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimUnit[T]) extends Module {
   val port: MemPortParams = LeafIntersect.port(cfg)
@@ -63,6 +65,8 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimUnit[
     val result   = Output(Valid(new BestHit(cfg)))
     /** Triangle tests done (performance counter input). */
     val tested  = Output(Bool())
+    /** Sticky: an answer's exit found the exit queue full (a lost ray; cannot happen, see above). */
+    val broken  = Output(Bool())
   })
   override def desiredName = s"LeafIntersect_n${cfg.numRayIds}"
 
@@ -173,6 +177,9 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimUnit[
   exits.io.enq.valid := lastAnswer || issueExit
   exits.io.enq.bits  := Mux(lastAnswer, exitOf(doneId, doneTok), exitOf(issueIdReg, issueTok))
   when(issueExit && exits.io.enq.ready) { stoppingReg := false.B }
+  private val brokenReg = RegInit(false.B)
+  when(lastAnswer && !exits.io.enq.ready) { brokenReg := true.B }
+  io.broken := brokenReg
 
   // A ray leaves only after its tmax is written (see the class comment): first
   // the write, then the exit. (Valid never waits on ready, which an RRArbiter

@@ -4,8 +4,10 @@ import java.nio.{ByteBuffer, ByteOrder}
 import java.nio.file.{Files, Path}
 
 /** A nori-bridge memory image (`image.bin`), as specified in
-  * docs/memory-format.md: a 64-byte little-endian header, then 32-byte BVH
-  * nodes and 48-byte triangle records, each section 64-byte aligned.
+  * docs/memory-format.md (version 2): a 64-byte little-endian header, then
+  * BVH nodes of the header's layout (32-byte nori nodes, or wide nodes of K
+  * 32-byte child slots) and 48-byte triangle records, each section 64-byte
+  * aligned.
   *
   * The hardware sees this file as its memory, byte address 0 = file offset 0.
   */
@@ -22,18 +24,20 @@ final class MemoryImage private (val source: String, val bytes: Array[Byte]) {
   val nodeBytes: Long   = u32(28)
   val triBytes: Long    = u32(32)
   val maxLeafSize: Long = u32(36)
+  /** The largest stack the layout's traversal can need. */
   val bvhDepth: Long    = u32(40)
+  val layout: rtaccel.BvhLayout = rtaccel.BvhLayout.fromCode(u32(44), source)
 
   private def fail(what: String): Nothing = throw new IllegalArgumentException(s"$source: $what")
   if (version != Version) fail(s"format version $version, this build reads version $Version")
-  if (nodeBytes != NodeBytes) fail(s"nodeBytes = $nodeBytes, expected $NodeBytes")
+  if (nodeBytes != layout.nodeBytes) fail(s"nodeBytes = $nodeBytes, expected ${layout.nodeBytes} for layout ${layout.name}")
   if (triBytes != TriBytes) fail(s"triBytes = $triBytes, expected $TriBytes")
   if (nodeCount < 1) fail("nodeCount = 0: an image needs at least a root node")
   if (nodeOffset % 64 != 0 || triOffset % 64 != 0) fail(s"sections not 64-byte aligned (nodeOffset=$nodeOffset, triOffset=$triOffset)")
-  if (nodeOffset + nodeCount * NodeBytes > bytes.length) fail(s"node section [$nodeOffset, +${nodeCount * NodeBytes}) runs past the file end (${bytes.length} bytes)")
+  if (nodeOffset + nodeCount * nodeBytes > bytes.length) fail(s"node section [$nodeOffset, +${nodeCount * nodeBytes}) runs past the file end (${bytes.length} bytes)")
   if (triOffset + triCount * TriBytes > bytes.length) fail(s"triangle section [$triOffset, +${triCount * TriBytes}) runs past the file end (${bytes.length} bytes)")
 
-  def nodeAddr(index: Long): Long = nodeOffset + index * NodeBytes
+  def nodeAddr(index: Long): Long = nodeOffset + index * nodeBytes
   def triAddr(index: Long): Long  = triOffset + index * TriBytes
 
   /** `n` bytes at `addr` as an unsigned little-endian integer (byte 0 in bits 7..0). */
@@ -49,8 +53,9 @@ final class MemoryImage private (val source: String, val bytes: Array[Byte]) {
 
 object MemoryImage {
   val Magic: Array[Byte] = "RTACCEL\u0000".getBytes("US-ASCII")
-  val Version = 1L
+  val Version = 2L
   val HeaderBytes = 64
+  /** Bytes of a nori node, and of one wide-node slot. */
   val NodeBytes = 32
   val TriBytes = 48
 
@@ -68,7 +73,9 @@ object MemoryImage {
   }
 }
 
-/** A node record's raw fields (docs/memory-format.md). */
+/** A 32-byte node record's raw fields: a nori node, or one slot of a wide
+  * node (docs/memory-format.md).
+  */
 final case class NodeRecord(word0: Long, word1: Long, boxMin: Seq[Long], boxMax: Seq[Long]) {
   def isLeaf: Boolean = (word0 >> 31) != 0
   def low31: Long = word0 & 0x7fffffffL
@@ -78,8 +85,9 @@ final case class NodeRecord(word0: Long, word1: Long, boxMin: Seq[Long], boxMax:
 final case class TriangleRecord(vertexWords: Seq[Long], prim: Long, flags: Long)
 
 object Records {
-  def node(img: MemoryImage, i: Long): NodeRecord = {
-    val w = (0 until 8).map(k => img.readLE(img.nodeAddr(i) + 4 * k, 4).toLong)
+  /** Node `i`'s 32-byte records: the node itself (nori), or its K slots (wide). */
+  def node(img: MemoryImage, i: Long): IndexedSeq[NodeRecord] = (0 until img.layout.lanes).map { s =>
+    val w = (0 until 8).map(k => img.readLE(img.nodeAddr(i) + 32 * s + 4 * k, 4).toLong)
     NodeRecord(w(0), w(1), w.slice(2, 5), w.slice(5, 8))
   }
   def triangle(img: MemoryImage, i: Long): TriangleRecord = {

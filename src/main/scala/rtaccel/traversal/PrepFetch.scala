@@ -25,14 +25,14 @@ class PrepFetch(cfg: AccelConfig) extends Module {
     /** Rays waiting in the queue or for memory (a performance counter input). */
     val waiting  = Output(UInt(log2Ceil(cfg.numRayIds + 1).W))
   })
-  override def desiredName = s"PrepFetch_n${cfg.numRayIds}"
+  override def desiredName = s"PrepFetch_k${cfg.boxLanes}_n${cfg.numRayIds}"
 
   private val queue = Module(new Queue(new TraversalToken(cfg), cfg.numRayIds))
   queue.io.enq <> io.in
 
   private val parked = Mem(cfg.numRayIds, new TraversalToken(cfg))
   io.mem.req.valid     := queue.io.deq.valid
-  io.mem.req.bits.addr := io.nodeBase + (queue.io.deq.bits.nodeIdx << log2Ceil(BvhNode.RecordBytes))
+  io.mem.req.bits.addr := io.nodeBase + (queue.io.deq.bits.nodeIdx << log2Ceil(cfg.layout.nodeBytes))
   io.mem.req.bits.tag  := queue.io.deq.bits.rayId
   queue.io.deq.ready   := io.mem.req.ready
   when(io.mem.req.fire) { parked.write(queue.io.deq.bits.rayId, queue.io.deq.bits) }
@@ -49,8 +49,8 @@ class PrepFetch(cfg: AccelConfig) extends Module {
 }
 
 object PrepFetch {
-  /** Node requests are tagged with the ray ID. */
-  def port(cfg: AccelConfig): MemPortParams = MemPortParams(cfg.addrBits, cfg.rayIdBits, BvhNode.RecordBytes)
+  /** Node requests are tagged with the ray ID; one request brings one whole node record. */
+  def port(cfg: AccelConfig): MemPortParams = MemPortParams(cfg.addrBits, cfg.rayIdBits, cfg.layout.nodeBytes)
 }
 
 /** A ray's token with the node it fetched. */

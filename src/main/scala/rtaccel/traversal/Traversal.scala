@@ -2,7 +2,6 @@ package rtaccel.traversal
 
 import chisel3._
 import chisel3.util._
-import rtaccel.fetch.EntryToken
 import rtaccel.leaf.{LeafExit, LeafJob}
 import rtaccel.mem.MemPort
 import rtaccel.{AccelConfig, BvhNode, Datapath}
@@ -10,9 +9,10 @@ import rtaccel.{AccelConfig, BvhNode, Datapath}
 /** The traversal loop: box test → decision → node fetch → box test …
   *
   *  - Box stage: node answers from PrepFetch take priority over new rays
-  *    (which bring the on-chip root), since answers cannot wait (the memory is
-  *    never back-pressured). The ray is read from the RayBuffer in the
-  *    selection cycle and meets its node at the BoxUnit one cycle later.
+  *    from InitTraversal (which bring the on-chip root), since answers cannot
+  *    wait (the memory is never back-pressured). The ray is read from the
+  *    RayBuffer in the selection cycle and meets its node at BboxIntersect
+  *    one cycle later, which tests all of the node's child boxes at once.
   *  - Box results wait in a queue, then share TraversalControl round-robin with
   *    rays coming back from leaves.
   *  - TRAVERSE/GOBACK go to PrepFetch, LEAF to LeafIntersect, DONE out.
@@ -31,11 +31,15 @@ class Traversal[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
     val done     = Decoupled(new TraversalToken(cfg))
     /** Sticky: some enqueue found its queue full (cannot happen; see above). */
     val overflow = Output(Bool())
+    /** Performance counter inputs: a node tested, and how many used child boxes it had. */
     val boxTests = Output(Bool())
+    val childBoxes = Output(UInt(log2Ceil(cfg.boxLanes + 1).W))
+    /** A decision, and whether it was for a ray back from a leaf. */
     val control  = Output(Valid(TraversalState()))
+    val leafReturn = Output(Bool())
     val fetchWaiting = Output(UInt(log2Ceil(cfg.numRayIds + 1).W))
   })
-  override def desiredName = s"Traversal_n${cfg.numRayIds}_${dp.name}"
+  override def desiredName = s"Traversal_k${cfg.boxLanes}_n${cfg.numRayIds}_${dp.name}"
 
   private val fetch = Module(new PrepFetch(cfg))
   fetch.io.nodeBase := io.nodeBase
@@ -57,23 +61,30 @@ class Traversal[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   io.rayRead.rayId := pick.token.rayId
   private val atNode = Pipe(picked, pick, 1)
 
-  private val box = Module(dp.box(cfg))
-  box.io.in.valid       := atNode.valid
-  box.io.in.bits.ray    := io.rayRead.statics
-  box.io.in.bits.tmax   := io.rayRead.tmax
-  box.io.in.bits.boxMin := atNode.bits.node.boxMin
-  box.io.in.bits.boxMax := atNode.bits.node.boxMax
+  private val box = Module(new BboxIntersect(cfg, dp))
+  private val slots = atNode.bits.node.slots
+  box.io.in.valid        := atNode.valid
+  box.io.in.bits.ray     := io.rayRead.statics
+  box.io.in.bits.tmax    := io.rayRead.tmax
+  box.io.in.bits.boxMin  := VecInit(slots.map(_.boxMin))
+  box.io.in.bits.boxMax  := VecInit(slots.map(_.boxMax))
+  box.io.in.bits.present := VecInit(slots.map(_.present))
   private val tested = Pipe(atNode.valid, atNode.bits, box.latency)
-  io.boxTests := box.io.out.valid
+  io.boxTests   := box.io.out.valid
+  io.childBoxes := Mux(box.io.out.valid, PopCount(tested.bits.node.slots.map(_.present)), 0.U)
 
   // ---- Decision ----
   private val boxDone = Module(new Queue(new ControlIn(cfg), cfg.numRayIds))
-  boxDone.io.enq.valid         := box.io.out.valid
-  boxDone.io.enq.bits.token    := tested.bits.token
-  boxDone.io.enq.bits.fromLeaf := false.B
-  boxDone.io.enq.bits.occluded := false.B
-  boxDone.io.enq.bits.boxHit   := box.io.out.bits.hit
-  boxDone.io.enq.bits.links    := tested.bits.node.links
+  private val b = boxDone.io.enq.bits
+  boxDone.io.enq.valid := box.io.out.valid
+  b.token      := tested.bits.token
+  b.fromLeaf   := false.B
+  b.occluded   := false.B
+  b.hit        := box.io.out.bits.hit
+  b.near       := box.io.out.bits.near
+  b.refs       := VecInit(tested.bits.node.slots.map(_.child))
+  b.axis       := tested.bits.node.axis
+  b.nodeErrors := tested.bits.node.errors
 
   private val fromLeaf = Wire(Decoupled(new ControlIn(cfg)))
   fromLeaf.valid         := io.leafIn.valid
@@ -81,7 +92,8 @@ class Traversal[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   fromLeaf.bits.token    := io.leafIn.bits.token
   fromLeaf.bits.fromLeaf := true.B
   fromLeaf.bits.occluded := io.leafIn.bits.occluded
-  fromLeaf.bits.boxHit   := false.B
+  fromLeaf.bits.hit      := VecInit(Seq.fill(cfg.boxLanes)(false.B))
+  fromLeaf.bits.nodeErrors := 0.U
   io.leafIn.ready        := fromLeaf.ready
 
   private val arb = Module(new RRArbiter(new ControlIn(cfg), 2))
@@ -93,6 +105,7 @@ class Traversal[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   control.io.in.bits  := arb.io.out.bits
   io.control.valid := control.io.out.valid
   io.control.bits  := control.io.out.bits.state
+  io.leafReturn    := arb.io.out.valid && arb.io.out.bits.fromLeaf
 
   // ---- Routing ----
   private val out   = control.io.out

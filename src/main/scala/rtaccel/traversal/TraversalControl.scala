@@ -2,11 +2,13 @@ package rtaccel.traversal
 
 import chisel3._
 import chisel3.util._
-import rtaccel.{AccelConfig, ErrorFlags, NodeLinks}
+import rtaccel.fp.FpOrder
+import rtaccel.{AccelConfig, BvhLayout, ChildRef, ErrorFlags}
 
 /** Where a ray goes after TraversalControl. TRAVERSE and GOBACK both lead to
-  * a node fetch (the near child, or the node popped off the stack); they are
-  * kept apart for the performance counters.
+  * a node fetch (the nearest hit child, or the node popped off the stack);
+  * they are kept apart for the performance counters. LEAF hands a triangle
+  * range to LeafIntersect, whether it was the nearest child or popped.
   */
 object TraversalState extends ChiselEnum {
   val Traverse, Leaf, GoBack, Done = Value
@@ -14,13 +16,19 @@ object TraversalState extends ChiselEnum {
 
 class ControlIn(cfg: AccelConfig) extends Bundle {
   val token    = new TraversalToken(cfg)
-  /** Back from LeafIntersect (`links` and `boxHit` are then ignored). */
+  /** Back from LeafIntersect (the node fields are then ignored). */
   val fromLeaf = Bool()
   /** With `fromLeaf`: a shadow ray found an occluder, so it is finished. */
   val occluded = Bool()
-  /** The ray hit the box of node `token.nodeIdx`, whose links these are. */
-  val boxHit   = Bool()
-  val links    = new NodeLinks(cfg)
+  /** BboxIntersect's answer for each slot of node `token.nodeIdx`. */
+  val hit      = Vec(cfg.boxLanes, Bool())
+  val near     = Vec(cfg.boxLanes, UInt(cfg.float.width.W))
+  /** Where each slot leads (nori: the node itself). */
+  val refs     = Vec(cfg.boxLanes, new ChildRef(cfg))
+  /** Nori layout: the node's split axis. */
+  val axis     = UInt(2.W)
+  /** Decode errors of the node's used slots. */
+  val nodeErrors = ErrorFlags()
 }
 
 class ControlOut(cfg: AccelConfig) extends Bundle {
@@ -31,72 +39,135 @@ class ControlOut(cfg: AccelConfig) extends Bundle {
   val leafCount = UInt(cfg.leafCountBits.W)
 }
 
-/** One traversal decision per cycle, for whichever ray arrives:
-  *  - box hit, inner node: TRAVERSE to the near child, pushing the far one;
-  *  - box hit, leaf: LEAF, to LeafIntersect;
-  *  - box miss, or back from a leaf: GOBACK to the popped node, or DONE when
-  *    the stack is empty;
+/** One traversal decision per cycle, for whichever ray arrives
+  * (docs/architecture.md; its Scala twin is ControlGolden):
+  *  - some child box hit: the nearest hit child is next: TRAVERSE to it (an
+  *    inner node) or LEAF (its triangles); the other hit children are pushed,
+  *    farthest first, so the next nearest is on top;
+  *  - no hit, or back from a leaf: pop; a popped inner node is GOBACK (fetch
+  *    it), a popped leaf is LEAF; DONE when the stack is empty;
   *  - any error flag: DONE, so the ray returns with its flag set.
-  * A push onto a full stack sets StackOverflow and ends the ray; no subtree is
-  * ever dropped silently.
+  * Pushes that would pass `stackDepth` set StackOverflow and end the ray: no
+  * subtree is ever dropped silently.
   *
-  * Latency 1: the decision and the stack access happen in the input cycle;
-  * the output (with the popped value, read synchronously) the next cycle. A
-  * ray is never in this unit twice at once, so consecutive accesses belong to
-  * different rays and there is no read-after-write hazard on a stack.
+  * Nearest: in the nori layout, the near child by the ray's direction along
+  * the split axis (the node holds one box, its own); in a wide layout, the
+  * hit children in order of entry distance, ties to the lower slot, a total
+  * order, so the golden model stays bit-exact.
+  *
+  * Pipeline: wide layouts rank the children in a first cycle (K(K-1)/2 key
+  * comparisons and a popcount per lane); then the decision and the stack
+  * access; the popped value (synchronous read) joins the output the cycle
+  * after. A ray is never in this unit twice at once, so no stack hazard.
   */
 class TraversalControl(cfg: AccelConfig) extends Module {
   val io = IO(new Bundle {
     val in  = Flipped(Valid(new ControlIn(cfg)))
     val out = Valid(new ControlOut(cfg))
   })
-  override def desiredName = s"TraversalControl_n${cfg.numRayIds}_d${cfg.stackDepth}"
+  override def desiredName = s"TraversalControl_k${cfg.boxLanes}_n${cfg.numRayIds}_d${cfg.stackDepth}"
 
-  private val stack = Module(new RayStack(cfg))
-  private val in    = io.in.bits
-  private val tok   = in.token
-  private val links = in.links
+  private val k = cfg.boxLanes
+  private val pushes = cfg.layout.maxPushes
+  private val rankBits = log2Ceil(k).max(1)
+  val latency: Int = if (cfg.layout == BvhLayout.Nori) 1 else 2
 
-  private val errorsIn  = tok.errors | Mux(in.fromLeaf, 0.U, links.errors)
-  private val descend   = !in.fromLeaf && in.boxHit && !links.isLeaf
-  private val enterLeaf = !in.fromLeaf && in.boxHit && links.isLeaf
-  private val stackFull = tok.sp === cfg.stackDepth.U
+  // ---- Rank stage (wide): rank(i) = hit children before child i ----
+  class Ranked extends Bundle {
+    val in   = new ControlIn(cfg)
+    val hit  = Vec(k, Bool())
+    val rank = Vec(k, UInt(rankBits.W))
+    val hits = UInt(log2Ceil(k + 1).W)
+  }
+  private def rank(in: ControlIn): Ranked = {
+    val r = Wire(new Ranked)
+    r.in := in
+    r.hit := VecInit(in.hit.map(_ && !in.fromLeaf))
+    val keys = in.near.map(FpOrder.key(cfg.float, _))
+    for (i <- 0 until k) {
+      val before = for (j <- 0 until k if j != i) yield
+        r.hit(j) && (if (j < i) keys(j) <= keys(i) else keys(j) < keys(i))
+      r.rank(i) := PopCount(before)
+    }
+    r.hits := PopCount(r.hit)
+    r
+  }
+  private val (valid, d) = cfg.layout match {
+    case BvhLayout.Nori => (io.in.valid, rank(io.in.bits))
+    case _              => (RegNext(io.in.valid, false.B), RegEnable(rank(io.in.bits), io.in.valid))
+  }
+
+  // ---- Decision: the next child and the pushes ----
+  private val in  = d.in
+  private val tok = in.token
+  private val chosen    = Wire(new ChildRef(cfg))
+  private val chosenOk  = Wire(Bool())
+  private val pushCount = Wire(UInt(log2Ceil(pushes + 1).W))
+  private val pushVals  = Wire(Vec(pushes, new ChildRef(cfg)))
+  cfg.layout match {
+    case BvhLayout.Nori =>
+      // Near child first: left (= this node + 1) unless the ray runs toward
+      // negative coordinates along the split axis.
+      val self = in.refs(0)
+      val left = tok.nodeIdx + 1.U
+      val rightNear = tok.dirNeg(in.axis)
+      def inner(idx: UInt): ChildRef = {
+        val c = Wire(new ChildRef(cfg)); c := DontCare
+        c.isLeaf := false.B; c.index := idx; c.count := 0.U
+        c
+      }
+      chosenOk  := d.hit(0)
+      chosen    := Mux(self.isLeaf, self, inner(Mux(rightNear, self.index, left)))
+      pushCount := (d.hit(0) && !self.isLeaf).asUInt
+      pushVals(0) := inner(Mux(rightNear, left, self.index))
+    case _: BvhLayout.Wide =>
+      chosenOk  := d.hits =/= 0.U
+      chosen    := Mux1H(d.hit.zip(d.rank).map { case (h, r) => h && r === 0.U }, in.refs)
+      pushCount := Mux(chosenOk, d.hits - 1.U, 0.U)
+      // Port p (slot sp + p) takes the child ranked hits-1-p: farthest lowest.
+      for (p <- 0 until pushes)
+        pushVals(p) := Mux1H(d.hit.zip(d.rank).map { case (h, r) => h && r === d.hits - 1.U - p.U }, in.refs)
+  }
+
+  private val errorsIn  = tok.errors | Mux(in.fromLeaf, 0.U, in.nodeErrors)
+  private val overflow  = chosenOk && (tok.sp +& pushCount > cfg.stackDepth.U)
+  private val errors    = errorsIn | Mux(overflow, ErrorFlags.bit(ErrorFlags.StackOverflow), 0.U)
   private val stackEmpty = tok.sp === 0.U
-  private val errors    = errorsIn | Mux(descend && stackFull, ErrorFlags.bit(ErrorFlags.StackOverflow), 0.U)
-  private val finished  = errors.orR || (in.fromLeaf && in.occluded) || (!descend && !enterLeaf && stackEmpty)
+  private val finished  = errors.orR || (in.fromLeaf && in.occluded) || (!chosenOk && stackEmpty)
 
   private val state = Wire(TraversalState())
   state := Mux(finished, TraversalState.Done,
-    Mux(descend, TraversalState.Traverse, Mux(enterLeaf, TraversalState.Leaf, TraversalState.GoBack)))
+    Mux(!chosenOk, TraversalState.GoBack, Mux(chosen.isLeaf, TraversalState.Leaf, TraversalState.Traverse)))
 
-  // Near child first: left (= this node + 1) unless the ray runs toward
-  // negative coordinates along the split axis.
-  private val left     = tok.nodeIdx + 1.U
-  private val rightNear = tok.dirNeg(links.axis)
-  private val near     = Mux(rightNear, links.rightChild, left)
-  private val far      = Mux(rightNear, left, links.rightChild)
-
-  private val doPush = io.in.valid && state === TraversalState.Traverse
-  private val doPop  = io.in.valid && state === TraversalState.GoBack
-  stack.io.en      := doPush || doPop
-  stack.io.isPush  := doPush
-  stack.io.rayId   := tok.rayId
-  stack.io.slot    := Mux(doPush, tok.sp, tok.sp - 1.U)
-  stack.io.pushVal := far
+  private val stack = Module(new RayStack(cfg))
+  private val descend = valid && !finished && chosenOk
+  stack.io.rayId     := tok.rayId
+  stack.io.sp        := tok.sp
+  stack.io.pushCount := Mux(descend, pushCount, 0.U)
+  stack.io.pushVals  := pushVals
+  stack.io.pop       := valid && state === TraversalState.GoBack
 
   private val next = Wire(new ControlOut(cfg))
-  next.state        := state
-  next.token        := tok
-  next.token.errors := errors
-  next.token.sp     := MuxLookup(state.asUInt, tok.sp)(Seq(
-    TraversalState.Traverse.asUInt -> (tok.sp + 1.U),
-    TraversalState.GoBack.asUInt   -> (tok.sp - 1.U)))
-  next.token.nodeIdx := Mux(state === TraversalState.Traverse, near, tok.nodeIdx)
-  next.leafFirst    := links.first
-  next.leafCount    := links.count
+  next.state         := state
+  next.token         := tok
+  next.token.errors  := errors
+  next.token.sp      := Mux(finished, tok.sp, Mux(chosenOk, tok.sp + pushCount, tok.sp - 1.U))
+  next.token.nodeIdx := Mux(state === TraversalState.Traverse, chosen.index(cfg.nodeIndexBits - 1, 0), tok.nodeIdx)
+  next.leafFirst     := chosen.index(cfg.triIndexBits - 1, 0)
+  next.leafCount     := chosen.count
 
-  private val outReg = RegEnable(next, io.in.valid)
-  io.out.valid := RegNext(io.in.valid, false.B)
+  private val outReg = RegEnable(next, valid)
+  io.out.valid := RegNext(valid, false.B)
   io.out.bits  := outReg
-  when(outReg.state === TraversalState.GoBack) { io.out.bits.token.nodeIdx := stack.io.popVal }
+  // A popped entry: an inner node to fetch (GOBACK), or a leaf to test (LEAF).
+  private val popped = stack.io.popVal
+  when(outReg.state === TraversalState.GoBack) {
+    when(popped.isLeaf) {
+      io.out.bits.state     := TraversalState.Leaf
+      io.out.bits.leafFirst := popped.index(cfg.triIndexBits - 1, 0)
+      io.out.bits.leafCount := popped.count
+    }.otherwise {
+      io.out.bits.token.nodeIdx := popped.index(cfg.nodeIndexBits - 1, 0)
+    }
+  }
 }

@@ -3,7 +3,7 @@ package rtaccel.fetch
 import chisel3._
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
-import rtaccel.AccelConfig
+import rtaccel.{AccelConfig, BvhLayout, BvhNode}
 import rtaccel.system.FieldDatapath
 import rtaccel.testutil.{Backends, Seeded}
 
@@ -12,14 +12,24 @@ import scala.collection.mutable
 class FetchBVHSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "FetchBVH"
 
-  private val cfg = AccelConfig(numRayIds = 4, stackDepth = 4, maxNodes = 256, maxTriangles = 256, maxLeafSize = 4)
-  private def node(word0: Long, box: Int): BigInt =
-    BigInt(word0) + (0 until 6).map(i => BigInt(box + i) << (64 + 32 * i)).sum
+  // A 4-wide layout: the root is a 128-byte record of four slots.
+  private val cfg = AccelConfig(numRayIds = 4, stackDepth = 4, maxNodes = 256, maxTriangles = 256, maxLeafSize = 4,
+    layout = BvhLayout.Wide(4))
+  /** Slots 0 and 1 inner children, 2 and 3 empty; slot s's box words are box + 8 s + i. */
+  private def node(box: Int): BigInt = (0 until 4).map { s =>
+    val word0 = if (s < 2) BigInt(0) else BigInt(BvhNode.EmptySlot)
+    (word0 + (0 until 6).map(i => BigInt(box + 8 * s + i) << (64 + 32 * i)).sum) << (256 * s)
+  }.sum
+  private def expectRoot(dut: FetchBVH[UInt], box: Int, what: String): Unit =
+    for (s <- 0 until 4) {
+      dut.io.root.slots(s).present.expect((s < 2).B, s"$what: slot $s used")
+      for (i <- 0 until 3) dut.io.root.slots(s).boxMin(i).expect((box + 8 * s + i).U, s"$what: slot $s min[$i]")
+      for (i <- 0 until 3) dut.io.root.slots(s).boxMax(i).expect((box + 8 * s + 3 + i).U, s"$what: slot $s max[$i]")
+    }
 
   private def idle(dut: FetchBVH[UInt]): Unit = {
     dut.io.rays.valid.poke(false.B); dut.io.free.valid.poke(false.B)
     dut.io.mem.req.ready.poke(true.B); dut.io.mem.resp.valid.poke(false.B)
-    dut.io.enter.ready.poke(true.B); dut.io.out.ready.poke(true.B)
   }
   private def offer(dut: FetchBVH[UInt], number: Int, shadow: Boolean): Unit = {
     dut.io.rays.valid.poke(true.B)
@@ -42,58 +52,58 @@ class FetchBVHSpec extends AnyFlatSpec with ChiselScalatestTester {
     assert(tag >= 0, "no root request")
     dut.io.mem.req.valid.expect(false.B, "one root request only")
     dut.io.rays.ready.expect(false.B, "rays must wait for the root")
-    dut.io.mem.resp.valid.poke(true.B); dut.io.mem.resp.bits.tag.poke(tag.U); dut.io.mem.resp.bits.data.poke(node(1, box).U)
+    dut.io.mem.resp.valid.poke(true.B); dut.io.mem.resp.bits.tag.poke(tag.U); dut.io.mem.resp.bits.data.poke(node(box).U)
     dut.clock.step()
     dut.io.mem.resp.valid.poke(false.B)
     tag
   }
 
-  it should "fetch the root once, hold rays until it arrives, and write each ray before it enters" in Seeded("FetchBVH.root") { rnd =>
+  it should "fetch the root once, hold rays until it arrives, give each ray a fresh ID and prepare it" in Seeded("FetchBVH.root") { rnd =>
     test(new FetchBVH(cfg, FieldDatapath)).withAnnotations(Backends.treadle) { dut =>
       idle(dut)
       dut.io.nodeBase.poke(0x400.U)
       offer(dut, 0, shadow = false)
       answerRoot(dut, 0x400, box = 100)
-      val entered = mutable.Set.empty[Int]
+      expectRoot(dut, 100, "the on-chip root")
       val started = mutable.Map.empty[Int, Int] // ID -> ray number
+      val startedAt = mutable.Map.empty[Int, Int] // ID -> cycle
       var numberNext = 0
       var requests = 0
-      var pendingFree: Option[Int] = None
+      var prepared = 0
+      var pendingFree = mutable.Queue.empty[(Int, Int)] // (cycle to free, ID)
       for (cycle <- 0 until 400) {
-        // Random back-pressure on both outputs; free IDs of rays that went out.
-        dut.io.enter.ready.poke(rnd.nextBoolean().B); dut.io.out.ready.poke(rnd.nextBoolean().B)
-        offer(dut, numberNext, shadow = numberNext % 3 == 0)
+        // Random gaps in the offered rays; IDs come back a random while after their ray was prepared.
+        val offering = rnd.nextInt(4) != 0
+        if (offering) offer(dut, numberNext, shadow = numberNext % 3 == 0) else dut.io.rays.valid.poke(false.B)
         if (dut.io.mem.req.valid.peek().litToBoolean) requests += 1
-        if (dut.io.rays.ready.peek().litToBoolean) {
+        if (offering && dut.io.rays.ready.peek().litToBoolean) {
           dut.io.started.valid.expect(true.B)
           val id = dut.io.started.bits.peek().litValue.toInt
           assert(!started.contains(id), s"cycle $cycle: ID $id handed to two rays")
           started(id) = numberNext
+          startedAt(id) = cycle
           numberNext += 1
-        }
-        if (dut.io.enter.valid.peek().litToBoolean && dut.io.enter.ready.peek().litToBoolean)
-          entered += dut.io.enter.bits.rayId.peek().litValue.toInt
-        val freeNow = if (dut.io.out.valid.peek().litToBoolean && dut.io.out.ready.peek().litToBoolean) {
-          val t = dut.io.out.bits.token
-          val id = t.rayId.peek().litValue.toInt
-          assert(entered.remove(id), s"cycle $cycle: ray $id went to the root before its RayBuffer write")
-          t.nodeIdx.expect(0.U); t.sp.expect(0.U)
-          t.dirNeg(0).expect(false.B); t.dirNeg(1).expect(true.B)
-          t.shadow.expect((started(id) % 3 == 0).B, s"ray ${started(id)} shadow flag")
-          dut.io.out.bits.root.boxMin(0).expect(100.U, "the on-chip root")
+        } else dut.io.started.valid.expect(false.B, s"cycle $cycle: started without a ray taken")
+        if (dut.io.prepared.valid.peek().litToBoolean) {
+          val p = dut.io.prepared.bits
+          val id = p.rayId.peek().litValue.toInt
+          assert(started.contains(id), s"cycle $cycle: prepared ray with ID $id, which no ray holds")
+          assert(cycle - startedAt(id) == FieldDatapath.prepLatency, s"cycle $cycle: ray $id prepared ${cycle - startedAt(id)} cycles after entry")
+          p.shadow.expect((started(id) % 3 == 0).B, s"ray ${started(id)} shadow flag")
+          p.ray.dirNeg(0).expect(false.B); p.ray.dirNeg(1).expect(true.B)
           dut.io.numberId.poke(id.U)
           dut.io.number.expect(started(id).U, s"host number of ID $id")
-          Some(id)
-        } else None
-        // The output stage frees an ID later; here in the next cycle.
-        dut.io.free.valid.poke(pendingFree.isDefined.B)
-        pendingFree.foreach(id => dut.io.free.bits.poke(id.U))
+          prepared += 1
+          pendingFree.enqueue((cycle + 1 + rnd.nextInt(20), id))
+        }
+        val due = pendingFree.headOption.filter(_._1 <= cycle)
+        dut.io.free.valid.poke(due.isDefined.B)
+        due.foreach { case (_, id) => dut.io.free.bits.poke(id.U) }
         dut.clock.step()
-        pendingFree.foreach(started.remove)
-        pendingFree = freeNow
+        due.foreach { case (_, id) => pendingFree.dequeue(); started.remove(id) }
       }
       assert(requests == 0, s"$requests node requests after the root: new rays must not fetch it again")
-      assert(numberNext > 40, s"only $numberNext rays entered in 400 cycles")
+      assert(prepared > 40 && prepared >= numberNext - cfg.numRayIds, s"only $prepared of $numberNext rays prepared in 400 cycles")
       dut.io.doubleFree.expect(false.B)
     }
   }
@@ -110,7 +120,7 @@ class FetchBVHSpec extends AnyFlatSpec with ChiselScalatestTester {
       dut.io.mem.req.ready.poke(false.B) // (memory busy: the refetch waits below)
       dut.io.nodeBase.poke(0x800.U) // ...and the scene changes before it is answered
       dut.clock.step()
-      dut.io.mem.resp.valid.poke(true.B); dut.io.mem.resp.bits.tag.poke(oldTag.U); dut.io.mem.resp.bits.data.poke(node(1, 7).U)
+      dut.io.mem.resp.valid.poke(true.B); dut.io.mem.resp.bits.tag.poke(oldTag.U); dut.io.mem.resp.bits.data.poke(node(7).U)
       dut.clock.step()
       dut.io.mem.resp.valid.poke(false.B)
       dut.io.rays.ready.expect(false.B, "a late answer for the old base is not the new root")
@@ -119,10 +129,7 @@ class FetchBVHSpec extends AnyFlatSpec with ChiselScalatestTester {
       assert(newTag != oldTag, "the refetch carries a new generation tag")
       offer(dut, 9, shadow = false)
       dut.io.rays.ready.expect(true.B)
-      dut.clock.step()
-      dut.io.rays.valid.poke(false.B)
-      while (!dut.io.out.valid.peek().litToBoolean) dut.clock.step()
-      dut.io.out.bits.root.boxMin(0).expect(200.U, "rays see the new scene's root")
+      expectRoot(dut, 200, "rays see the new scene's root")
     }
   }
 }

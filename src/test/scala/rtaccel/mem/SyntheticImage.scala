@@ -9,16 +9,16 @@ import scala.util.Random
   * tests of the memory model that need bytes, not a meaningful BVH.
   */
 object SyntheticImage {
-  def apply(nodes: Int, tris: Int, rnd: Random): MemoryImage = {
+  def apply(nodes: Int, tris: Int, rnd: Random, layout: rtaccel.BvhLayout = rtaccel.BvhLayout.Nori): MemoryImage = {
     def align64(x: Int) = (x + 63) / 64 * 64
     val nodeOffset = MemoryImage.HeaderBytes
-    val triOffset  = align64(nodeOffset + nodes * MemoryImage.NodeBytes)
+    val triOffset  = align64(nodeOffset + nodes * layout.nodeBytes)
     val total      = triOffset + tris * MemoryImage.TriBytes
     val bytes      = new Array[Byte](total)
     rnd.nextBytes(bytes)
     val h = ByteBuffer.wrap(bytes, 0, MemoryImage.HeaderBytes).order(ByteOrder.LITTLE_ENDIAN)
     h.put(MemoryImage.Magic)
-    Seq(MemoryImage.Version, nodes, tris, nodeOffset, triOffset, MemoryImage.NodeBytes, MemoryImage.TriBytes, 4, 8)
+    Seq(MemoryImage.Version, nodes, tris, nodeOffset, triOffset, layout.nodeBytes, MemoryImage.TriBytes, 4, 8, layout.code)
       .foreach(v => h.putInt(v.toInt))
     while (h.position() < MemoryImage.HeaderBytes) h.put(0.toByte)
     MemoryImage.fromBytes("synthetic", bytes)

@@ -33,8 +33,11 @@ object AccelHarness {
   def run[T <: Data](dut: SimTop[T], img: MemoryImage, rays: IndexedSeq[RayRecord], env: Environment,
       maxCycles: Long = 10000000L, stallLimit: Int = 20000, progress: Long => Unit = _ => ()): RunResult = {
     val rnd = new Random(env.seed)
-    val node = new MemPortDriver(new MemorySystemModel(img, 32, env.node, "node"), env.memRefuse, new Random(rnd.nextLong()))
-    val tri  = new MemPortDriver(new MemorySystemModel(img, 48, env.tri, "triangle"), env.memRefuse, new Random(rnd.nextLong()))
+    // Each port serves whole records of its width: a node (32 B nori, 32 K B wide) or a triangle.
+    val (nodeBytes, triBytes) = (dut.accel.io.nodeMem.p.dataBits / 8, dut.accel.io.triMem.p.dataBits / 8)
+    require(nodeBytes == img.nodeBytes, s"${img.source}: ${img.layout.name} nodes of ${img.nodeBytes} bytes, but the hardware reads $nodeBytes-byte nodes")
+    val node = new MemPortDriver(new MemorySystemModel(img, nodeBytes, env.node, "node"), env.memRefuse, new Random(rnd.nextLong()))
+    val tri  = new MemPortDriver(new MemorySystemModel(img, triBytes, env.tri, "triangle"), env.memRefuse, new Random(rnd.nextLong()))
     val st = new SimTop.Status(dut.accel)
     val io = dut.io
     io.nodeBase.poke(img.nodeOffset.U)

@@ -69,9 +69,9 @@ object FieldDatapath extends Datapath[UInt] {
     def prep(r: RayRecord): PreparedGolden[Int] =
       PreparedGolden((r.origin(0) & 0xffff).toInt, BigInt(r.tmax), r.dir.map(d => ((d >> 31) & 1) == 1),
         if ((r.origin ++ r.dir).exists(notFinite)) 1 << ErrorFlags.InvalidRay else 0)
-    def box(s: Int, tmax: BigInt, n: NodeRecord): Boolean = {
+    def box(s: Int, tmax: BigInt, n: NodeRecord): (Boolean, BigInt) = {
       val m = mix(s, n.boxMin(0))
-      ((m >> 15) & 1) + ((m >> 14) & 1) > 0 && BigInt(n.boxMin(1)) <= tmax
+      (((m >> 15) & 1) + ((m >> 14) & 1) > 0 && BigInt(n.boxMin(1)) <= tmax, BigInt(n.boxMin(1)))
     }
     def prim(s: Int, tmax: BigInt, tri: TriangleRecord): Option[(BigInt, BigInt, BigInt)] = {
       val w = tri.vertexWords

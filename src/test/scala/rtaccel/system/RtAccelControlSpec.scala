@@ -7,7 +7,7 @@ import rtaccel.golden.{HitRecord, RayRecord, TraversalGolden}
 import rtaccel.mem.{Latency, MemoryParams}
 import rtaccel.scene.MemoryImage
 import rtaccel.testutil.{Backends, Seeded, Waves}
-import rtaccel.{AccelConfig, ErrorFlags, RtAccel}
+import rtaccel.{AccelConfig, BvhLayout, ErrorFlags, RtAccel}
 
 import scala.util.Random
 
@@ -51,15 +51,25 @@ class RtAccelControlSpec extends AnyFlatSpec with ChiselScalatestTester {
                                          MemoryParams(Latency.Fixed(40), inOrder = true), hitRefuse = 0.2)
   )
 
-  for ((ids, rayCount) <- Seq(2 -> 150, 4 -> 250, 16 -> 600)) {
-    it should s"answer every ray exactly once, bit-exact with the golden model, with $ids ray IDs in every environment" in
-      Seeded(s"RtAccelControl.ids$ids") { rnd =>
-        val cfg = AccelConfig(numRayIds = ids, stackDepth = 5, maxNodes = 4096, maxTriangles = 4096, maxLeafSize = 4)
+  /** A synthetic tree of `layout`, and a stack that overflows on its deepest paths only. */
+  private def treeOf(layout: BvhLayout, rnd: Random, leafChance: Double = 0.3): (MemoryImage, Int) = layout match {
+    case BvhLayout.Nori => (SyntheticBvh(rnd, maxDepth = 7, maxLeaf = 4, leafChance), 5)
+    case w: BvhLayout.Wide =>
+      val depth = Map(2 -> 6, 4 -> 4, 8 -> 3)(w.k)
+      (SyntheticBvh(rnd, maxDepth = depth, maxLeaf = 4, leafChance, layout), (depth - 1) * w.maxPushes)
+  }
+
+  for (layout <- BvhLayout.all; (ids, rayCount) <- Seq(2 -> 150, 4 -> 250, 16 -> 600)
+       if layout == BvhLayout.Nori || layout == BvhLayout.Wide(4) || ids == 4) {
+    it should s"answer every ray exactly once, bit-exact with the golden model, with $ids ray IDs in every environment (layout ${layout.name})" in
+      Seeded(s"RtAccelControl.${layout.name}.ids$ids") { rnd =>
+        val (_, stack) = treeOf(layout, new Random(0))
+        val cfg = AccelConfig(numRayIds = ids, stackDepth = stack, maxNodes = 4096, maxTriangles = 4096, maxLeafSize = 4, layout = layout)
         Waves.onFailure(Backends.verilator) { annos => test(new SimTop(cfg, FieldDatapath)).withAnnotations(annos) { dut =>
           var first = true
           for (((name, env), k) <- envs.zipWithIndex) {
-            // Depth up to 7 with a 5-entry stack: some rays must overflow and say so.
-            val img = SyntheticBvh(new Random(rnd.nextLong()), maxDepth = 7, maxLeaf = 4)
+            // Trees deeper than the stack: some rays must overflow and say so.
+            val (img, _) = treeOf(layout, new Random(rnd.nextLong()))
             val rays = makeRays(rnd, rayCount)
             if (!first) dut.reset.poke(true.B)
             dut.clock.step(); dut.reset.poke(false.B)
@@ -72,9 +82,12 @@ class RtAccelControlSpec extends AnyFlatSpec with ChiselScalatestTester {
       }
   }
 
-  it should "flag stack overflow and invalid rays, never returning their hits" in Seeded("RtAccelControl.errors") { rnd =>
-    val cfg = AccelConfig(numRayIds = 4, stackDepth = 5, maxNodes = 4096, maxTriangles = 4096, maxLeafSize = 4)
-    val img = SyntheticBvh(new Random(rnd.nextLong()), maxDepth = 7, maxLeaf = 4, leafChance = 0.05)
+  for (layout <- Seq(BvhLayout.Nori, BvhLayout.Wide(4)))
+  it should s"flag stack overflow and invalid rays, never returning their hits (layout ${layout.name})" in Seeded(s"RtAccelControl.errors.${layout.name}") { rnd =>
+    val (img, bound) = treeOf(layout, new Random(rnd.nextLong()), leafChance = 0.05)
+    // Wide nodes: half the stack, so that full-width nodes along a path overflow it.
+    val stack = if (layout == BvhLayout.Nori) bound else bound / 2
+    val cfg = AccelConfig(numRayIds = 4, stackDepth = stack, maxNodes = 4096, maxTriangles = 4096, maxLeafSize = 4, layout = layout)
     val rays = makeRays(rnd, 300)
     val traces = rays.map(r => TraversalGolden.trace(cfg, img, FieldDatapath.Golden, r).hit)
     // The golden model must itself see both kinds of error, or this spec checks nothing.
@@ -88,8 +101,8 @@ class RtAccelControlSpec extends AnyFlatSpec with ChiselScalatestTester {
   }
 
   it should "take the same number of cycles for the same inputs" in Seeded("RtAccelControl.determinism") { rnd =>
-    val cfg = AccelConfig(numRayIds = 4, stackDepth = 5, maxNodes = 4096, maxTriangles = 4096, maxLeafSize = 4)
-    val img = SyntheticBvh(new Random(rnd.nextLong()), maxDepth = 7, maxLeaf = 4)
+    val (img, stack) = treeOf(BvhLayout.Wide(4), new Random(rnd.nextLong()))
+    val cfg = AccelConfig(numRayIds = 4, stackDepth = stack, maxNodes = 4096, maxTriangles = 4096, maxLeafSize = 4)
     val rays = makeRays(rnd, 200)
     val env = Environment(MemoryParams(Latency.Uniform(20, 80)), MemoryParams(Latency.Uniform(20, 80)), rayGap = 0.2, hitRefuse = 0.2, seed = rnd.nextLong())
     Waves.onFailure(Backends.verilator) { annos => test(new SimTop(cfg, FieldDatapath)).withAnnotations(annos) { dut =>

@@ -1,61 +1,95 @@
 package rtaccel.system
 
+import rtaccel.BvhLayout
 import rtaccel.scene.MemoryImage
 
 import java.nio.{ByteBuffer, ByteOrder}
 import scala.collection.mutable
 import scala.util.Random
 
-/** A random BVH in the real memory format (depth-first, left child = index
-  * + 1), for control-path tests with FieldDatapath: box words carry hash
-  * inputs and a culling distance, triangle words carry t/u/v and a hit key.
+/** A random BVH in the real memory format of a layout (docs/memory-format.md),
+  * for control-path tests with FieldDatapath: box words carry hash inputs and
+  * a culling distance (word 3 = boxMin.y, a small float, also the entry
+  * distance that orders a wide node's children, so ties are common), triangle
+  * words carry t/u/v and a hit key.
+  *
+  *  - nori: depth-first, left child = index + 1, right child stored.
+  *  - wide: nodes of K slots, 1..K used (the rest empty), each a leaf (0..maxLeaf
+  *    triangles) or an inner child.
+  * The header's bvhDepth is the layout's stack bound, computed as documented.
   */
 object SyntheticBvh {
   private def f(x: Float): Int = java.lang.Float.floatToRawIntBits(x)
 
-  def apply(rnd: Random, maxDepth: Int, maxLeaf: Int, leafChance: Double = 0.3): MemoryImage = {
+  def apply(rnd: Random, maxDepth: Int, maxLeaf: Int, leafChance: Double = 0.3,
+      layout: BvhLayout = BvhLayout.Nori): MemoryImage = {
     val nodes = mutable.ArrayBuffer.empty[Array[Int]]
     val tris  = mutable.ArrayBuffer.empty[Array[Int]]
-    var depthSeen = 0
-    def box(n: Array[Int]): Unit = {
-      n(2) = rnd.nextInt()
-      n(3) = f(rnd.nextInt(9).toFloat) // culled once the ray has a hit closer than this
-      for (k <- 4 until 8) n(k) = rnd.nextInt()
+    val k = layout.lanes
+    def box(n: Array[Int], at: Int): Unit = {
+      n(at + 2) = rnd.nextInt()
+      n(at + 3) = f(rnd.nextInt(9).toFloat) // culled once the ray has a hit closer than this
+      for (i <- 4 until 8) n(at + i) = rnd.nextInt()
     }
-    def build(depth: Int): Unit = {
-      depthSeen = depthSeen.max(depth)
+    def leafTris(): (Int, Int) = {
+      val count = rnd.nextInt(maxLeaf + 1)
+      val first = tris.size
+      for (_ <- 0 until count) {
+        val t = Array.fill(12)(0)
+        t(0) = f((1 + rnd.nextInt(8)).toFloat); t(1) = rnd.nextInt(); t(2) = rnd.nextInt(); t(3) = rnd.nextInt()
+        tris += t
+      }
+      ((1 << 31) | count, first)
+    }
+    // Returns the stack bound of the subtree (sum of used slots - 1 along the worst path).
+    def buildNori(depth: Int): Int = {
       val n = new Array[Int](8)
       nodes += n
-      box(n)
+      box(n, 0)
       if (depth >= maxDepth || (depth > 0 && rnd.nextDouble() < leafChance)) {
-        val count = rnd.nextInt(maxLeaf + 1)
-        n(0) = (1 << 31) | count
-        n(1) = tris.size
-        for (_ <- 0 until count) {
-          val t = Array.fill(12)(0)
-          t(0) = f((1 + rnd.nextInt(8)).toFloat); t(1) = rnd.nextInt(); t(2) = rnd.nextInt(); t(3) = rnd.nextInt()
-          tris += t
-        }
+        val (w0, w1) = leafTris(); n(0) = w0; n(1) = w1
+        0
       } else {
         n(0) = rnd.nextInt(3)
-        build(depth + 1)
+        val l = buildNori(depth + 1)
         n(1) = nodes.size
-        build(depth + 1)
+        1 + l.max(buildNori(depth + 1))
       }
     }
-    build(0)
+    def buildWide(depth: Int): Int = {
+      val n = new Array[Int](8 * k)
+      nodes += n
+      val used = if (depth == 0) 1 + rnd.nextInt(k) else 2 + rnd.nextInt(k - 1)
+      var deepest = 0
+      for (s <- 0 until k) {
+        if (s >= used) n(8 * s) = rtaccel.BvhNode.EmptySlot.toInt // empty: word0 marks it, the rest stays zero
+        else {
+          box(n, 8 * s)
+          if (depth + 1 >= maxDepth || rnd.nextDouble() < leafChance) {
+            val (w0, w1) = leafTris(); n(8 * s) = w0; n(8 * s + 1) = w1
+          } else {
+            n(8 * s) = 0
+            n(8 * s + 1) = nodes.size
+            deepest = deepest.max(buildWide(depth + 1))
+          }
+        }
+      }
+      used - 1 + deepest
+    }
+    val stackBound = if (layout == BvhLayout.Nori) buildNori(0) else buildWide(0)
     // prim: each triangle's number in a scrambled (but unique) order.
     val order = rnd.shuffle(tris.indices.toList)
     for ((t, p) <- tris.zip(order)) t(9) = p
 
     def align64(x: Int) = (x + 63) / 64 * 64
     val nodeOffset = MemoryImage.HeaderBytes
-    val triOffset  = align64(nodeOffset + nodes.size * 32)
+    val triOffset  = align64(nodeOffset + nodes.size * layout.nodeBytes)
     val buf = ByteBuffer.allocate(triOffset + tris.size * 48).order(ByteOrder.LITTLE_ENDIAN)
     buf.put(MemoryImage.Magic)
-    Seq(MemoryImage.Version.toInt, nodes.size, tris.size, nodeOffset, triOffset, 32, 48, maxLeaf, depthSeen).foreach(buf.putInt)
+    Seq(MemoryImage.Version.toInt, nodes.size, tris.size, nodeOffset, triOffset, layout.nodeBytes, 48, maxLeaf, stackBound,
+      layout.code).foreach(buf.putInt)
     buf.position(nodeOffset); nodes.foreach(_.foreach(buf.putInt))
     buf.position(triOffset); tris.foreach(_.foreach(buf.putInt))
-    MemoryImage.fromBytes(s"synthetic BVH (depth <= $maxDepth)", buf.array())
+    MemoryImage.fromBytes(s"synthetic ${layout.name} BVH (depth <= $maxDepth)", buf.array())
   }
 }

@@ -3,38 +3,53 @@ package rtaccel.traversal
 import chisel3._
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
+import rtaccel.fp.FpOrder
 import rtaccel.golden.ControlGolden
 import rtaccel.golden.ControlGolden._
 import rtaccel.testutil.{Backends, Seeded}
-import rtaccel.{AccelConfig, ErrorFlags}
+import rtaccel.{AccelConfig, BvhLayout, ErrorFlags}
 
 import scala.collection.mutable
 import scala.util.Random
 
+/** TraversalControl cycle by cycle against ControlGolden, for every layout:
+  * crafted walks (near child by axis in the nori layout; nearest-first with
+  * ties to the lower slot in the wide ones), overflow, errors, occlusion, and
+  * random traffic from interleaved rays with the output checked exactly
+  * `latency` cycles after each input.
+  */
 class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "TraversalControl"
 
-  private val cfg = AccelConfig(numRayIds = 4, stackDepth = 3, maxNodes = 1024, maxTriangles = 4096, maxLeafSize = 8)
+  private def cfgOf(layout: BvhLayout, stackDepth: Int = 5, ids: Int = 8) =
+    AccelConfig(numRayIds = ids, stackDepth = stackDepth, maxNodes = 1024, maxTriangles = 4096, maxLeafSize = 8, layout = layout)
 
-  private def poke(dut: TraversalControl, tok: Token, fromLeaf: Boolean, occluded: Boolean, boxHit: Boolean, l: Links): Unit = {
-    val in = dut.io.in.bits
+  /** One input: the ray, where it comes from, and the node's answer. */
+  final case class In(tok: Token, fromLeaf: Boolean, occluded: Boolean, hits: Seq[(Boolean, Long)], node: NodeView)
+
+  private def poke(dut: TraversalControl, cfg: AccelConfig, in: In): Unit = {
+    val b = dut.io.in.bits
+    val tok = in.tok
     dut.io.in.valid.poke(true.B)
-    in.token.rayId.poke(tok.rayId.U)
-    in.token.nodeIdx.poke(tok.nodeIdx.U)
-    in.token.sp.poke(tok.sp.U)
-    for (a <- 0 until 3) in.token.dirNeg(a).poke(tok.dirNeg(a).B)
-    in.token.shadow.poke(tok.shadow.B)
-    in.token.errors.poke(tok.errors.U)
-    in.fromLeaf.poke(fromLeaf.B)
-    in.occluded.poke(occluded.B)
-    in.boxHit.poke(boxHit.B)
-    in.links.isLeaf.poke(l.isLeaf.B)
-    in.links.axis.poke(l.axis.U)
-    in.links.rightChild.poke(l.rightChild.U)
-    in.links.first.poke(l.first.U)
-    in.links.count.poke(l.count.U)
-    in.links.errors.poke(l.errors.U)
+    b.token.rayId.poke(tok.rayId.U)
+    b.token.nodeIdx.poke(tok.nodeIdx.U)
+    b.token.sp.poke(tok.sp.U)
+    for (a <- 0 until 3) b.token.dirNeg(a).poke(tok.dirNeg(a).B)
+    b.token.shadow.poke(tok.shadow.B)
+    b.token.errors.poke(tok.errors.U)
+    b.fromLeaf.poke(in.fromLeaf.B)
+    b.occluded.poke(in.occluded.B)
+    for (((hit, near), i) <- in.hits.zipWithIndex) { b.hit(i).poke(hit.B); b.near(i).poke(near.U) }
+    for ((r, i) <- in.node.refs.zipWithIndex) {
+      b.refs(i).isLeaf.poke(r.isLeaf.B); b.refs(i).index.poke(r.index.U); b.refs(i).count.poke(r.count.U)
+    }
+    b.axis.poke(in.node.axis.U)
+    b.nodeErrors.poke(in.node.errors.U)
   }
+
+  private def golden(cfg: AccelConfig, stack: mutable.ArrayBuffer[Ref], in: In): Out =
+    ControlGolden.step(cfg.layout, cfg.stackDepth, stack, in.tok, in.fromLeaf, in.occluded,
+      in.hits.map { case (h, near) => SlotHit(h, FpOrder.keyOf(cfg.float, BigInt(near))) }, in.node)
 
   private def expectOut(dut: TraversalControl, e: Out, what: String): Unit = {
     val o = dut.io.out.bits
@@ -57,96 +72,146 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
     }
   }
 
-  private val inner = (axis: Int, right: Long) => Links(isLeaf = false, axis, right, 0, 0, 0)
-  private val leaf  = (first: Long, count: Int) => Links(isLeaf = true, 0, 0, first, count, 0)
-  private val none  = Links(isLeaf = false, 0, 0, 0, 0, 0)
-
-  it should "walk a crafted tree: near child first, leaf, pop, done; stacks of interleaved rays kept apart" in {
-    test(new TraversalControl(cfg)).withAnnotations(Backends.treadle) { dut =>
-      // Tree: 0 = inner(axis 0, right 4); 1 = inner(axis 1, right 3); 2, 3 = leaves; 4 = leaf.
-      // Ray A runs +x, -y; ray B runs -x, +y. They alternate cycle by cycle.
-      val stacks = Map(0 -> mutable.ArrayBuffer.empty[Long], 3 -> mutable.ArrayBuffer.empty[Long])
-      var a = Token(0, 0, 0, Seq(false, true, false), shadow = false, 0)
-      var b = Token(3, 0, 0, Seq(true, false, false), shadow = false, 0)
-      type Step = Token => (Boolean, Boolean, Links, State, Long)
-      def send(steps: (String, Step)*): Unit =
-        for ((which, f) <- steps) {
-          val tok = if (which == "A") a else b
-          val (fromLeaf, hit, l, st, node) = f(tok)
-          val e = ControlGolden.step(cfg.stackDepth, stacks(tok.rayId), tok, fromLeaf, occluded = false, hit, l)
-          assert(e.state == st && (st == Leaf || st == Done || e.token.nodeIdx == node), s"golden disagrees with the hand trace for $which: $e")
-          poke(dut, tok, fromLeaf, occluded = false, hit, l)
-          dut.clock.step()
-          expectOut(dut, e, s"ray $which at node ${tok.nodeIdx}")
-          if (which == "A") a = e.token else b = e.token
-        }
-      send("A" -> (_ => (false, true, inner(0, 4), Traverse, 1)), "B" -> (_ => (false, true, inner(0, 4), Traverse, 4))) // A pushes 4, B pushes 1
-      send("A" -> (_ => (false, true, inner(1, 3), Traverse, 3)), "B" -> (_ => (false, true, leaf(7, 2), Leaf, 0)))     // A: -y => right (3) first, pushes 2
-      send("A" -> (_ => (false, true, leaf(5, 1), Leaf, 0)), "B" -> (_ => (true, false, none, GoBack, 1)))              // B back from its leaf: pops 1
-      send("A" -> (_ => (true, false, none, GoBack, 2)), "B" -> (_ => (false, false, inner(1, 3), Done, 0)))            // A pops 2; B misses 1 with an empty stack
-      send("A" -> (_ => (false, false, leaf(0, 1), GoBack, 4)))                                                         // A misses 2: pops 4
-      send("A" -> (_ => (false, false, leaf(0, 1), Done, 0)))                                                           // A misses 4: done
-      assert(a.sp == 0 && b.sp == 0)
-      dut.io.in.valid.poke(false.B)
-      dut.clock.step()
-      dut.io.out.valid.expect(false.B)
-    }
-  }
-
-  it should "end a ray with StackOverflow instead of dropping a subtree, and stop on errors and occlusion" in {
-    test(new TraversalControl(cfg)).withAnnotations(Backends.treadle) { dut =>
-      val full = Token(1, 9, cfg.stackDepth, Seq(false, false, false), shadow = false, 0)
-      poke(dut, full, fromLeaf = false, occluded = false, boxHit = true, inner(2, 20))
-      dut.clock.step()
-      expectOut(dut, Out(Done, full.copy(errors = 1 << ErrorFlags.StackOverflow), 0, 0), "push on a full stack")
-      val ok = Token(2, 9, 1, Seq(false, false, false), shadow = true, 0)
-      poke(dut, ok, fromLeaf = false, occluded = false, boxHit = true, inner(3, 20).copy(errors = 1 << ErrorFlags.IndexOverflow))
-      dut.clock.step()
-      expectOut(dut, Out(Done, ok.copy(errors = 1 << ErrorFlags.IndexOverflow), 0, 0), "node with an error")
-      poke(dut, ok, fromLeaf = true, occluded = true, boxHit = false, none)
-      dut.clock.step()
-      expectOut(dut, Out(Done, ok, 0, 0), "occluded shadow ray back from its leaf")
-    }
-  }
-
-  it should "match the golden model on random traffic from interleaved rays" in Seeded("TraversalControl.random") { rnd =>
-    val big = AccelConfig(numRayIds = 16, stackDepth = 6, maxNodes = 1 << 12, maxTriangles = 1 << 12, maxLeafSize = 8)
-    test(new TraversalControl(big)).withAnnotations(Backends.treadle) { dut =>
-      val stacks = Array.fill(big.numRayIds)(mutable.ArrayBuffer.empty[Long])
-      val toks = Array.tabulate(big.numRayIds)(i => Token(i, rnd.nextInt(1000), 0, Seq.fill(3)(rnd.nextBoolean()), rnd.nextBoolean(), 0))
-      val lastState = Array.fill[State](big.numRayIds)(Traverse)
-      var pending: Option[(Out, String)] = None
-      val seen = mutable.Map.empty[State, Int].withDefaultValue(0)
-      for (cycle <- 0 until 4000) {
-        val fire = rnd.nextInt(5) != 0
-        // The ray just sent is still inside the unit this cycle, so pick another.
-        val busy = pending.map(_._1.token.rayId).toSet
-        val id = Iterator.continually(rnd.nextInt(big.numRayIds)).find(i => !busy(i)).get
-        val tok = toks(id)
-        if (fire) {
-          val fromLeaf = lastState(id) == Leaf
-          val occluded = fromLeaf && tok.shadow && rnd.nextInt(4) == 0
-          val l = if (rnd.nextBoolean()) Links(isLeaf = true, 0, 0, rnd.nextInt(4000), rnd.nextInt(9), 0)
-                  else Links(isLeaf = false, rnd.nextInt(3), rnd.nextInt(4000), 0, 0, if (rnd.nextInt(200) == 0) 2 else 0)
-          val hit = rnd.nextInt(3) != 0
-          val e = ControlGolden.step(big.stackDepth, stacks(id), tok, fromLeaf, occluded, hit, l)
-          poke(dut, tok, fromLeaf, occluded, hit, l)
-          // A finished ray starts over as a fresh ray with the same ID.
-          toks(id) = if (e.state == Done) { stacks(id).clear(); Token(id, rnd.nextInt(1000), 0, Seq.fill(3)(rnd.nextBoolean()), rnd.nextBoolean(), 0) } else e.token
-          lastState(id) = if (e.state == Done) Traverse else e.state
-          seen(e.state) += 1
-          pending.foreach { case (p, w) => expectOut(dut, p, w) }
-          dut.clock.step()
-          pending = Some((e, s"cycle $cycle ray $id"))
-        } else {
-          dut.io.in.valid.poke(false.B)
-          pending.foreach { case (p, w) => expectOut(dut, p, w) }
-          dut.clock.step()
-          pending = None
-        }
-        if (pending.isEmpty) dut.io.out.valid.expect(false.B, s"cycle $cycle: no input, no output")
+  /** Sends `ins` back to back (one per cycle), checking each output `latency` cycles later. */
+  private def run(dut: TraversalControl, cfg: AccelConfig, stacks: Int => mutable.ArrayBuffer[Ref], ins: Seq[(In, String)]): Seq[Out] = {
+    val lat = dut.latency
+    val due = mutable.Queue.empty[(Int, Out, String)]
+    val outs = mutable.ArrayBuffer.empty[Out]
+    var cycle = 0
+    for (in <- ins.map(Some(_)) ++ Seq.fill(lat)(None)) {
+      in match {
+        case Some((i, w)) =>
+          val e = golden(cfg, stacks(i.tok.rayId), i)
+          poke(dut, cfg, i); outs += e; due.enqueue((cycle + lat, e, w))
+        case None => dut.io.in.valid.poke(false.B)
       }
-      assert(Seq(Traverse, Leaf, GoBack, Done).forall(seen(_) > 100), s"state coverage too thin: $seen")
+      dut.clock.step(); cycle += 1
+      if (due.headOption.exists(_._1 == cycle)) { val (_, e, w) = due.dequeue(); expectOut(dut, e, w) }
+      else dut.io.out.valid.expect(false.B, s"cycle $cycle: no input $lat cycles ago, no output")
+    }
+    outs.toSeq
+  }
+
+  private val f = (x: Float) => java.lang.Float.floatToRawIntBits(x).toLong & 0xffffffffL
+  private val none = (k: Int) => NodeView(IndexedSeq.fill(k)(Ref(isLeaf = false, 0, 0)), 0, 0)
+
+  it should "visit a wide node's hit children nearest first, ties to the lower slot, and pop the rest in order" in {
+    val cfg = cfgOf(BvhLayout.Wide(4), stackDepth = 6)
+    test(new TraversalControl(cfg)).withAnnotations(Backends.treadle) { dut =>
+      val stacks = Array.fill(cfg.numRayIds)(mutable.ArrayBuffer.empty[Ref])
+      // Slots: 0 inner 10 at 5.0, 1 leaf (100, 3) at -2.0 (origin inside), 2 inner 30 at -2.0 (a tie), 3 missed.
+      val node = NodeView(IndexedSeq(Ref(false, 10, 0), Ref(true, 100, 3), Ref(false, 30, 0), Ref(false, 40, 0)), 0, 0)
+      val hits = Seq(true -> f(5f), true -> f(-2f), true -> f(-2f), false -> f(1f))
+      val t0 = Token(3, 0, 0, Seq(false, false, false), shadow = false, 0)
+      val o1 = run(dut, cfg, stacks(_), Seq(In(t0, fromLeaf = false, occluded = false, hits, node) -> "root"))
+      assert(o1.head == Out(Leaf, t0.copy(sp = 2), 100, 3), s"nearest is the leaf in slot 1 (tie with slot 2): ${o1.head}")
+      assert(stacks(3) == Seq(Ref(false, 10, 0), Ref(false, 30, 0)), s"pushed farthest first: ${stacks(3)}")
+      val back = In(o1.head.token, fromLeaf = true, occluded = false, Seq.fill(4)(false -> 0L), none(4))
+      val o2 = run(dut, cfg, stacks(_), Seq(back -> "back from the leaf"))
+      assert(o2.head.state == GoBack && o2.head.token.nodeIdx == 30 && o2.head.token.sp == 1, s"${o2.head}")
+      val miss = In(o2.head.token, fromLeaf = false, occluded = false, Seq.fill(4)(false -> 0L), node)
+      val o3 = run(dut, cfg, stacks(_), Seq(miss -> "node 30 missed"))
+      assert(o3.head.state == GoBack && o3.head.token.nodeIdx == 10 && o3.head.token.sp == 0, s"${o3.head}")
+      val o4 = run(dut, cfg, stacks(_), Seq(miss.copy(tok = o3.head.token) -> "node 10 missed"))
+      assert(o4.head.state == Done && o4.head.token.errors == 0, s"${o4.head}")
+    }
+  }
+
+  it should "pop a leaf entry straight to LEAF, without a node fetch" in {
+    val cfg = cfgOf(BvhLayout.Wide(2))
+    test(new TraversalControl(cfg)).withAnnotations(Backends.treadle) { dut =>
+      val stacks = Array.fill(cfg.numRayIds)(mutable.ArrayBuffer.empty[Ref])
+      val node = NodeView(IndexedSeq(Ref(true, 7, 2), Ref(true, 9, 1)), 0, 0)
+      val t0 = Token(1, 4, 0, Seq(true, true, true), shadow = true, 0)
+      val o1 = run(dut, cfg, stacks(_), Seq(In(t0, false, false, Seq(true -> f(3f), true -> f(1f)), node) -> "two leaves"))
+      assert(o1.head == Out(Leaf, t0.copy(sp = 1), 9, 1), s"${o1.head}")
+      val o2 = run(dut, cfg, stacks(_), Seq(In(o1.head.token, true, false, Seq.fill(2)(false -> 0L), none(2)) -> "back"))
+      assert(o2.head == Out(Leaf, t0, 7, 2), s"the popped leaf: ${o2.head}")
+      val o3 = run(dut, cfg, stacks(_), Seq(In(o2.head.token, true, true, Seq.fill(2)(false -> 0L), none(2)) -> "occluded"))
+      assert(o3.head.state == Done, s"an occluded shadow ray is done: ${o3.head}")
+    }
+  }
+
+  for (layout <- BvhLayout.all) {
+    it should s"end a ray with StackOverflow instead of dropping a subtree, and stop on errors (layout ${layout.name})" in {
+      val cfg = cfgOf(layout, stackDepth = 8)
+      test(new TraversalControl(cfg)).withAnnotations(Backends.treadle) { dut =>
+        val k = cfg.boxLanes
+        val stacks = Array.fill(cfg.numRayIds)(mutable.ArrayBuffer.empty[Ref])
+        val node = NodeView(IndexedSeq.tabulate(k)(i => Ref(false, 20 + i, 0)), 1, 0)
+        val hits = Seq.tabulate(k)(i => true -> f(i.toFloat))
+        // Fill the stack to the brim, then one more decision that pushes.
+        val pushes = layout.maxPushes
+        val sp = cfg.stackDepth - pushes + 1
+        stacks(1) ++= Seq.fill(sp)(Ref(false, 5, 0))
+        val full = Token(1, 9, sp, Seq(false, false, false), shadow = false, 0)
+        val o = run(dut, cfg, stacks(_), Seq(In(full, false, false, hits, node) -> "push past the stack"))
+        assert(o.head.state == Done && o.head.token.errors == (1 << ErrorFlags.StackOverflow), s"${o.head}")
+        val bad = node.copy(errors = 1 << ErrorFlags.IndexOverflow)
+        val ok = Token(2, 9, 0, Seq(false, false, false), shadow = true, 0)
+        val o2 = run(dut, cfg, stacks(_), Seq(In(ok, false, false, hits, bad) -> "node with an error"))
+        assert(o2.head.state == Done && o2.head.token.errors == (1 << ErrorFlags.IndexOverflow), s"${o2.head}")
+      }
+    }
+
+    it should s"match the golden model on random traffic from interleaved rays (layout ${layout.name})" in Seeded(s"TraversalControl.random.${layout.name}") { rnd =>
+      val cfg = cfgOf(layout, stackDepth = 7, ids = 16)
+      val k = cfg.boxLanes
+      // Verilator for the wide layouts: treadle takes minutes on K(K-1)/2 key comparators.
+      test(new TraversalControl(cfg)).withAnnotations(if (k > 2) Backends.verilator else Backends.treadle) { dut =>
+        val lat = dut.latency
+        val stacks = Array.fill(cfg.numRayIds)(mutable.ArrayBuffer.empty[Ref])
+        def fresh(i: Int) = Token(i, rnd.nextInt(1000), 0, Seq.fill(3)(rnd.nextBoolean()), rnd.nextBoolean(), 0)
+        val toks = Array.tabulate(cfg.numRayIds)(fresh)
+        val lastState = Array.fill[State](cfg.numRayIds)(Traverse)
+        val busyUntil = Array.fill(cfg.numRayIds)(-1)
+        val due = mutable.Queue.empty[(Int, Out, String)]
+        val seen = mutable.Map.empty[State, Int].withDefaultValue(0)
+        // A few distinct distances, so ties are common.
+        val nears = Seq(f(-1f), f(0f), f(-0f), f(0.5f), f(2f), f(2f), f(7.25f), f(Float.NegativeInfinity))
+        for (cycle <- 0 until 3000) {
+          // A ray is never in the unit twice: pick one whose last input has come out.
+          val free = (0 until cfg.numRayIds).filter(busyUntil(_) < cycle)
+          val fire = free.nonEmpty && rnd.nextInt(5) != 0
+          if (fire) {
+            val id = free(rnd.nextInt(free.size))
+            val tok = toks(id)
+            val fromLeaf = lastState(id) == Leaf
+            val occluded = fromLeaf && tok.shadow && rnd.nextInt(4) == 0
+            val used = if (layout == BvhLayout.Nori) 1 else 1 + rnd.nextInt(k)
+            val refs = IndexedSeq.tabulate(k)(_ =>
+              if (rnd.nextInt(3) == 0) Ref(isLeaf = true, rnd.nextInt(4000), rnd.nextInt(9)) else Ref(isLeaf = false, rnd.nextInt(1000), 0))
+            val node = NodeView(refs, rnd.nextInt(3), if (rnd.nextInt(200) == 0) 1 << ErrorFlags.IndexOverflow else 0)
+            val hits = Seq.tabulate(k)(i => (i < used && rnd.nextInt(3) != 0, nears(rnd.nextInt(nears.size))))
+            val in = In(tok, fromLeaf, occluded, hits, node)
+            val e = golden(cfg, stacks(id), in)
+            poke(dut, cfg, in)
+            toks(id) = if (e.state == Done) { stacks(id).clear(); fresh(id) } else e.token
+            lastState(id) = if (e.state == Done) Traverse else e.state
+            busyUntil(id) = cycle + lat - 1
+            seen(e.state) += 1
+            due.enqueue((cycle + lat, e, s"cycle $cycle ray $id"))
+          } else dut.io.in.valid.poke(false.B)
+          dut.clock.step()
+          if (due.headOption.exists(_._1 == cycle + 1)) { val (_, e, w) = due.dequeue(); expectOut(dut, e, w) }
+          else dut.io.out.valid.expect(false.B, s"cycle ${cycle + 1}: no input $lat cycles ago, no output")
+        }
+        assert(Seq(Traverse, Leaf, GoBack, Done).forall(seen(_) > 100), s"state coverage too thin: $seen")
+      }
+    }
+  }
+
+  it should "pick the near child by the split axis in the nori layout" in {
+    val cfg = cfgOf(BvhLayout.Nori)
+    test(new TraversalControl(cfg)).withAnnotations(Backends.treadle) { dut =>
+      val stacks = Array.fill(cfg.numRayIds)(mutable.ArrayBuffer.empty[Ref])
+      // Node 4: inner, split axis 1, right child 9. Ray A runs -y: right first; ray B +y: left (5) first.
+      val node = NodeView(IndexedSeq(Ref(false, 9, 0)), 1, 0)
+      val a = Token(0, 4, 0, Seq(false, true, false), shadow = false, 0)
+      val b = Token(1, 4, 0, Seq(true, false, true), shadow = false, 0)
+      val o = run(dut, cfg, stacks(_), Seq(In(a, false, false, Seq(true -> 0L), node) -> "A", In(b, false, false, Seq(true -> 0L), node) -> "B"))
+      assert(o(0).token.nodeIdx == 9 && stacks(0) == Seq(Ref(false, 5, 0)), s"A: ${o(0)} ${stacks(0)}")
+      assert(o(1).token.nodeIdx == 5 && stacks(1) == Seq(Ref(false, 9, 0)), s"B: ${o(1)} ${stacks(1)}")
     }
   }
 }

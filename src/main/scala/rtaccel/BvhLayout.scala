@@ -1,0 +1,48 @@
+package rtaccel
+
+/** How BVH nodes are laid out in memory (docs/memory-format.md, version 2),
+  * and so how many child boxes BboxIntersect tests per node.
+  *
+  *  - [[BvhLayout.Nori]]: today's 32-byte binary node holding its own box
+  *    (Nori's layout; left child implicit): one box per node fetch.
+  *  - [[BvhLayout.Wide]]`(k)`: a node of k 32-byte child slots, each with the
+  *    child's box, so one fetch brings k boxes and BboxIntersect tests all of
+  *    them at once (k lanes).
+  */
+sealed trait BvhLayout {
+  /** The image header's `layout` word. */
+  def code: Int
+  /** Boxes per node record: the box lanes of BboxIntersect. */
+  def lanes: Int
+  /** Bytes of one node record: one memory request. */
+  def nodeBytes: Int = 32 * lanes
+  /** Most stack pushes one decision makes. */
+  def maxPushes: Int
+  /** What `make regress BVH=` and `nori-bridge compile --bvh` call it. */
+  def name: String
+}
+
+object BvhLayout {
+  case object Nori extends BvhLayout {
+    val code = 0
+    val lanes = 1
+    val maxPushes = 1
+    val name = "nori"
+  }
+  final case class Wide(k: Int) extends BvhLayout {
+    require(Seq(2, 4, 8).contains(k), s"BvhLayout.Wide: k must be 2, 4 or 8, got $k")
+    def code: Int = k
+    def lanes: Int = k
+    def maxPushes: Int = k - 1
+    def name: String = k.toString
+  }
+
+  val all: Seq[BvhLayout] = Seq(Nori, Wide(2), Wide(4), Wide(8))
+
+  def parse(s: String): BvhLayout = all.find(_.name == s.trim)
+    .getOrElse(throw new IllegalArgumentException(s"BVH layout '$s': expected one of ${all.map(_.name).mkString(", ")}"))
+
+  /** From an image header's `layout` word; `source` names the file for the error. */
+  def fromCode(code: Long, source: String): BvhLayout = all.find(_.code == code)
+    .getOrElse(throw new IllegalArgumentException(s"$source: header layout = $code, expected 0 (nori), 2, 4 or 8"))
+}

@@ -1,0 +1,64 @@
+package rtaccel.traversal
+
+import chisel3._
+import chisel3.util._
+import rtaccel.fetch.PreparedEntry
+import rtaccel.{AccelConfig, BvhNode}
+
+/** A new ray, at the root, with the root node it will be tested against. */
+class EntryToken(cfg: AccelConfig) extends Bundle {
+  val token = new TraversalToken(cfg)
+  val root  = new BvhNode(cfg)
+}
+
+/** The ray's entry into traversal: a prepared ray (with its ID) is written to
+  * the RayBuffer, and only then handed to the box stage as a token at the
+  * root (`nodeIdx = 0`, empty stack) carrying the on-chip root node, so its
+  * first box test reads what was written.
+  *
+  * Prepared rays arrive on a valid pipe and wait in a queue of `numRayIds`
+  * entries: every ray inside holds an ID, so at most `numRayIds` can ever be
+  * waiting and the queue cannot overflow. The enqueue is checked all the
+  * same: `broken` would latch if it ever found the queue full.
+  */
+class InitTraversal[T <: Data](cfg: AccelConfig, gen: T) extends Module {
+  val io = IO(new Bundle {
+    val in     = Flipped(Valid(new PreparedEntry(cfg, gen)))
+    val root   = Input(new BvhNode(cfg))
+    val enter  = Decoupled(new RayEntry(cfg, gen))
+    val out    = Decoupled(new EntryToken(cfg))
+    /** Sticky: a prepared ray found the queue full (a lost ray; cannot happen). */
+    val broken = Output(Bool())
+  })
+  override def desiredName = s"InitTraversal_k${cfg.boxLanes}_n${cfg.numRayIds}"
+
+  private val waiting = Module(new Queue(new PreparedEntry(cfg, gen), cfg.numRayIds))
+  waiting.io.enq.valid := io.in.valid
+  waiting.io.enq.bits  := io.in.bits
+  private val brokenReg = RegInit(false.B)
+  when(io.in.valid && !waiting.io.enq.ready) { brokenReg := true.B }
+  io.broken := brokenReg
+
+  // First the RayBuffer write, then the ray goes to the root. (Valid never
+  // waits on ready: the RayBuffer's round-robin arbiter would close a
+  // combinational loop.)
+  private val head       = waiting.io.deq.bits
+  private val enteredReg = RegInit(false.B)
+  io.enter.valid        := waiting.io.deq.valid && !enteredReg
+  io.enter.bits.rayId   := head.rayId
+  io.enter.bits.statics := head.ray.statics
+  io.enter.bits.tmax    := head.ray.tmax
+  when(io.enter.fire) { enteredReg := true.B }
+  io.out.valid          := waiting.io.deq.valid && enteredReg
+  waiting.io.deq.ready  := io.out.ready && enteredReg
+  when(io.out.fire) { enteredReg := false.B }
+
+  private val t = io.out.bits.token
+  t.rayId   := head.rayId
+  t.nodeIdx := 0.U
+  t.sp      := 0.U
+  t.dirNeg  := head.ray.dirNeg
+  t.shadow  := head.shadow
+  t.errors  := head.ray.errors
+  io.out.bits.root := io.root
+}
