@@ -2,8 +2,8 @@ package rtaccel
 
 import chisel3._
 import rtaccel.fetch.RayPrepUnit
-import rtaccel.leaf.PrimUnit
-import rtaccel.traversal.BoxUnit
+import rtaccel.leaf.PrimIntersect
+import rtaccel.traversal.BoxLane
 
 /** The arithmetic of an accelerator, chosen as a whole: what a ray's
   * per-ray constants are (`gen`), how they are computed once per ray, and the
@@ -14,8 +14,8 @@ trait Datapath[T <: Data] {
   def name: String
   def gen: T
   def rayPrep(cfg: AccelConfig): RayPrepUnit[T]
-  def box(cfg: AccelConfig): BoxUnit[T]
-  def prim(cfg: AccelConfig): PrimUnit[T]
+  def box(cfg: AccelConfig): BoxLane[T]
+  def prim(cfg: AccelConfig): PrimIntersect[T]
   /** A datapath-format value as FP32; exact, since formats are no wider than FP32. */
   def toFloat32(cfg: AccelConfig, x: UInt): UInt
 }

@@ -3,8 +3,8 @@ package rtaccel.datapath
 import chisel3._
 import rtaccel.AccelConfig
 import rtaccel.fetch.RayPrepUnit
-import rtaccel.leaf.PrimUnit
-import rtaccel.traversal.BoxUnit
+import rtaccel.leaf.PrimIntersect
+import rtaccel.traversal.BoxLane
 import rtaccel.fp.FloatFormat
 import rtaccel.tools.Synth
 
@@ -29,8 +29,8 @@ object DatapathArea {
     val cfg = AccelConfig(float = fmt)
     def dp(t: TriangleTest, r: BoxRounding) = FloatDatapath(fmt, t, r)
     Seq(
-      Job(fmt, "rne", "BoxIntersect", () => dp(TriangleTest.Moller, BoxRounding.Nearest).box(cfg)),
-      Job(fmt, "cons", "BoxIntersect", () => dp(TriangleTest.Moller, BoxRounding.Conservative).box(cfg)),
+      Job(fmt, "rne", "BoxLane", () => dp(TriangleTest.Moller, BoxRounding.Nearest).box(cfg)),
+      Job(fmt, "cons", "BoxLane", () => dp(TriangleTest.Moller, BoxRounding.Conservative).box(cfg)),
       Job(fmt, "mt", "PrimIntersect", () => dp(TriangleTest.Moller, BoxRounding.Nearest).prim(cfg)),
       Job(fmt, "wt", "PrimIntersect", () => dp(TriangleTest.Watertight, BoxRounding.Nearest).prim(cfg)),
       Job(fmt, "mt_rne", "RayPrep", () => dp(TriangleTest.Moller, BoxRounding.Nearest).rayPrep(cfg)),
@@ -60,8 +60,8 @@ object DatapathArea {
 
   /** The unit's derived latency, read from the elaborated module. */
   def latencyOf(m: RawModule): Int = m match {
-    case b: BoxUnit[_]     => b.latency
-    case p: PrimUnit[_]    => p.latency
+    case b: BoxLane[_]     => b.latency
+    case p: PrimIntersect[_]    => p.latency
     case r: RayPrepUnit[_] => r.latency
     case other             => throw new IllegalArgumentException(s"not a datapath unit: ${other.name}")
   }

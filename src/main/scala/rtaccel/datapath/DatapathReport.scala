@@ -45,9 +45,9 @@ object DatapathReport {
     line()
     line("## Latency (cycles, derived from the FP unit latencies; II = 1)")
     line()
-    line("| format | RayPrep (mt, rne) | RayPrep (wt, cons) | BoxIntersect rne | BoxIntersect cons | PrimIntersect MT | PrimIntersect WT |")
+    line("| format | RayPrep (mt, rne) | RayPrep (wt, cons) | BoxLane rne | BoxLane cons | PrimIntersect MT | PrimIntersect WT |")
     line("|---|---|---|---|---|---|---|")
-    val order = Seq("RayPrep" -> "mt_rne", "RayPrep" -> "wt_cons", "BoxIntersect" -> "rne", "BoxIntersect" -> "cons",
+    val order = Seq("RayPrep" -> "mt_rne", "RayPrep" -> "wt_cons", "BoxLane" -> "rne", "BoxLane" -> "cons",
       "PrimIntersect" -> "mt", "PrimIntersect" -> "wt")
     val fmts = rows.map(_.fmt).distinct
     for (f <- fmts) {

@@ -4,8 +4,8 @@ import chisel3._
 import chisel3.util._
 import rtaccel.fetch.RayPrepUnit
 import rtaccel.fp.{FloatFormat, FpConvert, RoundingMode}
-import rtaccel.leaf.{PrimAnswer, PrimUnit, TriangleRecord}
-import rtaccel.traversal.{BoxAnswer, BoxUnit}
+import rtaccel.leaf.{PrimAnswer, PrimIntersect, TriangleRecord}
+import rtaccel.traversal.{BoxAnswer, BoxLane}
 import rtaccel.{AccelConfig, Datapath, ErrorFlags}
 
 /** The floating-point datapath: per-ray setup, slab test and triangle test
@@ -25,8 +25,8 @@ final case class FloatDatapath(fmt: FloatFormat, test: TriangleTest, rounding: B
     require(cfg.float == fmt, s"FloatDatapath $name used with AccelConfig.float = ${cfg.float}")
 
   def rayPrep(cfg: AccelConfig): RayPrepUnit[RayConsts] = { check(cfg); new FloatRayPrep(cfg, this) }
-  def box(cfg: AccelConfig): BoxUnit[RayConsts] = { check(cfg); new FloatBox(cfg, this) }
-  def prim(cfg: AccelConfig): PrimUnit[RayConsts] = { check(cfg); new FloatPrim(cfg, this) }
+  def box(cfg: AccelConfig): BoxLane[RayConsts] = { check(cfg); new FloatBox(cfg, this) }
+  def prim(cfg: AccelConfig): PrimIntersect[RayConsts] = { check(cfg); new FloatPrim(cfg, this) }
 
   /** Widening is exact, so the mode is irrelevant; a latency-0 converter is wires. */
   def toFloat32(cfg: AccelConfig, x: UInt): UInt =
@@ -70,7 +70,7 @@ class FloatRayPrep(cfg: AccelConfig, dp: FloatDatapath) extends RayPrepUnit[RayC
   io.out.valid := ShiftRegister(io.in.valid, lat, false.B, true.B)
 }
 
-class FloatBox(cfg: AccelConfig, dp: FloatDatapath) extends BoxUnit[RayConsts](cfg, dp.gen) {
+class FloatBox(cfg: AccelConfig, dp: FloatDatapath) extends BoxLane[RayConsts](cfg, dp.gen) {
   override def desiredName: String = s"BoxLane_${dp.name}"
   private val ar = new HwArith(dp.fmt)
   private val q = io.in.bits
@@ -83,7 +83,7 @@ class FloatBox(cfg: AccelConfig, dp: FloatDatapath) extends BoxUnit[RayConsts](c
   io.out.valid := ShiftRegister(io.in.valid, lat, false.B, true.B)
 }
 
-class FloatPrim(cfg: AccelConfig, dp: FloatDatapath) extends PrimUnit[RayConsts](cfg, dp.gen) {
+class FloatPrim(cfg: AccelConfig, dp: FloatDatapath) extends PrimIntersect[RayConsts](cfg, dp.gen) {
   override def desiredName: String = s"PrimIntersect_${dp.name}"
   private val ar = new HwArith(dp.fmt)
   private val q = io.in.bits

@@ -35,7 +35,7 @@ class BestHit(cfg: AccelConfig) extends Bundle {
   *
   *  - Issue: one leaf at a time, one triangle request per cycle, tagged with
   *    the ray ID. A shadow ray that has found an occluder stops issuing.
-  *  - Answer: each triangle goes through `PrimUnit` (II = 1) with the ray read
+  *  - Answer: each triangle goes through `PrimIntersect` (II = 1) with the ray read
   *    from the RayBuffer, and is reduced into the ray's best hit: smallest t,
   *    ties to the smaller prim, a total order, so the result does not depend
   *    on the order memory answers in.
@@ -49,7 +49,7 @@ class BestHit(cfg: AccelConfig) extends Bundle {
   * enqueue that cannot wait (a ray's last answer, into `exits`) is checked:
   * `broken` latches if it ever found the queue full.
   */
-class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimUnit[T]) extends Module {
+class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimIntersect[T]) extends Module {
   val port: MemPortParams = LeafIntersect.port(cfg)
   val io = IO(new Bundle {
     val in      = Flipped(Decoupled(new LeafJob(cfg)))
@@ -110,7 +110,7 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimUnit[
   }
   when(stopEarly) { busyReg := false.B; stoppingReg := true.B }
 
-  // ---- Answer: memory -> RayBuffer read -> PrimUnit -> reduce ----
+  // ---- Answer: memory -> RayBuffer read -> PrimIntersect -> reduce ----
   io.mem.resp.ready := true.B
   io.rayRead.en    := io.mem.resp.valid
   io.rayRead.rayId := io.mem.resp.bits.tag

@@ -16,7 +16,8 @@ final case class ScenePackage(dir: Path, image: MemoryImage, rays: IndexedSeq[Ra
   /** The magnitudes this scene and its rays put through the kernels. */
   lazy val range: NumericRange = NumericRange(needs.extentAbs, needs.smallestEdge, rays)
 
-  /** `base` cut down to what this scene needs: stack depth = BVH depth, index
+  /** `base` cut down to what this scene needs: the image's node layout, stack
+    * depth = the layout's stack bound (bvhDepth), index
     * widths from the node and triangle counts, leaf size from the largest leaf,
     * and exponent bits from the numeric range, narrowed or widened (never past 8:
     * the records are FP32, and a scene needing more is refused by `misfits`).
@@ -27,7 +28,7 @@ final case class ScenePackage(dir: Path, image: MemoryImage, rays: IndexedSeq[Ra
     */
   def sized(base: AccelConfig): AccelConfig = {
     val expBits = if (base.float == rtaccel.fp.FloatFormat.FP32) 8 else range.expBits.min(8)
-    base.copy(stackDepth = needs.bvhDepth.max(1), maxNodes = needs.nodes.toInt.max(1),
+    base.copy(layout = image.layout, stackDepth = needs.bvhDepth.max(1), maxNodes = needs.nodes.toInt.max(1),
       maxTriangles = needs.triangles.toInt.max(1), maxLeafSize = needs.largestLeaf.max(1),
       float = rtaccel.fp.FloatFormat(expBits, base.float.manBits))
   }
@@ -37,7 +38,8 @@ final case class ScenePackage(dir: Path, image: MemoryImage, rays: IndexedSeq[Ra
 
   /** The misfits of stack, indices, leaf size and addresses (the numeric range apart). */
   def structuralMisfits(cfg: AccelConfig): Seq[String] = Seq(
-    (needs.bvhDepth > cfg.stackDepth) -> s"BVH depth ${needs.bvhDepth} needs a stack of ${needs.bvhDepth} entries; the hardware has stackDepth = ${cfg.stackDepth}",
+    (image.layout != cfg.layout) -> s"the image has ${image.layout.name} nodes (${image.nodeBytes} bytes); the hardware reads ${cfg.layout.name} nodes (${cfg.layout.nodeBytes} bytes)",
+    (needs.bvhDepth > cfg.stackDepth) -> s"the BVH needs a stack of ${needs.bvhDepth} entries; the hardware has stackDepth = ${cfg.stackDepth}",
     (needs.nodes > cfg.maxNodes) -> s"${needs.nodes} nodes exceed maxNodes = ${cfg.maxNodes} (${cfg.nodeIndexBits}-bit node index)",
     (needs.triangles > cfg.maxTriangles) -> s"${needs.triangles} triangles exceed maxTriangles = ${cfg.maxTriangles} (${cfg.triIndexBits}-bit triangle index)",
     (needs.maxPrim >= (1L << cfg.triIndexBits)) -> s"prim number ${needs.maxPrim} does not fit the ${cfg.triIndexBits}-bit triangle index",

@@ -7,8 +7,9 @@ import scala.concurrent.{Await, ExecutionContext, Future}
 
 /** Area of a whole accelerator from its emitted SystemVerilog, summed from
   * per-unit Yosys runs (`synth_xilinx -family xc7`): each datapath unit
-  * (RayPrep, BoxIntersect, PrimIntersect) with its sub-modules alone, then the
-  * control (everything else) with those three as black boxes. A flattened run
+  * (RayPrep, BoxLane, PrimIntersect) with its sub-modules alone, then the
+  * control (everything else) with those three as black boxes, each unit
+  * counted once per instance (BboxIntersect holds K box lanes). A flattened run
   * of the whole FP-heavy design takes far longer than the units in parallel.
   *
   * Results are cached in `cacheDir`, keyed by a hash of the exact Verilog a
@@ -19,7 +20,7 @@ import scala.concurrent.{Await, ExecutionContext, Future}
   */
 object AccelArea {
   /** The datapath units, by module-name prefix (FloatDatapath's desiredName). */
-  val datapathUnits: Seq[String] = Seq("RayPrep", "BoxIntersect", "PrimIntersect")
+  val datapathUnits: Seq[String] = Seq("RayPrep", "BoxLane", "PrimIntersect")
   val controlLabel = "control"
 
   final case class Module(name: String, text: String)
@@ -69,7 +70,8 @@ object AccelArea {
     }
   }
 
-  /** (unit, area) rows for the accelerator `top` in `sv` whose datapath is named `dpName`. */
+  /** (unit, area) rows for the accelerator `top` in `sv` whose datapath is named `dpName`;
+    * a unit's row is the area of all its instances. */
   def measure(sv: String, top: String, dpName: String, cacheDir: Path, jobs: Int): Seq[(String, Synth.Area)] = {
     Files.createDirectories(cacheDir)
     val mods = modules(sv)
@@ -82,7 +84,15 @@ object AccelArea {
         u -> Future(cached(cacheDir, u, dpName, subtree(mods, m).map(_.text).mkString, m, Nil))
       }
       val control = controlLabel -> Future(cached(cacheDir, controlLabel, dpName, sv, top, unitTops.map(_._2)))
-      (units :+ control).map { case (u, f) => u -> Await.result(f, Duration.Inf) }
+      // Units are instantiated only by modules that are themselves instantiated
+      // once (RayPrep in FetchBVH, the K lanes in BboxIntersect, PrimIntersect
+      // in LeafIntersect), so instance lines count the copies.
+      val copies = unitTops.map { case (u, m) => u -> (s"(?m)^\\s+$m\\s+\\w+\\s*\\(".r.findAllMatchIn(sv).size max 1) }.toMap
+      (units :+ control).map { case (u, f) =>
+        val a = Await.result(f, Duration.Inf)
+        val n = copies.getOrElse(u, 1)
+        u -> Seq.fill(n)(a).reduce(_ + _)
+      }
     } finally pool.shutdown()
   }
 

@@ -3,7 +3,7 @@ package rtaccel.tools
 import rtaccel.datapath.{BoxRounding, FloatDatapath, TriangleTest}
 import rtaccel.fp.FloatFormat
 import rtaccel.scene.ScenePackage
-import rtaccel.{AccelConfig, RtAccel}
+import rtaccel.{AccelConfig, BvhLayout, RtAccel}
 
 import java.nio.file.{Files, Path, Paths}
 import scala.sys.process._
@@ -26,7 +26,9 @@ object EmitVerilog {
     val kv = args.grouped(2).collect { case Array(k, v) => k -> v }.toMap
     val out = Paths.get(kv.getOrElse("--out", "build/verilog"))
     val test = TriangleTest.parse(kv.getOrElse("--triangle", "watertight"))
-    val box = BoxRounding.parse(kv.getOrElse("--rounding", "rne"))
+    // Conservative boxes by default: no box a ray touches is ever culled (docs/kernels.md).
+    val box = BoxRounding.parse(kv.getOrElse("--rounding", "conservative"))
+    val layout = BvhLayout.parse(kv.getOrElse("--bvh", "4"))
     // FLOAT=auto: the smallest format the precision sweep found safe for this variant.
     val fmt = kv.getOrElse("--float", "e8m23") match {
       case "auto" =>
@@ -37,12 +39,12 @@ object EmitVerilog {
     }
     val synth = kv.getOrElse("--synth", "1") == "1"
     val jobs = kv.getOrElse("--jobs", "2").toInt
-    val generic = AccelConfig.zc706.copy(float = fmt)
+    val generic = AccelConfig.zc706.copy(float = fmt, layout = layout)
     // With a scene package, the hardware is sized to that scene's needs.
     val pkg = kv.get("--package").filter(_.nonEmpty).map(dir => ScenePackage.load(Paths.get(dir)))
     val cfg = pkg.fold(generic) { p =>
       val sized = p.sized(generic)
-      println(s"verilog: sized to ${p.dir}: stack ${sized.stackDepth} (generic ${generic.stackDepth}), node index ${sized.nodeIndexBits} bits " +
+      println(s"verilog: sized to ${p.dir}: ${sized.layout.name} nodes (the image's), stack ${sized.stackDepth} (generic ${generic.stackDepth}), node index ${sized.nodeIndexBits} bits " +
         s"(${generic.nodeIndexBits}), triangle index ${sized.triIndexBits} bits (${generic.triIndexBits}), leaf ${sized.maxLeafSize} " +
         s"(${generic.maxLeafSize}), ${sized.float.name} (${generic.float.name}: exponents ${p.range.neededEmin}..${p.range.neededEmax} needed)")
       if (sized.float.manBits < p.range.neededManBits)
@@ -90,7 +92,8 @@ object EmitVerilog {
     Option.when(synth) {
       val rows = area(sv, dp, jobs)
       rows.foreach { case (u, a) => println(s"verilog: $u: $a") }
-      val md = ResourceTable(s"RtAccel ${dp.name}, ${cfg.numRayIds} ray IDs, stack ${cfg.stackDepth}", rows, Zc706,
+      val md = ResourceTable(s"RtAccel ${dp.name}, ${cfg.layout.name} BVH nodes (${cfg.boxLanes} box lanes), ${cfg.numRayIds} ray IDs, stack ${cfg.stackDepth}",
+        rows.map { case ("BoxLane", a) => s"BoxLane x${cfg.boxLanes} (BboxIntersect)" -> a; case r => r }, Zc706,
         (System.nanoTime() - t0) / 1e9)
       Files.writeString(out.resolve("resources.md"), md)
       println(md)
@@ -106,6 +109,7 @@ object SizedSavings {
     def row(n: String, a: Double, b: Double) = f"| $n | $b%,.1f | $a%,.1f | ${pct(a, b)} |"
     (Seq(s"# Hardware sized to $scene", "",
       "| parameter | generic ZC706 | sized |", "| --- | --- | --- |",
+      s"| BVH layout | ${generic.layout.name} | ${sized.layout.name} |",
       s"| stack depth | ${generic.stackDepth} | ${sized.stackDepth} |",
       s"| node index bits | ${generic.nodeIndexBits} | ${sized.nodeIndexBits} |",
       s"| triangle index bits | ${generic.triIndexBits} | ${sized.triIndexBits} |",

@@ -13,7 +13,7 @@ class RtAccelPlugSpec extends AnyFlatSpec {
     s"RtAccel with ${dp.name}" should "elaborate" in {
       val cfg = AccelConfig(numRayIds = 4, stackDepth = 4, float = dp.fmt)
       val chirrtl = _root_.circt.stage.ChiselStage.emitCHIRRTL(new RtAccel(cfg, dp))
-      assert(chirrtl.contains(s"PrimIntersect_${dp.name}") && chirrtl.contains(s"BoxIntersect_${dp.name}"))
+      assert(chirrtl.contains(s"PrimIntersect_${dp.name}") && chirrtl.contains(s"BoxLane_${dp.name}"))
       assert(FloatDatapath.parse(dp.name) == dp)
     }
   }

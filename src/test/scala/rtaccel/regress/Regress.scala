@@ -31,7 +31,8 @@ object Regress {
   /** The configuration this run generates: the scene decides only what the user left open. */
   def config(a: RegressArgs, pkg: ScenePackage): AccelConfig = {
     val fmt = if (a.float == "field") rtaccel.fp.FloatFormat.FP32 else rtaccel.fp.FloatFormat.parse(a.float)
-    val generic = AccelConfig.zc706.copy(numRayIds = a.numRayIds, float = fmt)
+    // The node layout is the image's: nori-bridge chose it (make regress BVH=).
+    val generic = AccelConfig.zc706.copy(numRayIds = a.numRayIds, float = fmt, layout = pkg.image.layout)
     val base = if (a.sized) pkg.sized(generic) else generic
     a.stackDepth.fold(base)(d => base.copy(stackDepth = d))
   }

@@ -28,9 +28,10 @@ object SweepPoint {
 
   def run(a: SweepArgs): Unit = {
     val t0 = System.nanoTime()
-    val cfg = AccelConfig.zc706.copy(float = a.fmt)
     val golden = FloatGolden(a.dp)
     val packages = a.runs.map(r => r -> ScenePackage.load(a.packageDir(r))).toMap
+    // The packages' node layout (nori-bridge compile --bvh); structuralMisfits catches a mixed set.
+    val cfg = AccelConfig.zc706.copy(float = a.fmt, layout = packages.values.head.image.layout)
     // The numeric range is not checked here: where a narrow format cannot hold a
     // scene's range is exactly what the sweep measures (`in_range` per run).
     for ((r, p) <- packages; why <- p.structuralMisfits(cfg).headOption)

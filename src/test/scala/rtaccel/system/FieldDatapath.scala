@@ -5,9 +5,9 @@ import chisel3.util._
 import rtaccel.fetch.RayPrepUnit
 import rtaccel.fp.FloatFormat
 import rtaccel.golden.{ArithGolden, PreparedGolden, RayRecord}
-import rtaccel.leaf.{PrimAnswer, PrimUnit}
+import rtaccel.leaf.{PrimAnswer, PrimIntersect}
 import rtaccel.scene.{NodeRecord, TriangleRecord}
-import rtaccel.traversal.{BoxAnswer, BoxUnit}
+import rtaccel.traversal.{BoxAnswer, BoxLane}
 import rtaccel.{AccelConfig, Datapath, ErrorFlags}
 
 /** Test equipment for the control path: a datapath whose "geometry" is a hash
@@ -38,7 +38,7 @@ object FieldDatapath extends Datapath[UInt] {
     io.out := Pipe(io.in.valid, p, latency)
   }
 
-  def box(cfg: AccelConfig): BoxUnit[UInt] = new BoxUnit[UInt](cfg, gen) {
+  def box(cfg: AccelConfig): BoxLane[UInt] = new BoxLane[UInt](cfg, gen) {
     def latency: Int = boxLatency
     private val q = io.in.bits
     private val a = Wire(new BoxAnswer(this.cfg))
@@ -48,7 +48,7 @@ object FieldDatapath extends Datapath[UInt] {
     io.out := Pipe(io.in.valid, a, latency)
   }
 
-  def prim(cfg: AccelConfig): PrimUnit[UInt] = new PrimUnit[UInt](cfg, gen) {
+  def prim(cfg: AccelConfig): PrimIntersect[UInt] = new PrimIntersect[UInt](cfg, gen) {
     def latency: Int = primLatency
     private val rec = io.in.bits.triangle
     private val a = Wire(new PrimAnswer(this.cfg))

@@ -9,7 +9,7 @@ import rtaccel.mem.{Latency, MemoryParams}
 import rtaccel.regress.{Bridge, Chosen, Regress}
 import rtaccel.scene.{HitsCsv, ScenePackage}
 import rtaccel.testutil.{Backends, Seeded, Waves}
-import rtaccel.AccelConfig
+import rtaccel.{AccelConfig, BvhLayout}
 
 import java.nio.file.{Files, Paths}
 import scala.jdk.CollectionConverters._
@@ -37,7 +37,10 @@ class HardCasesSpec extends AnyFlatSpec with ChiselScalatestTester {
   it should "have no leak, false hit, wrong primitive or refused ray in FP32 with watertight triangles and conservative boxes" in
     Seeded("HardCases.fp32-cons-wt") { rnd =>
       val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.Watertight, BoxRounding.Conservative)
-      val cfg = AccelConfig(numRayIds = 16, stackDepth = 24, maxNodes = 1 << 13, maxTriangles = 1 << 12, maxLeafSize = 4)
+      // The 4-wide layout, as `make regress` builds by default.
+      val layout = BvhLayout.Wide(4)
+      val cfg = AccelConfig(numRayIds = 16, stackDepth = 24, maxNodes = 1 << 13, maxTriangles = 1 << 12, maxLeafSize = 4,
+        layout = layout)
       val chosen = Chosen(dp, FloatGolden(dp)).asInstanceOf[Chosen[Data, Any]]
       val mem = MemoryParams(Latency.Uniform(20, 120), maxOutstanding = 16)
       val env = Environment(mem, mem, rayGap = 0.1, hitRefuse = 0.1)
@@ -45,7 +48,7 @@ class HardCasesSpec extends AnyFlatSpec with ChiselScalatestTester {
         for ((c, k) <- cases.zipWithIndex) {
           val dir = Paths.get("build/test-scenes").resolve(s"hard-$c")
           Bridge.compile(bridge, hardDir.resolve(c).resolve(s"$c.xml"), dir, hardDir.resolve(c).resolve("rays.txt").toString,
-            Seq("--reference", "double"))
+            Seq("--reference", "double", "--bvh", layout.name))
           val pkg = ScenePackage.load(dir)
           assert(pkg.misfits(cfg).isEmpty, s"$c: ${pkg.misfits(cfg)}")
           dut.reset.poke(true.B); dut.clock.step(); dut.reset.poke(false.B)

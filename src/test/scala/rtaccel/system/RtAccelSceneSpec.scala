@@ -10,7 +10,7 @@ import rtaccel.mem.{CacheParams, Latency, MemoryParams}
 import rtaccel.regress.Bridge
 import rtaccel.scene.{HitsCsv, ScenePackage}
 import rtaccel.testutil.{Backends, Seeded, Waves}
-import rtaccel.AccelConfig
+import rtaccel.{AccelConfig, BvhLayout}
 
 import java.nio.file.{Path, Paths}
 
@@ -25,14 +25,15 @@ class RtAccelSceneSpec extends AnyFlatSpec with ChiselScalatestTester {
   private val bridge = Paths.get("nori-bridge/target/release/nori-bridge")
   private val root = Paths.get("build/test-scenes")
 
-  private def compiled(scene: String, rays: String, extra: Seq[String] = Nil): ScenePackage = {
+  private def compiled(scene: String, rays: String, extra: Seq[String] = Nil, layout: BvhLayout = BvhLayout.Wide(4)): ScenePackage = {
     val name = Paths.get(scene).getFileName.toString.stripSuffix(".xml")
-    val dir = root.resolve(s"$name-$rays")
-    Bridge.compile(bridge, Paths.get(scene), dir, rays, extra)
+    val dir = root.resolve(s"$name-$rays-bvh${layout.name}")
+    Bridge.compile(bridge, Paths.get(scene), dir, rays, extra ++ Seq("--bvh", layout.name))
     ScenePackage.load(dir)
   }
 
-  private val cfg32 = AccelConfig(numRayIds = 16, stackDepth = 24, maxNodes = 1 << 14, maxTriangles = 1 << 13, maxLeafSize = 4)
+  private val cfg32 = AccelConfig(numRayIds = 16, stackDepth = 24, maxNodes = 1 << 14, maxTriangles = 1 << 13, maxLeafSize = 4,
+    layout = BvhLayout.Wide(4))
 
   private def runScenes(cfg: AccelConfig, dp: FloatDatapath, cases: Seq[(String, () => ScenePackage, Environment)],
       embreeStrict: Boolean, seed: String): Unit = Seeded(seed) { rnd =>
@@ -65,7 +66,7 @@ class RtAccelSceneSpec extends AnyFlatSpec with ChiselScalatestTester {
     rayGap = 0.2, hitRefuse = 0.3, memRefuse = 0.2)
   private val cached = Environment(MemoryParams(Latency.Fixed(60), cache = Some(CacheParams())), MemoryParams(Latency.Fixed(60), cache = Some(CacheParams())))
 
-  it should "match the golden model and Embree in FP32 (watertight) on camera, shadow, AO and random rays" in {
+  it should "match the golden model and Embree in FP32 (watertight, 4-wide nodes) on camera, shadow, AO and random rays" in {
     val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.Watertight, BoxRounding.Nearest)
     runScenes(cfg32, dp, Seq(
       ("cornell primary", () => compiled("scenes/cornell-box/cornell-box.xml", "primary"), lat100),
@@ -76,15 +77,24 @@ class RtAccelSceneSpec extends AnyFlatSpec with ChiselScalatestTester {
     ), embreeStrict = true, "RtAccelScene.fp32")
   }
 
-  it should "match the golden model bit for bit on hardware sized to the Cornell box (narrow, Moller-Trumbore, conservative boxes)" in {
-    // Sized from e8m12: stack, indices and leaf size from the BVH, exponent bits from the numeric range.
-    val primary = compiled("scenes/cornell-box/cornell-box.xml", "primary")
+  for (layout <- Seq(BvhLayout.Wide(2), BvhLayout.Wide(8)))
+    it should s"match the golden model and Embree in FP32 with ${layout.name}-wide nodes and conservative boxes on the Cornell box" in {
+      val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.Watertight, BoxRounding.Conservative)
+      runScenes(cfg32.copy(layout = layout), dp, Seq(
+        ("cornell primary", () => compiled("scenes/cornell-box/cornell-box.xml", "primary", layout = layout), ooo),
+        ("cornell AO", () => compiled("scenes/cornell-box/cornell-box.xml", "ao", layout = layout), lat100)
+      ), embreeStrict = true, s"RtAccelScene.wide${layout.name}")
+    }
+
+  it should "match the golden model bit for bit on hardware sized to the Cornell box (nori nodes, narrow, Moller-Trumbore, conservative boxes)" in {
+    // Sized from e8m12: layout, stack, indices and leaf size from the BVH, exponent bits from the numeric range.
+    val primary = compiled("scenes/cornell-box/cornell-box.xml", "primary", layout = BvhLayout.Nori)
     val cfg = primary.sized(cfg32.copy(float = FloatFormat(8, 12)))
     assert(cfg.float == FloatFormat(7, 12) && cfg.stackDepth == primary.needs.bvhDepth && cfg.maxLeafSize == primary.needs.largestLeaf, cfg)
     val dp = FloatDatapath(cfg.float, TriangleTest.Moller, BoxRounding.Conservative)
     runScenes(cfg, dp, Seq(
       ("cornell primary", () => primary, ooo),
-      ("cornell AO", () => compiled("scenes/cornell-box/cornell-box.xml", "ao"), cached)
+      ("cornell AO", () => compiled("scenes/cornell-box/cornell-box.xml", "ao", layout = BvhLayout.Nori), cached)
     ), embreeStrict = false, "RtAccelScene.sized")
   }
 }

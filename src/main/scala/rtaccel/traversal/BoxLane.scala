@@ -20,8 +20,11 @@ class BoxAnswer(cfg: AccelConfig) extends Bundle {
   val near = UInt(cfg.float.width.W)
 }
 
-/** One box test per cycle in, the answer `latency` cycles later (II = 1). */
-abstract class BoxUnit[T <: Data](val cfg: AccelConfig, val gen: T) extends Module {
+/** One lane of BboxIntersect: one box test per cycle in, the answer
+  * `latency` cycles later (II = 1). A datapath supplies it; BboxIntersect
+  * instantiates one per child slot.
+  */
+abstract class BoxLane[T <: Data](val cfg: AccelConfig, val gen: T) extends Module {
   def latency: Int
   val io = IO(new Bundle {
     val in  = Flipped(Valid(new BoxQuery(cfg, gen)))

@@ -36,7 +36,7 @@ class PrimAnswer(cfg: AccelConfig) extends Bundle {
 /** What LeafIntersect needs of a ray/triangle unit: one query per cycle in,
   * the answer exactly `latency` cycles later, no back-pressure (II = 1).
   */
-abstract class PrimUnit[T <: Data](val cfg: AccelConfig, val gen: T) extends Module {
+abstract class PrimIntersect[T <: Data](val cfg: AccelConfig, val gen: T) extends Module {
   def latency: Int
   val io = IO(new Bundle {
     val in  = Flipped(Valid(new PrimQuery(cfg, gen)))
