@@ -13,9 +13,11 @@ object Bridge {
     if (rc != 0) throw new IllegalArgumentException(s"`${cmd.mkString(" ")}` failed with exit code $rc")
   }
 
-  /** Compiles a Nori scene into a package directory (rays: primary|shadow|ao|random|file). */
-  def compile(bridge: Path, scene: Path, pkg: Path, rays: String, extra: Seq[String] = Nil): Unit =
-    exec(bridge, Seq("compile", scene.toString, "--out", pkg.toString, "--rays", rays) ++ extra)
+  /** Compiles a Nori scene into a package directory (rays: primary|shadow|ao|random|file), in BVH
+    * layout `bvh` (nori-bridge's `--bvh`; None: its default).
+    */
+  def compile(bridge: Path, scene: Path, pkg: Path, rays: String, extra: Seq[String] = Nil, bvh: Option[String] = None): Unit =
+    exec(bridge, Seq("compile", scene.toString, "--out", pkg.toString, "--rays", rays) ++ bvh.toSeq.flatMap(Seq("--bvh", _)) ++ extra)
 
   /** Compares `hits` (by default out/hits.csv) with the package's reference; writes and returns out/accuracy.json. */
   def compare(bridge: Path, pkg: Path, out: Path, precisionBits: Int, hits: Option[Path] = None): ujson.Value = {

@@ -6,7 +6,7 @@ import chiseltest.simulator.WriteVcdAnnotation
 import firrtl2.options.TargetDirAnnotation
 import rtaccel.golden.{HitRecord, TraversalGolden}
 import rtaccel.scene.{HitsCsv, ScenePackage}
-import rtaccel.system.{AccelHarness, Environment, RunResult, SimTop}
+import rtaccel.system.{AccelHarness, RunResult, SimTop}
 import rtaccel.{AccelConfig, ErrorFlags, RtAccel}
 
 import java.nio.file.{Files, Path, Paths}
@@ -18,15 +18,10 @@ import java.nio.file.{Files, Path, Paths}
   * for camera rays, PNGs into the output directory.
   */
 object Regress {
-  def main(args: Array[String]): Unit =
-    try {
-      val ok = run(RegressArgs.parse(args.toSeq))
-      sys.exit(if (ok) 0 else 1)
-    } catch {
-      case e: IllegalArgumentException =>
-        System.err.println(s"Error: ${e.getMessage}")
-        sys.exit(2)
-    }
+  def main(args: Array[String]): Unit = {
+    val ok = Cli.orExit(run(RegressArgs.parse(args.toSeq)))
+    sys.exit(if (ok) 0 else 1)
+  }
 
   /** The configuration this run generates: the scene decides only what the user left open. */
   def config(a: RegressArgs, pkg: ScenePackage): AccelConfig = {
@@ -66,7 +61,7 @@ object Regress {
     val chosen = DatapathChoice.resolve(if (a.sized && a.float != "field") cfg.float.name else a.float, a.triangle, a.rounding)
     Files.createDirectories(a.out)
     println(s"regress: ${rays.size} rays, ${pkg.needs.triangles} triangles, ${pkg.needs.nodes} nodes; " +
-      s"${cfg.numRayIds} ray IDs, stack ${cfg.stackDepth}, ${cfg.float.name}; memory ${a.memory(0).describe}")
+      s"${cfg.numRayIds} ray IDs, stack ${cfg.stackDepth}, ${cfg.float.name}; memory ${a.describeMemory}")
     chosen match { case c: Chosen[t, s] => runWith(a, pkg, rays, cfg, c.asInstanceOf[Chosen[Data, s]]) }
   }
 
@@ -75,7 +70,7 @@ object Regress {
     val simDir = Paths.get("build", "sim", s"RtAccel_${c.dp.name}_n${cfg.numRayIds}_d${cfg.stackDepth}")
     val annos = Seq(VerilatorBackendAnnotation, chiseltest.internal.CachingAnnotation, TargetDirAnnotation(simDir.toString)) ++
       (if (a.waves) Seq(WriteVcdAnnotation) else Nil)
-    val env = Environment(a.memory(0), a.memory(1), seed = a.seed)
+    val env = a.environment
     val t0 = System.nanoTime()
     var result: RunResult = null
     var simStart = 0L
