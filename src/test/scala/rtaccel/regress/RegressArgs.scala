@@ -92,9 +92,9 @@ object RegressArgs {
       case other               => fail(s"unknown option '$other'")
     }
     if (a.memoryKind == MemoryKind.OnChip) {
-      if (a.memLatency.isDefined) fail(s"--mem-latency ${a.memLatency.get.describe}: on-chip memory has a fixed latency of " +
+      if (a.memLatency.isDefined) fail(s"--mem-latency ${a.memLatency.get.describe}: with --memory onchip the latency is fixed at " +
         s"${MemoryKind.OnChip.LatencyCycles} cycles (the option applies to --memory ddr)")
-      if (a.cache.isDefined) fail("--cache: on-chip memory has no cache (the option applies to --memory ddr)")
+      if (a.cache.isDefined) fail("--cache: with --memory onchip there is no cache (on-chip memory; the option applies to --memory ddr)")
     }
     a
   }
