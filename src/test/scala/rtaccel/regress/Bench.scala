@@ -103,7 +103,7 @@ object Bench {
     }
     val rows = collection.mutable.ArrayBuffer.empty[ujson.Obj]
     val annos = Seq(VerilatorBackendAnnotation, chiseltest.internal.CachingAnnotation,
-      TargetDirAnnotation(s"build/sim/SimTop_${dp.name}_n${cfg.numRayIds}_d${cfg.stackDepth}_$layout"))
+      TargetDirAnnotation(Regress.simDir(dp.name, cfg, if (layout == DefaultLayout) "" else s"_$layout").toString))
     RawTester.test(new SimTop(cfg, dp), annos) { dut =>
       for ((run, p, goldenHits, embree) <- packages; memory <- Memories) {
         val rays = SpeedRuns.sample(p.rays, a.maxRays)

@@ -35,6 +35,22 @@ object Bridge {
     ujson.read(Files.readString(out))
   }
 
+  /** nori-bridge judges whole packages; a run of the first `n` rays is judged
+    * on a copy of the package holding just those rays and their reference
+    * rows (rays.csv and reference.csv list one ray per line, in order, after
+    * a header). Returns the copy's directory.
+    */
+  def firstRays(pkg: Path, n: Int, dir: Path): Path = {
+    Files.createDirectories(dir)
+    for (f <- Seq("image.bin", "scene.json", "package.json"))
+      Files.copy(pkg.resolve(f), dir.resolve(f), java.nio.file.StandardCopyOption.REPLACE_EXISTING)
+    for (f <- Seq("rays.csv", "reference.csv")) {
+      val lines = Files.readAllLines(pkg.resolve(f))
+      Files.write(dir.resolve(f), lines.subList(0, (n + 1).min(lines.size)))
+    }
+    dir
+  }
+
   /** PNGs for camera rays; other ray kinds have no image, and nothing is drawn. */
   def render(bridge: Path, pkg: Path, out: Path): Option[Path] = {
     val manifest = ujson.read(Files.readString(pkg.resolve("package.json")))
