@@ -20,7 +20,8 @@ object BenchMarkdown {
       "| rays | layout | memory | rays/cycle | of bound | limited by | node tests/ray | node bytes/ray | triangle tests/ray | DRAM bytes/ray | golden mismatches | Embree mismatches | box-lane LUTs |",
       "| --- | --- | --- | ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
     val order = Bench.Runs.map(_.name)
-    val sorted = rows.sortBy(r => (order.indexOf(r("run").str), r("layout").str, Bench.Memories.indexOf(r("memoryKind").str)))
+    val layouts = rows.map(_("layout").str).distinct // in the order asked for
+    val sorted = rows.sortBy(r => (order.indexOf(r("run").str), layouts.indexOf(r("layout").str), Bench.Memories.indexOf(r("memoryKind").str)))
     val body = sorted.map { r =>
       val layout = r("layout").str
       s"| ${r("run").str} (${r("rays").num.toInt} of ${r("raySetSize").num.toInt}) | $layout | ${r("memoryKind").str} | " +
