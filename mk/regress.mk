@@ -1,4 +1,12 @@
-# Accelerator speed measurements (issue 5): writes docs/performance.md.
+# Accelerator speed measurements: writes docs/performance.md.
+# BVH_LAYOUTS: nori-bridge layouts to compare (`nori`, and `2 4 8` once the
+# wide-node RTL is in); MAX_RAYS: rays simulated per run, strided over the set;
+# BENCH_RUNS: a subset of the runs (e.g. for a quick look).
+BVH_LAYOUTS ?= nori
+BENCH_RUNS  ?= cornell-box-primary dragon-primary dragon-shadow dragon-ao
+BENCH_OUT   ?= docs/performance.md
+bench_list   = $(subst $(space),$(comma),$(strip $(1)))
+
 .PHONY: bench
-bench: setup ## Speed of the accelerator on Cornell box and dragon (camera/shadow/AO, latency 10 and 100, in-flight sweep) -> docs/performance.md
-	$(SBT) "Test/runMain rtaccel.regress.Bench docs/performance.md"
+bench: setup ## Speed side by side: BVH layouts x memory (onchip, ddr) x Cornell/dragon rays -> docs/performance.md [BVH_LAYOUTS="nori 2 4 8" MAX_RAYS=2048 BENCH_RUNS=]
+	$(SBT) "Test/runMain rtaccel.regress.Bench --out $(BENCH_OUT) --layouts $(call bench_list,$(BVH_LAYOUTS)) --runs $(call bench_list,$(BENCH_RUNS)) --max-rays $(or $(MAX_RAYS),2048)"

@@ -4,8 +4,10 @@
 #   SCENE=scenes/x/x.xml | a compiled package directory
 #   RAYS=primary|shadow|ao|random|file.txt   SPP=1   WIDTH= HEIGHT=   SEED=1
 #   OUT=build/regress/<scene>   FLOAT=e8m23   TRIANGLE=watertight|moller
-#   ROUNDING=rne|conservative   MEM_LATENCY=100 (or 50-300)   IDS=64   STACK=
-#   CACHE=0 (KiB)   MAX_RAYS=   WAVES=0   STRICT=0   SIZE=1 (hardware sized to the scene)
+#   ROUNDING=conservative|rne   IDS=64   STACK=   MAX_RAYS=   WAVES=0   STRICT=0
+#   SIZE=1 (hardware sized to the scene)   BVH= (nori-bridge layout; its default if unset)
+#   MEMORY=ddr|onchip   MEM_LATENCY=100 (ns, or 80-300; ddr only)   FABRIC_MHZ=200
+#   OUTSTANDING=64   CACHE=0 (KiB; ddr only)
 set -euo pipefail
 : "${SCENE:?make regress needs SCENE=scenes/<name>/<name>.xml (or a package directory)}"
 bridge=nori-bridge/target/release/nori-bridge
@@ -20,15 +22,20 @@ else
   args=(compile "$SCENE" --out "$pkg" --rays "${RAYS:-primary}" --spp "${SPP:-1}" --seed "${SEED:-1}")
   [ -n "${WIDTH:-}" ] && args+=(--width "$WIDTH")
   [ -n "${HEIGHT:-}" ] && args+=(--height "$HEIGHT")
+  # Only when asked for: older nori-bridge builds have no --bvh.
+  [ -n "${BVH:-}" ] && args+=(--bvh "${BVH:-nori}")
   "$bridge" "${args[@]}"
 fi
 start=$(date +%s)
 opts="--package $pkg --out $OUT --float ${FLOAT:-e8m23} --triangle ${TRIANGLE:-watertight}"
-opts+=" --rounding ${ROUNDING:-rne} --mem-latency ${MEM_LATENCY:-100} --ids ${IDS:-64} --cache ${CACHE:-0}"
+opts+=" --rounding ${ROUNDING:-conservative} --memory ${MEMORY:-ddr} --fabric-mhz ${FABRIC_MHZ:-200}"
+opts+=" --outstanding ${OUTSTANDING:-64} --ids ${IDS:-64}"
 opts+=" --waves ${WAVES:-0} --strict ${STRICT:-0} --seed ${SEED:-1} --bridge $bridge"
 # Empty values would vanish in sbt's argument splitting: pass only what is set.
 [ -n "${STACK:-}" ] && opts+=" --stack $STACK"
 [ -n "${MAX_RAYS:-}" ] && opts+=" --rays $MAX_RAYS"
 [ -n "${SIZE:-}" ] && opts+=" --size $SIZE"
+[ -n "${MEM_LATENCY:-}" ] && opts+=" --mem-latency $MEM_LATENCY"
+[ -n "${CACHE:-}" ] && opts+=" --cache $CACHE"
 ./sbt "Test/runMain rtaccel.regress.Regress $opts"
 echo "regress: $OUT/report.md ($(( $(date +%s) - start )) s)"

@@ -1,6 +1,6 @@
 package rtaccel.mem
 
-/** How long the memory takes to answer one transfer, in cycles. */
+/** How long the memory takes to answer one transfer, in fabric cycles. */
 sealed trait Latency {
   def min: Int
   def describe: String
@@ -17,12 +17,26 @@ object Latency {
     def min: Int = lo
     def describe: String = s"$lo-$hi"
   }
+}
 
-  /** Parses `100` or `50-300`, as given to `make regress MEM_LATENCY=...`. */
-  def parse(s: String): Latency = s.trim.split("-").map(_.trim) match {
-    case Array(n) if n.forall(_.isDigit)                    => Fixed(n.toInt)
-    case Array(a, b) if (a + b).forall(_.isDigit) && a.nonEmpty => Uniform(a.toInt, b.toInt)
-    case _ => throw new IllegalArgumentException(s"memory latency '$s': expected N or LO-HI, e.g. 100 or 50-300")
+/** A memory latency as a datasheet or a user states it, in nanoseconds:
+  * fixed (`lo == hi`) or uniform in [lo, hi]. `cycles` converts it at a clock.
+  */
+final case class LatencyNs(lo: Int, hi: Int) {
+  require(lo >= 1 && hi >= lo, s"memory latency: need 1 <= lo <= hi ns, got [$lo, $hi]")
+  def cycles(clock: FabricClock): Latency =
+    if (lo == hi) Latency.Fixed(clock.cycles(lo)) else Latency.Uniform(clock.cycles(lo), clock.cycles(hi))
+  def describe: String = if (lo == hi) s"$lo ns" else s"$lo-$hi ns"
+}
+object LatencyNs {
+  /** Parses `100` or `80-300` (ns), as given to `make regress MEM_LATENCY=...`. */
+  def parse(s: String): LatencyNs = {
+    def ns(x: String) = x.trim.toIntOption.filter(_ >= 1)
+    s.split("-", -1) match {
+      case Array(n) if ns(n).isDefined => LatencyNs(ns(n).get, ns(n).get)
+      case Array(a, b) if ns(a).isDefined && ns(b).isDefined && ns(a).get <= ns(b).get => LatencyNs(ns(a).get, ns(b).get)
+      case _ => throw new IllegalArgumentException(s"memory latency '$s': expected N or LO-HI in ns (whole numbers, 1 <= LO <= HI), e.g. 100 or 80-300")
+    }
   }
 }
 
@@ -41,26 +55,25 @@ case class CacheParams(lineBytes: Int = 64, capacityBytes: Int = 32 * 1024, ways
   val sets: Int = capacityBytes / (lineBytes * ways)
 }
 
-/** One port's memory system.
+/** One port's view of the memory system. Bandwidth is not a port parameter:
+  * it belongs to the store behind the port (`Backing`), which for DRAM both
+  * ports share.
   *
-  * @param latency        DRAM latency per transfer
+  * @param latency        per transfer, in cycles (from ns through `LatencyNs.cycles`)
   * @param maxOutstanding requests accepted but not yet answered; at the limit the port stalls
-  * @param bytesPerCycle  DRAM return bandwidth shared by all transfers of this port
   * @param inOrder        answer in request order (else as soon as each is ready)
-  * @param cache          optional non-blocking cache
+  * @param cache          optional non-blocking cache, private to the port
   * @param seed           seed of the latency generator
   */
 case class MemoryParams(
     latency: Latency = Latency.Fixed(10),
     maxOutstanding: Int = 64,
-    bytesPerCycle: Int = 16,
     inOrder: Boolean = false,
     cache: Option[CacheParams] = None,
     seed: Long = 1
 ) {
   require(maxOutstanding >= 1, s"MemoryParams: maxOutstanding must be >= 1, got $maxOutstanding")
-  require(bytesPerCycle >= 1, s"MemoryParams: bytesPerCycle must be >= 1, got $bytesPerCycle")
   def describe: String =
-    s"latency=${latency.describe} outstanding=$maxOutstanding bw=${bytesPerCycle}B/cycle ${if (inOrder) "in-order" else "out-of-order"}" +
-      cache.fold("")(c => s" cache=${c.capacityBytes}B/${c.ways}way/${c.lineBytes}B-lines/${c.mshrs}mshr")
+    s"latency=${latency.describe} cycles, outstanding=$maxOutstanding, ${if (inOrder) "in-order" else "out-of-order"}" +
+      cache.fold("")(c => s", cache=${c.capacityBytes}B/${c.ways}way/${c.lineBytes}B-lines/${c.mshrs}mshr")
 }

@@ -20,10 +20,33 @@ import scala.util.Random
   * straddle two lines): present lines hit, lines already being fetched merge
   * into their MSHR, other lines take a free MSHR and one DRAM line transfer.
   * A request needing more MSHRs than are free is refused until some retire.
+  * DRAM transfers (records or line fills) go to `backing`: a DramModel,
+  * possibly shared with the other port, that charges whole bursts and
+  * shares its bandwidth; or on-chip memory, which answers every request after
+  * the port's fixed latency with no bandwidth of its own to share.
   */
-final class MemorySystemModel(image: MemoryImage, recordBytes: Int, params: MemoryParams, name: String) {
-  private val rnd  = new Random(params.seed)
-  private val dram = new DramModel(params.latency, params.bytesPerCycle, params.inOrder, rnd)
+final class MemorySystemModel(image: MemoryImage, val recordBytes: Int, params: MemoryParams, name: String,
+    backing: Backing = Backing.privateDdr()) {
+  backing match {
+    case Backing.OnChip =>
+      require(params.cache.isEmpty, s"$name: a cache in front of on-chip memory")
+      require(params.latency.isInstanceOf[Latency.Fixed], s"$name: on-chip memory has a fixed latency, got ${params.latency.describe}")
+    case _: Backing.Dram => ()
+  }
+  private val rnd = new Random(params.seed)
+  private def drawLatency(): Int = params.latency match {
+    case Latency.Fixed(c)        => c
+    case Latency.Uniform(lo, hi) => lo + rnd.nextInt(hi - lo + 1)
+  }
+  private var dramBytes = 0L
+  private val client = new DramModel.Client {
+    def inOrder: Boolean = params.inOrder
+    def completed(id: Long): Unit = if (id >= 0) makeAvailable(outstanding(id)) else fill(-1 - id)
+  }
+  private def issue(id: Long, addr: Long, n: Int): Unit = backing match {
+    case Backing.Dram(d) => dramBytes += d.issue(client, id, addr, n, drawLatency(), now)
+    case Backing.OnChip  => throw new IllegalStateException(s"$name: no DRAM behind on-chip memory")
+  }
 
   /** `data` is read once, on acceptance (memory is read-only during a run). */
   private final class Req(val seq: Long, val tag: Int, val data: BigInt, var waitingLines: Int) {
@@ -34,7 +57,7 @@ final class MemorySystemModel(image: MemoryImage, recordBytes: Int, params: Memo
   private var nextSeq: Long = 0
   private val outstanding = mutable.LinkedHashMap.empty[Long, Req] // accepted, not yet answered; in seq order
   private val ready = mutable.Queue.empty[Req]                     // out-of-order mode: available, in order of readiness
-  private val hitPipe = mutable.Queue.empty[Req]                   // cache hits, ready at readyAt
+  private val hitPipe = mutable.Queue.empty[Req]                   // cache hits and on-chip reads, ready at readyAt (fixed latency: FIFO)
 
   // Cache state: per set, line addresses in LRU order (head = least recent).
   private val sets  = params.cache.map(c => Array.fill(c.sets)(mutable.ArrayBuffer.empty[Long]))
@@ -71,9 +94,12 @@ final class MemorySystemModel(image: MemoryImage, recordBytes: Int, params: Memo
     nextSeq += 1
     requests += 1
     outstanding(r.seq) = r
-    params.cache match {
-      case None => dram.issue(r.seq, recordBytes, now)
-      case Some(c) =>
+    (backing, params.cache) match {
+      case (Backing.OnChip, _) =>
+        r.readyAt = now + drawLatency() - 1
+        hitPipe.enqueue(r)
+      case (_, None) => issue(r.seq, addr, recordBytes)
+      case (_, Some(c)) =>
         for (line <- linesOf(addr)) {
           if (present(line)) {
             lineHits += 1
@@ -86,7 +112,7 @@ final class MemorySystemModel(image: MemoryImage, recordBytes: Int, params: Memo
             primaryMisses += 1
             mshrs(line) = mutable.ArrayBuffer(r)
             r.waitingLines += 1
-            dram.issue(-1 - line, c.lineBytes, now) // negative IDs name line fills
+            issue(-1 - line, line, c.lineBytes) // negative IDs name line fills
           }
         }
         if (r.waitingLines == 0) {
@@ -117,10 +143,7 @@ final class MemorySystemModel(image: MemoryImage, recordBytes: Int, params: Memo
   }
 
   def tick(): Unit = {
-    for (id <- dram.tick(now)) {
-      if (id >= 0) makeAvailable(outstanding(id))
-      else fill(-1 - id)
-    }
+    backing match { case Backing.Dram(d) => d.tick(now); case Backing.OnChip => () }
     while (hitPipe.nonEmpty && hitPipe.head.readyAt <= now) makeAvailable(hitPipe.dequeue())
     outstandingSum += outstanding.size
     mshrSum += mshrs.size
@@ -142,6 +165,22 @@ final class MemorySystemModel(image: MemoryImage, recordBytes: Int, params: Memo
   def cycles: Long = now
   def idle: Boolean = outstanding.isEmpty
 
-  def stats: MemStats = MemStats(name, now, requests, responses, dram.bytesMoved, requestHits, lineHits,
+  def stats: MemStats = MemStats(name, now, recordBytes, requests, responses, dramBytes, requestHits, lineHits,
     primaryMisses, mergedMisses, stallCycles, outstandingSum, maxOutstandingSeen, mshrSum)
+}
+
+/** The store behind a port's memory system. */
+sealed trait Backing
+object Backing {
+  /** A DRAM channel, private to the port or shared with the other one. */
+  final case class Dram(model: DramModel) extends Backing
+  /** Block RAM of the port's own: the port's fixed latency, one record per cycle. */
+  case object OnChip extends Backing
+
+  def privateDdr(kind: MemoryKind.Ddr = MemoryKind.Ddr()): Dram = Dram(new DramModel(kind.bytesPerCycle, kind.device.burstBytes))
+  /** The backings of a run's two ports: one shared DRAM, or on-chip memory each. */
+  def forPorts(kind: MemoryKind): (Backing, Option[DramModel]) = kind match {
+    case d: MemoryKind.Ddr   => val b = privateDdr(d); (b, Some(b.model))
+    case MemoryKind.OnChip   => (OnChip, None)
+  }
 }

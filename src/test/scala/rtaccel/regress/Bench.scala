@@ -3,76 +3,122 @@ package rtaccel.regress
 import chisel3._
 import chiseltest._
 import firrtl2.options.TargetDirAnnotation
-import rtaccel.AccelConfig
+import rtaccel.{AccelConfig, BvhLayout}
 import rtaccel.datapath.{BoxRounding, FloatDatapath, FloatGolden, TriangleTest}
 import rtaccel.fp.FloatFormat
-import rtaccel.mem.Latency
 import rtaccel.scene.{HitsCsv, ScenePackage}
-import rtaccel.system.{AccelHarness, Environment, SimTop}
+import rtaccel.sweep.{GoldenHits, SpeedRuns, SweepPoint}
+import rtaccel.system.{AccelHarness, SimTop}
 
-import java.nio.file.{Files, Paths}
+import java.nio.file.{Files, Path, Paths}
 
-/** `make bench`: speed of the FP32 watertight accelerator on the Cornell box
-  * and the ~200k-triangle dragon, camera / shadow / AO rays, memory latency
-  * 10 and 100, against the analytic bound; then the number of rays in flight
-  * needed to hold the bound. Every run is also checked ray by ray against the
-  * golden model (a mismatch fails the bench) and judged against Embree.
-  * Writes docs/performance.md and build/bench/bench.json.
+/** `make bench`: one side-by-side table of the FP32 watertight accelerator
+  * (conservative boxes, as `make regress` builds it) over BVH layouts x
+  * memory (on chip, DDR) x ray sets. Each run simulates at most `maxRays`
+  * rays, strided over the set, and checks every one bit for bit against the
+  * golden model (a mismatch fails the bench); Embree mismatches are counted
+  * on every ray of the set, with the golden model's answers (the hardware's,
+  * bit for bit, as the simulated sample shows). Writes the table (by default
+  * docs/performance.md) and build/bench/bench.json.
   */
 object Bench {
-  private val bridge = Paths.get("nori-bridge/target/release/nori-bridge")
-  private val root = Paths.get("build/bench")
+  final case class Run(scene: String, xml: String, rays: String) { def name = s"$scene-$rays" }
+  val Runs: Seq[Run] = Seq(
+    Run("cornell-box", "scenes/cornell-box/cornell-box.xml", "primary"),
+    Run("dragon", "scenes/dragon/dragon.xml", "primary"),
+    Run("dragon", "scenes/dragon/dragon.xml", "shadow"),
+    Run("dragon", "scenes/dragon/dragon.xml", "ao"))
+  val Memories: Seq[String] = Seq("onchip", "ddr")
+  /** nori-bridge's own layout: binary nodes of 32 bytes, what the RTL on this branch reads. */
+  val DefaultLayout = "nori"
 
-  private def pkg(scene: String, rays: String): ScenePackage = {
-    val dir = root.resolve(s"${Paths.get(scene).getFileName.toString.stripSuffix(".xml")}-$rays")
-    Bridge.compile(bridge, Paths.get(scene), dir, rays)
-    ScenePackage.load(dir)
-  }
+  final case class Args(layouts: Seq[String] = Seq(DefaultLayout), runs: Seq[Run] = Runs, maxRays: Int = 2048,
+      out: Path = Paths.get("docs/performance.md"), area: Path = Paths.get("build/bench/area.json"),
+      bridge: Path = Paths.get("nori-bridge/target/release/nori-bridge"), threads: Int = 2)
 
-  def main(args: Array[String]): Unit = {
-    val out = Paths.get(args.headOption.getOrElse("docs/performance.md"))
-    val t0 = System.nanoTime()
-    val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.Watertight, BoxRounding.Nearest)
-    val chosen: Chosen[Data, Any] = Chosen(dp, FloatGolden(dp)).asInstanceOf[Chosen[Data, Any]]
-    val scenes = Seq("cornell-box" -> "scenes/cornell-box/cornell-box.xml", "dragon" -> "scenes/dragon/dragon.xml")
-    val packages = for ((name, xml) <- scenes; rays <- Seq("primary", "shadow", "ao")) yield (name, rays, pkg(xml, rays))
-    val rows = collection.mutable.ArrayBuffer.empty[ujson.Obj]
+  val usage = "usage: Bench [--out docs/performance.md] [--layouts nori,2,4,8] [--runs cornell-box-primary,dragon-ao,...] " +
+    "[--max-rays 2048] [--area build/bench/area.json] [--threads 2]"
 
-    def runAll(ids: Int, cases: Seq[(String, String, ScenePackage, Int, Option[Int])]): Unit = {
-      val cfg = AccelConfig(numRayIds = ids, float = dp.fmt)
-      val annos = Seq(VerilatorBackendAnnotation, chiseltest.internal.CachingAnnotation,
-        TargetDirAnnotation(s"build/sim/SimTop_${chosen.dp.name}_n${ids}_d${cfg.stackDepth}"))
-      RawTester.test(new SimTop(cfg, chosen.dp), annos) { dut =>
-        for ((scene, kind, p, latency, limit) <- cases) {
-          val rays = limit.fold(p.rays)(n => p.rays.take(n))
-          require(p.misfits(cfg).isEmpty, s"$scene: ${p.misfits(cfg)}")
-          val a = RegressArgs(p.dir, root, memLatency = Latency.Fixed(latency), numRayIds = ids)
-          dut.reset.poke(true.B); dut.clock.step(); dut.reset.poke(false.B)
-          val wall = System.nanoTime()
-          val r = AccelHarness.run(dut, p.image, rays, Environment(a.memory(0), a.memory(1)))
-          val sim = (System.nanoTime() - wall) / 1e9
-          val bad = Regress.goldenCheck(cfg, p, rays, chosen, r.hits)
-          require(bad.isEmpty, s"$scene $kind: ${bad.size} rays differ from the golden model")
-          val outDir = root.resolve(s"$scene-$kind-L$latency-n$ids")
-          HitsCsv.write(outDir.resolve("hits.csv"), r.hits)
-          val acc = if (limit.isEmpty) Some(Bridge.compare(bridge, p.dir, outDir, 24)) else None
-          val s = Report.stats(a, cfg, chosen.dp.name, rays.size, r, sim, sim, 0, r.hits.count(_.errors != 0))
-          s("scene") = scene; s("rays kind") = kind; s("latency") = latency
-          s("embreeMismatches") = acc.fold[ujson.Value](ujson.Num(-1))(_("mismatches"))
-          rows += s
-          println(f"bench: $scene%-12s $kind%-8s L=$latency%-4d ids=$ids%-4d ${rays.size}%6d rays ${r.cycles}%,10d cycles " +
-            f"${s("raysPerCycle").num}%.4f r/c (bound ${s("boundRaysPerCycle").num}%.4f, ${s("efficiency").num}%.2f) ${s("simulation")("cyclesPerSecond").num}%.0f c/s")
-        }
+  def parse(args: Seq[String]): Args = {
+    def fail(why: String): Nothing = throw new IllegalArgumentException(s"$why\n$usage")
+    if (args.size % 2 != 0) fail(s"options come in pairs: ${args.mkString(" ")}")
+    args.grouped(2).map(p => p(0) -> p(1)).foldLeft(Args()) { case (a, (k, v)) =>
+      def list = v.split(',').map(_.trim).filter(_.nonEmpty).toSeq
+      def int = v.toIntOption.filter(_ >= 1).getOrElse(fail(s"$k: '$v' is not a whole number >= 1"))
+      k match {
+        case "--out"      => a.copy(out = Paths.get(v))
+        case "--layouts"  => if (list.isEmpty) fail(s"--layouts: '$v' names no layout") else a.copy(layouts = list)
+        case "--runs"     => a.copy(runs = list.map(n => Runs.find(_.name == n)
+                               .getOrElse(fail(s"--runs: '$n' is not one of ${Runs.map(_.name).mkString(", ")}"))))
+        case "--max-rays" => a.copy(maxRays = int)
+        case "--area"     => a.copy(area = Paths.get(v))
+        case "--threads"  => a.copy(threads = int)
+        case other        => fail(s"unknown option '$other'")
       }
     }
-    runAll(64, for ((s, k, p) <- packages; l <- Seq(10, 100)) yield (s, k, p, l, None))
-    val dragonAo = packages.find(x => x._1 == "dragon" && x._2 == "ao").get
-    for (ids <- Seq(8, 16, 32, 128)) runAll(ids, Seq((dragonAo._1, dragonAo._2, dragonAo._3, 100, Some(1500))))
-    runAll(64, Seq((dragonAo._1, dragonAo._2, dragonAo._3, 100, Some(1500))))
+  }
 
+  /** The hardware that reads `layout`'s nodes. Only the default layout's RTL
+    * exists on this branch; wide layouts (K box lanes) come with the wide-node RTL.
+    */
+  def configFor(layout: String): AccelConfig =
+    AccelConfig.zc706.copy(layout = try BvhLayout.parse(layout) catch { case e: IllegalArgumentException => throw new IllegalArgumentException(s"--layouts: ${e.getMessage}") })
+
+  private val root = Paths.get("build/bench")
+
+  def main(args: Array[String]): Unit = Cli.orExit(run(parse(args.toSeq)))
+
+  def run(a: Args): Unit = {
+    val t0 = System.nanoTime()
+    val base = RegressArgs(root, root)
+    val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.parse(base.triangle), BoxRounding.parse(base.rounding))
+    val golden = FloatGolden(dp)
+    a.layouts.foreach(configFor) // refuse an unknown layout before any work
+    val rows = for (layout <- a.layouts; row <- runLayout(a, layout, dp, golden)) yield row
     Files.createDirectories(root)
-    Files.writeString(root.resolve("bench.json"), ujson.write(ujson.Arr(rows.toSeq: _*), indent = 2))
-    Files.writeString(out, BenchMarkdown(rows.toSeq, (System.nanoTime() - t0) / 1e9))
-    println(s"bench: wrote $out")
+    Files.writeString(root.resolve("bench.json"), ujson.write(ujson.Arr(rows: _*), indent = 2))
+    val area = if (Files.exists(a.area)) ujson.read(Files.readString(a.area)).obj.map { case (k, v) => k -> v.num }.toMap else Map.empty[String, Double]
+    Files.createDirectories(a.out.toAbsolutePath.getParent)
+    Files.writeString(a.out, BenchMarkdown(rows, area, a.maxRays, (System.nanoTime() - t0) / 1e9))
+    println(s"bench: wrote ${a.out}")
+  }
+
+  private def runLayout(a: Args, layout: String, dp: FloatDatapath, golden: FloatGolden): Seq[ujson.Obj] = {
+    val cfg = configFor(layout)
+    val packages = a.runs.map { run =>
+      val dir = root.resolve(layout).resolve(run.name)
+      // The default layout is nori-bridge's default: asked for by name only once `--bvh` exists there.
+      Bridge.compile(a.bridge, Paths.get(run.xml), dir, run.rays, bvh = Option.when(layout != DefaultLayout)(layout))
+      val p = ScenePackage.load(dir)
+      require(p.misfits(cfg).isEmpty, s"${run.name} ($layout): ${p.misfits(cfg).mkString("; ")}")
+      // Every ray through the golden model, then against Embree.
+      val g = GoldenHits.run(cfg, p.image, golden, p.rays, a.threads)
+      val out = root.resolve(layout).resolve(s"${run.name}-golden")
+      HitsCsv.write(out.resolve("hits.csv"), g.hits)
+      val embree = Bridge.compare(a.bridge, p.dir, out, dp.fmt.manBits + 1)("mismatches").num.toLong
+      (run, p, g.hits.map(h => h.number -> h).toMap, embree)
+    }
+    val rows = collection.mutable.ArrayBuffer.empty[ujson.Obj]
+    val annos = Seq(VerilatorBackendAnnotation, chiseltest.internal.CachingAnnotation,
+      TargetDirAnnotation(Regress.simDir(dp.name, cfg, if (layout == DefaultLayout) "" else s"_$layout").toString))
+    RawTester.test(new SimTop(cfg, dp), annos) { dut =>
+      for ((run, p, goldenHits, embree) <- packages; memory <- Memories) {
+        val rays = SpeedRuns.sample(p.rays, a.maxRays)
+        val args = RegressArgs(p.dir, root, memory = memory, numRayIds = cfg.numRayIds)
+        dut.reset.poke(true.B); dut.clock.step(); dut.reset.poke(false.B)
+        val wall = System.nanoTime()
+        val r = AccelHarness.run(dut, p.image, rays, args.environment)
+        val sim = (System.nanoTime() - wall) / 1e9
+        val bad = SweepPoint.sameAnswers(rays.map(x => x.number -> x).toMap, r.hits, goldenHits)
+        require(bad == 0, s"${run.name} $layout $memory: $bad of ${rays.size} rays differ from the golden model")
+        val s = Report.stats(args, cfg, dp.name, rays.size, r, sim, sim, bad, r.hits.count(_.errors != 0))
+        s("layout") = layout; s("run") = run.name; s("memoryKind") = memory
+        s("raySetSize") = p.rays.size; s("embreeMismatches") = embree.toDouble
+        rows += s
+        println(f"bench: ${run.name}%-20s $layout%-5s $memory%-6s ${rays.size}%5d rays ${r.cycles}%,9d cycles " +
+          f"${s("raysPerCycle").num}%.4f r/c (${s("efficiency").num}%.2f of ${s("boundRaysPerCycle").num}%.4f, ${s("boundLimitedBy").str})")
+      }
+    }
+    rows.toSeq
   }
 }

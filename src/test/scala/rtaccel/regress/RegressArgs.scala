@@ -1,6 +1,7 @@
 package rtaccel.regress
 
-import rtaccel.mem.{CacheParams, Latency, MemoryParams}
+import rtaccel.mem.{CacheParams, FabricClock, Latency, LatencyNs, MemoryKind, MemoryParams}
+import rtaccel.system.Environment
 
 import java.nio.file.{Path, Paths}
 
@@ -12,9 +13,13 @@ final case class RegressArgs(
     out: Path,
     float: String = "e8m23",
     triangle: String = "watertight",
-    rounding: String = "rne",
-    memLatency: Latency = Latency.Fixed(100),
-    bytesPerCycle: Int = 16,
+    /** Conservative (outward-rounded) boxes: no false miss from box rounding (see docs/speed-vs-error.md). */
+    rounding: String = "conservative",
+    /** `ddr` (one DRAM behind both ports) or `onchip` (BRAM per port). */
+    memory: String = "ddr",
+    /** DRAM latency in ns; None: `MemoryKind.Ddr.DefaultLatency`. Not allowed on chip. */
+    memLatency: Option[LatencyNs] = None,
+    fabricMhz: Double = FabricClock.DefaultMhz,
     outstanding: Int = 64,
     cache: Option[CacheParams] = None,
     numRayIds: Int = 64,
@@ -27,14 +32,32 @@ final case class RegressArgs(
     sized: Boolean = false,
     seed: Long = 1
 ) {
-  def memory(seedOffset: Long): MemoryParams =
-    MemoryParams(memLatency, outstanding, bytesPerCycle, inOrder = false, cache, seed + seedOffset)
+  def clock: FabricClock = FabricClock(fabricMhz)
+  def memoryKind: MemoryKind = memory match {
+    case "onchip" => MemoryKind.OnChip
+    case _        => MemoryKind.Ddr(clock)
+  }
+  /** Per-port latency in cycles: the DRAM's ns at the fabric clock, or BRAM's fixed cycles. */
+  def latencyCycles: Latency = memoryKind match {
+    case MemoryKind.OnChip => Latency.Fixed(MemoryKind.OnChip.LatencyCycles)
+    case _                 => memLatency.getOrElse(MemoryKind.Ddr.DefaultLatency).cycles(clock)
+  }
+  def port(seedOffset: Long): MemoryParams =
+    MemoryParams(latencyCycles, outstanding, inOrder = false, cache, seed + seedOffset)
+  /** Both ports and the store behind them, seeded from `seed`. */
+  def environment: Environment = Environment(port(0), port(1), memoryKind, seed = seed)
+  def describeMemory: String = memoryKind match {
+    case MemoryKind.OnChip => s"${MemoryKind.OnChip.describe}; ${port(0).describe}"
+    case d                 =>
+      s"${d.describe}; latency ${memLatency.getOrElse(MemoryKind.Ddr.DefaultLatency).describe}; ${port(0).describe}"
+  }
 }
 
 object RegressArgs {
   val usage: String =
-    """usage: Regress --package DIR --out DIR [--float e8m23] [--triangle moller|watertight] [--rounding rne|conservative]
-      |       [--mem-latency 100|50-300] [--bytes-per-cycle 16] [--outstanding 64] [--cache KiB] [--ids 64]
+    """usage: Regress --package DIR --out DIR [--float e8m23] [--triangle moller|watertight] [--rounding conservative|rne]
+      |       [--memory ddr|onchip] [--mem-latency NS|LO-HI (ddr only; default 100)] [--fabric-mhz 200]
+      |       [--outstanding 64] [--cache KiB (ddr only)] [--ids 64]
       |       [--stack N] [--rays N] [--bridge PATH] [--waves 0|1] [--strict 0|1] [--size 0|1] [--seed N]""".stripMargin
 
   def parse(args: Seq[String]): RegressArgs = {
@@ -52,8 +75,10 @@ object RegressArgs {
       case "--float"           => a = a.copy(float = v)
       case "--triangle"        => a = a.copy(triangle = v)
       case "--rounding"        => a = a.copy(rounding = v)
-      case "--mem-latency"     => a = a.copy(memLatency = try Latency.parse(v) catch { case e: IllegalArgumentException => fail(e.getMessage) })
-      case "--bytes-per-cycle" => a = a.copy(bytesPerCycle = int(k, v, 1))
+      case "--memory"          => a = a.copy(memory = wrap(k)(MemoryKind.parse(v)).name)
+      case "--mem-latency"     => a = a.copy(memLatency = if (v.isEmpty) None else Some(wrap(k)(LatencyNs.parse(v))))
+      case "--fabric-mhz"      => a = a.copy(fabricMhz = v.toDoubleOption.filter(x => x > 0 && !x.isInfinite)
+                                    .getOrElse(fail(s"$k: '$v' is not a clock frequency in MHz (a number > 0, e.g. 200)")))
       case "--outstanding"     => a = a.copy(outstanding = int(k, v, 1))
       case "--cache"           => a = a.copy(cache = if (v == "0" || v.isEmpty) None else Some(CacheParams(capacityBytes = int(k, v, 1) * 1024)))
       case "--ids"             => a = a.copy(numRayIds = int(k, v, 2))
@@ -66,8 +91,15 @@ object RegressArgs {
       case "--seed"            => a = a.copy(seed = v.toLongOption.getOrElse(fail(s"--seed: '$v'")))
       case other               => fail(s"unknown option '$other'")
     }
+    if (a.memoryKind == MemoryKind.OnChip) {
+      if (a.memLatency.isDefined) fail(s"--mem-latency ${a.memLatency.get.describe}: with --memory onchip the latency is fixed at " +
+        s"${MemoryKind.OnChip.LatencyCycles} cycles (the option applies to --memory ddr)")
+      if (a.cache.isDefined) fail("--cache: with --memory onchip there is no cache (on-chip memory; the option applies to --memory ddr)")
+    }
     a
   }
+
+  private def wrap[A](k: String)(f: => A): A = try f catch { case e: IllegalArgumentException => fail(s"$k: ${e.getMessage}") }
 
   private def fail(why: String): Nothing = throw new IllegalArgumentException(s"$why\n$usage")
 }

@@ -7,41 +7,65 @@ import rtaccel.system.RunResult
   * plus nori-bridge's accuracy), report.md and a console table.
   */
 object Report {
+  /** The throughput bound of a run, from what the hardware is and what the
+    * run asked of it: each term is a resource's capacity per cycle over the
+    * run's use of it per ray, and the smallest term is the bound.
+    *  - `boxLanes`: BboxIntersect takes one node (all its child boxes at once)
+    *    per cycle; `boxTests` counts node tests.
+    *  - `triangleLanes`: PrimIntersect takes one triangle test per cycle.
+    *  - `control`: TraversalControl makes one decision per cycle.
+    *  - `dram` (DDR only): the DRAM's peak bytes per cycle at the fabric clock
+    *    over the bytes per ray it moved, whole bursts, both ports.
+    * Model parameters chosen to suit the design (a port's record size, the
+    * outstanding limit) are not terms.
+    */
+  final case class Bound(terms: Seq[(String, Double)]) {
+    val (limitedBy, raysPerCycle) = terms.minBy(_._2)
+    def toJson: ujson.Obj = ujson.Obj.from(terms.map { case (k, v) => k -> ujson.Num(v) })
+  }
+  object Bound {
+    val Terms: Seq[String] = Seq("boxLanes", "triangleLanes", "control", "dram")
+    def apply(rays: Int, perf: Map[String, BigInt], dram: Option[rtaccel.mem.DramStats], dramBytes: Long): Bound = {
+      def perRay(x: Double) = (x / rays.max(1)).max(1e-9) // a resource a run never used bounds nothing
+      Bound(Seq(
+        "boxLanes"      -> 1.0 / perRay(perf("boxTests").toDouble),
+        "triangleLanes" -> 1.0 / perRay(perf("triTests").toDouble),
+        "control"       -> 1.0 / perRay(perf("decisions").toDouble)) ++
+        dram.map(d => "dram" -> d.bytesPerCycle / perRay(dramBytes.toDouble)))
+    }
+  }
+
   def stats(a: RegressArgs, cfg: AccelConfig, datapath: String, rays: Int, r: RunResult, simSeconds: Double,
       wallSeconds: Double, goldenMismatches: Int, errorRays: Int): ujson.Obj = {
     val p = r.perf.map { case (k, v) => k -> v.toDouble }
     def perRay(k: String) = p(k) / rays.max(1)
-    // Each unit takes one item per cycle, so the busiest one bounds throughput.
-    val busiest = Seq("boxTests" -> perRay("boxTests"), "triTests" -> perRay("triTests"), "decisions" -> perRay("decisions"),
-      "nodeFetches" -> perRay("nodeFetches"), "triFetches" -> perRay("triFetches")).maxBy(_._2)
-    // Each port has its own return channel of bytesPerCycle: the port moving
-    // more bytes per ray bounds throughput by bandwidth.
-    val portBounds = Seq("nodePortBandwidth" -> r.node.dramBytes, "trianglePortBandwidth" -> r.tri.dramBytes)
-      .map { case (n, bytes) => n -> a.bytesPerCycle / (bytes.toDouble / rays.max(1)).max(1e-9) }
-    val unitBound = "unit:" + busiest._1 -> 1.0 / busiest._2.max(1e-9)
-    val (limiter, bound) = (unitBound +: portBounds).minBy(_._2)
+    val dramBytes = r.node.dramBytes + r.tri.dramBytes
+    val bound = Bound(rays, r.perf, r.dram, dramBytes)
     ujson.Obj(
       "rays" -> rays,
       "cycles" -> r.cycles.toDouble,
       "raysPerCycle" -> rays / r.cycles.toDouble,
-      "boundRaysPerCycle" -> bound,
-      "boundLimitedBy" -> limiter,
-      "efficiency" -> (rays / r.cycles.toDouble) / bound,
+      "boundRaysPerCycle" -> bound.raysPerCycle,
+      "boundLimitedBy" -> bound.limitedBy,
+      "boundTerms" -> bound.toJson,
+      "efficiency" -> (rays / r.cycles.toDouble) / bound.raysPerCycle,
+      "dramBytesPerRay" -> r.dram.fold[ujson.Value](ujson.Null)(_ => ujson.Num(dramBytes.toDouble / rays.max(1))),
       "nodeTestsPerRay" -> perRay("boxTests"),
+      "nodeBytesPerRay" -> r.node.portBytes.toDouble / rays.max(1),
       "triangleTestsPerRay" -> perRay("triTests"),
       "decisionsPerRay" -> perRay("decisions"),
       "meanRaysInFlight" -> p("inFlightSum") / r.cycles.toDouble,
       "goldenMismatches" -> goldenMismatches,
       "errorRays" -> errorRays,
-      "memory" -> ujson.Obj("node" -> ujson.read(r.node.toJson), "triangle" -> ujson.read(r.tri.toJson),
-        "bytes" -> (r.node.dramBytes + r.tri.dramBytes).toDouble),
+      "memory" -> ujson.Obj("kind" -> a.memoryKind.name, "node" -> ujson.read(r.node.toJson), "triangle" -> ujson.read(r.tri.toJson),
+        "dramBytes" -> dramBytes.toDouble, "dram" -> r.dram.fold[ujson.Value](ujson.Null)(_.toJson)),
       "counters" -> ujson.Obj.from(p.toSeq.sortBy(_._1).map { case (k, v) => k -> ujson.Num(v) }),
       "simulation" -> ujson.Obj("seconds" -> simSeconds, "cyclesPerSecond" -> r.cycles / simSeconds.max(1e-9), "wallSeconds" -> wallSeconds),
       "configuration" -> ujson.Obj(
         "datapath" -> datapath, "float" -> cfg.float.name, "triangle" -> a.triangle, "rounding" -> a.rounding,
         "numRayIds" -> cfg.numRayIds, "stackDepth" -> cfg.stackDepth, "nodeIndexBits" -> cfg.nodeIndexBits,
         "triIndexBits" -> cfg.triIndexBits, "maxLeafSize" -> cfg.maxLeafSize,
-        "memory" -> a.memory(0).describe, "seed" -> a.seed.toDouble)
+        "memory" -> a.describeMemory, "fabricMhz" -> a.fabricMhz, "seed" -> a.seed.toDouble)
     )
   }
 
@@ -69,7 +93,14 @@ object Report {
     Seq(
       "rays" -> n(r("rays")), "cycles" -> n(r("cycles")),
       "rays/cycle" -> s"${n(r("raysPerCycle"))} (bound ${n(r("boundRaysPerCycle"))}, ${n(r("efficiency"), 2)} of it; limited by ${r("boundLimitedBy").str})",
+      "bound terms (rays/cycle)" -> r("boundTerms").obj.map { case (k, v) => s"$k ${n(v)}" }.mkString(", "),
+      "DRAM bytes per ray" -> (r("dramBytesPerRay") match {
+        case ujson.Null => "- (on chip)"
+        case v => s"${n(v, 1)} (node ${n(r("memory")("node")("dramBytes").num / r("rays").num, 1)}, triangle " +
+          s"${n(r("memory")("triangle")("dramBytes").num / r("rays").num, 1)}; DRAM busy ${n(r("memory")("dram")("busyShare"), 2)})"
+      }),
       "node / triangle tests per ray" -> s"${n(r("nodeTestsPerRay"), 2)} / ${n(r("triangleTestsPerRay"), 2)}",
+      "node bytes per ray" -> n(r("nodeBytesPerRay"), 1),
       "mean rays in flight" -> n(r("meanRaysInFlight"), 1),
       "golden mismatches" -> n(r("goldenMismatches")),
       "vs Embree" -> s"${n(m("total"))} mismatches (false miss ${n(m("falseMiss"))}, false hit ${n(m("falseHit"))}, wrong prim ${n(m("wrongPrim"))}, t ${n(m("tOutOfTolerance"))}); ties ${n(m("ties"))}, edge ${n(m("edgeCases"))}, reference wrong ${n(m("referenceWrong"))}",

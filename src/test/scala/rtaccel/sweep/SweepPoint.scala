@@ -18,13 +18,7 @@ import java.nio.file.{Files, Path}
   * latencies. Writes `<sweep>/points/<name>.json` for `nori-bridge sweep-report`.
   */
 object SweepPoint {
-  def main(args: Array[String]): Unit =
-    try run(SweepArgs.parse(args.toSeq))
-    catch {
-      case e: IllegalArgumentException =>
-        System.err.println(s"Error: ${e.getMessage}")
-        sys.exit(2)
-    }
+  def main(args: Array[String]): Unit = rtaccel.regress.Cli.orExit(run(SweepArgs.parse(args.toSeq)))
 
   def run(a: SweepArgs): Unit = {
     val t0 = System.nanoTime()

@@ -3,7 +3,7 @@ package rtaccel.system
 import chisel3._
 import chiseltest._
 import rtaccel.golden.{HitRecord, RayRecord}
-import rtaccel.mem.{MemPortDriver, MemStats, MemoryParams, MemorySystemModel}
+import rtaccel.mem.{Backing, DramStats, MemPortDriver, MemStats, MemoryKind, MemoryParams, MemorySystemModel}
 import rtaccel.scene.MemoryImage
 
 import scala.collection.mutable
@@ -13,6 +13,8 @@ import scala.util.Random
 final case class Environment(
     node: MemoryParams,
     tri: MemoryParams,
+    /** What holds the scene: one DRAM behind both ports (the default), or on-chip memory per port. */
+    memory: MemoryKind = MemoryKind.Ddr(),
     /** Chance that the host offers no ray in a cycle. */
     rayGap: Double = 0.0,
     /** Chance that the consumer refuses a hit in a cycle. */
@@ -22,10 +24,14 @@ final case class Environment(
     seed: Long = 1
 )
 
-final case class RunResult(hits: Seq[HitRecord], cycles: Long, perf: Map[String, BigInt], node: MemStats, tri: MemStats)
+/** `dram` is the shared DRAM's account (None on chip). */
+final case class RunResult(hits: Seq[HitRecord], cycles: Long, perf: Map[String, BigInt], node: MemStats, tri: MemStats,
+    dram: Option[DramStats])
 
 /** Runs rays through an RtAccel (in its SimTop wrapper) cycle by cycle (single-threaded, no `fork`),
-  * with memory models on both ports. Fails loudly if a hit comes for a ray
+  * with memory models on both ports, sharing one DRAM (or each on chip). Each
+  * port serves records of its own data width, so wider nodes cost what they
+  * weigh. Fails loudly if a hit comes for a ray
   * not in flight, comes twice, if the design flags itself broken, or if no
   * progress is made for `stallLimit` cycles (a deadlock).
   */
@@ -36,8 +42,11 @@ object AccelHarness {
     // Each port serves whole records of its width: a node (32 B nori, 32 K B wide) or a triangle.
     val (nodeBytes, triBytes) = (dut.accel.io.nodeMem.p.dataBits / 8, dut.accel.io.triMem.p.dataBits / 8)
     require(nodeBytes == img.nodeBytes, s"${img.source}: ${img.layout.name} nodes of ${img.nodeBytes} bytes, but the hardware reads $nodeBytes-byte nodes")
-    val node = new MemPortDriver(new MemorySystemModel(img, nodeBytes, env.node, "node"), env.memRefuse, new Random(rnd.nextLong()))
-    val tri  = new MemPortDriver(new MemorySystemModel(img, triBytes, env.tri, "triangle"), env.memRefuse, new Random(rnd.nextLong()))
+    val (backing, dram) = Backing.forPorts(env.memory)
+    def driver(p: MemoryParams, recordBytes: Int, name: String) =
+      new MemPortDriver(new MemorySystemModel(img, recordBytes, p, name, backing), env.memRefuse, new Random(rnd.nextLong()))
+    val node = driver(env.node, nodeBytes, "node")
+    val tri  = driver(env.tri, triBytes, "triangle")
     val st = new SimTop.Status(dut.accel)
     val io = dut.io
     io.nodeBase.poke(img.nodeOffset.U)
@@ -101,7 +110,7 @@ object AccelHarness {
       cycle += 1
       if ((cycle & 0xffff) == 0) progress(cycle)
     }
-    RunResult(hits.toSeq, cycle, perf(dut), node.model.stats, tri.model.stats)
+    RunResult(hits.toSeq, cycle, perf(dut), node.model.stats, tri.model.stats, dram.map(_.stats(cycle)))
   }
 
   def perf[T <: Data](dut: SimTop[T]): Map[String, BigInt] =
