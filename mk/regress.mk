@@ -1,8 +1,8 @@
 # Accelerator speed measurements: writes docs/performance.md.
-# BVH_LAYOUTS: nori-bridge layouts to compare (`nori`, and `2 4 8` once the
-# wide-node RTL is in); MAX_RAYS: rays simulated per run, strided over the set;
+# BVH_LAYOUTS: node layouts to compare (nori-bridge compile --bvh); MAX_RAYS:
+# rays simulated per run, strided over the set;
 # BENCH_RUNS: a subset of the runs (e.g. for a quick look).
-BVH_LAYOUTS ?= nori
+BVH_LAYOUTS ?= nori 2 4 8
 BENCH_RUNS  ?= cornell-box-primary dragon-primary dragon-shadow dragon-ao
 BENCH_OUT   ?= docs/performance.md
 bench_list   = $(subst $(space),$(comma),$(strip $(1)))

@@ -5,7 +5,7 @@
 #   RAYS=primary|shadow|ao|random|file.txt   SPP=1   WIDTH= HEIGHT=   SEED=1
 #   OUT=build/regress/<scene>   FLOAT=e8m23   TRIANGLE=watertight|moller
 #   ROUNDING=conservative|rne   IDS=64   STACK=   MAX_RAYS=   WAVES=0   STRICT=0
-#   SIZE=1 (hardware sized to the scene)   BVH= (nori-bridge layout; its default if unset)
+#   SIZE=1 (hardware sized to the scene)   BVH=4|2|8|nori (node layout; 4 if unset)
 #   MEMORY=ddr|onchip   MEM_LATENCY=100 (ns, or 80-300; ddr only)   FABRIC_MHZ=200
 #   OUTSTANDING=64   CACHE=0 (KiB; ddr only)
 set -euo pipefail
@@ -22,8 +22,8 @@ else
   args=(compile "$SCENE" --out "$pkg" --rays "${RAYS:-primary}" --spp "${SPP:-1}" --seed "${SEED:-1}")
   [ -n "${WIDTH:-}" ] && args+=(--width "$WIDTH")
   [ -n "${HEIGHT:-}" ] && args+=(--height "$HEIGHT")
-  # Only when asked for: older nori-bridge builds have no --bvh.
-  [ -n "${BVH:-}" ] && args+=(--bvh "${BVH:-nori}")
+  # 4-wide nodes by default (the ZC706 configuration); BVH=nori is Nori's binary layout.
+  args+=(--bvh "${BVH:-4}")
   "$bridge" "${args[@]}"
 fi
 start=$(date +%s)
