@@ -2,6 +2,7 @@
 
 use crate::compare::judge::Tolerances;
 use crate::compare::render::Shade;
+use crate::bvh::Layout;
 use crate::compare::{compare, summary};
 use crate::package::compile::{compile, write_json, CompileOpts, RaySpec};
 use crate::package::Package;
@@ -40,6 +41,10 @@ enum Cmd {
         seed: u64,
         #[arg(long, default_value_t = 4)]
         max_leaf_size: u32,
+        /// Node layout of image.bin: nori (32-byte binary nodes) or 2, 4, 8
+        /// (wide nodes of K 32-byte child slots).
+        #[arg(long, default_value = "nori")]
+        bvh: Layout,
         /// Embree's RTC_SCENE_FLAG_ROBUST for the reference.
         #[arg(long)]
         robust: bool,
@@ -143,13 +148,13 @@ enum Cmd {
 pub fn run() -> Result<()> {
     rayon::ThreadPoolBuilder::new().num_threads(2).build_global().ok();
     match Cli::parse().cmd {
-        Cmd::Compile { scene, out, rays, spp, seed, max_leaf_size, robust, reference, width, height, count, light } => {
+        Cmd::Compile { scene, out, rays, spp, seed, max_leaf_size, bvh, robust, reference, width, height, count, light } => {
             if spp == 0 {
                 return Err(anyhow!("--spp must be at least 1"));
             }
             let light = light.map(|l| parse_vec3(&l).map_err(|e| anyhow!("--light: {e}"))).transpose()?;
             let o = CompileOpts {
-                scene, out, rays: RaySpec::parse(&rays), spp, seed, max_leaf_size, robust,
+                scene, out, rays: RaySpec::parse(&rays), spp, seed, max_leaf_size, layout: bvh, robust,
                 double_reference: reference == RefKind::Double, width, height, count, light,
             };
             let m = compile(&o)?;

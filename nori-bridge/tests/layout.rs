@@ -111,14 +111,15 @@ fn image_bytes_round_trip_and_header() {
     let b = img.to_bytes();
     assert_eq!(&b[0..8], b"RTACCEL\0");
     let u = |o: usize| u32::from_le_bytes(b[o..o + 4].try_into().unwrap());
-    assert_eq!(u(8), 1);
+    assert_eq!(u(8), 2);
     assert_eq!(u(12) as usize, img.nodes.len());
     assert_eq!(u(16) as usize, scene.tris.len());
     assert_eq!(u(20), 64);
     assert_eq!(u(24) % 64, 0);
     assert!(u(24) as usize >= 64 + 32 * img.nodes.len() && (u(24) as usize) < 64 + 32 * img.nodes.len() + 64);
     assert_eq!((u(28), u(32), u(36)), (32, 48, 4));
-    assert!(b[44..64].iter().all(|&x| x == 0), "reserved header bytes must be zero");
+    assert_eq!(u(44), 0, "layout word: nori");
+    assert!(b[48..64].iter().all(|&x| x == 0), "reserved header bytes must be zero");
     assert_eq!(b.len(), u(24) as usize + 48 * scene.tris.len());
     // node 0 = root box = scene bounds
     let f = |o: usize| f32::from_le_bytes(b[o..o + 4].try_into().unwrap());

@@ -1,10 +1,12 @@
 //! BVH construction with Embree's SAH builder (rtcBuildBVH, binned SAH at
 //! MEDIUM quality: no spatial splits, so each triangle lands in exactly one
-//! leaf), then flattening into our depth-first layout with boxes recomputed
-//! from the f32 vertices.
+//! leaf) with the layout's branching factor. The builder's tree is copied
+//! out as a `Tree` (children in the order Embree gives them); flatten.rs
+//! lays it out with boxes recomputed from the f32 vertices.
 
-use crate::bvh::{Bvh, Node, LEAF_BIT};
-use crate::geom::{Aabb, Tri};
+use crate::bvh::flatten::{flatten, Tree};
+use crate::bvh::{Bvh, Layout};
+use crate::geom::Tri;
 use crate::reference::device::Device;
 use anyhow::{bail, Result};
 use embree::sys;
@@ -13,10 +15,17 @@ use std::os::raw::{c_uint, c_void};
 /// Embree's per-leaf limit for rtcBuildBVH.
 pub const MAX_LEAF_LIMIT: u32 = 32;
 
+/// The widest node any layout asks for (Layout::Wide8).
+const MAX_BRANCHING: usize = 8;
+
+/// Deepest tree we accept (Embree's maxDepth argument as we pass it).
+const MAX_DEPTH: usize = 1024;
+
 #[repr(C)]
 struct BInner {
     is_leaf: u32,
-    children: [*const c_void; 2],
+    count: u32,
+    children: [*const c_void; MAX_BRANCHING],
 }
 
 #[repr(C)]
@@ -27,14 +36,15 @@ struct BLeaf {
 }
 
 unsafe extern "C" fn create_node(alloc: sys::RTCThreadLocalAllocator, n: c_uint, _: *mut c_void) -> *mut c_void {
-    debug_assert_eq!(n, 2);
+    assert!(n as usize <= MAX_BRANCHING, "Embree asked for a node of {n} children");
     let p = sys::rtcThreadLocalAlloc(alloc, std::mem::size_of::<BInner>(), 16) as *mut BInner;
-    p.write(BInner { is_leaf: 0, children: [std::ptr::null(); 2] });
+    p.write(BInner { is_leaf: 0, count: n, children: [std::ptr::null(); MAX_BRANCHING] });
     p as *mut c_void
 }
 
 unsafe extern "C" fn set_children(node: *mut c_void, ch: *mut *mut c_void, n: c_uint, _: *mut c_void) {
     let node = &mut *(node as *mut BInner);
+    node.count = n;
     for i in 0..n as usize {
         node.children[i] = *ch.add(i);
     }
@@ -60,7 +70,18 @@ unsafe extern "C" fn create_leaf(
     p as *mut c_void
 }
 
+/// The nori layout (what the tests of version 1 build).
 pub fn build_bvh(device: &Device, tris: &[Tri], max_leaf_size: u32) -> Result<Bvh> {
+    build_layout(device, tris, max_leaf_size, Layout::Nori)
+}
+
+pub fn build_layout(device: &Device, tris: &[Tri], max_leaf_size: u32, layout: Layout) -> Result<Bvh> {
+    let tree = build_tree(device, tris, max_leaf_size, layout.branching())?;
+    flatten(&tree, tris, max_leaf_size, layout)
+}
+
+/// Embree's tree with at most `branching` children per inner node.
+pub fn build_tree(device: &Device, tris: &[Tri], max_leaf_size: u32, branching: u32) -> Result<Tree> {
     if !(1..=MAX_LEAF_LIMIT).contains(&max_leaf_size) {
         bail!("--max-leaf-size {max_leaf_size} must be in 1..={MAX_LEAF_LIMIT} (Embree's builder limit)");
     }
@@ -84,8 +105,8 @@ pub fn build_bvh(device: &Device, tris: &[Tri], max_leaf_size: u32) -> Result<Bv
             byteSize: std::mem::size_of::<sys::RTCBuildArguments>(),
             buildQuality: sys::RTCBuildQuality::MEDIUM,
             buildFlags: sys::RTCBuildFlags::NONE,
-            maxBranchingFactor: 2,
-            maxDepth: 1024,
+            maxBranchingFactor: branching,
+            maxDepth: MAX_DEPTH as u32,
             sahBlockSize: 1,
             minLeafSize: 1,
             maxLeafSize: max_leaf_size,
@@ -107,54 +128,25 @@ pub fn build_bvh(device: &Device, tris: &[Tri], max_leaf_size: u32) -> Result<Bv
         let result = if root.is_null() {
             Err(anyhow::anyhow!("Embree's rtcBuildBVH failed: {:?}", device.error()))
         } else {
-            let mut f = Flattener { tris, nodes: Vec::new(), slot_prim: Vec::new() };
-            f.emit(root, 0).map(|depth| Bvh { nodes: f.nodes, slot_prim: f.slot_prim, depth, max_leaf_size })
+            copy_tree(root, 0)
         };
         sys::rtcReleaseBVH(handle);
         result
     }
 }
 
-struct Flattener<'a> {
-    tris: &'a [Tri],
-    nodes: Vec<Node>,
-    slot_prim: Vec<u32>,
-}
-
-impl Flattener<'_> {
-    /// Emit the subtree at `p` in depth-first order; returns its stack depth.
-    unsafe fn emit(&mut self, p: *const c_void, level: u32) -> Result<u32> {
-        if level > 1024 {
-            bail!("BVH deeper than 1024 levels");
-        }
-        let me = self.nodes.len();
-        self.nodes.push(Node { word0: 0, word1: 0, bounds: Aabb::empty() });
-        if *(p as *const u32) == 1 {
-            let leaf = &*(p as *const BLeaf);
-            let ids = (p as *const u8).add(std::mem::size_of::<BLeaf>()) as *const u32;
-            let first = self.slot_prim.len() as u32;
-            let mut b = Aabb::empty();
-            for i in 0..leaf.count as usize {
-                let prim = *ids.add(i);
-                b = b.union(&self.tris[prim as usize].bounds());
-                self.slot_prim.push(prim);
-            }
-            self.nodes[me] = Node { word0: LEAF_BIT | leaf.count, word1: first, bounds: b };
-            return Ok(0);
-        }
-        let inner = &*(p as *const BInner);
-        let dl = self.emit(inner.children[0], level + 1)?;
-        let right = self.nodes.len();
-        let dr = self.emit(inner.children[1], level + 1)?;
-        let (lb, rb) = (self.nodes[me + 1].bounds, self.nodes[right].bounds);
-        self.nodes[me] = Node { word0: split_axis(&lb, &rb), word1: right as u32, bounds: lb.union(&rb) };
-        Ok(1 + dl.max(dr))
+/// Copy the builder's nodes (allocated in the BVH's memory, freed with it)
+/// into an owned tree.
+unsafe fn copy_tree(p: *const c_void, level: usize) -> Result<Tree> {
+    if level > MAX_DEPTH {
+        bail!("BVH deeper than {MAX_DEPTH} levels");
     }
-}
-
-/// The axis along which the children's box centres lie farthest apart.
-/// Traversal only uses it to pick which child to visit first.
-fn split_axis(l: &Aabb, r: &Aabb) -> u32 {
-    let gap = |k: usize| ((r.min[k] + r.max[k]) as f64 - (l.min[k] + l.max[k]) as f64).abs();
-    (0..3).max_by(|&a, &b| gap(a).total_cmp(&gap(b))).unwrap() as u32
+    if *(p as *const u32) == 1 {
+        let leaf = &*(p as *const BLeaf);
+        let ids = (p as *const u8).add(std::mem::size_of::<BLeaf>()) as *const u32;
+        return Ok(Tree::Leaf((0..leaf.count as usize).map(|i| *ids.add(i)).collect()));
+    }
+    let inner = &*(p as *const BInner);
+    let kids = inner.children[..inner.count as usize].iter().map(|&c| copy_tree(c, level + 1));
+    Ok(Tree::Inner(kids.collect::<Result<_>>()?))
 }

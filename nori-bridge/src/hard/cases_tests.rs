@@ -2,6 +2,7 @@
 //! the double-precision reference must satisfy every expectation.
 
 use super::*;
+use crate::bvh::Layout;
 use crate::hard::score::{hard_score, read_expect, score};
 use crate::package::compile::{compile, CompileOpts, RaySpec};
 use std::path::PathBuf;
@@ -72,7 +73,7 @@ fn every_case_compiles_and_the_double_reference_meets_expect() {
         let pkg = out.path().join("pkg");
         let opts = CompileOpts {
             scene: dir.join(format!("{}.xml", case.name)), out: pkg.clone(), rays: RaySpec::File(dir.join("rays.txt")),
-            spp: 1, seed: 1, max_leaf_size: 4, robust: false, double_reference: true, width: None, height: None, count: 0, light: None,
+            spp: 1, seed: 1, max_leaf_size: 4, layout: Layout::Nori, robust: false, double_reference: true, width: None, height: None, count: 0, light: None,
         };
         let m = compile(&opts).unwrap();
         assert_eq!((m.counts.triangles, m.counts.rays), (case.tris().len(), case.ray_count()), "{}", case.name);
@@ -113,7 +114,7 @@ fn hard_score_rejects_a_count_mismatch() {
     let pkg = out.path().join("pkg");
     let opts = CompileOpts {
         scene: dir.join("degenerate.xml"), out: pkg.clone(), rays: RaySpec::File(dir.join("rays.txt")),
-        spp: 1, seed: 1, max_leaf_size: 4, robust: false, double_reference: true, width: None, height: None, count: 0, light: None,
+        spp: 1, seed: 1, max_leaf_size: 4, layout: Layout::Nori, robust: false, double_reference: true, width: None, height: None, count: 0, light: None,
     };
     compile(&opts).unwrap();
     let text = std::fs::read_to_string(pkg.join("reference.csv")).unwrap();

@@ -1,17 +1,18 @@
 //! image.bin: the memory image the accelerator walks. Byte layout and the
-//! reasons for it are in docs/memory-format.md (format version 1).
+//! reasons for it are in docs/memory-format.md (format version 2: the
+//! header names the node layout, nori or K-wide).
 
 pub mod traverse;
 
-use crate::bvh::{Bvh, Node};
+use crate::bvh::layout::RECORD_BYTES;
+use crate::bvh::{Bvh, Layout, Node, Slot};
 use crate::geom::{Aabb, Tri};
 use anyhow::{bail, Context, Result};
 use std::path::Path;
 
 pub const MAGIC: &[u8; 8] = b"RTACCEL\0";
-pub const VERSION: u32 = 1;
+pub const VERSION: u32 = 2;
 pub const HEADER_BYTES: usize = 64;
-pub const NODE_BYTES: usize = 32;
 pub const TRI_BYTES: usize = 48;
 pub const ALIGN: usize = 64;
 /// Triangle record flag: the triangle has zero area when evaluated in f64.
@@ -28,8 +29,11 @@ pub struct TriRecord {
 /// A decoded image: header values, nodes and triangle records.
 #[derive(Clone, Debug)]
 pub struct Image {
+    pub layout: Layout,
     pub max_leaf_size: u32,
+    /// The stack bound (see Bvh::depth).
     pub bvh_depth: u32,
+    /// 32-byte records in file order: one per nori node, K per wide node.
     pub nodes: Vec<Node>,
     pub tris: Vec<TriRecord>,
 }
@@ -49,7 +53,7 @@ impl Image {
                 TriRecord { tri, prim: p, flags }
             })
             .collect();
-        Image { max_leaf_size: bvh.max_leaf_size, bvh_depth: bvh.depth, nodes: bvh.nodes.clone(), tris: records }
+        Image { layout: bvh.layout, max_leaf_size: bvh.max_leaf_size, bvh_depth: bvh.depth, nodes: bvh.nodes.clone(), tris: records }
     }
 
     pub fn node_offset() -> usize {
@@ -57,7 +61,18 @@ impl Image {
     }
 
     pub fn tri_offset(&self) -> usize {
-        align_up(HEADER_BYTES + NODE_BYTES * self.nodes.len())
+        align_up(HEADER_BYTES + RECORD_BYTES * self.nodes.len())
+    }
+
+    /// Nodes in the image: nori nodes, or wide nodes of K slots.
+    pub fn node_count(&self) -> usize {
+        self.nodes.len() / self.layout.records_per_node()
+    }
+
+    /// The K slots of wide node `i`.
+    pub fn wide_node(&self, i: usize) -> &[Node] {
+        let k = self.layout.records_per_node();
+        &self.nodes[k * i..k * i + k]
     }
 
     /// Triangle records indexed by prim number.
@@ -73,8 +88,8 @@ impl Image {
         let tri_off = self.tri_offset();
         let mut b = Vec::with_capacity(tri_off + TRI_BYTES * self.tris.len());
         b.extend_from_slice(MAGIC);
-        for w in [VERSION, self.nodes.len() as u32, self.tris.len() as u32, Self::node_offset() as u32,
-                  tri_off as u32, NODE_BYTES as u32, TRI_BYTES as u32, self.max_leaf_size, self.bvh_depth] {
+        for w in [VERSION, self.node_count() as u32, self.tris.len() as u32, Self::node_offset() as u32, tri_off as u32,
+                  self.layout.node_bytes() as u32, TRI_BYTES as u32, self.max_leaf_size, self.bvh_depth, self.layout.word()] {
             b.extend_from_slice(&w.to_le_bytes());
         }
         b.resize(HEADER_BYTES, 0);
@@ -116,15 +131,18 @@ impl Image {
         if version != VERSION {
             bail!("format version {version}, this tool reads {VERSION}");
         }
-        if u(28) as usize != NODE_BYTES || u(32) as usize != TRI_BYTES {
-            bail!("record sizes {}/{} differ from {NODE_BYTES}/{TRI_BYTES}", u(28), u(32));
+        let layout = Layout::from_word(u(44))
+            .with_context(|| format!("header layout {} (bytes 44-47) is not 0 (nori), 2, 4 or 8", u(44)))?;
+        if u(28) as usize != layout.node_bytes() || u(32) as usize != TRI_BYTES {
+            bail!("record sizes {}/{} differ from {}/{TRI_BYTES} (layout {layout})", u(28), u(32), layout.node_bytes());
         }
-        if node_off + NODE_BYTES * nodes > tri_off || tri_off + TRI_BYTES * tris > b.len() {
+        let records = nodes * layout.records_per_node();
+        if node_off + RECORD_BYTES * records > tri_off || tri_off + TRI_BYTES * tris > b.len() {
             bail!("offsets/counts ({nodes} nodes at {node_off}, {tris} triangles at {tri_off}) exceed the file ({} bytes)", b.len());
         }
-        let nodes = (0..nodes)
+        let nodes = (0..records)
             .map(|i| {
-                let o = node_off + NODE_BYTES * i;
+                let o = node_off + RECORD_BYTES * i;
                 Node {
                     word0: u(o),
                     word1: u(o + 4),
@@ -139,6 +157,40 @@ impl Image {
                 TriRecord { tri: Tri { v: [v(0), v(1), v(2)] }, prim: u(o + 36), flags: u(o + 40) }
             })
             .collect();
-        Ok(Image { max_leaf_size: u(36), bvh_depth: u(40), nodes, tris })
+        let img = Image { layout, max_leaf_size: u(36), bvh_depth: u(40), nodes, tris };
+        if layout.is_wide() {
+            img.check_wide_slots()?;
+        }
+        Ok(img)
+    }
+
+    /// Every slot of a wide image decodes, used slots come first, and child
+    /// and triangle indices stay inside the file (so a walk cannot run off
+    /// it).
+    fn check_wide_slots(&self) -> Result<()> {
+        let nodes = self.node_count();
+        for n in 0..nodes {
+            let mut seen_empty = false;
+            for (i, s) in self.wide_node(n).iter().enumerate() {
+                let bad = match s.slot() {
+                    Slot::Corrupt => Some(format!("word0 {:#010x} is no slot kind", s.word0)),
+                    Slot::Empty if s.word1 != 0 => Some("empty slot with word1 != 0".into()),
+                    Slot::Empty => {
+                        seen_empty = true;
+                        None
+                    }
+                    _ if seen_empty => Some("used slot after an empty one".into()),
+                    Slot::Inner { node } if node as usize >= nodes || node as usize <= n => Some(format!("child node {node}")),
+                    Slot::Leaf { first, count } if count == 0 || first as usize + count as usize > self.tris.len() => {
+                        Some(format!("leaf of {count} triangles at slot {first}"))
+                    }
+                    _ => None,
+                };
+                if let Some(what) = bad {
+                    bail!("node {n} slot {i}: {what} ({nodes} nodes, {} triangles)", self.tris.len());
+                }
+            }
+        }
+        Ok(())
     }
 }

@@ -1,8 +1,10 @@
-//! A software walk of our own memory layout in f32, the way the hardware
-//! walks it: stack of node indices, near child first by the split axis,
-//! Moller-Trumbore triangle test. Used to check the layout against Embree
+//! A software walk of our own memory image in f32, the way the hardware
+//! walks it, in the image's layout: nori nodes near child first by the
+//! split axis; wide nodes nearest hit slot first by entry distance.
+//! Moller-Trumbore triangle test. Used to check the layouts against Embree
 //! and by `nori-bridge trace` to make a hits.csv without hardware.
 
+use crate::bvh::{Layout, Slot};
 use crate::geom::{Aabb, V3};
 use crate::memory::{Image, FLAG_ZERO_AREA};
 use crate::ray::{Hit, Ray};
@@ -24,58 +26,138 @@ pub fn trace_all(img: &Image, rays: &[Ray]) -> (Vec<Hit>, TraceStats) {
     (res.into_iter().map(|x| x.0).collect(), TraceStats { max_stack })
 }
 
-/// Closest hit (or occlusion for shadow rays); also returns the largest
-/// stack occupancy this ray needed.
+/// Closest hit (or occlusion for shadow rays) in the image's own layout;
+/// also returns the largest stack occupancy this ray needed.
 pub fn trace(img: &Image, ray: &Ray) -> (Hit, usize) {
-    let inv = [1.0 / ray.d[0], 1.0 / ray.d[1], 1.0 / ray.d[2]];
-    let mut best = Hit::MISS;
-    let mut tfar = ray.tmax;
-    let mut stack: Vec<usize> = Vec::with_capacity(64);
-    let mut max_stack = 0;
-    let mut i = 0usize;
-    loop {
-        let n = &img.nodes[i];
-        let next = if !box_hit(&n.bounds, ray, &inv, tfar) {
-            None
-        } else if n.is_leaf() {
-            let first = n.word1 as usize;
-            for rec in &img.tris[first..first + n.count() as usize] {
-                // Zero-area triangles can never be hit; f32 rounding could
-                // still make their det non-zero, so skip them by their flag.
-                if rec.flags & FLAG_ZERO_AREA != 0 {
-                    continue;
+    let mut walk = Walk { img, ray, inv: [1.0 / ray.d[0], 1.0 / ray.d[1], 1.0 / ray.d[2]], best: Hit::MISS, tfar: ray.tmax };
+    let max_stack = match img.layout {
+        Layout::Nori => walk.nori(),
+        _ => walk.wide(),
+    };
+    (walk.best, max_stack)
+}
+
+/// One ray's state: its reciprocal direction and the closest hit so far.
+struct Walk<'a> {
+    img: &'a Image,
+    ray: &'a Ray,
+    inv: V3,
+    best: Hit,
+    tfar: f32,
+}
+
+/// A wide-walk stack entry: a slot that was hit and not yet visited.
+#[derive(Clone, Copy)]
+enum Entry {
+    Inner(usize),
+    Leaf(usize, usize),
+}
+
+impl Walk<'_> {
+    /// Nori nodes: push the far child by the split axis, go to the near one;
+    /// every node's box is tested when it is reached (popped ones too).
+    /// Returns the largest stack.
+    fn nori(&mut self) -> usize {
+        let mut stack: Vec<usize> = Vec::with_capacity(64);
+        let mut max_stack = 0;
+        let mut i = 0usize;
+        loop {
+            let n = &self.img.nodes[i];
+            let next = if box_near(&n.bounds, self.ray, &self.inv, self.tfar).is_none() {
+                None
+            } else if n.is_leaf() {
+                if self.leaf(n.word1 as usize, n.count() as usize) {
+                    return max_stack;
                 }
-                if let Some((t, u, v)) = moller_trumbore(&rec.tri.v, ray) {
-                    if t >= ray.tmin && t <= tfar {
-                        if ray.shadow {
-                            return (Hit::occluded(true), max_stack);
+                None
+            } else if self.ray.d[n.axis()] < 0.0 {
+                stack.push(i + 1);
+                Some(n.word1 as usize)
+            } else {
+                stack.push(n.word1 as usize);
+                Some(i + 1)
+            };
+            max_stack = max_stack.max(stack.len());
+            match next.or_else(|| stack.pop()) {
+                Some(j) => i = j,
+                None => return max_stack,
+            }
+        }
+    }
+
+    /// Wide nodes (docs/memory-format.md, traversal order): test every used
+    /// slot's box, visit the nearest hit slot (entry distance, ties to the
+    /// lower slot), push the others farthest first. A popped leaf is tested
+    /// without its box. Returns the largest stack.
+    fn wide(&mut self) -> usize {
+        let mut stack: Vec<Entry> = Vec::with_capacity(64);
+        let mut max_stack = 0;
+        let mut next = Some(Entry::Inner(0));
+        while let Some(entry) = next {
+            next = match entry {
+                Entry::Leaf(first, count) => {
+                    if self.leaf(first, count) {
+                        return max_stack;
+                    }
+                    None
+                }
+                Entry::Inner(n) => {
+                    let mut hit: Vec<(f32, usize, Entry)> = Vec::with_capacity(8);
+                    for (i, s) in self.img.wide_node(n).iter().enumerate() {
+                        let e = match s.slot() {
+                            Slot::Inner { node } => Entry::Inner(node as usize),
+                            Slot::Leaf { first, count } => Entry::Leaf(first as usize, count as usize),
+                            // Image::parse rejects corrupt slots; used slots come first.
+                            Slot::Empty | Slot::Corrupt => break,
+                        };
+                        if let Some(near) = box_near(&s.bounds, self.ray, &self.inv, self.tfar) {
+                            hit.push((near, i, e));
                         }
-                        // Equal t: keep the lower prim, as the double reference does.
-                        if t < tfar || (rec.prim as i64) < best.prim || !best.hit {
-                            best = Hit { hit: true, t, u, v, prim: rec.prim as i64, error: 0 };
-                            tfar = t;
-                        }
+                    }
+                    hit.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                    stack.extend(hit.iter().skip(1).rev().map(|h| h.2));
+                    max_stack = max_stack.max(stack.len());
+                    hit.first().map(|h| h.2)
+                }
+            }
+            .or_else(|| stack.pop());
+        }
+        max_stack
+    }
+
+    /// Test a leaf's triangles, keeping the closest hit (equal t: the lower
+    /// prim, as the double reference does). True when a shadow ray is
+    /// occluded (the walk ends).
+    fn leaf(&mut self, first: usize, count: usize) -> bool {
+        let ray = self.ray;
+        for rec in &self.img.tris[first..first + count] {
+            // Zero-area triangles can never be hit; f32 rounding could
+            // still make their det non-zero, so skip them by their flag.
+            if rec.flags & FLAG_ZERO_AREA != 0 {
+                continue;
+            }
+            if let Some((t, u, v)) = moller_trumbore(&rec.tri.v, ray) {
+                if t >= ray.tmin && t <= self.tfar {
+                    if ray.shadow {
+                        self.best = Hit::occluded(true);
+                        return true;
+                    }
+                    if t < self.tfar || (rec.prim as i64) < self.best.prim || !self.best.hit {
+                        self.best = Hit { hit: true, t, u, v, prim: rec.prim as i64, error: 0 };
+                        self.tfar = t;
                     }
                 }
             }
-            None
-        } else if ray.d[n.axis()] < 0.0 {
-            stack.push(i + 1);
-            Some(n.word1 as usize)
-        } else {
-            stack.push(n.word1 as usize);
-            Some(i + 1)
-        };
-        max_stack = max_stack.max(stack.len());
-        match next.or_else(|| stack.pop()) {
-            Some(j) => i = j,
-            None => return (best, max_stack),
         }
+        false
     }
 }
 
-fn box_hit(b: &Aabb, ray: &Ray, inv: &V3, tfar: f32) -> bool {
-    let mut lo = ray.tmin;
+/// The slab test: Some(entry distance) when the ray meets the box within
+/// [tmin, tfar]. The entry distance is the largest per-axis entry (NaN
+/// axes ignored, tmin not applied): the wide walk orders slots by it.
+fn box_near(b: &Aabb, ray: &Ray, inv: &V3, tfar: f32) -> Option<f32> {
+    let mut near = f32::NEG_INFINITY;
     let mut hi = tfar;
     for k in 0..3 {
         let t0 = (b.min[k] - ray.o[k]) * inv[k];
@@ -88,10 +170,10 @@ fn box_hit(b: &Aabb, ray: &Ray, inv: &V3, tfar: f32) -> bool {
         if t0.is_nan() || t1.is_nan() {
             continue;
         }
-        lo = lo.max(t0.min(t1));
+        near = near.max(t0.min(t1));
         hi = hi.min(t0.max(t1) * BOX_FAR_SCALE);
     }
-    lo <= hi
+    (ray.tmin.max(near) <= hi).then_some(near)
 }
 
 /// Moller-Trumbore in f32, edges inclusive. Returns (t, u, v) with Embree's

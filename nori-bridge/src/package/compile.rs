@@ -1,6 +1,7 @@
 //! `nori-bridge compile`: scene -> package.
 
-use crate::bvh::build::build_bvh;
+use crate::bvh::build::build_layout;
+use crate::bvh::Layout;
 use crate::geom::{len64, sub64, to64, D3};
 use crate::memory::Image;
 use crate::package::*;
@@ -55,6 +56,8 @@ pub struct CompileOpts {
     pub spp: u32,
     pub seed: u64,
     pub max_leaf_size: u32,
+    /// Node layout of image.bin (`--bvh`).
+    pub layout: Layout,
     pub robust: bool,
     pub double_reference: bool,
     pub width: Option<u32>,
@@ -80,7 +83,7 @@ pub fn compile(o: &CompileOpts) -> Result<Manifest> {
     tm.load = t0.elapsed().as_secs_f64();
     let device = Arc::new(Device::new(2)?);
     let t = Instant::now();
-    let bvh = build_bvh(&device, &scene.tris, o.max_leaf_size)?;
+    let bvh = build_layout(&device, &scene.tris, o.max_leaf_size, o.layout)?;
     tm.bvh_build = t.elapsed().as_secs_f64();
     let t = Instant::now();
     std::fs::create_dir_all(&o.out).with_context(|| format!("{}: cannot create package directory", o.out.display()))?;
@@ -120,8 +123,14 @@ pub fn compile(o: &CompileOpts) -> Result<Manifest> {
         width: cam.map(|c| c.width),
         height: cam.map(|c| c.height),
         ao_image: scene.camera.as_ref().filter(|_| ao_pixels.is_some()).map(|c| ImageSize { width: c.width, height: c.height }),
-        counts: Counts { triangles: scene.tris.len(), nodes: bvh.nodes.len(), rays: rays.len(), reference_hits: reference.iter().filter(|h| h.hit).count() },
-        build: BuildParams { builder: "Embree 3 rtcBuildBVH, binned SAH, MEDIUM quality, branching 2".into(), max_leaf_size: o.max_leaf_size, traversal_cost: 1.0, intersection_cost: 1.0 },
+        counts: Counts { triangles: scene.tris.len(), nodes: bvh.node_count(), rays: rays.len(), reference_hits: reference.iter().filter(|h| h.hit).count() },
+        build: BuildParams {
+            builder: format!("Embree 3 rtcBuildBVH, binned SAH, MEDIUM quality, branching {}", o.layout.branching()),
+            layout: o.layout.name().into(),
+            max_leaf_size: o.max_leaf_size,
+            traversal_cost: 1.0,
+            intersection_cost: 1.0,
+        },
         reference: ReferenceParams { kind: if o.double_reference { "double" } else { "embree" }.into(), robust: o.robust },
         files: Vec::new(),
         timings_seconds: tm,

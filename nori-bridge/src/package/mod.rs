@@ -55,6 +55,8 @@ pub struct Counts {
 #[derive(Serialize, Deserialize, Clone, Debug)]
 pub struct BuildParams {
     pub builder: String,
+    /// Node layout (`--bvh`): "nori", "2", "4" or "8".
+    pub layout: String,
     pub max_leaf_size: u32,
     pub traversal_cost: f32,
     pub intersection_cost: f32,
@@ -93,11 +95,16 @@ impl Manifest {
         let mpath = dir.join("package.json");
         let text = std::fs::read_to_string(&mpath)
             .with_context(|| format!("{}: cannot read (is {} a package made by `nori-bridge compile`?)", mpath.display(), dir.display()))?;
-        let manifest: Manifest = serde_json::from_str(&text).with_context(|| format!("{}: bad manifest", mpath.display()))?;
-        if manifest.format_version != crate::memory::VERSION {
-            anyhow::bail!("{}: format version {}, this tool reads {}", mpath.display(), manifest.format_version, crate::memory::VERSION);
+        // The version first: an older manifest lacks fields this one has.
+        #[derive(Deserialize)]
+        struct Version {
+            format_version: u32,
         }
-        Ok(manifest)
+        let v: Version = serde_json::from_str(&text).with_context(|| format!("{}: bad manifest", mpath.display()))?;
+        if v.format_version != crate::memory::VERSION {
+            anyhow::bail!("{}: format version {}, this tool reads {}", mpath.display(), v.format_version, crate::memory::VERSION);
+        }
+        serde_json::from_str(&text).with_context(|| format!("{}: bad manifest", mpath.display()))
     }
 }
 

@@ -12,11 +12,18 @@ pub const SLIVER_RATIO: f64 = 1e-3;
 #[derive(Serialize)]
 pub struct Needs {
     pub format_version: u32,
+    /// Node layout: "nori", "2", "4" or "8" (= image header layout).
+    pub layout: String,
     pub triangles: usize,
+    /// Node records in the image: nori nodes, or wide nodes of K slots.
     pub nodes: usize,
     pub leaves: usize,
     /// Largest stack a traversal needs (= image header bvhDepth).
     pub bvh_depth: u32,
+    /// Inner (wide) nodes on the longest root-to-leaf path.
+    pub tree_depth: u32,
+    /// Mean used slots per inner node (nori: 2).
+    pub mean_children: f64,
     pub largest_leaf: u32,
     pub max_leaf_size: u32,
     pub sah_cost: f64,
@@ -51,7 +58,7 @@ fn exponent(x: f32) -> Option<i32> {
 }
 
 pub fn compute(tris: &[Tri], bvh: &Bvh) -> Needs {
-    let root = bvh.nodes[0].bounds;
+    let root = bvh.root_bounds();
     let coords = tris.iter().flat_map(|t| t.v.iter().flatten().copied());
     let exps: Vec<i32> = coords.filter_map(exponent).collect();
     let (mut smallest_edge, mut degenerate, mut sliver) = (f64::INFINITY, 0, 0);
@@ -69,10 +76,13 @@ pub fn compute(tris: &[Tri], bvh: &Bvh) -> Needs {
     }
     Needs {
         format_version: crate::memory::VERSION,
+        layout: bvh.layout.name().into(),
         triangles: tris.len(),
-        nodes: bvh.nodes.len(),
+        nodes: bvh.node_count(),
         leaves: bvh.leaf_count(),
         bvh_depth: bvh.depth,
+        tree_depth: bvh.tree_depth,
+        mean_children: bvh.mean_children(),
         largest_leaf: bvh.largest_leaf(),
         max_leaf_size: bvh.max_leaf_size,
         sah_cost: bvh.sah_cost(),
@@ -84,7 +94,7 @@ pub fn compute(tris: &[Tri], bvh: &Bvh) -> Needs {
         degenerate_triangles: degenerate,
         sliver_triangles: sliver,
         index_bits: IndexBits {
-            node: bits_for(bvh.nodes.len() as u64),
+            node: bits_for(bvh.node_count() as u64),
             triangle_slot: bits_for(tris.len() as u64),
             prim: bits_for(tris.len() as u64),
             leaf_count: bits_for(bvh.largest_leaf() as u64 + 1),
