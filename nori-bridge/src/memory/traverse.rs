@@ -154,9 +154,13 @@ impl Walk<'_> {
 }
 
 /// The slab test: Some(entry distance) when the ray meets the box within
-/// [tmin, tfar]. The entry distance is the largest per-axis entry (NaN
-/// axes ignored, tmin not applied): the wide walk orders slots by it.
-fn box_near(b: &Aabb, ray: &Ray, inv: &V3, tfar: f32) -> Option<f32> {
+/// [tmin, tfar] (`inv` = 1 / ray.d). The entry distance is the largest
+/// per-axis entry (NaN axes ignored, tmin not applied): the wide walk orders
+/// slots by it. Only the far side is padded, so a box whose f32 entry
+/// rounds past the current best t is culled even if a triangle in it would
+/// report that same t (or one an ulp or so below): which of two such hits
+/// wins depends on the visiting order (tests/wide_trace.rs counts them).
+pub fn box_near(b: &Aabb, ray: &Ray, inv: &V3, tfar: f32) -> Option<f32> {
     let mut near = f32::NEG_INFINITY;
     let mut hi = tfar;
     for k in 0..3 {
