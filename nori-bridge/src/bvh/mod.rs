@@ -72,17 +72,23 @@ impl Bvh {
         }
     }
 
-    /// Mean used slots per inner node (nori: 2; 0 when the root is a leaf).
+    /// Mean used slots per inner node (nori: 2; a root that is a leaf gives 0
+    /// for nori, 1 for the wide layouts).
     pub fn mean_children(&self) -> f64 {
-        let inner = match self.layout {
-            Layout::Nori => self.nodes.iter().filter(|n| !n.is_leaf()).count(),
-            _ => self.node_count(),
-        };
-        let children = match self.layout {
-            Layout::Nori => 2 * inner,
-            _ => self.nodes.iter().filter(|n| n.slot() != Slot::Empty).count(),
+        let (children, inner) = match self.layout {
+            Layout::Nori => {
+                let inner = self.nodes.iter().filter(|n| !n.is_leaf()).count();
+                (2 * inner, inner)
+            }
+            _ => (self.used_records().count(), self.node_count()),
         };
         if inner == 0 { 0.0 } else { children as f64 / inner as f64 }
+    }
+
+    /// Every record but the empty slots of wide nodes.
+    fn used_records(&self) -> impl Iterator<Item = &Node> + '_ {
+        let wide = self.layout.is_wide();
+        self.nodes.iter().filter(move |n| !(wide && n.slot() == Slot::Empty))
     }
 
     pub fn largest_leaf(&self) -> u32 {
@@ -103,10 +109,9 @@ impl Bvh {
             return f64::NAN;
         }
         let wide_root = self.layout.is_wide().then_some(1.0);
-        let records = self.nodes.iter().filter(|n| n.slot() != Slot::Empty || !self.layout.is_wide());
         wide_root
             .into_iter()
-            .chain(records.map(|n| {
+            .chain(self.used_records().map(|n| {
                 let a = n.bounds.area64() / root;
                 if n.is_leaf() { a * n.count() as f64 } else { a }
             }))
