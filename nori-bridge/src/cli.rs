@@ -1,11 +1,12 @@
 //! Command line (clap derive). Errors go up to main as `Error: {:#}`.
 
+use crate::compare::judge::Tolerances;
+use crate::compare::render::Shade;
+use crate::bvh::Layout;
 use crate::compare::{compare, summary};
-use crate::compile::{compile, write_json, CompileOpts, RaySpec};
-use crate::judge::Tolerances;
+use crate::package::compile::{compile, write_json, CompileOpts, RaySpec};
 use crate::package::Package;
-use crate::render::Shade;
-use crate::transform::parse_vec3;
+use crate::scene::transform::parse_vec3;
 use anyhow::{anyhow, Result};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -40,6 +41,10 @@ enum Cmd {
         seed: u64,
         #[arg(long, default_value_t = 4)]
         max_leaf_size: u32,
+        /// Node layout of image.bin: nori (32-byte binary nodes) or 2, 4, 8
+        /// (wide nodes of K 32-byte child slots).
+        #[arg(long, default_value = "nori")]
+        bvh: Layout,
         /// Embree's RTC_SCENE_FLAG_ROBUST for the reference.
         #[arg(long)]
         robust: bool,
@@ -105,7 +110,7 @@ enum Cmd {
     /// Precision sweep report: per-point JSON under --sweep in;
     /// speed-vs-error JSON, markdown and PNG plots out.
     SweepReport {
-        /// Directory with points/, area/, hard-ref/ (see sweep_input.rs).
+        /// Directory with points/, area/, hard-ref/ (see src/sweep/input.rs).
         #[arg(long, default_value = "build/sweep")]
         sweep: PathBuf,
         #[arg(long, default_value = "docs/speed-vs-error.json")]
@@ -143,13 +148,13 @@ enum Cmd {
 pub fn run() -> Result<()> {
     rayon::ThreadPoolBuilder::new().num_threads(2).build_global().ok();
     match Cli::parse().cmd {
-        Cmd::Compile { scene, out, rays, spp, seed, max_leaf_size, robust, reference, width, height, count, light } => {
+        Cmd::Compile { scene, out, rays, spp, seed, max_leaf_size, bvh, robust, reference, width, height, count, light } => {
             if spp == 0 {
                 return Err(anyhow!("--spp must be at least 1"));
             }
             let light = light.map(|l| parse_vec3(&l).map_err(|e| anyhow!("--light: {e}"))).transpose()?;
             let o = CompileOpts {
-                scene, out, rays: RaySpec::parse(&rays), spp, seed, max_leaf_size, robust,
+                scene, out, rays: RaySpec::parse(&rays), spp, seed, max_leaf_size, layout: bvh, robust,
                 double_reference: reference == RefKind::Double, width, height, count, light,
             };
             let m = compile(&o)?;
@@ -161,7 +166,7 @@ pub fn run() -> Result<()> {
         }
         Cmd::Compare { package, hits, out, precision_bits, slack } => {
             let pkg = Package::load(&package)?;
-            let got = crate::csv_io::read_hits(&hits)?;
+            let got = crate::ray::csv_io::read_hits(&hits)?;
             let tol = Tolerances { precision_bits, slack };
             let (acc, _) = compare(&pkg.image.by_prim(), &pkg.rays, &got, &pkg.reference, tol)?;
             write_json(&out, &acc)?;
@@ -169,27 +174,27 @@ pub fn run() -> Result<()> {
         }
         Cmd::Render { package, hits, out_dir, shade } => {
             let pkg = Package::load(&package)?;
-            let got = crate::csv_io::read_hits(&hits)?;
+            let got = crate::ray::csv_io::read_hits(&hits)?;
             let (_, classes) = compare(&pkg.image.by_prim(), &pkg.rays, &got, &pkg.reference, Tolerances::default())?;
-            crate::render::render(&pkg, &got, &classes, shade, &out_dir)?;
+            crate::compare::render::render(&pkg, &got, &classes, shade, &out_dir)?;
             println!("{}: hits.png reference.png diff.png", out_dir.display());
         }
         Cmd::Trace { package, out } => {
             let pkg = Package::load(&package)?;
-            let (hits, stats) = crate::traverse::trace_all(&pkg.image, &pkg.rays);
-            crate::csv_io::write_hits(&out, &hits)?;
+            let (hits, stats) = crate::memory::traverse::trace_all(&pkg.image, &pkg.rays);
+            crate::ray::csv_io::write_hits(&out, &hits)?;
             println!("{}: {} rays, largest stack {} (bvhDepth {})", out.display(), hits.len(), stats.max_stack, pkg.image.bvh_depth);
         }
         Cmd::SweepReport { sweep, json, md, plots, baseline_format, runtime_note } => {
-            crate::sweep_report::run(&crate::sweep_report::ReportOpts { sweep, json, md, plots, baseline_format, runtime_note })?
+            crate::sweep::report::run(&crate::sweep::report::ReportOpts { sweep, json, md, plots, baseline_format, runtime_note })?
         }
-        Cmd::Bench { package, min_rays, robust } => crate::bench::bench(&Package::load(&package)?, min_rays, robust)?,
+        Cmd::Bench { package, min_rays, robust } => crate::reference::bench::bench(&Package::load(&package)?, min_rays, robust)?,
         Cmd::HardCases { out } => {
-            let n = crate::hard_cases::generate(&out)?;
-            println!("{}: {n} hard cases, seed {}", out.display(), crate::hard_cases::SEED);
+            let n = crate::hard::cases::generate(&out)?;
+            println!("{}: {n} hard cases, seed {}", out.display(), crate::hard::cases::SEED);
         }
         Cmd::HardScore { package, hits, expect, out } => {
-            let s = crate::hard_score::hard_score(&package, &hits, &expect)?;
+            let s = crate::hard::score::hard_score(&package, &hits, &expect)?;
             write_json(&out, &s)?;
             println!("{}: {} rays, {} leaks, {} false hits, {} wrong prims, {} flagged, {} ok",
                      s.case, s.rays, s.leaks, s.false_hits, s.wrong_prims, s.flagged, s.ok);

@@ -3,23 +3,7 @@
 
 mod common;
 use common::*;
-use std::path::Path;
 use std::process::Command;
-
-fn run(args: &[&str]) -> String {
-    let out = Command::new(bridge_bin()).args(args).output().unwrap();
-    let (so, se) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
-    assert!(out.status.success(), "nori-bridge {args:?} failed:\n{so}\n{se}");
-    so.into_owned()
-}
-
-fn json(p: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
 
 #[test]
 fn every_ray_kind_compiles_traces_and_compares_clean() {
@@ -43,7 +27,7 @@ fn every_ray_kind_compiles_traces_and_compares_clean() {
             assert!(pkg.join(f).exists(), "{kind}: {f} missing");
         }
         let m = json(&pkg.join("package.json"));
-        assert_eq!(m["format_version"], 1);
+        assert_eq!(m["format_version"], 2);
         assert_eq!(m["counts"]["triangles"], 32);
         let rays = m["counts"]["rays"].as_u64().unwrap();
         match *kind {

@@ -6,6 +6,7 @@
 mod common;
 use common::*;
 use nori_bridge::compare::compare;
+use nori_bridge::bvh::Layout;
 use nori_bridge::compile::{compile, CompileOpts, RaySpec};
 use nori_bridge::exact::{eval64, eval64_plane};
 use nori_bridge::geom::{dot64, len64, normalize64, to64};
@@ -18,7 +19,7 @@ use std::path::Path;
 
 fn opts(scene: &str, out: &Path, rays: RaySpec) -> CompileOpts {
     CompileOpts {
-        scene: scene_path(scene), out: out.to_path_buf(), rays, spp: 1, seed: 5, max_leaf_size: 4, robust: false,
+        scene: scene_path(scene), out: out.to_path_buf(), rays, spp: 1, seed: 5, max_leaf_size: 4, layout: Layout::Nori, robust: false,
         double_reference: false, width: None, height: None, count: 20_000, light: None,
     }
 }

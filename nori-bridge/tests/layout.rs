@@ -5,8 +5,8 @@ mod common;
 use common::*;
 use nori_bridge::bvh::Bvh;
 use nori_bridge::geom::{Aabb, Tri};
-use nori_bridge::image_bin::{Image, FLAG_ZERO_AREA};
-use rand::{Rng, SeedableRng};
+use nori_bridge::image_bin::Image;
+use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 /// Checks DFS order (left = i+1, right > i, every node reached exactly
@@ -51,15 +51,7 @@ fn check_layout(what: &str, tris: &[Tri], img: &Image) {
     }
     assert_eq!(order, (0..n).collect::<Vec<_>>(), "{what}: nodes are not in depth-first order");
     assert!(slot_seen.iter().all(|&s| s), "{what}: some slot is in no leaf");
-    let mut prim_seen = vec![false; tris.len()];
-    for (s, rec) in img.tris.iter().enumerate() {
-        let p = rec.prim as usize;
-        assert!(!prim_seen[p], "{what}: prim {p} stored twice");
-        prim_seen[p] = true;
-        assert_eq!(rec.tri, tris[p], "{what}: slot {s} vertices differ from prim {p}");
-        assert_eq!(rec.flags & FLAG_ZERO_AREA != 0, tris[p].double_area64() == 0.0, "{what}: prim {p} zero-area flag");
-    }
-    assert_eq!(img.tris.len(), tris.len(), "{what}: triangle count");
+    check_tri_records(what, tris, img);
     assert_eq!(img.bvh_depth, Bvh::compute_depth(&img.nodes), "{what}: header depth");
 }
 
@@ -74,29 +66,12 @@ fn shipped_scenes_satisfy_layout_invariants() {
     }
 }
 
-fn soup(rng: &mut ChaCha8Rng, n: usize) -> Vec<Tri> {
-    (0..n)
-        .map(|i| {
-            let c: [f32; 3] = std::array::from_fn(|_| rng.gen_range(-100.0..100.0));
-            let mut v = [c; 3];
-            if i % 7 != 0 {
-                for p in v.iter_mut().skip(1) {
-                    for c in p.iter_mut() {
-                        *c += rng.gen_range(-3.0..3.0);
-                    }
-                }
-            } // every 7th triangle is a point: zero area, flagged
-            Tri { v }
-        })
-        .collect()
-}
-
 #[test]
 fn random_soups_satisfy_layout_invariants() {
     let seed = 7;
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     for n in [1, 2, 3, 5, 17, 100, 1000, 5000] {
-        let tris = soup(&mut rng, n);
+        let tris = random_soup(&mut rng, n);
         for leaf in [1, 2, 4, 32] {
             let bvh = nori_bridge::bvh_build::build_bvh(&device(), &tris, leaf).unwrap();
             check_layout(&format!("soup seed {seed} n {n} leaf {leaf}"), &tris, &Image::from_bvh(&bvh, &tris));
@@ -111,14 +86,15 @@ fn image_bytes_round_trip_and_header() {
     let b = img.to_bytes();
     assert_eq!(&b[0..8], b"RTACCEL\0");
     let u = |o: usize| u32::from_le_bytes(b[o..o + 4].try_into().unwrap());
-    assert_eq!(u(8), 1);
+    assert_eq!(u(8), 2);
     assert_eq!(u(12) as usize, img.nodes.len());
     assert_eq!(u(16) as usize, scene.tris.len());
     assert_eq!(u(20), 64);
     assert_eq!(u(24) % 64, 0);
     assert!(u(24) as usize >= 64 + 32 * img.nodes.len() && (u(24) as usize) < 64 + 32 * img.nodes.len() + 64);
     assert_eq!((u(28), u(32), u(36)), (32, 48, 4));
-    assert!(b[44..64].iter().all(|&x| x == 0), "reserved header bytes must be zero");
+    assert_eq!(u(44), 0, "layout word: nori");
+    assert!(b[48..64].iter().all(|&x| x == 0), "reserved header bytes must be zero");
     assert_eq!(b.len(), u(24) as usize + 48 * scene.tris.len());
     // node 0 = root box = scene bounds
     let f = |o: usize| f32::from_le_bytes(b[o..o + 4].try_into().unwrap());

@@ -8,6 +8,7 @@
 mod common;
 use common::*;
 use nori_bridge::compare::compare;
+use nori_bridge::bvh::Layout;
 use nori_bridge::compile::{compile, write_json, CompileOpts, RaySpec};
 use nori_bridge::csv_io::write_hits;
 use nori_bridge::exact::eval64;
@@ -24,7 +25,7 @@ const SPP: u32 = 2;
 
 fn package(dir: &Path, rays: RaySpec) -> Package {
     let o = CompileOpts {
-        scene: scene_path("cornell-box"), out: dir.to_path_buf(), rays, spp: SPP, seed: 7, max_leaf_size: 4, robust: false,
+        scene: scene_path("cornell-box"), out: dir.to_path_buf(), rays, spp: SPP, seed: 7, max_leaf_size: 4, layout: Layout::Nori, robust: false,
         double_reference: false, width: Some(8), height: Some(8), count: 0, light: None,
     };
     compile(&o).unwrap();
