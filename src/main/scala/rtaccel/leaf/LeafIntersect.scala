@@ -89,7 +89,19 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   private val nextTriReg   = Reg(UInt(cfg.triIndexBits.W))
   private val remainingReg = Reg(UInt(cfg.leafCountBits.W))
 
-  jobs.io.deq.ready := !busyReg && !stoppingReg
+  private val stopEarly = busyReg && occludedReg(issueIdReg)
+  io.mem.req.valid     := busyReg && !stopEarly
+  io.mem.req.bits.addr := io.triBase + nextTriReg * TriangleRecord.RecordBytes.U
+  io.mem.req.bits.tag  := issueIdReg
+  private val lastIssue = io.mem.req.fire && remainingReg === 1.U
+  when(io.mem.req.fire) {
+    nextTriReg   := nextTriReg + 1.U
+    remainingReg := remainingReg - 1.U
+    when(lastIssue) { busyReg := false.B }
+  }
+  // The next leaf starts in the cycle of this one's last request, so
+  // back-to-back leaves issue one triangle every cycle (no bubble).
+  jobs.io.deq.ready := (!busyReg || lastIssue) && !stoppingReg
   when(jobs.io.deq.fire) {
     val j = jobs.io.deq.bits
     parked.write(j.token.rayId, j.token)
@@ -98,15 +110,6 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
     remainingReg := j.count
     busyReg      := j.count =/= 0.U
     stoppingReg  := j.count === 0.U // an empty leaf: straight out
-  }
-  private val stopEarly = busyReg && occludedReg(issueIdReg)
-  io.mem.req.valid     := busyReg && !stopEarly
-  io.mem.req.bits.addr := io.triBase + nextTriReg * TriangleRecord.RecordBytes.U
-  io.mem.req.bits.tag  := issueIdReg
-  when(io.mem.req.fire) {
-    nextTriReg   := nextTriReg + 1.U
-    remainingReg := remainingReg - 1.U
-    when(remainingReg === 1.U) { busyReg := false.B }
   }
   when(stopEarly) { busyReg := false.B; stoppingReg := true.B }
 
@@ -181,21 +184,24 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   when(lastAnswer && !exits.io.enq.ready) { brokenReg := true.B }
   io.broken := brokenReg
 
-  // A ray leaves only after its tmax is written (see the class comment): first
-  // the write, then the exit. (Valid never waits on ready, which an RRArbiter
-  // downstream would turn into a combinational loop.) A ray with no hit yet
-  // keeps the tmax it entered with and writes nothing.
+  // A ray leaves no earlier than its tmax write (see the class comment): in
+  // the same cycle, or after it. The write lands at the clock edge, and the
+  // ray's next RayBuffer read is several cycles later (decision, fetch), so it
+  // sees the new tmax. tmax.valid never waits on a ready; out.valid waits on
+  // the RayBuffer arbiter's grant, whose ready does not depend on out. A ray
+  // with no hit yet keeps the tmax it entered with and writes nothing.
   private val exitHead   = exits.io.deq
   private val headId     = exitHead.bits.token.rayId
   private val writtenReg = RegInit(false.B)
   private val needWrite  = hasHitReg(headId) && !writtenReg
+  private val written    = !needWrite || io.tmax.ready
   io.tmax.valid      := exitHead.valid && needWrite
   io.tmax.bits.rayId := headId
   io.tmax.bits.tmax  := best.read(headId).t
-  when(io.tmax.fire) { writtenReg := true.B }
-  io.out.valid   := exitHead.valid && !needWrite
+  io.out.valid   := exitHead.valid && written
   io.out.bits    := exitHead.bits
-  exitHead.ready := io.out.ready && !needWrite
+  exitHead.ready := io.out.ready && written
+  when(io.tmax.fire && !io.out.fire) { writtenReg := true.B }
   when(io.out.fire) { writtenReg := false.B }
 
   when(io.clear.valid) {

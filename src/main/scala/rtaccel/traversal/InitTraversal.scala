@@ -18,7 +18,7 @@ class EntryToken(cfg: AccelConfig) extends Bundle {
   *
   * Prepared rays arrive on a valid pipe and wait in a queue of `numRayIds`
   * entries: every ray inside holds an ID, so at most `numRayIds` can ever be
-  * waiting and the queue cannot overflow. The enqueue is checked all the
+  * waiting and the queue cannot overflow. One ray can enter per cycle. The enqueue is checked all the
   * same: `broken` would latch if it ever found the queue full.
   */
 class InitTraversal[T <: Data](cfg: AccelConfig, gen: T) extends Module {
@@ -39,26 +39,29 @@ class InitTraversal[T <: Data](cfg: AccelConfig, gen: T) extends Module {
   when(io.in.valid && !waiting.io.enq.ready) { brokenReg := true.B }
   io.broken := brokenReg
 
-  // First the RayBuffer write, then the ray goes to the root. (Valid never
-  // waits on ready: the RayBuffer's round-robin arbiter would close a
-  // combinational loop.)
-  private val head       = waiting.io.deq.bits
-  private val enteredReg = RegInit(false.B)
-  io.enter.valid        := waiting.io.deq.valid && !enteredReg
+  // First the RayBuffer write, then, from the next cycle on, the hand-over:
+  // the box stage reads the RayBuffer in the very cycle it takes a ray, and a
+  // read in the cycle of the write would see the old entry. A two-entry
+  // queue of written rays lets the next ray be written while the previous
+  // one is handed over, so a ray can enter every cycle. (enter.valid depends
+  // on the queue's state, never on a ready from outside.)
+  private val head    = waiting.io.deq.bits
+  private val written = Module(new Queue(new TraversalToken(cfg), 2)) // the token only: the rest is in the RayBuffer
+  io.enter.valid        := waiting.io.deq.valid && written.io.enq.ready
   io.enter.bits.rayId   := head.rayId
   io.enter.bits.statics := head.ray.statics
   io.enter.bits.tmax    := head.ray.tmax
-  when(io.enter.fire) { enteredReg := true.B }
-  io.out.valid          := waiting.io.deq.valid && enteredReg
-  waiting.io.deq.ready  := io.out.ready && enteredReg
-  when(io.out.fire) { enteredReg := false.B }
-
-  private val t = io.out.bits.token
+  waiting.io.deq.ready  := io.enter.ready && written.io.enq.ready
+  written.io.enq.valid  := io.enter.fire
+  private val t = written.io.enq.bits
   t.rayId   := head.rayId
   t.nodeIdx := 0.U
   t.sp      := 0.U
   t.dirNeg  := head.ray.dirNeg
   t.shadow  := head.shadow
   t.errors  := head.ray.errors
+  io.out.valid          := written.io.deq.valid
+  io.out.bits.token     := written.io.deq.bits
+  written.io.deq.ready  := io.out.ready
   io.out.bits.root := io.root
 }
