@@ -94,9 +94,11 @@ class RtAccel[T <: Data](val cfg: AccelConfig, val dp: Datapath[T]) extends Modu
   private val childBoxesReg = RegInit(0.U(64.W))
   childBoxesReg := childBoxesReg + trav.io.childBoxes
   p.childBoxTests := childBoxesReg
-  p.leafReturns   := count(trav.io.leafReturn)
+  p.leafReturns   := count(trav.io.control(1).valid)
   p.triTests      := count(leaf.io.tested)
-  p.decisions     := count(trav.io.control.valid)
+  private val decisionsReg = RegInit(0.U(64.W))
+  decisionsReg := decisionsReg + trav.io.control(0).valid.asUInt + trav.io.control(1).valid.asUInt
+  p.decisions     := decisionsReg
   p.nodePortStall := count(io.nodeMem.req.valid && !io.nodeMem.req.ready)
   p.triPortStall  := count(io.triMem.req.valid && !io.triMem.req.ready)
   p.raysInStall   := count(io.rays.valid && !io.rays.ready)

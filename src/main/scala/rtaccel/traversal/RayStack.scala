@@ -12,10 +12,13 @@ import rtaccel.{AccelConfig, ChildRef}
   * with `n <= B`, fall into distinct banks, so every bank takes at most one
   * write per cycle and stays a simple dual-port block RAM.
   *
-  * One ray per cycle: it either pushes up to `layout.maxPushes` entries or
-  * pops one (slot `sp - 1`), whose value appears the next cycle (synchronous
-  * read). A ray is never in TraversalControl twice at once, so consecutive
-  * accesses belong to different rays and there is no read-after-write hazard.
+  * Port A (TraversalControl's box-result lane) either pushes up to
+  * `layout.maxPushes` entries or pops one (slot `sp - 1`); port B (its
+  * leaf-return lane) only pops. A popped value appears the next cycle
+  * (synchronous read). Each bank is kept twice, written together, so each
+  * port has a read port of its own. The two ports always serve different
+  * rays, and a ray is never in TraversalControl twice at once, so no access
+  * meets a write to the same entry in flight (no read-after-write hazard).
   */
 class RayStack(cfg: AccelConfig) extends Module {
   private val pushes = cfg.layout.maxPushes
@@ -30,25 +33,35 @@ class RayStack(cfg: AccelConfig) extends Module {
     val pop       = Input(Bool())
     /** The entry read by a pop in the previous cycle. */
     val popVal    = Output(new ChildRef(cfg))
+    /** Port B: pop slot `spB - 1` of ray `rayIdB`; the value the next cycle. */
+    val rayIdB    = Input(UInt(cfg.rayIdBits.W))
+    val spB       = Input(UInt(cfg.stackPtrBits.W))
+    val popB      = Input(Bool())
+    val popValB   = Output(new ChildRef(cfg))
   })
   override def desiredName = s"RayStack_n${cfg.numRayIds}_d${cfg.stackDepth}_b${cfg.stackBanks}"
 
   private val banks = cfg.stackBanks
   private val bankBits = log2Ceil(banks)
-  private val mems = Seq.fill(banks)(SyncReadMem(cfg.numRayIds * cfg.stackRows, new ChildRef(cfg)))
-  private def rowAddr(slot: UInt): UInt = io.rayId * cfg.stackRows.U + (slot >> bankBits)
+  private val mems  = Seq.fill(banks)(SyncReadMem(cfg.numRayIds * cfg.stackRows, new ChildRef(cfg)))
+  private val memsB = Seq.fill(banks)(SyncReadMem(cfg.numRayIds * cfg.stackRows, new ChildRef(cfg)))
+  private def rowAddr(slot: UInt, rayId: UInt = io.rayId): UInt = rayId * cfg.stackRows.U + (slot >> bankBits)
   private def bankOf(slot: UInt): UInt = if (banks == 1) 0.U else slot(bankBits - 1, 0)
 
   // Push port p writes slot sp + p; bank b takes the port whose slot lands on it.
   private val slots = (0 until pushes).map(p => io.sp.pad(slotBits) + p.U)
-  for ((mem, b) <- mems.zipWithIndex) {
+  for (((mem, memB), b) <- mems.zip(memsB).zipWithIndex) {
     val hits = slots.zipWithIndex.map { case (s, p) => p.U < io.pushCount && bankOf(s) === b.U }
     when(hits.reduce(_ || _)) {
       mem.write(rowAddr(Mux1H(hits, slots)), Mux1H(hits, io.pushVals))
+      memB.write(rowAddr(Mux1H(hits, slots)), Mux1H(hits, io.pushVals))
     }
   }
-  private val popSlot = io.sp.pad(slotBits) - 1.U
-  private val reads = mems.zipWithIndex.map { case (mem, b) => mem.read(rowAddr(popSlot), io.pop && bankOf(popSlot) === b.U) }
-  private val popBankReg = RegEnable(bankOf(popSlot), io.pop)
-  io.popVal := VecInit(reads)(popBankReg)
+  private def popPort(ms: Seq[SyncReadMem[ChildRef]], rayId: UInt, sp: UInt, pop: Bool): ChildRef = {
+    val slot = sp.pad(slotBits) - 1.U
+    val reads = ms.zipWithIndex.map { case (mem, b) => mem.read(rowAddr(slot, rayId), pop && bankOf(slot) === b.U) }
+    VecInit(reads)(RegEnable(bankOf(slot), pop))
+  }
+  io.popVal  := popPort(mems, io.rayId, io.sp, io.pop)
+  io.popValB := popPort(memsB, io.rayIdB, io.spB, io.popB)
 }

@@ -13,9 +13,10 @@ import rtaccel.{AccelConfig, BvhNode, Datapath}
   *    wait (the memory is never back-pressured). The ray is read from the
   *    RayBuffer in the selection cycle and meets its node at BboxIntersect
   *    one cycle later, which tests all of the node's child boxes at once.
-  *  - Box results wait in a queue, then share TraversalControl round-robin with
-  *    rays coming back from leaves.
-  *  - TRAVERSE/GOBACK go to PrepFetch, LEAF to LeafIntersect, DONE out.
+  *  - Box results go straight to TraversalControl's box-result lane; rays
+  *    back from leaves take its leaf-return lane.
+  *  - TRAVERSE/GOBACK go to PrepFetch, LEAF to LeafIntersect, DONE out, each
+  *    lane through queues of its own, merged round-robin.
   *
   * Every queue holds `numRayIds` entries and each ray is in one place, so no
   * enqueue can find a queue full; `overflow` would flag it if it ever did.
@@ -34,9 +35,8 @@ class Traversal[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
     /** Performance counter inputs: a node tested, and how many used child boxes it had. */
     val boxTests = Output(Bool())
     val childBoxes = Output(UInt(log2Ceil(cfg.boxLanes + 1).W))
-    /** A decision, and whether it was for a ray back from a leaf. */
-    val control  = Output(Valid(TraversalState()))
-    val leafReturn = Output(Bool())
+    /** Decisions of the box-result lane (0) and the leaf-return lane (1). */
+    val control  = Output(Vec(2, Valid(TraversalState())))
     val fetchWaiting = Output(UInt(log2Ceil(cfg.numRayIds + 1).W))
   })
   override def desiredName = s"Traversal_k${cfg.boxLanes}_n${cfg.numRayIds}_${dp.name}"
@@ -74,62 +74,62 @@ class Traversal[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   io.childBoxes := Mux(box.io.out.valid, PopCount(tested.bits.node.slots.map(_.present)), 0.U)
 
   // ---- Decision ----
-  private val boxDone = Module(new Queue(new ControlIn(cfg), cfg.numRayIds))
-  private val b = boxDone.io.enq.bits
-  boxDone.io.enq.valid := box.io.out.valid
+  private val boxDone = Wire(Valid(new ControlIn(cfg)))
+  private val b = boxDone.bits
+  boxDone.valid := box.io.out.valid
   b.token      := tested.bits.token
-  b.fromLeaf   := false.B
-  b.occluded   := false.B
   b.hit        := box.io.out.bits.hit
   b.near       := box.io.out.bits.near
   b.refs       := VecInit(tested.bits.node.slots.map(_.child))
   b.axis       := tested.bits.node.axis
   b.nodeErrors := tested.bits.node.errors
 
-  private val fromLeaf = Wire(Decoupled(new ControlIn(cfg)))
-  fromLeaf.valid         := io.leafIn.valid
-  fromLeaf.bits          := DontCare
-  fromLeaf.bits.token    := io.leafIn.bits.token
-  fromLeaf.bits.fromLeaf := true.B
-  fromLeaf.bits.occluded := io.leafIn.bits.occluded
-  fromLeaf.bits.hit      := VecInit(Seq.fill(cfg.boxLanes)(false.B))
-  fromLeaf.bits.nodeErrors := 0.U
-  io.leafIn.ready        := fromLeaf.ready
-
-  private val arb = Module(new RRArbiter(new ControlIn(cfg), 2))
-  arb.io.in(0) <> boxDone.io.deq
-  arb.io.in(1) <> fromLeaf
-  arb.io.out.ready := true.B
+  // Box results go straight to the box-result lane (one per cycle, as they
+  // leave BboxIntersect); rays back from leaves take the leaf-return lane,
+  // one per cycle, so leafIn never waits.
   private val control = Module(new TraversalControl(cfg))
-  control.io.in.valid := arb.io.out.valid
-  control.io.in.bits  := arb.io.out.bits
-  io.control.valid := control.io.out.valid
-  io.control.bits  := control.io.out.bits.state
-  io.leafReturn    := arb.io.out.valid && arb.io.out.bits.fromLeaf
+  control.io.in := boxDone
+  control.io.ret.valid := io.leafIn.valid
+  control.io.ret.bits.token    := io.leafIn.bits.token
+  control.io.ret.bits.occluded := io.leafIn.bits.occluded
+  io.leafIn.ready := true.B
+  io.control(0).valid := control.io.out.valid
+  io.control(0).bits  := control.io.out.bits.state
+  io.control(1).valid := control.io.retOut.valid
+  io.control(1).bits  := control.io.retOut.bits.state
 
-  // ---- Routing ----
-  private val out   = control.io.out
-  private val state = out.bits.state
-  private val toFetch = out.valid && (state === TraversalState.Traverse || state === TraversalState.GoBack)
-  fetch.io.in.valid := toFetch
-  fetch.io.in.bits  := out.bits.token
-
-  private val leafQ = Module(new Queue(new LeafJob(cfg), cfg.numRayIds))
-  leafQ.io.enq.valid      := out.valid && state === TraversalState.Leaf
-  leafQ.io.enq.bits.token := out.bits.token
-  leafQ.io.enq.bits.first := out.bits.leafFirst
-  leafQ.io.enq.bits.count := out.bits.leafCount
-  io.leafOut <> leafQ.io.deq
-
-  private val doneQ = Module(new Queue(new TraversalToken(cfg), cfg.numRayIds))
-  doneQ.io.enq.valid := out.valid && state === TraversalState.Done
-  doneQ.io.enq.bits  := out.bits.token
-  io.done <> doneQ.io.deq
+  // ---- Routing: each lane has its own queues (every one holds numRayIds, so
+  // none can overflow: each ray is in one place), merged round-robin ----
+  private val lanes = Seq(control.io.out, control.io.retOut)
+  private def isFetch(o: Valid[ControlOut]) =
+    o.valid && (o.bits.state === TraversalState.Traverse || o.bits.state === TraversalState.GoBack)
+  private val fetchQs = lanes.map { o =>
+    val q = Module(new Queue(new TraversalToken(cfg), cfg.numRayIds))
+    q.io.enq.valid := isFetch(o); q.io.enq.bits := o.bits.token; q
+  }
+  private val leafQs = lanes.map { o =>
+    val q = Module(new Queue(new LeafJob(cfg), cfg.numRayIds))
+    q.io.enq.valid      := o.valid && o.bits.state === TraversalState.Leaf
+    q.io.enq.bits.token := o.bits.token
+    q.io.enq.bits.first := o.bits.leafFirst
+    q.io.enq.bits.count := o.bits.leafCount
+    q
+  }
+  private val doneQs = lanes.map { o =>
+    val q = Module(new Queue(new TraversalToken(cfg), cfg.numRayIds))
+    q.io.enq.valid := o.valid && o.bits.state === TraversalState.Done; q.io.enq.bits := o.bits.token; q
+  }
+  private def merge[D <: Data](qs: Seq[Queue[D]], sink: DecoupledIO[D]): Unit = {
+    val arb = Module(new RRArbiter(chiselTypeOf(sink.bits), qs.size))
+    for ((q, i) <- qs.zipWithIndex) arb.io.in(i) <> q.io.deq
+    sink <> arb.io.out
+  }
+  merge(fetchQs, fetch.io.in)
+  merge(leafQs, io.leafOut)
+  merge(doneQs, io.done)
 
   private val overflowReg = RegInit(false.B)
-  when((boxDone.io.enq.valid && !boxDone.io.enq.ready) || (toFetch && !fetch.io.in.ready) ||
-    (leafQ.io.enq.valid && !leafQ.io.enq.ready) || (doneQ.io.enq.valid && !doneQ.io.enq.ready)) {
-    overflowReg := true.B
-  }
+  private val enqs = (fetchQs ++ leafQs ++ doneQs).map(_.io.enq)
+  when(enqs.map(e => e.valid && !e.ready).reduce(_ || _)) { overflowReg := true.B }
   io.overflow := overflowReg
 }

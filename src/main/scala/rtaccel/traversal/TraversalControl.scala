@@ -14,12 +14,16 @@ object TraversalState extends ChiselEnum {
   val Traverse, Leaf, GoBack, Done = Value
 }
 
+/** A ray back from LeafIntersect, to the leaf-return lane. */
+class ReturnIn(cfg: AccelConfig) extends Bundle {
+  val token    = new TraversalToken(cfg)
+  /** A shadow ray found an occluder, so it is finished. */
+  val occluded = Bool()
+}
+
+/** A box result, to the box-result lane. */
 class ControlIn(cfg: AccelConfig) extends Bundle {
   val token    = new TraversalToken(cfg)
-  /** Back from LeafIntersect (the node fields are then ignored). */
-  val fromLeaf = Bool()
-  /** With `fromLeaf`: a shadow ray found an occluder, so it is finished. */
-  val occluded = Bool()
   /** BboxIntersect's answer for each slot of node `token.nodeIdx`. */
   val hit      = Vec(cfg.boxLanes, Bool())
   val near     = Vec(cfg.boxLanes, UInt(cfg.float.width.W))
@@ -39,8 +43,12 @@ class ControlOut(cfg: AccelConfig) extends Bundle {
   val leafCount = UInt(cfg.leafCountBits.W)
 }
 
-/** One traversal decision per cycle, for whichever ray arrives
-  * (docs/architecture.md; its Scala twin is ControlGolden):
+/** Two traversal decisions per cycle, one per lane (docs/architecture.md;
+  * its Scala twin is ControlGolden): the box-result lane decides for a ray
+  * whose node was just tested, the leaf-return lane for a ray back from a
+  * leaf, which can only pop. A separate lane for leaf returns lifts the bound
+  * a single lane set at one decision per node visit plus one per leaf
+  * (Cornell box, 4-wide: 5.0 decisions per ray, 1.85 of them leaf returns).
   *  - some child box hit: the nearest hit child is next: TRAVERSE to it (an
   *    inner node) or LEAF (its triangles); the other hit children are pushed,
   *    farthest first, so the next nearest is on top;
@@ -55,15 +63,20 @@ class ControlOut(cfg: AccelConfig) extends Bundle {
   * hit children in order of entry distance, ties to the lower slot, a total
   * order, so the golden model stays bit-exact.
   *
-  * Pipeline: wide layouts rank the children in a first cycle (K(K-1)/2 key
-  * comparisons and a popcount per lane); then the decision and the stack
-  * access; the popped value (synchronous read) joins the output the cycle
-  * after. A ray is never in this unit twice at once, so no stack hazard.
+  * Pipeline (box-result lane): wide layouts rank the children in a first
+  * cycle (K(K-1)/2 key comparisons and a popcount per lane); then the
+  * decision and the stack access; the popped value (synchronous read) joins
+  * the output the cycle after. The leaf-return lane decides in its input
+  * cycle and outputs the next. A ray is never in this unit twice at once, so
+  * no stack hazard.
   */
 class TraversalControl(cfg: AccelConfig) extends Module {
   val io = IO(new Bundle {
     val in  = Flipped(Valid(new ControlIn(cfg)))
     val out = Valid(new ControlOut(cfg))
+    /** The leaf-return lane: one ray back from a leaf per cycle, out the next cycle. */
+    val ret    = Flipped(Valid(new ReturnIn(cfg)))
+    val retOut = Valid(new ControlOut(cfg))
   })
   override def desiredName = s"TraversalControl_k${cfg.boxLanes}_n${cfg.numRayIds}_d${cfg.stackDepth}"
 
@@ -82,7 +95,7 @@ class TraversalControl(cfg: AccelConfig) extends Module {
   private def rank(in: ControlIn): Ranked = {
     val r = Wire(new Ranked)
     r.in := in
-    r.hit := VecInit(in.hit.map(_ && !in.fromLeaf))
+    r.hit := in.hit
     val keys = in.near.map(FpOrder.key(cfg.float, _))
     for (i <- 0 until k) {
       val before = for (j <- 0 until k if j != i) yield
@@ -129,11 +142,11 @@ class TraversalControl(cfg: AccelConfig) extends Module {
         pushVals(p) := Mux1H(d.hit.zip(d.rank).map { case (h, r) => h && r === d.hits - 1.U - p.U }, in.refs)
   }
 
-  private val errorsIn  = tok.errors | Mux(in.fromLeaf, 0.U, in.nodeErrors)
+  private val errorsIn  = tok.errors | in.nodeErrors
   private val overflow  = chosenOk && (tok.sp +& pushCount > cfg.stackDepth.U)
   private val errors    = errorsIn | Mux(overflow, ErrorFlags.bit(ErrorFlags.StackOverflow), 0.U)
   private val stackEmpty = tok.sp === 0.U
-  private val finished  = errors.orR || (in.fromLeaf && in.occluded) || (!chosenOk && stackEmpty)
+  private val finished  = errors.orR || (!chosenOk && stackEmpty)
 
   private val state = Wire(TraversalState())
   state := Mux(finished, TraversalState.Done,
@@ -156,18 +169,38 @@ class TraversalControl(cfg: AccelConfig) extends Module {
   next.leafFirst     := chosen.index(cfg.triIndexBits - 1, 0)
   next.leafCount     := chosen.count
 
-  private val outReg = RegEnable(next, valid)
-  io.out.valid := RegNext(valid, false.B)
-  io.out.bits  := outReg
-  // A popped entry: an inner node to fetch (GOBACK), or a leaf to test (LEAF).
-  private val popped = stack.io.popVal
-  when(outReg.state === TraversalState.GoBack) {
-    when(popped.isLeaf) {
-      io.out.bits.state     := TraversalState.Leaf
-      io.out.bits.leafFirst := popped.index(cfg.triIndexBits - 1, 0)
-      io.out.bits.leafCount := popped.count
-    }.otherwise {
-      io.out.bits.token.nodeIdx := popped.index(cfg.nodeIndexBits - 1, 0)
+  io.out := resolve(valid, next, stack.io.popVal)
+
+  // ---- Leaf-return lane: pop, or DONE (an error, an occluder, an empty stack) ----
+  private val r = io.ret.bits
+  private val retDone = r.token.errors.orR || r.occluded || r.token.sp === 0.U
+  stack.io.rayIdB := r.token.rayId
+  stack.io.spB    := r.token.sp
+  stack.io.popB   := io.ret.valid && !retDone
+  private val retNext = Wire(new ControlOut(cfg))
+  retNext           := DontCare
+  retNext.state     := Mux(retDone, TraversalState.Done, TraversalState.GoBack)
+  retNext.token     := r.token
+  retNext.token.sp  := Mux(retDone, r.token.sp, r.token.sp - 1.U)
+  io.retOut := resolve(io.ret.valid, retNext, stack.io.popValB)
+
+  /** A lane's output, a cycle after its decision: a popped entry is an inner
+    * node to fetch (GOBACK) or a leaf to test (LEAF).
+    */
+  private def resolve(valid: Bool, next: ControlOut, popped: ChildRef): Valid[ControlOut] = {
+    val outReg = RegEnable(next, valid)
+    val o = Wire(Valid(new ControlOut(cfg)))
+    o.valid := RegNext(valid, false.B)
+    o.bits  := outReg
+    when(outReg.state === TraversalState.GoBack) {
+      when(popped.isLeaf) {
+        o.bits.state     := TraversalState.Leaf
+        o.bits.leafFirst := popped.index(cfg.triIndexBits - 1, 0)
+        o.bits.leafCount := popped.count
+      }.otherwise {
+        o.bits.token.nodeIdx := popped.index(cfg.nodeIndexBits - 1, 0)
+      }
     }
+    o
   }
 }

@@ -13,7 +13,9 @@ object Report {
     *  - `boxLanes`: BboxIntersect takes one node (all its child boxes at once)
     *    per cycle; `boxTests` counts node tests.
     *  - `triangleLanes`: PrimIntersect takes one triangle test per cycle.
-    *  - `control`: TraversalControl makes one decision per cycle.
+    *  - `control`: TraversalControl makes one decision per cycle in each of
+    *    its two lanes: box results (`decisions - leafReturns`) and leaf
+    *    returns (`leafReturns`); the busier lane sets the term.
     *  - `dram` (DDR only): the DRAM's peak bytes per cycle at the fabric clock
     *    over the bytes per ray it moved, whole bursts, both ports.
     * Model parameters chosen to suit the design (a port's record size, the
@@ -30,7 +32,7 @@ object Report {
       Bound(Seq(
         "boxLanes"      -> 1.0 / perRay(perf("boxTests").toDouble),
         "triangleLanes" -> 1.0 / perRay(perf("triTests").toDouble),
-        "control"       -> 1.0 / perRay(perf("decisions").toDouble)) ++
+        "control"       -> 1.0 / perRay((perf("decisions") - perf("leafReturns")).toDouble max perf("leafReturns").toDouble)) ++
         dram.map(d => "dram" -> d.bytesPerCycle / perRay(dramBytes.toDouble)))
     }
   }

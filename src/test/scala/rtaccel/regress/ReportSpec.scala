@@ -10,7 +10,8 @@ import rtaccel.system.RunResult
 class ReportSpec extends AnyFlatSpec {
   behavior of "Report.Bound"
 
-  private def perf(box: Long, tri: Long, decisions: Long) = Map[String, BigInt]("boxTests" -> box, "triTests" -> tri, "decisions" -> decisions)
+  private def perf(box: Long, tri: Long, decisions: Long, leafReturns: Long = 0) =
+    Map[String, BigInt]("boxTests" -> box, "triTests" -> tri, "decisions" -> decisions, "leafReturns" -> leafReturns)
 
   it should "take the least of box lanes, triangle lanes, control and DRAM, and name it" in {
     // 100 rays: 20 node tests, 4 triangle tests, 25 decisions and 640 DRAM bytes per ray.
@@ -20,6 +21,13 @@ class ReportSpec extends AnyFlatSpec {
     assert(b.limitedBy == "control" && b.raysPerCycle == 0.04)
     val ddrBound = Report.Bound(100, perf(200, 40, 250), dram, 64000)
     assert(ddrBound.limitedBy == "dram" && ddrBound.raysPerCycle == 0.1)
+  }
+
+  it should "count control by its busier lane: box results or leaf returns" in {
+    // 10 rays: 30 decisions, 12 of them leaf returns: the box-result lane makes 1.8 per ray.
+    assert(Report.Bound(10, perf(18, 5, 30, 12), None, 0).terms.toMap.apply("control") == 1.0 / 1.8)
+    // 25 leaf returns of 40: the leaf-return lane is the busier, 2.5 per ray.
+    assert(Report.Bound(10, perf(15, 5, 40, 25), None, 0).terms.toMap.apply("control") == 1.0 / 2.5)
   }
 
   it should "have no DRAM term on chip, and only the four named terms" in {

@@ -28,29 +28,33 @@ class InitTraversalSpec extends AnyFlatSpec with ChiselScalatestTester {
     test(new InitTraversal(cfg, FieldDatapath.gen)).withAnnotations(Backends.treadle) { dut =>
       for (s <- 0 until 2; i <- 0 until 3) { dut.io.root.slots(s).boxMin(i).poke((10 * s + i).U); dut.io.root.slots(s).present.poke(true.B) }
       val free = mutable.Queue.from(0 until cfg.numRayIds)
-      val expected = mutable.Queue.empty[Int] // IDs in arrival order
-      val written = mutable.Set.empty[Int]
+      val expected = mutable.Queue.empty[Int] // IDs in arrival order, not yet handed over
+      val toWrite = mutable.Queue.empty[Int]  // IDs in arrival order, not yet written
+      val written = mutable.Map.empty[Int, Int] // ID -> cycle of its RayBuffer write
       val returning = mutable.Queue.empty[(Int, Int)] // (cycle, ID): back to the free list later
       var out = 0
       for (cycle <- 0 until 600) {
         val send = free.nonEmpty && rnd.nextInt(3) != 0
         val id = if (send) free.dequeue() else 0
         pokeIn(dut, send, id)
-        if (send) expected.enqueue(id)
+        if (send) { expected.enqueue(id); toWrite.enqueue(id) }
         dut.io.enter.ready.poke(rnd.nextBoolean().B)
         dut.io.out.ready.poke(rnd.nextBoolean().B)
         if (dut.io.enter.valid.peek().litToBoolean && dut.io.enter.ready.peek().litToBoolean) {
           val e = dut.io.enter.bits
           val wid = e.rayId.peek().litValue.toInt
-          assert(wid == expected.head, s"cycle $cycle: RayBuffer write for ray $wid, expected ${expected.head} (arrival order)")
+          assert(wid == toWrite.dequeue(), s"cycle $cycle: RayBuffer write for ray $wid out of arrival order")
           e.statics.expect((0x100 + wid).U); e.tmax.expect((0x3f000000L + wid).U)
-          assert(written.add(wid), s"cycle $cycle: ray $wid written twice")
+          assert(!written.contains(wid), s"cycle $cycle: ray $wid written twice")
+          written(wid) = cycle
         }
         if (dut.io.out.valid.peek().litToBoolean && dut.io.out.ready.peek().litToBoolean) {
           val t = dut.io.out.bits.token
           val oid = t.rayId.peek().litValue.toInt
           assert(oid == expected.head, s"cycle $cycle: ray $oid left before ${expected.head}")
-          assert(written.remove(oid), s"cycle $cycle: ray $oid went to the root before its RayBuffer write")
+          // The box stage reads the RayBuffer in the cycle it takes the ray: the write must be older.
+          val at = written.remove(oid).getOrElse(fail(s"cycle $cycle: ray $oid went to the root before its RayBuffer write"))
+          assert(at < cycle, s"cycle $cycle: ray $oid handed over in the cycle of its RayBuffer write")
           t.nodeIdx.expect(0.U); t.sp.expect(0.U)
           t.shadow.expect((oid % 2 == 1).B); t.errors.expect((oid % 3).U)
           for (a <- 0 until 3) t.dirNeg(a).expect((((oid >> a) & 1) == 1).B)

@@ -1,6 +1,7 @@
 package rtaccel.traversal
 
 import chisel3._
+import chisel3.util.Valid
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import rtaccel.fp.FpOrder
@@ -27,18 +28,27 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
   /** One input: the ray, where it comes from, and the node's answer. */
   final case class In(tok: Token, fromLeaf: Boolean, occluded: Boolean, hits: Seq[(Boolean, Long)], node: NodeView)
 
-  private def poke(dut: TraversalControl, cfg: AccelConfig, in: In): Unit = {
+  private def pokeToken(t: TraversalToken, tok: Token): Unit = {
+    t.rayId.poke(tok.rayId.U)
+    t.nodeIdx.poke(tok.nodeIdx.U)
+    t.sp.poke(tok.sp.U)
+    for (a <- 0 until 3) t.dirNeg(a).poke(tok.dirNeg(a).B)
+    t.shadow.poke(tok.shadow.B)
+    t.errors.poke(tok.errors.U)
+  }
+
+  /** A ray back from a leaf goes to the leaf-return lane, a box result to the box-result lane. */
+  private def poke(dut: TraversalControl, cfg: AccelConfig, in: In): Unit =
+    if (in.fromLeaf) {
+      dut.io.ret.valid.poke(true.B)
+      pokeToken(dut.io.ret.bits.token, in.tok)
+      dut.io.ret.bits.occluded.poke(in.occluded.B)
+    } else pokeBox(dut, in)
+
+  private def pokeBox(dut: TraversalControl, in: In): Unit = {
     val b = dut.io.in.bits
-    val tok = in.tok
     dut.io.in.valid.poke(true.B)
-    b.token.rayId.poke(tok.rayId.U)
-    b.token.nodeIdx.poke(tok.nodeIdx.U)
-    b.token.sp.poke(tok.sp.U)
-    for (a <- 0 until 3) b.token.dirNeg(a).poke(tok.dirNeg(a).B)
-    b.token.shadow.poke(tok.shadow.B)
-    b.token.errors.poke(tok.errors.U)
-    b.fromLeaf.poke(in.fromLeaf.B)
-    b.occluded.poke(in.occluded.B)
+    pokeToken(b.token, in.tok)
     for (((hit, near), i) <- in.hits.zipWithIndex) { b.hit(i).poke(hit.B); b.near(i).poke(near.U) }
     for ((r, i) <- in.node.refs.zipWithIndex) {
       b.refs(i).isLeaf.poke(r.isLeaf.B); b.refs(i).index.poke(r.index.U); b.refs(i).count.poke(r.count.U)
@@ -51,9 +61,13 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
     ControlGolden.step(cfg.layout, cfg.stackDepth, stack, in.tok, in.fromLeaf, in.occluded,
       in.hits.map { case (h, near) => SlotHit(h, FpOrder.keyOf(cfg.float, BigInt(near))) }, in.node)
 
-  private def expectOut(dut: TraversalControl, e: Out, what: String): Unit = {
-    val o = dut.io.out.bits
-    dut.io.out.valid.expect(true.B, what)
+  private def lane(dut: TraversalControl, fromLeaf: Boolean): Valid[ControlOut] = if (fromLeaf) dut.io.retOut else dut.io.out
+  private def latencyOf(dut: TraversalControl, fromLeaf: Boolean): Int = if (fromLeaf) 1 else dut.latency
+  private def idle(dut: TraversalControl): Unit = { dut.io.in.valid.poke(false.B); dut.io.ret.valid.poke(false.B) }
+
+  private def expectOut(port: Valid[ControlOut], e: Out, what: String): Unit = {
+    val o = port.bits
+    port.valid.expect(true.B, what)
     val state = o.state.peek()
     val expectedState = e.state match {
       case Traverse => TraversalState.Traverse
@@ -72,22 +86,24 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
     }
   }
 
-  /** Sends `ins` back to back (one per cycle), checking each output `latency` cycles later. */
+  /** Sends `ins` back to back (one per cycle, each to its lane), checking each
+    * output its lane's latency later, and no output on a lane with nothing due.
+    */
   private def run(dut: TraversalControl, cfg: AccelConfig, stacks: Int => mutable.ArrayBuffer[Ref], ins: Seq[(In, String)]): Seq[Out] = {
-    val lat = dut.latency
-    val due = mutable.Queue.empty[(Int, Out, String)]
+    val due = Map(false -> mutable.Queue.empty[(Int, Out, String)], true -> mutable.Queue.empty[(Int, Out, String)])
     val outs = mutable.ArrayBuffer.empty[Out]
     var cycle = 0
-    for (in <- ins.map(Some(_)) ++ Seq.fill(lat)(None)) {
-      in match {
-        case Some((i, w)) =>
-          val e = golden(cfg, stacks(i.tok.rayId), i)
-          poke(dut, cfg, i); outs += e; due.enqueue((cycle + lat, e, w))
-        case None => dut.io.in.valid.poke(false.B)
+    for (in <- ins.map(Some(_)) ++ Seq.fill(dut.latency)(None)) {
+      idle(dut)
+      for ((i, w) <- in) {
+        val e = golden(cfg, stacks(i.tok.rayId), i)
+        poke(dut, cfg, i); outs += e; due(i.fromLeaf).enqueue((cycle + latencyOf(dut, i.fromLeaf), e, w))
       }
       dut.clock.step(); cycle += 1
-      if (due.headOption.exists(_._1 == cycle)) { val (_, e, w) = due.dequeue(); expectOut(dut, e, w) }
-      else dut.io.out.valid.expect(false.B, s"cycle $cycle: no input $lat cycles ago, no output")
+      for ((fromLeaf, q) <- due) {
+        if (q.headOption.exists(_._1 == cycle)) { val (_, e, w) = q.dequeue(); expectOut(lane(dut, fromLeaf), e, w) }
+        else lane(dut, fromLeaf).valid.expect(false.B, s"cycle $cycle: nothing due on the ${if (fromLeaf) "leaf-return" else "box-result"} lane")
+      }
     }
     outs.toSeq
   }
@@ -159,42 +175,47 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
       val k = cfg.boxLanes
       // Verilator for the wide layouts: treadle takes minutes on K(K-1)/2 key comparators.
       test(new TraversalControl(cfg)).withAnnotations(if (k > 2) Backends.verilator else Backends.treadle) { dut =>
-        val lat = dut.latency
         val stacks = Array.fill(cfg.numRayIds)(mutable.ArrayBuffer.empty[Ref])
         def fresh(i: Int) = Token(i, rnd.nextInt(1000), 0, Seq.fill(3)(rnd.nextBoolean()), rnd.nextBoolean(), 0)
         val toks = Array.tabulate(cfg.numRayIds)(fresh)
         val lastState = Array.fill[State](cfg.numRayIds)(Traverse)
         val busyUntil = Array.fill(cfg.numRayIds)(-1)
-        val due = mutable.Queue.empty[(Int, Out, String)]
+        val due = Map(false -> mutable.Queue.empty[(Int, Out, String)], true -> mutable.Queue.empty[(Int, Out, String)])
         val seen = mutable.Map.empty[State, Int].withDefaultValue(0)
         // A few distinct distances, so ties are common.
         val nears = Seq(f(-1f), f(0f), f(-0f), f(0.5f), f(2f), f(2f), f(7.25f), f(Float.NegativeInfinity))
         for (cycle <- 0 until 3000) {
-          // A ray is never in the unit twice: pick one whose last input has come out.
-          val free = (0 until cfg.numRayIds).filter(busyUntil(_) < cycle)
-          val fire = free.nonEmpty && rnd.nextInt(5) != 0
-          if (fire) {
-            val id = free(rnd.nextInt(free.size))
-            val tok = toks(id)
-            val fromLeaf = lastState(id) == Leaf
-            val occluded = fromLeaf && tok.shadow && rnd.nextInt(4) == 0
-            val used = if (layout == BvhLayout.Nori) 1 else 1 + rnd.nextInt(k)
-            val refs = IndexedSeq.tabulate(k)(_ =>
-              if (rnd.nextInt(3) == 0) Ref(isLeaf = true, rnd.nextInt(4000), rnd.nextInt(9)) else Ref(isLeaf = false, rnd.nextInt(1000), 0))
-            val node = NodeView(refs, rnd.nextInt(3), if (rnd.nextInt(200) == 0) 1 << ErrorFlags.IndexOverflow else 0)
-            val hits = Seq.tabulate(k)(i => (i < used && rnd.nextInt(3) != 0, nears(rnd.nextInt(nears.size))))
-            val in = In(tok, fromLeaf, occluded, hits, node)
-            val e = golden(cfg, stacks(id), in)
-            poke(dut, cfg, in)
-            toks(id) = if (e.state == Done) { stacks(id).clear(); fresh(id) } else e.token
-            lastState(id) = if (e.state == Done) Traverse else e.state
-            busyUntil(id) = cycle + lat - 1
-            seen(e.state) += 1
-            due.enqueue((cycle + lat, e, s"cycle $cycle ray $id"))
-          } else dut.io.in.valid.poke(false.B)
+          idle(dut)
+          // Each lane may take a ray this cycle: one back from a leaf, one with a
+          // box result. A ray is never in the unit twice: only rays whose last
+          // input has come out are eligible.
+          for (fromLeaf <- Seq(true, false)) {
+            val free = (0 until cfg.numRayIds).filter(i => busyUntil(i) < cycle && (lastState(i) == Leaf) == fromLeaf)
+            if (free.nonEmpty && rnd.nextInt(5) != 0) {
+              val id = free(rnd.nextInt(free.size))
+              val tok = toks(id)
+              val occluded = fromLeaf && tok.shadow && rnd.nextInt(4) == 0
+              val used = if (layout == BvhLayout.Nori) 1 else 1 + rnd.nextInt(k)
+              val refs = IndexedSeq.tabulate(k)(_ =>
+                if (rnd.nextInt(3) == 0) Ref(isLeaf = true, rnd.nextInt(4000), rnd.nextInt(9)) else Ref(isLeaf = false, rnd.nextInt(1000), 0))
+              val node = NodeView(refs, rnd.nextInt(3), if (rnd.nextInt(200) == 0) 1 << ErrorFlags.IndexOverflow else 0)
+              val hits = Seq.tabulate(k)(i => (i < used && rnd.nextInt(3) != 0, nears(rnd.nextInt(nears.size))))
+              val in = In(tok, fromLeaf, occluded, hits, node)
+              val e = golden(cfg, stacks(id), in)
+              poke(dut, cfg, in)
+              toks(id) = if (e.state == Done) { stacks(id).clear(); fresh(id) } else e.token
+              lastState(id) = if (e.state == Done) Traverse else e.state
+              val lat = latencyOf(dut, fromLeaf)
+              busyUntil(id) = cycle + lat - 1
+              seen(e.state) += 1
+              due(fromLeaf).enqueue((cycle + lat, e, s"cycle $cycle ray $id (${if (fromLeaf) "leaf return" else "box result"})"))
+            }
+          }
           dut.clock.step()
-          if (due.headOption.exists(_._1 == cycle + 1)) { val (_, e, w) = due.dequeue(); expectOut(dut, e, w) }
-          else dut.io.out.valid.expect(false.B, s"cycle ${cycle + 1}: no input $lat cycles ago, no output")
+          for ((fromLeaf, q) <- due) {
+            if (q.headOption.exists(_._1 == cycle + 1)) { val (_, e, w) = q.dequeue(); expectOut(lane(dut, fromLeaf), e, w) }
+            else lane(dut, fromLeaf).valid.expect(false.B, s"cycle ${cycle + 1}: nothing due on this lane")
+          }
         }
         assert(Seq(Traverse, Leaf, GoBack, Done).forall(seen(_) > 100), s"state coverage too thin: $seen")
       }
