@@ -96,6 +96,14 @@ object AccelArea {
     } finally pool.shutdown()
   }
 
+  /** One box lane of `dp` alone (BboxIntersect holds `cfg.boxLanes` of them), cached like every unit. */
+  def boxLane(dp: rtaccel.Datapath[_ <: chisel3.Data], cfg: rtaccel.AccelConfig, cacheDir: Path): Synth.Area = {
+    Files.createDirectories(cacheDir)
+    val sv = Synth.emit(dp.box(cfg))
+    val top = modules(sv).last.name
+    cached(cacheDir, "BoxLane", dp.name, sv, top, Nil)
+  }
+
   def total(rows: Seq[(String, Synth.Area)]): Synth.Area = rows.map(_._2).foldLeft(Synth.zero)(_ + _)
 
   /** Whole instances of an accelerator of area `a` that fit on `device`, by its scarcest resource. */

@@ -92,7 +92,8 @@ object EmitVerilog {
     Option.when(synth) {
       val rows = area(sv, dp, jobs)
       rows.foreach { case (u, a) => println(s"verilog: $u: $a") }
-      val md = ResourceTable(s"RtAccel ${dp.name}, ${cfg.layout.name} BVH nodes (${cfg.boxLanes} box lanes), ${cfg.numRayIds} ray IDs, stack ${cfg.stackDepth}",
+      val nodes = cfg.layout match { case BvhLayout.Nori => "nori BVH nodes"; case w: BvhLayout.Wide => s"${w.k}-wide BVH nodes" }
+      val md = ResourceTable(s"RtAccel ${dp.name}, $nodes (${cfg.boxLanes} box lanes), ${cfg.numRayIds} ray IDs, stack ${cfg.stackDepth}",
         rows.map { case ("BoxLane", a) => s"BoxLane x${cfg.boxLanes} (BboxIntersect)" -> a; case r => r }, Zc706,
         (System.nanoTime() - t0) / 1e9)
       Files.writeString(out.resolve("resources.md"), md)

@@ -23,7 +23,8 @@ object PointArea {
     val dp = try FloatDatapath(FloatFormat.parse(req("--float")), TriangleTest.parse(req("--triangle")), BoxRounding.parse(req("--rounding")))
     catch { case e: IllegalArgumentException => System.err.println(s"Error: ${e.getMessage}\n$usage"); sys.exit(2) }
     val out = Paths.get(req("--out"))
-    val cfg = AccelConfig.zc706.copy(float = dp.fmt)
+    // The sweep's packages use nori-bridge's default layout (nori), so its area is that hardware's.
+    val cfg = AccelConfig.zc706.copy(float = dp.fmt, layout = rtaccel.BvhLayout.Nori)
     val sv = Synth.emit(new RtAccel(cfg, dp))
     val top = Synth.modules(sv).last
     val rows = AccelArea.measure(sv, top, dp.name, Paths.get(kv.getOrElse("--cache", "build/area-cache")), kv.getOrElse("--jobs", "1").toInt)

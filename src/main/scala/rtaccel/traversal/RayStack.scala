@@ -60,7 +60,7 @@ class RayStack(cfg: AccelConfig) extends Module {
   private def popPort(ms: Seq[SyncReadMem[ChildRef]], rayId: UInt, sp: UInt, pop: Bool): ChildRef = {
     val slot = sp.pad(slotBits) - 1.U
     val reads = ms.zipWithIndex.map { case (mem, b) => mem.read(rowAddr(slot, rayId), pop && bankOf(slot) === b.U) }
-    VecInit(reads)(RegEnable(bankOf(slot), pop))
+    if (banks == 1) reads.head else VecInit(reads)(RegEnable(bankOf(slot), pop))
   }
   io.popVal  := popPort(mems, io.rayId, io.sp, io.pop)
   io.popValB := popPort(memsB, io.rayIdB, io.spB, io.popB)

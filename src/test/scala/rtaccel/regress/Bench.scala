@@ -34,10 +34,12 @@ object Bench {
 
   final case class Args(layouts: Seq[String] = Seq(DefaultLayout), runs: Seq[Run] = Runs, maxRays: Int = 2048,
       out: Path = Paths.get("docs/performance.md"), area: Path = Paths.get("build/bench/area.json"),
-      bridge: Path = Paths.get("nori-bridge/target/release/nori-bridge"), threads: Int = 2)
+      bridge: Path = Paths.get("nori-bridge/target/release/nori-bridge"), threads: Int = 2,
+      /** Only redraw the table from build/bench/bench.json (after a run, e.g. with new area figures). */
+      renderOnly: Boolean = false)
 
   val usage = "usage: Bench [--out docs/performance.md] [--layouts nori,2,4,8] [--runs cornell-box-primary,dragon-ao,...] " +
-    "[--max-rays 2048] [--area build/bench/area.json] [--threads 2]"
+    "[--max-rays 2048] [--area build/bench/area.json] [--threads 2] [--render-only 0|1]"
 
   def parse(args: Seq[String]): Args = {
     def fail(why: String): Nothing = throw new IllegalArgumentException(s"$why\n$usage")
@@ -53,14 +55,13 @@ object Bench {
         case "--max-rays" => a.copy(maxRays = int)
         case "--area"     => a.copy(area = Paths.get(v))
         case "--threads"  => a.copy(threads = int)
+        case "--render-only" => a.copy(renderOnly = v == "1")
         case other        => fail(s"unknown option '$other'")
       }
     }
   }
 
-  /** The hardware that reads `layout`'s nodes. Only the default layout's RTL
-    * exists on this branch; wide layouts (K box lanes) come with the wide-node RTL.
-    */
+  /** The hardware that reads `layout`'s nodes: the ZC706 configuration with its box lanes. */
   def configFor(layout: String): AccelConfig =
     AccelConfig.zc706.copy(layout = try BvhLayout.parse(layout) catch { case e: IllegalArgumentException => throw new IllegalArgumentException(s"--layouts: ${e.getMessage}") })
 
@@ -74,10 +75,22 @@ object Bench {
     val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.parse(base.triangle), BoxRounding.parse(base.rounding))
     val golden = FloatGolden(dp)
     a.layouts.foreach(configFor) // refuse an unknown layout before any work
-    val rows = for (layout <- a.layouts; row <- runLayout(a, layout, dp, golden)) yield row
-    Files.createDirectories(root)
-    Files.writeString(root.resolve("bench.json"), ujson.write(ujson.Arr(rows: _*), indent = 2))
-    val area = if (Files.exists(a.area)) ujson.read(Files.readString(a.area)).obj.map { case (k, v) => k -> v.num }.toMap else Map.empty[String, Double]
+    val rows =
+      if (a.renderOnly) ujson.read(Files.readString(root.resolve("bench.json"))).arr.map(_.obj).map(o => ujson.Obj.from(o)).toSeq
+      else {
+        val rs = for (layout <- a.layouts; row <- runLayout(a, layout, dp, golden)) yield row
+        Files.createDirectories(root)
+        Files.writeString(root.resolve("bench.json"), ujson.write(ujson.Arr(rs: _*), indent = 2))
+        rs
+      }
+    // Box-lane LUTs per layout: K lanes of the datapath's box unit, each synthesised
+    // alone by Yosys (cached in build/area-cache with make verilog's results).
+    val area = rows.map(_("layout").str).distinct.map { layout =>
+      val cfg = configFor(layout).copy(float = dp.fmt)
+      layout -> cfg.boxLanes * rtaccel.tools.AccelArea.boxLane(dp, cfg, rtaccel.tools.EmitVerilog.areaCache).lut.toDouble
+    }.toMap
+    Files.createDirectories(a.area.toAbsolutePath.getParent)
+    Files.writeString(a.area, ujson.write(ujson.Obj.from(area.map { case (k, v) => k -> ujson.Num(v) }), indent = 2))
     Files.createDirectories(a.out.toAbsolutePath.getParent)
     Files.writeString(a.out, BenchMarkdown(rows, area, a.maxRays, (System.nanoTime() - t0) / 1e9))
     println(s"bench: wrote ${a.out}")

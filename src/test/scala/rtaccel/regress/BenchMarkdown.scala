@@ -14,9 +14,11 @@ object BenchMarkdown {
       "(64 bit, 1600 MT/s, 64-byte bursts, 12.8 GB/s) shared by both ports, at a 200 MHz fabric clock (64 B/cycle),",
       "100 ns latency (an assumption: see `MemoryKind.Ddr`), 64 outstanding requests per port, out of order; every",
       "access is charged the whole bursts it touches.", "",
-      "The bound is the least of: node tests (1 per cycle) per ray, triangle tests (1 per cycle) per ray, control",
-      "decisions (1 per cycle) per ray and, on DDR, DRAM bytes per cycle over DRAM bytes per ray (`limited by`).",
-      "Box-lane LUTs come from `build/bench/area.json` ({layout: LUTs}) when it exists.", "",
+      "The bound is the least of: node tests (1 per cycle: BboxIntersect takes a whole node) per ray, triangle tests",
+      "(1 per cycle) per ray, decisions of the busier TraversalControl lane (box results, leaf returns: 1 per cycle",
+      "each) per ray and, on DDR, DRAM bytes per cycle over DRAM bytes per ray (`limited by`).",
+      "Box-lane LUTs: K copies of the box unit, synthesised alone by Yosys (`synth_xilinx -family xc7`; the same",
+      "cached run as `make verilog`), written to `build/bench/area.json`.", "",
       "| rays | layout | memory | rays/cycle | of bound | limited by | node tests/ray | node bytes/ray | triangle tests/ray | DRAM bytes/ray | golden mismatches | Embree mismatches | box-lane LUTs |",
       "| --- | --- | --- | ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
     val order = Bench.Runs.map(_.name)
@@ -29,6 +31,9 @@ object BenchMarkdown {
         s"${f(r("nodeBytesPerRay"), 0)} | ${f(r("triangleTestsPerRay"), 1)} | ${f(r("dramBytesPerRay"), 0)} | " +
         s"${r("goldenMismatches").num.toInt} | ${r("embreeMismatches").num.toInt} | ${areaLuts.get(layout).fold("–")(x => f"$x%.0f")} |"
     }
-    (header ++ body ++ Seq("")).mkString("\n")
+    // Hand-written reading of the table, kept beside it (like the sweep's notes).
+    val notes = java.nio.file.Paths.get("docs/performance-notes.md")
+    val tail = if (java.nio.file.Files.exists(notes)) Seq("", java.nio.file.Files.readString(notes).trim) else Nil
+    (header ++ body ++ tail ++ Seq("")).mkString("\n")
   }
 }
