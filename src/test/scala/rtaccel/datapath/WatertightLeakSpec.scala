@@ -1,5 +1,7 @@
 package rtaccel.datapath
 
+import rtaccel.tools.{ClosedMesh, LeakCount}
+
 import org.scalatest.flatspec.AnyFlatSpec
 import rtaccel.fp.FloatFormat
 import rtaccel.testutil.Seeded

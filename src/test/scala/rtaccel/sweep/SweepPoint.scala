@@ -1,7 +1,8 @@
 package rtaccel.sweep
 
 import chisel3._
-import rtaccel.datapath.{DatapathArea, FloatGolden}
+import rtaccel.datapath.FloatGolden
+import rtaccel.tools.DatapathArea
 import rtaccel.golden.HitRecord
 import rtaccel.regress.Bridge
 import rtaccel.scene.{HitsCsv, ScenePackage}

@@ -1,5 +1,6 @@
-package rtaccel.datapath
+package rtaccel.tools
 
+import rtaccel.datapath._
 import rtaccel.fp.FpModel
 
 import scala.util.Random

@@ -1,5 +1,6 @@
-package rtaccel.datapath
+package rtaccel.tools
 
+import rtaccel.datapath._
 import chisel3._
 import rtaccel.AccelConfig
 import rtaccel.fetch.RayPrepUnit

@@ -1,4 +1,4 @@
-package rtaccel.datapath
+package rtaccel.tools
 
 import scala.collection.mutable
 import scala.util.Random
