@@ -28,16 +28,7 @@ class DatapathHarness(val dp: FloatDatapath) extends Module {
     val primOut = Output(UInt((3 * w + 2).W))
   })
   private def words(x: UInt, n: Int) = VecInit((0 until n).map(i => x(32 * i + 31, 32 * i)))
-  private def prep(ray: UInt) = {
-    val p = Module(dp.rayPrep(cfg))
-    val r = words(ray, 8)
-    p.io.in.valid := io.valid
-    p.io.in.bits.origin := VecInit(r.slice(0, 3))
-    p.io.in.bits.dir := VecInit(r.slice(3, 6))
-    p.io.in.bits.tmin := r(6)
-    p.io.in.bits.tmax := r(7)
-    p
-  }
+  private def prep(ray: UInt) = RayPrepFromWords(dp, cfg, io.valid, words(ray, 8))
   private val prepA = prep(io.boxRay)
   private val prepB = prep(io.triRay)
   val prepLatency: Int = prepA.latency
@@ -66,4 +57,17 @@ class DatapathHarness(val dp: FloatDatapath) extends Module {
   io.primOut := ShiftRegister(Cat(primErr, prim.io.out.bits.hit, prim.io.out.bits.t, prim.io.out.bits.u, prim.io.out.bits.v),
     latency - prepLatency - primLatency)
   io.outValid := ShiftRegister(io.valid, latency, false.B, true.B)
+}
+
+/** A datapath's RayPrep driven by eight FP32 words (o, d, tmin, tmax), for unit harnesses. */
+object RayPrepFromWords {
+  def apply(dp: FloatDatapath, cfg: AccelConfig, valid: Bool, r: Seq[UInt]): rtaccel.fetch.RayPrepUnit[RayConsts] = {
+    val p = Module(dp.rayPrep(cfg))
+    p.io.in.valid := valid
+    p.io.in.bits.origin := VecInit(r.slice(0, 3))
+    p.io.in.bits.dir := VecInit(r.slice(3, 6))
+    p.io.in.bits.tmin := r(6)
+    p.io.in.bits.tmax := r(7)
+    p
+  }
 }

@@ -5,7 +5,7 @@ import chisel3.util._
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import rtaccel.AccelConfig
-import rtaccel.datapath.{BoxRounding, FloatDatapath, FloatGolden, KernelVectors, TriangleTest}
+import rtaccel.datapath.{RayPrepFromWords, BoxRounding, FloatDatapath, FloatGolden, KernelVectors, TriangleTest}
 import rtaccel.fp.FloatFormat
 import rtaccel.testutil.{Backends, Seeded}
 
@@ -19,12 +19,7 @@ class PrimHarness(val cfg: AccelConfig, val dp: FloatDatapath) extends Module {
     val verts = Input(Vec(9, UInt(32.W)))
     val out   = Valid(new PrimAnswer(cfg))
   })
-  private val prep = Module(dp.rayPrep(cfg))
-  prep.io.in.valid := io.valid
-  prep.io.in.bits.origin := VecInit(io.ray.slice(0, 3))
-  prep.io.in.bits.dir    := VecInit(io.ray.slice(3, 6))
-  prep.io.in.bits.tmin   := io.ray(6)
-  prep.io.in.bits.tmax   := io.ray(7)
+  private val prep = RayPrepFromWords(dp, cfg, io.valid, io.ray)
   val prepLatency: Int = prep.latency
   private val prim = Module(dp.prim(cfg))
   prim.io.in.valid         := prep.io.out.valid

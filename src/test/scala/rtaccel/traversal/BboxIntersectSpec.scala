@@ -4,7 +4,7 @@ import chisel3._
 import chisel3.util._
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
-import rtaccel.datapath.{BoxRounding, FloatDatapath, FloatGolden, KernelCase, KernelVectors, RayConsts, TriangleTest}
+import rtaccel.datapath.{RayPrepFromWords, BoxRounding, FloatDatapath, FloatGolden, KernelCase, KernelVectors, RayConsts, TriangleTest}
 import rtaccel.fp.FloatFormat
 import rtaccel.testutil.{Backends, Seeded}
 import rtaccel.{AccelConfig, BvhLayout}
@@ -21,12 +21,7 @@ class BboxHarness(val cfg: AccelConfig, val dp: FloatDatapath) extends Module {
     val present = Input(Vec(k, Bool()))
     val out     = Valid(new BboxAnswer(cfg))
   })
-  private val prep = Module(dp.rayPrep(cfg))
-  prep.io.in.valid := io.valid
-  prep.io.in.bits.origin := VecInit(io.ray.slice(0, 3))
-  prep.io.in.bits.dir    := VecInit(io.ray.slice(3, 6))
-  prep.io.in.bits.tmin   := io.ray(6)
-  prep.io.in.bits.tmax   := io.ray(7)
+  private val prep = RayPrepFromWords(dp, cfg, io.valid, io.ray)
   val prepLatency: Int = prep.latency
   private val box = Module(new BboxIntersect(cfg, dp))
   box.io.in.valid        := prep.io.out.valid
