@@ -44,7 +44,8 @@ object BvhNode {
   val EmptySlot: Long = 0x40000000L
 
   /** Decodes a little-endian node record of `cfg.layout`, flagging fields too
-    * wide for `cfg` and corrupt kind words. Only used slots can flag.
+    * wide for `cfg`, corrupt kind words and non-finite bounds. Only used slots
+    * can flag.
     */
   def decode(cfg: AccelConfig, record: UInt): BvhNode = {
     val bytes = cfg.layout.nodeBytes
@@ -72,8 +73,12 @@ object BvhNode {
         case _: BvhLayout.Wide => (w0 =/= EmptySlot.U, !leaf && w0 =/= 0.U && w0 =/= EmptySlot.U)
       }
       slot.present := present
+      // A NaN or infinite bound would make the slab test miss (or hit)
+      // silently: nori-bridge writes only finite bounds, so it is bad data.
+      val badBox = (slot.boxMin ++ slot.boxMax).map(ErrorFlags.nonFinite).reduce(_ || _)
       Mux(present && (indexTooWide || badKind), ErrorFlags.bit(ErrorFlags.IndexOverflow), 0.U) |
-        Mux(present && leafTooBig, ErrorFlags.bit(ErrorFlags.LeafTooBig), 0.U)
+        Mux(present && leafTooBig, ErrorFlags.bit(ErrorFlags.LeafTooBig), 0.U) |
+        Mux(present && badBox, ErrorFlags.bit(ErrorFlags.BadSceneData), 0.U)
     }
     n.axis   := word(0, 0)(1, 0)
     n.errors := slotErrors.reduce(_ | _)

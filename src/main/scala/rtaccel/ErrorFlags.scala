@@ -18,13 +18,23 @@ object ErrorFlags {
     * format (so an origin too large for a narrow format is an error too).
     */
   val InvalidRay = 3
+  /** A node box or triangle vertex word the ray met in memory is NaN or
+    * infinite: the host wrote the scene wrongly. The ray never returns a
+    * silent miss or hit for it.
+    */
+  val BadSceneData = 4
 
-  val width = 4
+  val width = 5
   def apply(): UInt = UInt(width.W)
   def bit(i: Int): UInt = (BigInt(1) << i).U(width.W)
 
+  /** An FP32 word that is NaN or infinite (exponent all ones). */
+  def nonFinite(w: UInt): Bool = w(30, 23).andR
+  def nonFiniteWord(w: Long): Boolean = ((w >> 23) & 0xff) == 0xff
+
   /** Names of the set bits, for reports and failing tests. */
   def describe(bits: BigInt): String =
-    Seq(StackOverflow -> "stack-overflow", IndexOverflow -> "index-overflow", LeafTooBig -> "leaf-too-big", InvalidRay -> "invalid-ray")
+    Seq(StackOverflow -> "stack-overflow", IndexOverflow -> "index-overflow", LeafTooBig -> "leaf-too-big", InvalidRay -> "invalid-ray",
+      BadSceneData -> "bad-scene-data")
       .collect { case (i, n) if bits.testBit(i) => n }.mkString("|")
 }

@@ -72,6 +72,7 @@ object TraversalGolden {
           while (i < out.leafCount && !(ray.shadow && occluded)) {
             val tri = Records.triangle(img, out.leafFirst + i)
             triTests += 1
+            if (tri.vertexWords.exists(ErrorFlags.nonFiniteWord)) leafErrors |= 1 << ErrorFlags.BadSceneData
             if (tri.prim >= (1L << cfg.triIndexBits)) leafErrors |= 1 << ErrorFlags.IndexOverflow
             else arith.prim(p.statics, leafTmax, tri).foreach { case (t, u, v) =>
               val closer = best.forall { case (bt, _, _, bp) =>
@@ -116,8 +117,10 @@ object TraversalGolden {
       }
       val tooWide = badKind || !fits(n.word1, if (n.isLeaf) cfg.triIndexBits else cfg.nodeIndexBits)
       val leafBig = n.isLeaf && n.low31 > cfg.maxLeafSize
+      val badBox = (n.boxMin ++ n.boxMax).exists(ErrorFlags.nonFiniteWord)
       val errors = if (!present) 0 else
-        (if (tooWide) 1 << ErrorFlags.IndexOverflow else 0) | (if (leafBig) 1 << ErrorFlags.LeafTooBig else 0)
+        (if (tooWide) 1 << ErrorFlags.IndexOverflow else 0) | (if (leafBig) 1 << ErrorFlags.LeafTooBig else 0) |
+          (if (badBox) 1 << ErrorFlags.BadSceneData else 0)
       val mask = (1L << cfg.leafCountBits) - 1
       val index = if (n.isLeaf) n.word1 & ((1L << cfg.triIndexBits) - 1) else n.word1 & ((1L << cfg.nodeIndexBits) - 1)
       (ControlGolden.Ref(n.isLeaf, index, (n.word0 & mask).toInt), present, errors)

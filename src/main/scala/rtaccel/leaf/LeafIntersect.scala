@@ -129,10 +129,13 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   class Carry extends Bundle {
     val rayId = UInt(cfg.rayIdBits.W)
     val prim  = UInt(32.W)
+    /** A vertex word is NaN or infinite: the scene in memory is bad. */
+    val bad   = Bool()
   }
   private val carryIn = Wire(new Carry)
   carryIn.rayId := respReg.tag
   carryIn.prim  := TriangleRecord.prim(respReg.data)
+  carryIn.bad   := (for (v <- 0 until 3; a <- 0 until 3) yield ErrorFlags.nonFinite(TriangleRecord.vertexWord(respReg.data, v, a))).reduce(_ || _)
   private val carry = Pipe(respValidReg, carryIn, prim.latency)
   io.tested := prim.io.out.valid
 
@@ -154,8 +157,9 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
     hasHitReg(doneId) := true.B
     when(doneTok.shadow) { occludedReg(doneId) := true.B }
   }
-  when(reduce && primTooWide) {
-    leafErrorsReg(doneId) := leafErrorsReg(doneId) | ErrorFlags.bit(ErrorFlags.IndexOverflow)
+  when(reduce && (primTooWide || carry.bits.bad)) {
+    leafErrorsReg(doneId) := leafErrorsReg(doneId) | Mux(primTooWide, ErrorFlags.bit(ErrorFlags.IndexOverflow), 0.U) |
+      Mux(carry.bits.bad, ErrorFlags.bit(ErrorFlags.BadSceneData), 0.U)
   }
 
   // ---- Outstanding counts: +1 per request, -1 per reduced answer ----

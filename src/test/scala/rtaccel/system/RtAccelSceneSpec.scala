@@ -78,9 +78,13 @@ class RtAccelSceneSpec extends AnyFlatSpec with ChiselScalatestTester {
   }
 
   for (layout <- Seq(BvhLayout.Wide(2), BvhLayout.Wide(8)))
-    it should s"match the golden model and Embree in FP32 with ${layout.name}-wide nodes and conservative boxes on the Cornell box" in {
+    it should s"match the golden model and Embree in FP32 with ${layout.name}-wide nodes and conservative boxes on the Cornell box, sized to it" in {
       val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.Watertight, BoxRounding.Conservative)
-      runScenes(cfg32.copy(layout = layout), dp, Seq(
+      // Sized: the stack holds exactly the layout's bound (the header's bvhDepth), indices the node and triangle counts.
+      val primary = compiled("scenes/cornell-box/cornell-box.xml", "primary", layout = layout)
+      val cfg = primary.sized(cfg32)
+      assert(cfg.layout == layout && cfg.stackDepth == primary.image.bvhDepth && cfg.maxNodes == primary.needs.nodes, cfg)
+      runScenes(cfg, dp, Seq(
         ("cornell primary", () => compiled("scenes/cornell-box/cornell-box.xml", "primary", layout = layout), ooo),
         ("cornell AO", () => compiled("scenes/cornell-box/cornell-box.xml", "ao", layout = layout), lat100)
       ), embreeStrict = true, s"RtAccelScene.wide${layout.name}")

@@ -20,6 +20,8 @@ import scala.util.Random
   */
 object SyntheticBvh {
   private def f(x: Float): Int = java.lang.Float.floatToRawIntBits(x)
+  /** A random word that is a finite FP32 value (exponent bit 30 clear): scene data is never NaN or infinite. */
+  private def finite(w: Int): Int = w & ~(1 << 30)
 
   def apply(rnd: Random, maxDepth: Int, maxLeaf: Int, leafChance: Double = 0.3,
       layout: BvhLayout = BvhLayout.Nori): MemoryImage = {
@@ -27,16 +29,16 @@ object SyntheticBvh {
     val tris  = mutable.ArrayBuffer.empty[Array[Int]]
     val k = layout.lanes
     def box(n: Array[Int], at: Int): Unit = {
-      n(at + 2) = rnd.nextInt()
+      n(at + 2) = finite(rnd.nextInt())
       n(at + 3) = f(rnd.nextInt(9).toFloat) // culled once the ray has a hit closer than this
-      for (i <- 4 until 8) n(at + i) = rnd.nextInt()
+      for (i <- 4 until 8) n(at + i) = finite(rnd.nextInt())
     }
     def leafTris(): (Int, Int) = {
       val count = rnd.nextInt(maxLeaf + 1)
       val first = tris.size
       for (_ <- 0 until count) {
         val t = Array.fill(12)(0)
-        t(0) = f((1 + rnd.nextInt(8)).toFloat); t(1) = rnd.nextInt(); t(2) = rnd.nextInt(); t(3) = rnd.nextInt()
+        t(0) = f((1 + rnd.nextInt(8)).toFloat); t(1) = finite(rnd.nextInt()); t(2) = finite(rnd.nextInt()); t(3) = finite(rnd.nextInt())
         tris += t
       }
       ((1 << 31) | count, first)
@@ -91,5 +93,25 @@ object SyntheticBvh {
     buf.position(nodeOffset); nodes.foreach(_.foreach(buf.putInt))
     buf.position(triOffset); tris.foreach(_.foreach(buf.putInt))
     MemoryImage.fromBytes(s"synthetic ${layout.name} BVH (depth <= $maxDepth)", buf.array())
+  }
+
+  /** `img` with NaN or infinite words written over a share of its used node
+    * slots' boxes and its triangles' vertices, as a host that wrote the scene
+    * wrongly would leave it. Returns the image and how many words were hit.
+    */
+  def corrupt(img: MemoryImage, rnd: Random, share: Double): (MemoryImage, Int) = {
+    val bytes = img.bytes.clone()
+    val buf = ByteBuffer.wrap(bytes).order(ByteOrder.LITTLE_ENDIAN)
+    val bad = Seq(0x7fc00000, 0xffc00001, 0x7f800000, 0xff800000) // quiet NaN, NaN, +inf, -inf
+    var n = 0
+    for (i <- 0L until img.nodeCount; s <- 0 until img.layout.lanes if rnd.nextDouble() < share) {
+      val at = (img.nodeAddr(i) + 32 * s).toInt
+      if (buf.getInt(at) != rtaccel.BvhNode.EmptySlot.toInt) { buf.putInt(at + 8 + 4 * rnd.nextInt(6), bad(rnd.nextInt(4))); n += 1 }
+    }
+    for (j <- 0L until img.triCount if rnd.nextDouble() < share) {
+      // Vertex words 4..8: FieldDatapath's arithmetic reads only words 0..3, so only the flag can tell.
+      buf.putInt((img.triAddr(j) + 4 * (4 + rnd.nextInt(5))).toInt, bad(rnd.nextInt(4))); n += 1
+    }
+    (MemoryImage.fromBytes(s"${img.source} with $n bad words", bytes), n)
   }
 }
