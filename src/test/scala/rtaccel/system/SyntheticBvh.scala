@@ -96,22 +96,22 @@ object SyntheticBvh {
   }
 
   /** `img` with NaN or infinite words written over a share of its used node
-    * slots' boxes and its triangles' vertices, as a host that wrote the scene
-    * wrongly would leave it. Returns the image and how many words were hit.
+    * slots' boxes and its triangles' vertices (at least one of each), as a
+    * host that wrote the scene wrongly would leave it. Returns the image and
+    * how many box and vertex words were hit.
     */
-  def corrupt(img: MemoryImage, rnd: Random, share: Double): (MemoryImage, Int) = {
+  def corrupt(img: MemoryImage, rnd: Random, share: Double): (MemoryImage, Int, Int) = {
     val bytes = img.bytes.clone()
     val buf = ByteBuffer.wrap(bytes).order(ByteOrder.LITTLE_ENDIAN)
     val bad = Seq(0x7fc00000, 0xffc00001, 0x7f800000, 0xff800000) // quiet NaN, NaN, +inf, -inf
-    var n = 0
-    for (i <- 0L until img.nodeCount; s <- 0 until img.layout.lanes if rnd.nextDouble() < share) {
-      val at = (img.nodeAddr(i) + 32 * s).toInt
-      if (buf.getInt(at) != rtaccel.BvhNode.EmptySlot.toInt) { buf.putInt(at + 8 + 4 * rnd.nextInt(6), bad(rnd.nextInt(4))); n += 1 }
-    }
-    for (j <- 0L until img.triCount if rnd.nextDouble() < share) {
-      // Vertex words 4..8: FieldDatapath's arithmetic reads only words 0..3, so only the flag can tell.
-      buf.putInt((img.triAddr(j) + 4 * (4 + rnd.nextInt(5))).toInt, bad(rnd.nextInt(4))); n += 1
-    }
-    (MemoryImage.fromBytes(s"${img.source} with $n bad words", bytes), n)
+    val slots = for (i <- 0L until img.nodeCount; s <- 0 until img.layout.lanes
+      if buf.getInt((img.nodeAddr(i) + 32 * s).toInt) != rtaccel.BvhNode.EmptySlot.toInt) yield (img.nodeAddr(i) + 32 * s).toInt
+    val boxes = slots.filter(_ => rnd.nextDouble() < share) :+ slots(rnd.nextInt(slots.size))
+    for (at <- boxes) buf.putInt(at + 8 + 4 * rnd.nextInt(6), bad(rnd.nextInt(4)))
+    require(img.triCount > 0, s"${img.source}: no triangles to corrupt")
+    val tris = (0L until img.triCount).filter(_ => rnd.nextDouble() < share) :+ rnd.nextInt(img.triCount.toInt).toLong
+    // Vertex words 4..8: FieldDatapath's arithmetic reads only words 0..3, so only the flag can tell.
+    for (j <- tris) buf.putInt((img.triAddr(j) + 4 * (4 + rnd.nextInt(5))).toInt, bad(rnd.nextInt(4)))
+    (MemoryImage.fromBytes(s"${img.source} with bad words", bytes), boxes.size, tris.size)
   }
 }
