@@ -40,9 +40,11 @@ object Soak {
         while (simCycles < cycles) {
           val (img, _) = ControlWorkload.treeOf(layout, new Random(rnd.nextLong()))
           val batch = ControlWorkload.makeRays(rnd, 200 + rnd.nextInt(800))
-          def mem() = MemoryParams(if (rnd.nextBoolean()) Latency.Fixed(1 + rnd.nextInt(300)) else Latency.Uniform(1, 1 + rnd.nextInt(300)),
+          // On chip a port has a fixed latency; behind the shared DRAM any range.
+          val onChip = rnd.nextBoolean()
+          def mem() = MemoryParams(if (onChip || rnd.nextBoolean()) Latency.Fixed(1 + rnd.nextInt(300)) else Latency.Uniform(1, 1 + rnd.nextInt(300)),
             maxOutstanding = 1 + rnd.nextInt(64), inOrder = rnd.nextInt(4) == 0)
-          val env = Environment(mem(), mem(), if (rnd.nextBoolean()) MemoryKind.OnChip else MemoryKind.Ddr(),
+          val env = Environment(mem(), mem(), if (onChip) MemoryKind.OnChip else MemoryKind.Ddr(),
             rayGap = rnd.nextDouble() * 0.6, hitRefuse = rnd.nextDouble() * 0.8, memRefuse = rnd.nextDouble() * 0.5, seed = rnd.nextLong())
           dut.reset.poke(true.B); dut.clock.step(); dut.reset.poke(false.B)
           val run = AccelHarness.run(dut, img, batch, env)
