@@ -14,8 +14,9 @@ class BenchSpec extends AnyFlatSpec {
       val e = intercept[IllegalArgumentException](Bench.parse(args))
       assert(e.getMessage.contains(word), e.getMessage)
     }
-    val wide = intercept[IllegalArgumentException](Bench.configFor("4"))
-    assert(wide.getMessage.contains("'4'"), wide.getMessage)
+    assert(Bench.configFor("4").boxLanes == 4 && Bench.configFor("nori").boxLanes == 1)
+    val bad = intercept[IllegalArgumentException](Bench.configFor("3"))
+    assert(bad.getMessage.contains("'3'") && bad.getMessage.contains("--layouts"), bad.getMessage)
   }
 
   it should "put layouts (in the order asked for) and memories side by side per run, with box-lane LUTs where known" in {
