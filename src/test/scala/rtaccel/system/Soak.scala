@@ -47,7 +47,9 @@ object Soak {
           val env = Environment(mem(), mem(), if (onChip) MemoryKind.OnChip else MemoryKind.Ddr(),
             rayGap = rnd.nextDouble() * 0.6, hitRefuse = rnd.nextDouble() * 0.8, memRefuse = rnd.nextDouble() * 0.5, seed = rnd.nextLong())
           dut.reset.poke(true.B); dut.clock.step(); dut.reset.poke(false.B)
-          val run = AccelHarness.run(dut, img, batch, env)
+          // 64 rays sharing one outstanding request at 300 cycles of latency can go
+          // 10^5 cycles with no ray leaving: the deadlock alarm waits far longer.
+          val run = AccelHarness.run(dut, img, batch, env, stallLimit = 2000000)
           ControlWorkload.check(cfg, img, batch, run.hits, s"soak ${layout.name} ids=$ids batch $batches")
           simCycles += run.cycles; rays += batch.size; batches += 1
           errors += run.hits.count(_.errors != 0)
