@@ -180,7 +180,7 @@ pub fn generate(out: &Path) -> Result<usize> {
          do not edit by hand. Seed {SEED}. Each case has `<case>.xml`, its OBJ files, `rays.txt` and `expect.csv` \
          (`ray,expect,prims`: hit / miss / any; prims = allowed first-hit prims, empty = any prim).\n\
          Expectations come from the construction and are checked with exact integer arithmetic on the f32 inputs \
-         (src/hard_exact.rs); the generator panics if the two disagree.\n\n\
+         (nori-bridge/src/hard/exact.rs); the generator panics if the two disagree.\n\n\
          Run a case: `nori-bridge compile scenes/hard/C/C.xml --rays scenes/hard/C/rays.txt --reference double --out PKG` \
          (or `--reference embree [--robust]`), then `nori-bridge hard-score --package PKG --hits HITS.csv \
          --expect scenes/hard/C/expect.csv --out score.json` (HITS.csv may be PKG/reference.csv).\n\n\
