@@ -47,16 +47,9 @@ object TraversalGolden {
     var node = Records.node(img, 0)
     var fromLeaf = false
     while (state != ControlGolden.Done) {
-      val hits = if (fromLeaf) Nil else {
-        boxTests += 1
-        val view = nodeView(cfg, node)
-        node.indices.map { i =>
-          val present = view.present(i)
-          val (hit, near) = if (present) arith.box(p.statics, tmax, node(i)) else (false, BigInt(0))
-          ControlGolden.SlotHit(present && hit, FpOrder.keyOf(fmt, near))
-        }
-      }
-      val out = ControlGolden.step(cfg.layout, cfg.stackDepth, stack, tok, fromLeaf, occluded, hits, nodeView(cfg, node).view)
+      // A ray back from a leaf only pops: no node, no box test.
+      val (hits, view) = if (fromLeaf) (Nil, NoNode) else { boxTests += 1; testNode(cfg, arith, p.statics, tmax, node) }
+      val out = ControlGolden.step(cfg.layout, cfg.stackDepth, stack, tok, fromLeaf, occluded, hits, view)
       decisions += 1
       tok = out.token
       state = out.state
@@ -103,6 +96,21 @@ object TraversalGolden {
     */
   def agrees(ray: RayRecord, hw: HitRecord, golden: HitRecord): Boolean =
     if (ray.shadow) hw.hit == golden.hit && hw.errors == golden.errors else hw == golden
+
+  private val NoNode = ControlGolden.NodeView(IndexedSeq.empty, 0, 0)
+
+  /** BboxIntersect's answer for each slot of `node` (an empty slot never
+    * hits), and the node as TraversalControl sees it.
+    */
+  def testNode[S](cfg: AccelConfig, arith: ArithGolden[S], statics: S, tmax: BigInt,
+      node: IndexedSeq[NodeRecord]): (Seq[ControlGolden.SlotHit], ControlGolden.NodeView) = {
+    val d = nodeView(cfg, node)
+    val hits = node.indices.map { i =>
+      val (hit, near) = if (d.present(i)) arith.box(statics, tmax, node(i)) else (false, BigInt(0))
+      ControlGolden.SlotHit(d.present(i) && hit, FpOrder.keyOf(arith.format, near))
+    }
+    (hits, d.view)
+  }
 
   /** A node's slots as the hardware decodes them for `cfg` (BvhNode.decode). */
   final case class Decoded(view: ControlGolden.NodeView, present: IndexedSeq[Boolean])

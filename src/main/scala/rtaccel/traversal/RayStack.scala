@@ -53,8 +53,9 @@ class RayStack(cfg: AccelConfig) extends Module {
   for (((mem, memB), b) <- mems.zip(memsB).zipWithIndex) {
     val hits = slots.zipWithIndex.map { case (s, p) => p.U < io.pushCount && bankOf(s) === b.U }
     when(hits.reduce(_ || _)) {
-      mem.write(rowAddr(Mux1H(hits, slots)), Mux1H(hits, io.pushVals))
-      memB.write(rowAddr(Mux1H(hits, slots)), Mux1H(hits, io.pushVals))
+      val (addr, value) = (rowAddr(Mux1H(hits, slots)), Mux1H(hits, io.pushVals))
+      mem.write(addr, value)
+      memB.write(addr, value)
     }
   }
   private def popPort(ms: Seq[SyncReadMem[ChildRef]], rayId: UInt, sp: UInt, pop: Bool): ChildRef = {

@@ -88,21 +88,19 @@ class TraversalControl(cfg: AccelConfig) extends Module {
   // ---- Rank stage (wide): rank(i) = hit children before child i ----
   class Ranked extends Bundle {
     val in   = new ControlIn(cfg)
-    val hit  = Vec(k, Bool())
     val rank = Vec(k, UInt(rankBits.W))
     val hits = UInt(log2Ceil(k + 1).W)
   }
   private def rank(in: ControlIn): Ranked = {
     val r = Wire(new Ranked)
     r.in := in
-    r.hit := in.hit
     val keys = in.near.map(FpOrder.key(cfg.float, _))
     for (i <- 0 until k) {
       val before = for (j <- 0 until k if j != i) yield
-        r.hit(j) && (if (j < i) keys(j) <= keys(i) else keys(j) < keys(i))
+        in.hit(j) && (if (j < i) keys(j) <= keys(i) else keys(j) < keys(i))
       r.rank(i) := PopCount(before)
     }
-    r.hits := PopCount(r.hit)
+    r.hits := PopCount(in.hit)
     r
   }
   private val (valid, d) = cfg.layout match {
@@ -129,17 +127,17 @@ class TraversalControl(cfg: AccelConfig) extends Module {
         c.isLeaf := false.B; c.index := idx; c.count := 0.U
         c
       }
-      chosenOk  := d.hit(0)
+      chosenOk  := in.hit(0)
       chosen    := Mux(self.isLeaf, self, inner(Mux(rightNear, self.index, left)))
-      pushCount := (d.hit(0) && !self.isLeaf).asUInt
+      pushCount := (in.hit(0) && !self.isLeaf).asUInt
       pushVals(0) := inner(Mux(rightNear, left, self.index))
     case _: BvhLayout.Wide =>
       chosenOk  := d.hits =/= 0.U
-      chosen    := Mux1H(d.hit.zip(d.rank).map { case (h, r) => h && r === 0.U }, in.refs)
+      chosen    := Mux1H(in.hit.zip(d.rank).map { case (h, r) => h && r === 0.U }, in.refs)
       pushCount := Mux(chosenOk, d.hits - 1.U, 0.U)
       // Port p (slot sp + p) takes the child ranked hits-1-p: farthest lowest.
       for (p <- 0 until pushes)
-        pushVals(p) := Mux1H(d.hit.zip(d.rank).map { case (h, r) => h && r === d.hits - 1.U - p.U }, in.refs)
+        pushVals(p) := Mux1H(in.hit.zip(d.rank).map { case (h, r) => h && r === d.hits - 1.U - p.U }, in.refs)
   }
 
   private val errorsIn  = tok.errors | in.nodeErrors

@@ -25,7 +25,6 @@ object FieldDatapath extends Datapath[UInt] {
   val primLatency = 5
 
   private def mix(key: UInt, w: UInt): UInt = ((key ^ w(15, 0) ^ w(31, 16)) * 0x9e37.U)(15, 0)
-  private def notFinite(w: UInt): Bool = w(30, 23).andR
 
   def rayPrep(cfg: AccelConfig): RayPrepUnit[UInt] = new RayPrepUnit[UInt](cfg, gen) {
     def latency: Int = prepLatency
@@ -34,7 +33,7 @@ object FieldDatapath extends Datapath[UInt] {
     p.statics := r.origin(0)(15, 0)
     p.tmax    := r.tmax
     p.dirNeg  := VecInit(r.dir.map(_(31)))
-    p.errors  := Mux((r.origin ++ r.dir).map(notFinite).reduce(_ || _), ErrorFlags.bit(ErrorFlags.InvalidRay), 0.U)
+    p.errors  := Mux((r.origin ++ r.dir).map(ErrorFlags.nonFinite).reduce(_ || _), ErrorFlags.bit(ErrorFlags.InvalidRay), 0.U)
     io.out := Pipe(io.in.valid, p, latency)
   }
 
@@ -65,10 +64,9 @@ object FieldDatapath extends Datapath[UInt] {
   object Golden extends ArithGolden[Int] {
     def format: FloatFormat = FloatFormat.FP32
     private def mix(key: Int, w: Long): Int = (((key ^ (w & 0xffff) ^ ((w >> 16) & 0xffff)) * 0x9e37) & 0xffff).toInt
-    private def notFinite(w: Long): Boolean = ((w >> 23) & 0xff) == 0xff
     def prep(r: RayRecord): PreparedGolden[Int] =
       PreparedGolden((r.origin(0) & 0xffff).toInt, BigInt(r.tmax), r.dir.map(d => ((d >> 31) & 1) == 1),
-        if ((r.origin ++ r.dir).exists(notFinite)) 1 << ErrorFlags.InvalidRay else 0)
+        if ((r.origin ++ r.dir).exists(ErrorFlags.nonFiniteWord)) 1 << ErrorFlags.InvalidRay else 0)
     def box(s: Int, tmax: BigInt, n: NodeRecord): (Boolean, BigInt) = {
       val m = mix(s, n.boxMin(0))
       (((m >> 15) & 1) + ((m >> 14) & 1) > 0 && BigInt(n.boxMin(1)) <= tmax, BigInt(n.boxMin(1)))

@@ -8,7 +8,6 @@ import rtaccel.golden.ControlGolden
 import rtaccel.golden.ControlGolden._
 import rtaccel.golden.TraversalGolden
 import rtaccel.leaf.{LeafExit, LeafJob}
-import rtaccel.fp.FpOrder
 import rtaccel.mem.{Latency, MemPortHarness, MemoryParams, MemorySystemModel}
 import rtaccel.scene.{MemoryImage, Records}
 import rtaccel.system.{FieldDatapath, SyntheticBvh}
@@ -69,12 +68,8 @@ class TraversalSpec extends AnyFlatSpec with ChiselScalatestTester {
     val leaves = mutable.ArrayBuffer.empty[(Long, Int, Int)]
     var state: State = Traverse
     while (state != Done) {
-      val d = TraversalGolden.nodeView(cfg, node)
-      val hits = node.indices.map { i =>
-        val (h, near) = FieldDatapath.Golden.box(statics, BigInt(tmax), node(i))
-        SlotHit(d.present(i) && h, FpOrder.keyOf(cfg.float, near))
-      }
-      val out = ControlGolden.step(cfg.layout, cfg.stackDepth, stack, tok, fromLeaf, occluded = false, hits, d.view)
+      val (hits, view) = TraversalGolden.testNode(cfg, FieldDatapath.Golden, statics, BigInt(tmax), node)
+      val out = ControlGolden.step(cfg.layout, cfg.stackDepth, stack, tok, fromLeaf, occluded = false, hits, view)
       tok = out.token; state = out.state; fromLeaf = false
       state match {
         case Traverse | GoBack => node = Records.node(img, tok.nodeIdx)
