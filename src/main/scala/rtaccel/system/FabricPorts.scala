@@ -22,8 +22,9 @@ object WriteRecord {
   * `storedBytes`: how many bytes the store holds (reads below
   * base + storedBytes are served on chip).
   */
-class NodeStoreLoad(sys: SystemConfig) extends Bundle {
-  val base        = Input(UInt(sys.axiAddrBits.W))
+class NodeStoreLoad(addrBits: Int) extends Bundle {
+  def this(sys: SystemConfig) = this(sys.axiAddrBits)
+  val base        = Input(UInt(addrBits.W))
   val bytes       = Input(UInt(32.W))
   val start       = Input(Bool())
   val busy        = Output(Bool())

@@ -113,12 +113,7 @@ class MemoryFabric(sys: SystemConfig, readers: Seq[MemPortParams], nodeClients: 
     case Some(s) =>
       s.io.r.valid := io.axi.r.valid && isFill
       s.io.r.bits  := io.axi.r.bits
-      s.io.load.base  := io.store.base
-      s.io.load.bytes := io.store.bytes
-      s.io.load.start := io.store.start
-      io.store.busy        := s.io.load.busy
-      io.store.done        := s.io.load.done
-      io.store.storedBytes := s.io.load.storedBytes
+      s.io.load <> io.store
     case None =>
       // No store: a load is done at once and holds nothing.
       val doneReg = RegInit(false.B)

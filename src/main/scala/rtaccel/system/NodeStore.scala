@@ -40,14 +40,7 @@ class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes:
   private val lineBits  = log2Ceil(lines + 1)
 
   val io = IO(new Bundle {
-    val load = new Bundle {
-      val base        = Input(UInt(p.addrBits.W))
-      val bytes       = Input(UInt(32.W))
-      val start       = Input(Bool())
-      val busy        = Output(Bool())
-      val done        = Output(Bool())
-      val storedBytes = Output(UInt(32.W))
-    }
+    val load  = new NodeStoreLoad(p.addrBits)
     /** Would a request at this address hit? (combinational, per client) */
     val probe = Input(Vec(clients, UInt(p.addrBits.W)))
     val hit   = Output(Vec(clients, Bool()))

@@ -34,7 +34,7 @@ class ReadResp(dataBits: Int, tagBits: Int) extends Bundle {
   * in the client's two-entry output queue one cycle later.
   *
   * Errors (sticky `error`): a non-OKAY rresp, an R beat whose ID names no
-  * waiting record, or a wrong rlast. Such a beat is dropped.
+  * waiting record (dropped), or a wrong rlast.
   */
 class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: Int) extends Module {
   require(recordBytes.nonEmpty && recordBytes.forall(b => b >= 1 && b <= 4096), s"ReadEngine: record sizes must be 1..4096 bytes, got $recordBytes")
@@ -121,7 +121,9 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
   private val rBeatInPage = rMeta.page(pageBits - 1, beatBits) +& rCount + 1.U
   private val rEndsPage   = rBeatInPage(pageBits - beatBits - 1, 0) === 0.U
   private val rLastOk = io.r.bits.last === (rFinal || rEndsPage)
-  private val rGood   = io.r.valid && rKnown && rLastOk && io.r.bits.resp === 0.U
+  // A beat of a waiting record is kept even with an error, so the record
+  // still completes (its client does not hang; `error` tells the host).
+  private val rGood   = io.r.valid && rKnown
   when(io.r.valid && !(rKnown && rLastOk && io.r.bits.resp === 0.U)) { errorReg := true.B }
   private val completeOH = Mux(rGood && rFinal, UIntToOH(rSlot, slots), 0.U)
   when(rGood) { countRegs(rSlot) := Mux(rFinal, 0.U, rCount + 1.U) }
