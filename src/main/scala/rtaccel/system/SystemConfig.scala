@@ -2,14 +2,19 @@ package rtaccel.system
 
 import chisel3.util.log2Ceil
 import rtaccel.AccelConfig
+import rtaccel.axi.Axi4Params
 
-/** The one configuration of the ZC706 system top (docs/register-map.md,
-  * /work/notes/system-contract.md): `cores` copies of the core described by
-  * `core`, one AXI4 master of `axiDataBits` to the PL DDR3 (MIG 7-series),
-  * one AXI4-Lite slave for the registers. Everything in rtaccel.system
-  * derives its widths and depths from here.
+/** The ZC706 system's one configuration (the system contract, issue 12):
+  * everything in `rtaccel.system` derives from it. `cores` copies of the core
+  * described by `core`, one AXI4 master to the PL DDR3 (MIG 7-series), one
+  * AXI4-Lite slave for the registers (docs/register-map.md).
   *
-  * @param nodeStoreBytes on-chip node store (BRAM) in front of DDR, filled at LOAD_SCENE
+  * @param core           the accelerator core's configuration, replicated `cores` times
+  * @param cores          accelerator cores sharing the memory side
+  * @param axiDataBits    m_axi data width: 512, the MIG 7-series user interface of the PL DDR3 (4:1, 64-bit SODIMM)
+  * @param axiAddrBits    m_axi address width (the PL DDR3's 1 GB needs 30; 32 as the MIG presents it)
+  * @param axiIdBits      m_axi ID width; read IDs name outstanding records (MemoryFabric)
+  * @param nodeStoreBytes on-chip node store (top of the tree, preloaded): see docs/node-store.md
   * @param raysPerBlock   rays fetched per ray-DMA read: 4 x 48 B = 192 B = 3 whole 64-byte lines,
   *                       so every block of a 64-aligned RAY_BASE starts on a line
   * @param rayBlockTags   ray-DMA reads in flight (each holds one block buffer, so the buffers never overflow)
@@ -27,12 +32,11 @@ case class SystemConfig(
     hitQueue: Int = 4
 ) {
   require(cores >= 1, s"SystemConfig: cores must be >= 1, got $cores")
-  require(axiDataBits == 512, s"SystemConfig: the MIG side is 512 bits wide (64-byte lines), got $axiDataBits")
-  require(axiAddrBits >= 12 && axiAddrBits <= 48, s"SystemConfig: axiAddrBits must be in 12..48, got $axiAddrBits")
-  require(axiIdBits >= 1, s"SystemConfig: axiIdBits must be >= 1, got $axiIdBits")
+  require(nodeStoreBytes >= 0, s"SystemConfig: nodeStoreBytes must be >= 0, got $nodeStoreBytes")
   require(core.addrBits == axiAddrBits, s"SystemConfig: core.addrBits (${core.addrBits}) must equal axiAddrBits ($axiAddrBits)")
   require(raysPerBlock * SystemConfig.RayBytes % 64 == 0, s"SystemConfig: a ray block must be whole 64-byte lines, got $raysPerBlock rays")
   require(rayBlockTags >= 1 && hitQueue >= 1, s"SystemConfig: rayBlockTags and hitQueue must be >= 1")
+  val axi: Axi4Params = Axi4Params(addrBits = axiAddrBits, dataBits = axiDataBits, idBits = axiIdBits)
 
   val axiDataBytes: Int = axiDataBits / 8
   val rayBlockBytes: Int = raysPerBlock * SystemConfig.RayBytes
