@@ -81,7 +81,7 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   private val order = (0 until n).map(k => Mux(ptrReg +& k.U >= n.U, ptrReg +& k.U - n.U, ptrReg +& k.U)(ptrBits - 1, 0))
   private val readyVec = VecInit(cores.map(_.io.rays.ready))
   private val anyReady = readyVec.asUInt.orR
-  private val pick = PriorityMux(order.map(readyVec(_)), order)
+  private val pick = if (n == 1) 0.U else PriorityMux(order.map(readyVec(_)), order)
   for ((c, i) <- cores.zipWithIndex) {
     c.io.rays.valid := rayDma.io.rays.valid && anyReady && pick === i.U
     c.io.rays.bits := rayDma.io.rays.bits

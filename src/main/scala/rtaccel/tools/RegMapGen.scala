@@ -69,9 +69,10 @@ object RegMapGen {
       "The C header `sw/include/rtaccel_regs.h` has each offset as `RTACCEL_<NAME>_OFFSET` and each field's `_SHIFT` and `_MASK`.\n\n"
     b ++= "| offset | name | access | reset | description |\n| ---: | --- | --- | --- | --- |\n"
     for (r <- RegisterMap.regs) {
-      val fields = r.fields.map(f => s"`${f.name}` [${if (f.width == 1) f.lsb else s"${f.lsb + f.width - 1}:${f.lsb}"}]: ${f.desc}").mkString("<br>")
+      def cell(t: String) = t.replace("|", "\\|") // a bare | would end the table cell
+      val fields = r.fields.map(f => s"`${f.name}` [${if (f.width == 1) f.lsb else s"${f.lsb + f.width - 1}:${f.lsb}"}]: ${cell(f.desc)}").mkString("<br>")
       val reset = r.reset.map(v => f"0x$v%X").getOrElse(if (r.access == Access.Ro) "hw" else "0")
-      b ++= f"| 0x${r.offset}%03X | `${r.name}` | ${r.access.name} | $reset | ${r.desc}${if (fields.isEmpty) "" else "<br>" + fields} |\n"
+      b ++= f"| 0x${r.offset}%03X | `${r.name}` | ${r.access.name} | $reset | ${cell(r.desc)}${if (fields.isEmpty) "" else "<br>" + fields} |\n"
     }
     b ++= "\nAccess: ro read-only (the hardware's value); rw read-write (byte strobes honoured); wo write-only, each written 1 is a " +
       "one-cycle pulse, reads return 0; w1c set by the hardware, a written 1 clears the bit (a set in the same cycle wins).\n\n"

@@ -2,21 +2,19 @@ package rtaccel.system
 
 import chisel3._
 import chiseltest._
-import rtaccel.axi.{AxiMemModel, AxiMemParams}
+import rtaccel.axi.{AxiAddrBeat, AxiMasterSignals, AxiMemoryModel, AxiMemoryParams, AxiWBeat, SparseMemory}
 import rtaccel.golden.{HitRecord, RayRecord}
 import rtaccel.scene.MemoryImage
 
 import java.nio.{ByteBuffer, ByteOrder}
-import scala.util.Random
 
 /** Drives a SystemSimTop cycle by cycle (no fork): the AXI4 memory model on
   * m_axi every cycle, and a single-threaded AXI4-Lite driver on s_axi whose
   * reads and writes step the clock (so the memory keeps serving meanwhile).
   */
-final class SystemHarness[T <: Data](dut: SystemSimTop[T], memBytes: Int, p: AxiMemParams, seed: Long) {
-  private val rnd = new Random(seed)
-  val mem = new Array[Byte](memBytes)
-  val model = new AxiMemModel(mem, p, new Random(rnd.nextLong()))
+final class SystemHarness[T <: Data](dut: SystemSimTop[T], p: AxiMemoryParams) {
+  val model = new AxiMemoryModel(p)
+  val mem: SparseMemory = model.mem
   private val sys = dut.sys
   private val io = dut.io
   var cycle = 0L
@@ -27,7 +25,7 @@ final class SystemHarness[T <: Data](dut: SystemSimTop[T], memBytes: Int, p: Axi
   private var ctrlNow, rNow, bNow, liteAddrNow, liteWNow = BigInt(-1)
   private def set(port: UInt, v: BigInt, now: BigInt): BigInt = { if (v != now) port.poke(v.U); v }
   private def field(word: BigInt, lsb: Int, w: Int): BigInt = (word >> lsb) & ((BigInt(1) << w) - 1)
-  private def addr(word: BigInt) = model.Addr(field(word, 0, sys.axiIdBits).toInt, field(word, sys.axiIdBits, sys.axiAddrBits).toLong,
+  private def addr(word: BigInt) = AxiAddrBeat(field(word, 0, sys.axiIdBits).toInt, field(word, sys.axiIdBits, sys.axiAddrBits).toLong,
     field(word, sys.axiIdBits + sys.axiAddrBits, 8).toInt, field(word, sys.axiIdBits + sys.axiAddrBits + 8, 3).toInt,
     field(word, sys.axiIdBits + sys.axiAddrBits + 11, 2).toInt)
   var flags = BigInt(0)
@@ -36,22 +34,23 @@ final class SystemHarness[T <: Data](dut: SystemSimTop[T], memBytes: Int, p: Axi
   /** One clock cycle: serve m_axi, offer the driver's s_axi signals, step. Returns the flags seen. */
   def step(): BigInt = {
     flags = io.flags.peek().litValue
-    model.drive()
+    val s = model.slave
     val ar = Option.when(flag("arvalid"))(addr(io.ar.peek().litValue))
     val aw = Option.when(flag("awvalid"))(addr(io.aw.peek().litValue))
     val w = Option.when(flag("wvalid")) {
       val x = io.w.peek().litValue
-      (x >> (1 + sys.axiDataBits / 8), field(x, 1, sys.axiDataBits / 8), x.testBit(0))
+      AxiWBeat(x >> (1 + sys.axiDataBits / 8), field(x, 1, sys.axiDataBits / 8), x.testBit(0))
     }
-    for ((id, data, last) <- model.rOut)
-      rNow = set(io.r, (data << (3 + sys.axiIdBits)) | (BigInt(id) << 3) | (if (last) 1 else 0), rNow)
-    for (id <- model.bOut) bNow = set(io.b, BigInt(id) << 2, bNow)
-    val ins = Map("arready" -> model.arReady, "awready" -> model.awReady, "wready" -> model.wReady, "rvalid" -> model.rOut.isDefined,
-      "bvalid" -> model.bOut.isDefined, "lite_awvalid" -> liteAw, "lite_wvalid" -> liteW, "lite_bready" -> liteBReady,
+    for (r <- s.r)
+      rNow = set(io.r, (r.data << (3 + sys.axiIdBits)) | (BigInt(r.id) << 3) | (BigInt(r.resp) << 1) | (if (r.last) 1 else 0), rNow)
+    for (b <- s.b) bNow = set(io.b, (BigInt(b.id) << 2) | b.resp, bNow)
+    val ins = Map("arready" -> s.arReady, "awready" -> s.awReady, "wready" -> s.wReady, "rvalid" -> s.r.isDefined,
+      "bvalid" -> s.b.isDefined, "lite_awvalid" -> liteAw, "lite_wvalid" -> liteW, "lite_bready" -> liteBReady,
       "lite_arvalid" -> liteAr, "lite_rready" -> liteRReady)
     ctrlNow = set(io.ctrl, SystemSimTop.inFields.zipWithIndex.map { case (n, i) => if (ins(n)) BigInt(1) << i else BigInt(0) }.sum, ctrlNow)
-    model.commit(ar, aw, w, flag("rready"), flag("bready"))
+    model.commit(AxiMasterSignals(ar, aw, w, rReady = s.r.isDefined && flag("rready"), bReady = s.b.isDefined && flag("bready")))
     dut.clock.step()
+    model.tick()
     cycle += 1
     flags
   }
@@ -108,20 +107,22 @@ final class SystemHarness[T <: Data](dut: SystemSimTop[T], memBytes: Int, p: Axi
     while (!flag("interrupt")) { step(); if (cycle - start > limit) throw new AssertionError(s"no interrupt within $limit cycles (cycle $cycle)") }
   }
 
-  def put(at: Long, bytes: Array[Byte]): Unit = System.arraycopy(bytes, 0, mem, at.toInt, bytes.length)
+  def put(at: Long, bytes: Array[Byte]): Unit = mem.write(at, bytes)
   def putRays(at: Long, rays: Seq[RayRecord], flags: Int => Int = _ => 0): Unit = {
-    val b = ByteBuffer.wrap(mem).order(ByteOrder.LITTLE_ENDIAN)
+    val buf = new Array[Byte](SystemConfig.RayBytes * rays.size)
+    val b = ByteBuffer.wrap(buf).order(ByteOrder.LITTLE_ENDIAN)
     for ((r, i) <- rays.zipWithIndex) {
-      val o = (at + SystemConfig.RayBytes * i).toInt
+      val o = SystemConfig.RayBytes * i
       for ((w, k) <- (r.origin ++ r.dir ++ Seq(r.tmin, r.tmax)).zipWithIndex) b.putInt(o + 4 * k, w.toInt)
       b.putInt(o + 32, (if (r.shadow) 1 else 0) | flags(i))
       for (k <- 36 until 48 by 4) b.putInt(o + k, 0)
     }
+    mem.write(at, buf)
   }
   /** Hit record i of the buffer at `at`: (its number word, the hit, the reserved words). */
   def hitRecord(at: Long, i: Int): (HitRecord, Long) = {
-    val b = ByteBuffer.wrap(mem).order(ByteOrder.LITTLE_ENDIAN)
-    val o = (at + SystemConfig.HitBytes * i).toInt
+    val b = ByteBuffer.wrap(mem.read(at + SystemConfig.HitBytes * i, SystemConfig.HitBytes)).order(ByteOrder.LITTLE_ENDIAN)
+    val o = 0
     def u(k: Int) = b.getInt(o + k).toLong & 0xffffffffL
     val status = u(4)
     (HitRecord(u(0), (status & 1) == 1, u(8), u(12), u(16), u(20), ((status >> 8) & 0xff).toInt), u(24) | u(28) | (status & 0xfe) | (status >> 13))
@@ -158,12 +159,12 @@ final class SystemHarness[T <: Data](dut: SystemSimTop[T], memBytes: Int, p: Axi
 
 object SystemHarness {
   /** A memory layout: scene at 64 KB, rays and hits after it on 4 KB pages plus `skew` 64-byte lines. */
-  final case class Layout(sceneBase: Long, rayBase: Long, hitBase: Long, bytes: Int)
+  final case class Layout(sceneBase: Long, rayBase: Long, hitBase: Long)
   def layout(img: MemoryImage, rays: Int, skew: Int): Layout = {
     def page(x: Long) = (x + 4095) / 4096 * 4096
     val scene = 0x10000L
     val rayBase = page(scene + img.bytes.length) + 64L * skew
     val hitBase = page(rayBase + SystemConfig.RayBytes * rays + 256) + 64L * skew
-    Layout(scene, rayBase, hitBase, page(hitBase + SystemConfig.HitBytes * rays + 4096).toInt)
+    Layout(scene, rayBase, hitBase)
   }
 }
