@@ -32,7 +32,12 @@ WRAP
   {
     echo "case $name: bounded model check to depth $depth (cycle 1 is reset), $secs s: $result"
     echo "  responseBound = $bound cycles"
-    while read -r prop; do echo "  $prop: ${result%% *} to depth $depth"; done < "$dir/formal_$name.props"
+    while read -r prop; do
+      note=""
+      # A ray can only overstay the bound after `bound` cycles: below that depth the check is empty.
+      case $prop in bounded_response*) [ "$depth" -le "$bound" ] && note=" (VACUOUS: depth $depth <= responseBound $bound, not proven)";; esac
+      echo "  $prop: ${result%% *} to depth $depth$note"
+    done < "$dir/formal_$name.props"
     if [ "$result" = FAIL ]; then
       grep -E "failed|Assert|assert.*\b1'0\b" "$dir/yosys_$name.log" | grep -v "Import proof" | tail -5 | sed 's/^/  /'
       echo "  counterexample: $dir/cex_$name.vcd"
