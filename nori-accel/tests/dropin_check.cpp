@@ -7,8 +7,10 @@
 //     golden model): hit, t, uv, mesh, p and geoFrame bit for bit, shadow
 //     rays' occlusion with `its` untouched. The package's triangles are
 //     handed over as three meshes (prim ranges), so several meshes and the
-//     prim -> (mesh, face) mapping are exercised; the drop-in builds its own
-//     image through nori-bridge, so equal answers also mean the same BVH.
+//     prim -> (mesh, face) mapping are exercised. The drop-in builds its own
+//     4-wide image through nori-bridge from those meshes; on 4-wide packages
+//     equal answers mean the same tree (visiting order decides ties), on the
+//     other layouts they show the layouts agree on these rays.
 //   dropin-check --bench <package dir> [threads]   golden-mode throughput.
 #include <nori/accel.h>
 

@@ -244,3 +244,44 @@ pub fn write_rays_txt(path: &Path, sec: &[Secondary]) -> Result<()> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ray::txt::read_rays_txt;
+
+    #[test]
+    fn cornell_light_is_an_area_emitter() {
+        let scene = crate::scene::xml::load_scene(Path::new("../scenes/cornell-box/cornell-box.xml")).unwrap();
+        let e: Vec<_> = scene.meshes.iter().map(|m| m.emitter).collect();
+        assert_eq!(e, vec![None, None, None, Some([17.0, 12.0, 4.0])]);
+        let l = lights(&scene);
+        assert_eq!(l.tris.len(), scene.meshes[3].tri_count);
+        assert!(l.total_area > 0.0 && (l.tris.last().unwrap().2 - l.total_area).abs() == 0.0);
+    }
+
+    /// rays.txt carries the secondary rays bit for bit (shortest exact decimals).
+    #[test]
+    fn rays_txt_round_trips_exactly() {
+        let seed = 7u64;
+        println!("seed {seed}");
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let sec: Vec<Secondary> = (0..2000)
+            .map(|i| {
+                let mut f = || f32::from_bits(rng.gen::<u32>() & 0xbfff_ffff); // finite: exponent never all ones
+                let ray = Ray { o: [f(), f(), f()], d: [f(), f(), 1.0 + f().abs()], tmin: f().abs(), tmax: f32::INFINITY, shadow: false };
+                let ray = Ray { tmax: if i % 2 == 0 { f32::INFINITY } else { ray.tmin * 2.0 + 1.0 }, ..ray };
+                Secondary { pixel: i, ray, weight: [0.0; 3] }
+            })
+            .collect();
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("rays.txt");
+        write_rays_txt(&p, &sec).unwrap();
+        let back = read_rays_txt(&p).unwrap();
+        assert_eq!(back.len(), sec.len());
+        for (i, (a, b)) in sec.iter().zip(&back).enumerate() {
+            let bits = |r: &Ray| [r.o, r.d].concat().iter().chain([r.tmin, r.tmax].iter()).map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&a.ray), bits(b), "ray {i}");
+        }
+    }
+}
