@@ -222,11 +222,12 @@ pub fn radiance(scene: &Scene, pkg: &Package, primary_hits: &[Hit], sec: &[Secon
     Ok(img)
 }
 
-/// Radiance to 8-bit sRGB-like values (clamp, gamma 2.2); `exposure` scales first.
-pub fn to_rgb8(img: &[D3], w: u32, h: u32, exposure: f64) -> image::RgbImage {
+/// Pixel values to 8 bits: clamp to [0, 1], then `x^(1/gamma)` (2.2 for
+/// radiance; 1 for ambient occlusion, a visibility share shown as it is).
+pub fn to_rgb8(img: &[D3], w: u32, h: u32, gamma: f64) -> image::RgbImage {
     let mut out = image::RgbImage::new(w, h);
     for (i, p) in img.iter().enumerate() {
-        let c = std::array::from_fn(|k| ((p[k] * exposure).clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0).round() as u8);
+        let c = std::array::from_fn(|k| (p[k].clamp(0.0, 1.0).powf(1.0 / gamma) * 255.0).round() as u8);
         out.put_pixel(i as u32 % w, i as u32 / w, image::Rgb(c));
     }
     out

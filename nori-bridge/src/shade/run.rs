@@ -43,9 +43,9 @@ pub fn shade(a: &ShadeArgs) -> Result<()> {
         let blocked = |v: &[Hit]| v.iter().map(|x| x.hit).collect::<Vec<_>>();
         (blocked(&read_hits(sh)?), blocked(&spkg.reference))
     };
-    let exposure = 1.0;
-    let img_a = to_rgb8(&radiance(&scene, &pkg, &mine, &sec, &mine2, &a.opts)?, w, h, exposure);
-    let img_e = to_rgb8(&radiance(&scene, &pkg, &pkg.reference, &sec, &theirs2, &a.opts)?, w, h, exposure);
+    let gamma = if a.opts.integrator == Integrator::Ao { 1.0 } else { 2.2 };
+    let img_a = to_rgb8(&radiance(&scene, &pkg, &mine, &sec, &mine2, &a.opts)?, w, h, gamma);
+    let img_e = to_rgb8(&radiance(&scene, &pkg, &pkg.reference, &sec, &theirs2, &a.opts)?, w, h, gamma);
     let (img_d, differ) = diff(&img_a, &img_e);
     let prim_differ = mine.iter().zip(&pkg.reference).filter(|(x, y)| x.hit != y.hit || (x.hit && x.prim != y.prim)).count();
     let sec_differ = mine2.iter().zip(&theirs2).filter(|(x, y)| x != y).count();
