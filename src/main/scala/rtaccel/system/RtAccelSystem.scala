@@ -7,9 +7,12 @@ import rtaccel.datapath.{BoxRounding, FloatDatapath, TriangleTest}
 
 import scala.collection.immutable.SeqMap
 
-/** A bundle of individually named ports (FlatIO keeps the names as they are). */
-final class NamedPorts(ports: Seq[(String, Data)]) extends Record {
-  val elements: SeqMap[String, Data] = SeqMap(ports: _*)
+/** Individually named ports (FlatIO keeps the names as they are): (name, width (0: Bool), driven by the module). */
+final class NamedPorts(specs: Seq[(String, Int, Boolean)]) extends Record {
+  val elements: SeqMap[String, Data] = SeqMap(specs.map { case (n, w, out) =>
+    val t: Data = if (w == 0) Bool() else UInt(w.W)
+    n -> (if (out) Output(t) else Input(t))
+  }: _*)
 }
 
 /** The ZC706 system top, Verilog module `rtaccel_system`: Vivado's port names
@@ -45,8 +48,7 @@ class RtAccelSystem[T <: Data](sys: SystemConfig, dp: Datapath[T]) extends RawMo
       ("s_axi_rdata", s.r.bits.data, true), ("s_axi_rresp", s.r.bits.resp, true), ("s_axi_rvalid", s.r.valid, true),
       ("s_axi_rready", s.r.ready, false), ("interrupt", core.io.interrupt, true))
   }
-  private def tpe(d: Data): Data = d match { case _: Bool => Bool(); case u => UInt(u.getWidth.W) }
-  val ports = FlatIO(new NamedPorts(signals.map { case (n, d, out) => n -> (if (out) Output(tpe(d)) else Input(tpe(d))) }))
+  val ports = FlatIO(new NamedPorts(signals.map { case (n, d, out) => (n, d match { case _: Bool => 0; case u => u.getWidth }, out) }))
   for ((n, d, out) <- signals) {
     if (out) ports.elements(n) := d else d := ports.elements(n)
   }
