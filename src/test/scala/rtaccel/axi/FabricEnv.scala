@@ -134,6 +134,9 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
     if (!mem.model.idle) fail("the slave still holds bursts after every request was answered")
   }
 
+  /** `cycles` cycles with no requests, every client ready: a response now would answer nothing. */
+  def quiet(cycles: Int): Unit = for (_ <- 0 until cycles) cycleWith(_ => None, _ => true)
+
   /** Reads nodes 0 .. nodes-1 of the store, client 0 and 1 in turn, always ready; returns each read's latency. */
   def storeOnly(nodes: Int): Seq[Long] = {
     val lat = mutable.ArrayBuffer.empty[Long]
