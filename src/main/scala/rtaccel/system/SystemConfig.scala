@@ -19,7 +19,7 @@ case class SystemConfig(
     axiDataBits: Int = 512,
     axiAddrBits: Int = 32,
     axiIdBits: Int = 6,
-    nodeStoreBytes: Int = 256 * 1024
+    nodeStoreBytes: Int = 1024 * 1024
 ) {
   require(cores >= 1, s"SystemConfig: cores must be >= 1, got $cores")
   require(nodeStoreBytes >= 0, s"SystemConfig: nodeStoreBytes must be >= 0, got $nodeStoreBytes")

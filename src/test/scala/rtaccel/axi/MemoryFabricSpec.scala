@@ -54,6 +54,9 @@ class MemoryFabricSpec extends AnyFlatSpec with ChiselScalatestTester {
         // 3. A SLVERR read: the record still comes back (its client does not hang) and axiError is set.
         env.readOne(client = 3, addr = ErrorAddr)
         dut.io.axiError.expect(true.B, "a SLVERR read left axiError low")
+        println(s"MemoryFabricSpec: seed ${Seeded.seedFor("MemoryFabric")}, ${env.cycle} cycles, ${env.nodeRequests + env.otherRequests} reads " +
+          s"(${env.storeRequests} node-store hits, ${env.straddles} straddling 4 KB), ${env.writesSent} writes, " +
+          s"${m.readBursts} read bursts (${m.reorderedBursts} reordered, ${m.interleavedBeats} beats interleaved)")
       }
     }
 }
