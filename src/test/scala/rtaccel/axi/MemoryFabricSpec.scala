@@ -22,6 +22,16 @@ class MemoryFabricSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   import MemoryFabricSpec._
 
+  it should "elaborate with the default SystemConfig and the cores' clients (nodes, triangles, ray lines)" in {
+    val sys0 = SystemConfig()
+    val node = rtaccel.traversal.PrepFetch.port(sys0.core).copy(tagBits = sys0.core.rayIdBits + 1)
+    val tri  = rtaccel.leaf.LeafIntersect.port(sys0.core)
+    val ports = Seq.fill(sys0.cores)(Seq(node, tri)).flatten :+ MemPortParams(sys0.axiAddrBits, 4, 64)
+    val flags = Seq.fill(sys0.cores)(Seq(true, false)).flatten :+ false
+    val chirrtl = circt.stage.ChiselStage.emitCHIRRTL(new MemoryFabric(sys0, ports, flags))
+    assert(chirrtl.contains(s"MemoryFabric_r${ports.size}_id${sys0.axiIdBits}_ns${sys0.nodeStoreBytes / 1024}k"))
+  }
+
   // One Verilator build for every phase: the build is most of the spec's time.
   it should "answer random reads of every size and alignment exactly once and byte-exact under reordering and back-pressure, " +
     "write records, serve node-store hits on chip at a fixed latency, and flag SLVERR" in Seeded("MemoryFabric") { rnd =>
