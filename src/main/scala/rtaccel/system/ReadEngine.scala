@@ -152,6 +152,7 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
   for ((q, c) <- completions.zipWithIndex) {
     q.io.enq.valid := wValidReg && wFinalReg && wClientReg === c.U
     q.io.enq.bits  := wSlotReg
+    when(q.io.enq.valid && !q.io.enq.ready) { errorReg := true.B } // impossible (above); checked
   }
 
   // ---- Pick a finished record, read it out, queue it for its client ----

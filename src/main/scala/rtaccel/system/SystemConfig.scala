@@ -26,7 +26,7 @@ case class SystemConfig(
     axiDataBits: Int = 512,
     axiAddrBits: Int = 32,
     axiIdBits: Int = 6,
-    nodeStoreBytes: Int = 256 * 1024,
+    nodeStoreBytes: Int = 1024 * 1024,
     raysPerBlock: Int = 4,
     rayBlockTags: Int = 4,
     hitQueue: Int = 4

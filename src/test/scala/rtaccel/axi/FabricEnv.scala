@@ -23,7 +23,7 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
   private val outstanding = readers.map(_ => mutable.HashMap.empty[Int, Pending])
   private val written = mutable.HashMap.empty[Long, BigInt] // 32-byte record address -> data
   var cycle = 0L
-  var nodeRequests, storeRequests, straddles, writesSent = 0L
+  var nodeRequests, otherRequests, storeRequests, straddles, writesSent = 0L
 
   for (r <- dut.io.readers) { r.req.valid.poke(false.B); r.resp.ready.poke(false.B) }
   dut.io.write.valid.poke(false.B)
@@ -66,7 +66,7 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
           if (nodeFlags(c)) {
             nodeRequests += 1
             if (storeDone && addr >= NodeBase && addr < NodeBase + stored && (addr - NodeBase) % n == 0) storeRequests += 1
-          }
+          } else otherRequests += 1
         }
       }
     }
@@ -133,6 +133,9 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
     }
     if (!mem.model.idle) fail("the slave still holds bursts after every request was answered")
   }
+
+  /** `cycles` cycles with no requests, every client ready: a response now would answer nothing. */
+  def quiet(cycles: Int): Unit = for (_ <- 0 until cycles) cycleWith(_ => None, _ => true)
 
   /** Reads nodes 0 .. nodes-1 of the store, client 0 and 1 in turn, always ready; returns each read's latency. */
   def storeOnly(nodes: Int): Seq[Long] = {
