@@ -6,15 +6,15 @@
 namespace rtaccel::sim {
 
 namespace {
-constexpr uint32_t kOkay = 0, kSlvErr = 2, kDecErr = 3;
-constexpr uint32_t kIncr = 1;
-constexpr size_t kMaxViolations = 32;  // the first few say what is wrong; the count says how often
+constexpr uint32_t kOkay = 0, kSlvErr = 2;
+constexpr uint32_t kIncr = 1, kFullSize = 6;  // log2(64-byte beats)
+constexpr size_t kMaxViolations = 32;         // the first few say what is wrong; the count says how often
 }  // namespace
 
-AxiMemory::AxiMemory(const AxiMemoryParams& p)
-    : p_(p), dram_(p.bytesPerCycle, p.burstBytes), rnd_(p.seed) {
-  reads_.reserve(p.maxOutstanding + 1);
-  writes_.reserve(p.maxOutstanding + 1);
+AxiMemory::AxiMemory(const AxiMemoryParams& p) : p_(p), dram_(p.bytesPerCycle, p.burstBytes), rnd_(p.seed) {
+  reads_.reserve(p.maxReads + 1);
+  writes_.reserve(p.maxWrites + 1);
+  eligible_.reserve(p.maxReads + p.maxWrites + 2);
 }
 
 uint32_t AxiMemory::drawLatency() {
@@ -24,6 +24,7 @@ uint32_t AxiMemory::drawLatency() {
 
 void AxiMemory::violation(const std::string& what) {
   if (violations_.size() < kMaxViolations) violations_.push_back("cycle " + std::to_string(now_) + ": " + what);
+  violationCount_++;
 }
 
 void AxiMemory::setRegion(const std::string& name, uint64_t lo, uint64_t hi) {
@@ -54,135 +55,155 @@ void AxiMemory::charge(uint64_t addr, uint64_t bytes, bool write) {
   }
 }
 
-uint32_t AxiMemory::check(const char* ch, uint32_t id, uint64_t addr, uint32_t len, uint32_t size, uint32_t burst) {
-  char buf[200];
-  uint64_t bytes = uint64_t(len + 1) << size;
-  if (burst != kIncr || (1u << size) > kAxiBeatBytes) {
-    std::snprintf(buf, sizeof buf, "%s id %u addr 0x%llx: burst type %u size %u (only INCR of <= 64-byte beats)", ch, id,
-                  (unsigned long long)addr, burst, size);
-    violation(buf);
-    return kSlvErr;
-  }
-  if (addr + bytes > SparseMemory::kSpace) return kDecErr;
-  if ((addr >> 12) != ((addr + bytes - 1) >> 12)) {
-    std::snprintf(buf, sizeof buf, "%s id %u addr 0x%llx len %u: burst crosses a 4 KB boundary", ch, id,
-                  (unsigned long long)addr, len);
-    violation(buf);
-  }
-  return kOkay;
+uint32_t AxiMemory::checkAddr(const char* ch, uint32_t id, uint32_t addr, uint32_t len, uint32_t size, uint32_t burst) {
+  char buf[220];
+  const char* why = nullptr;
+  if (burst != kIncr) why = "burst type is not INCR";
+  else if (size != kFullSize) why = "beats are not full width (size 6)";
+  else if (len > 255) why = "len > 255";
+  else if (addr % kAxiBeatBytes) why = "address not aligned to the 64-byte beat";
+  else if ((addr % 4096) + uint64_t(len + 1) * kAxiBeatBytes > 4096) why = "burst crosses a 4 KB boundary";
+  if (!why) return kOkay;
+  std::snprintf(buf, sizeof buf, "%s id %u addr 0x%x len %u size %u burst %u: %s", ch, id, addr, len, size, burst, why);
+  violation(buf);
+  return kSlvErr;
 }
 
-uint64_t AxiMemory::beatAddr(const Burst& b, uint32_t k) const {
-  // INCR: the first beat at addr, later beats at the size-aligned address + k * size.
-  if (k == 0) return b.addr;
-  uint64_t step = 1ull << b.size;
-  return (b.addr & ~(step - 1)) + uint64_t(k) * step;
+void AxiMemory::checkHeld(const char* ch, Held& held, bool valid, uint32_t id, uint32_t addr, uint32_t len,
+                          uint32_t size, uint32_t burst, bool ready) {
+  if (held.valid) {
+    if (!valid) violation(std::string(ch) + " valid dropped before ready");
+    else if (held.id != id || held.addr != addr || held.len != len || held.size != size || held.burst != burst)
+      violation(std::string(ch) + " payload changed while valid && !ready");
+  }
+  held = Held{valid && !ready, id, addr, len, size, burst};
 }
 
-// Eligible: the oldest read of its ID (in order within an ID) with a beat out
-// of the channel; among them the one whose data became ready first.
-int AxiMemory::pickRead() const {
-  int best = -1;
-  for (size_t i = 0; i < reads_.size(); ++i) {
-    const Burst& b = reads_[i];
-    bool oldest = true;
-    for (size_t j = 0; j < i && oldest; ++j) oldest = reads_[j].id != b.id;
-    if (!oldest || dram_.beatsMoved(b.handle) <= b.done) continue;
-    if (best < 0 || dram_.readyAt(b.handle) < dram_.readyAt(reads_[best].handle)) best = int(i);
+// The burst to offer next, as AxiMemoryModel.pickRead / pickWrite: heads of
+// their IDs whose transfer is done, in acceptance order; one of them at random
+// (reorder), else only the oldest of all; a read burst begun goes on alone
+// unless interleaving. Returns an index into v, or -1.
+int AxiMemory::pick(const std::vector<Burst>& v, bool readSide) {
+  eligible_.clear();
+  int streaming = -1;
+  if (readSide)
+    for (size_t i = 0; i < v.size() && streaming < 0; ++i)
+      if (v[i].done > 0) streaming = int(i);
+  if (readSide && !p_.interleave && streaming >= 0) {
+    if (moved(v[streaming])) eligible_.push_back(streaming);
+  } else {
+    for (size_t i = 0; i < v.size(); ++i) {
+      bool head = true;
+      for (size_t j = 0; j < i && head; ++j) head = v[j].id != v[i].id;
+      if (head && moved(v[i])) {
+        eligible_.push_back(int(i));
+        if (!p_.reorder) break;  // heads.take(1)
+      }
+    }
+    if (!p_.reorder && !eligible_.empty() && eligible_[0] != 0) eligible_.clear();  // only if it is the oldest of all
   }
-  return best;
+  if (eligible_.empty()) return -1;
+  return eligible_[rnd_.nextInt(int32_t(eligible_.size()))];
 }
 
-int AxiMemory::pickWrite() const {
-  int best = -1;
-  for (size_t i = 0; i < writes_.size(); ++i) {
-    const Burst& b = writes_[i];
-    bool oldest = true;
-    for (size_t j = 0; j < i && oldest; ++j) oldest = writes_[j].id != b.id;
-    if (!oldest || b.handle < 0 || !dram_.done(b.handle)) continue;
-    if (best < 0 || dram_.readyAt(b.handle) < dram_.readyAt(writes_[best].handle)) best = int(i);
-  }
-  return best;
-}
 
 const AxiSlaveSignals& AxiMemory::drive() {
-  out_.arready = reads_.size() < p_.maxOutstanding;
-  out_.awready = writes_.size() < p_.maxOutstanding;
-  // W data belongs to the oldest AW still short of beats (AXI4: no write interleaving).
-  out_.wready = std::any_of(writes_.begin(), writes_.end(), [](const Burst& b) { return b.done < b.beats; });
-
-  // R: keep offering the beat on offer (a burst once begun is finished before another starts).
-  if (rOffer_ < 0 || dram_.beatsMoved(reads_[rOffer_].handle) <= reads_[rOffer_].done) {
-    bool midBurst = rOffer_ >= 0 && reads_[rOffer_].done > 0;
-    if (!midBurst) rOffer_ = pickRead();
+  auto indexOf = [](const std::vector<Burst>& v, int64_t seq) {
+    for (size_t i = 0; i < v.size(); ++i)
+      if (int64_t(v[i].seq) == seq) return int(i);
+    return -1;
+  };
+  // The same draws, in the same order, as AxiMemoryModel.slave.
+  if (offerR_ < 0 && rnd_.nextDouble() < p_.validProb) {
+    int i = pick(reads_, true);
+    offerR_ = i < 0 ? -1 : int64_t(reads_[i].seq);
   }
-  out_.rvalid = rOffer_ >= 0 && dram_.beatsMoved(reads_[rOffer_].handle) > reads_[rOffer_].done;
+  if (offerB_ < 0 && rnd_.nextDouble() < p_.validProb) {
+    int i = pick(writes_, false);
+    offerB_ = i < 0 ? -1 : int64_t(writes_[i].seq);
+  }
+  out_.rvalid = offerR_ >= 0;
   if (out_.rvalid) {
-    const Burst& b = reads_[rOffer_];
+    const Burst& b = reads_[indexOf(reads_, offerR_)];
     out_.rid = b.id;
     out_.rresp = b.resp;
     out_.rlast = b.done + 1 == b.beats;
-    if (b.resp == kOkay) mem_.read(beatAddr(b, b.done) & ~uint64_t(kAxiBeatBytes - 1), out_.rdata, kAxiBeatBytes);
-    else std::fill(std::begin(out_.rdata), std::end(out_.rdata), 0);
+    mem_.read(b.addr + uint64_t(b.done) * kAxiBeatBytes, out_.rdata, kAxiBeatBytes);
   }
-  if (bOffer_ < 0) bOffer_ = pickWrite();
-  out_.bvalid = bOffer_ >= 0;
-  if (out_.bvalid) { out_.bid = writes_[bOffer_].id; out_.bresp = writes_[bOffer_].resp; }
+  out_.bvalid = offerB_ >= 0;
+  if (out_.bvalid) {
+    const Burst& b = writes_[indexOf(writes_, offerB_)];
+    out_.bid = b.id;
+    out_.bresp = b.resp;
+  }
+  out_.arready = reads_.size() < p_.maxReads && rnd_.nextDouble() < p_.readyProb;
+  out_.awready = awWait_.size() + writes_.size() < p_.maxWrites && rnd_.nextDouble() < p_.readyProb;
+  out_.wready = rnd_.nextDouble() < p_.readyProb;
   return out_;
 }
 
 void AxiMemory::commit(const AxiMasterSignals& in) {
   stats_.readOutstandingSum += int64_t(reads_.size());
-  // Handshakes use this cycle's outputs (out_), computed by drive().
   if (in.arvalid && !out_.arready) stats_.readStallCycles++;
+  checkHeld("AR", heldAr_, in.arvalid, in.arid, in.araddr, in.arlen, in.arsize, in.arburst, out_.arready);
+  checkHeld("AW", heldAw_, in.awvalid, in.awid, in.awaddr, in.awlen, in.awsize, in.awburst, out_.awready);
   if (in.arvalid && out_.arready) {
-    Burst b{in.arid, in.araddr, in.arlen + 1, in.arsize, seq_++, 0};
-    b.resp = check("AR", in.arid, in.araddr, in.arlen, in.arsize, in.arburst);
-    uint64_t bytes = uint64_t(b.beats) << b.size;
-    b.handle = dram_.issue(b.addr, uint32_t(bytes), 1u << b.size, drawLatency(), now_);
+    Burst b{seq_++, in.arid, in.araddr, in.arlen + 1, checkAddr("AR", in.arid, in.araddr, in.arlen, in.arsize, in.arburst)};
+    uint64_t bytes = uint64_t(b.beats) * kAxiBeatBytes;
+    b.handle = dram_.issue(b.addr, uint32_t(bytes), drawLatency(), now_);
     charge(b.addr, bytes, false);
     reads_.push_back(b);
     stats_.readBursts++;
   }
-  if (out_.rvalid && in.rready) {
-    Burst& b = reads_[rOffer_];
-    stats_.readBeats++;
-    if (b.resp != kOkay) stats_.nonOkayResponses += b.done == 0;
-    if (++b.done == b.beats) {
-      dram_.release(b.handle);
-      reads_.erase(reads_.begin() + rOffer_);
-      rOffer_ = -1;
-    }
-  }
   if (in.awvalid && out_.awready) {
-    Burst b{in.awid, in.awaddr, in.awlen + 1, in.awsize, seq_++, 0};
-    b.resp = check("AW", in.awid, in.awaddr, in.awlen, in.awsize, in.awburst);
-    writes_.push_back(b);
+    awWait_.push_back(Burst{seq_++, in.awid, in.awaddr, in.awlen + 1,
+                            checkAddr("AW", in.awid, in.awaddr, in.awlen, in.awsize, in.awburst)});
     stats_.writeBursts++;
   }
   if (in.wvalid && out_.wready) {
-    auto it = std::find_if(writes_.begin(), writes_.end(), [](const Burst& b) { return b.done < b.beats; });
-    Burst& b = *it;
-    bool last = b.done + 1 == b.beats;
-    if (in.wlast != last) {
+    WBeat w;
+    std::copy(in.wdata, in.wdata + kAxiBeatBytes, w.data);
+    w.strb = in.wstrb;
+    w.last = in.wlast;
+    wEarly_.push_back(w);
+    stats_.writeBeats++;
+  }
+  while (!awWait_.empty() && !wEarly_.empty()) {
+    Burst& b = awWait_.front();
+    const WBeat& w = wEarly_.front();
+    if (b.resp == kOkay) mem_.writeLine(b.addr + uint64_t(b.done) * kAxiBeatBytes, w.data, w.strb);
+    b.done++;
+    bool last = b.done == b.beats;
+    if (w.last != last) {
       char buf[160];
-      std::snprintf(buf, sizeof buf, "W id %u beat %u of %u: wlast=%d", b.id, b.done + 1, b.beats, int(in.wlast));
+      std::snprintf(buf, sizeof buf, "W id %u beat %u of %u: wlast=%d", b.id, b.done, b.beats, int(w.last));
       violation(buf);
     }
-    if (b.resp == kOkay) mem_.writeLine(beatAddr(b, b.done) & ~uint64_t(kAxiBeatBytes - 1), in.wdata, in.wstrb);
-    stats_.writeBeats++;
-    if (++b.done == b.beats) {
-      uint64_t bytes = uint64_t(b.beats) << b.size;
-      b.handle = dram_.issue(b.addr, uint32_t(bytes), uint32_t(bytes), drawLatency(), now_);
+    wEarly_.pop_front();
+    if (last) {
+      uint64_t bytes = uint64_t(b.beats) * kAxiBeatBytes;
+      b.handle = dram_.issue(b.addr, uint32_t(bytes), drawLatency(), now_);
       charge(b.addr, bytes, true);
+      writes_.push_back(b);
+      awWait_.pop_front();
     }
   }
+  if (out_.rvalid && in.rready) {
+    auto it = std::find_if(reads_.begin(), reads_.end(), [&](const Burst& b) { return int64_t(b.seq) == offerR_; });
+    stats_.readBeats++;
+    if (it->resp != kOkay && it->done == 0) stats_.nonOkayResponses++;
+    if (++it->done == it->beats) {
+      dram_.release(it->handle);
+      reads_.erase(it);
+    }
+    offerR_ = -1;  // every beat is offered afresh (AxiMemoryModel: offerR = None)
+  }
   if (out_.bvalid && in.bready) {
-    Burst& b = writes_[bOffer_];
-    if (b.resp != kOkay) stats_.nonOkayResponses++;
-    dram_.release(b.handle);
-    writes_.erase(writes_.begin() + bOffer_);
-    bOffer_ = -1;
+    auto it = std::find_if(writes_.begin(), writes_.end(), [&](const Burst& b) { return int64_t(b.seq) == offerB_; });
+    if (it->resp != kOkay) stats_.nonOkayResponses++;
+    dram_.release(it->handle);
+    writes_.erase(it);
+    offerB_ = -1;
   }
 }
 

@@ -1,29 +1,34 @@
 // An AXI4 slave (512-bit data, 32-bit address) in front of the DDR channel
 // model: what the ZC706's MIG looks like to rtaccel_system's m_axi port.
 //
-// Protocol handled: INCR bursts of 1..256 beats of any size up to the bus
-// width (a beat carries its whole 64-byte-aligned line; the master reads its
-// lanes), FIXED and WRAP are refused (SLVERR, and a violation is recorded);
-// bursts crossing a 4 KB boundary are recorded as violations (the contract
-// forbids them); wstrb byte enables; IDs: reads return in order within an ID
-// and out of order across IDs (whichever burst's data crossed the channel
-// first), without interleaving beats of different bursts (as the MIG);
-// B responses likewise in order within an ID. Beyond 4 GiB: DECERR.
+// It is the C++ twin of the chiseltest harness's slave, sysmem's
+// rtaccel.axi.AxiMemoryModel (src/test/scala/rtaccel/axi/), call for call,
+// random draw for random draw, so the two harnesses see the same cycles:
+//  - timing: every burst (read or write) is a transfer on the DramModel
+//    (latency drawn per burst; bytes charged in whole 64-byte bursts on one
+//    channel of 12.8 GB/s shared by all); a read burst's beats are offered once
+//    its transfer is done; a write is answered on B once its data is in and its
+//    transfer is done (charged when its last beat pairs with its AW);
+//  - back-pressure and order (seeded java.util.Random): arready, awready and
+//    wready are each high with probability readyProb (arready/awready low at
+//    maxReads/maxWrites); a ready R beat or B response is offered with
+//    probability validProb; with `reorder`, a random ID's oldest done burst
+//    goes next (in order within an ID); with `interleave`, R beats of
+//    different IDs interleave (else a burst goes out whole, as the MIG);
+//  - W beats are accepted before their AW (queued) and paired in order.
+// Protocol: INCR bursts of full-width, aligned beats, len <= 255, no 4 KB
+// crossing, wlast on exactly the last beat; AR/AW/W held stable while
+// valid && !ready. A violation is recorded (violations()) and the burst is
+// answered SLVERR (the chiseltest model throws instead).
 //
 // Cycle protocol (the harness calls, once per clock cycle):
-//   1. drive(): the outputs for this cycle, from state only (no combinational
-//      path from the master's valid to our ready: a Moore slave);
+//   1. drive(): this cycle's outputs, from state and the random draws only
+//      (no combinational path from the master's valid to our ready);
 //   2. commit(in): the master's signals, settled; handshakes happen here;
 //   3. tick(): after the clock edge; the channel moves this cycle's data.
-// Timing as the Scala model: an AR accepted in cycle c with latency L offers
-// its first beat from cycle c + L if the channel is free.
-// Writes: the data is stored beat by beat as it arrives; the transfer is
-// charged on the same channel when the last beat arrives (latency drawn then),
-// and B is offered once its bytes have crossed.
-// Latency: drawn per transfer (reads at AR, writes at the last W; in one
-// cycle the read draws first) from one java.util.Random-compatible generator.
 #pragma once
 #include <cstdint>
+#include <deque>
 #include <string>
 #include <vector>
 
@@ -40,7 +45,12 @@ struct AxiMemoryParams {
   int burstBytes = 64;           // DDR3 x64 BL8
   uint32_t latencyLo = 20;       // cycles (100 ns at 200 MHz)
   uint32_t latencyHi = 20;
-  uint32_t maxOutstanding = 64;  // read bursts accepted and not fully returned (and the same for writes)
+  double readyProb = 1.0;
+  double validProb = 1.0;
+  bool reorder = true;
+  bool interleave = false;
+  uint32_t maxReads = 64;        // read bursts accepted and not fully sent
+  uint32_t maxWrites = 64;       // write bursts accepted and not answered on B
   int64_t seed = 1;
 };
 
@@ -74,12 +84,11 @@ class AxiMemory {
 
   SparseMemory& memory() { return mem_; }
   const SparseMemory& memory() const { return mem_; }
-  DramModel& dram() { return dram_; }
+  const DramModel& dram() const { return dram_; }
   const AxiMemoryStats& stats() const { return stats_; }
-  // Protocol violations seen (each a sentence naming the cycle and the signal).
+  // Protocol violations seen (the first few, each naming the cycle and the burst).
   const std::vector<std::string>& violations() const { return violations_; }
   int64_t now() const { return now_; }
-  bool idle() const { return reads_.empty() && writes_.empty(); }
 
   const AxiSlaveSignals& drive();
   void commit(const AxiMasterSignals& in);
@@ -90,25 +99,27 @@ class AxiMemory {
   void setRegion(const std::string& name, uint64_t lo, uint64_t hi);
   struct Region { std::string name; uint64_t lo, hi; int64_t readBytes = 0, writeBytes = 0; };
   const std::vector<Region>& regions() const { return regions_; }
-  // Marks the start of a batch: batchStats() and the regions count from here.
+  // Marks the start of a batch: sinceBatchStart() and the regions count from here.
   void batchStart();
   struct Snapshot { int64_t cycle = 0, dramBytes = 0, dramBusyCycles = 0; AxiMemoryStats axi; };
-  // What happened since batchStart() (everything, if never called).
   Snapshot sinceBatchStart() const;
 
  private:
   struct Burst {
-    uint32_t id; uint64_t addr; uint32_t beats, size; uint64_t seq;
-    uint32_t resp;        // 0 OKAY, 2 SLVERR, 3 DECERR
-    int handle = -1;      // DRAM transfer (-1: not issued yet, writes only)
-    uint32_t done = 0;    // beats sent (reads) or received (writes)
+    uint64_t seq; uint32_t id; uint64_t addr; uint32_t beats;
+    uint32_t resp;         // 0 OKAY, 2 SLVERR
+    int handle = -1;       // DRAM transfer
+    uint32_t done = 0;     // R beats sent, or W beats taken
   };
+  struct WBeat { uint8_t data[kAxiBeatBytes]; uint64_t strb; bool last; };
+  struct Held { bool valid = false; uint32_t id, addr, len, size, burst; };
   uint32_t drawLatency();
-  uint32_t check(const char* ch, uint32_t id, uint64_t addr, uint32_t len, uint32_t size, uint32_t burst);
-  uint64_t beatAddr(const Burst& b, uint32_t k) const;
+  bool moved(const Burst& b) const { return b.handle >= 0 && dram_.done(b.handle); }
+  uint32_t checkAddr(const char* ch, uint32_t id, uint32_t addr, uint32_t len, uint32_t size, uint32_t burst);
+  void checkHeld(const char* ch, Held& held, bool valid, uint32_t id, uint32_t addr, uint32_t len, uint32_t size,
+                 uint32_t burst, bool ready);
+  int pick(const std::vector<Burst>& v, bool readSide);
   void charge(uint64_t addr, uint64_t bytes, bool write);
-  int pickRead() const;
-  int pickWrite() const;
   void violation(const std::string& what);
 
   AxiMemoryParams p_;
@@ -117,12 +128,17 @@ class AxiMemory {
   JavaRandom rnd_;
   int64_t now_ = 0;
   uint64_t seq_ = 0;
-  std::vector<Burst> reads_;   // accepted, not fully returned; issue order
-  std::vector<Burst> writes_;  // accepted AWs until their B is taken; issue order
-  int rOffer_ = -1, bOffer_ = -1;  // sticky offers: a valid stays up, unchanged, until taken
+  std::vector<Burst> reads_;   // accepted, not fully sent; acceptance order
+  std::deque<Burst> awWait_;   // write addresses waiting for their data
+  std::deque<WBeat> wEarly_;   // W beats before their AW
+  std::vector<Burst> writes_;  // data in, waiting for the DRAM or for B
+  int64_t offerR_ = -1, offerB_ = -1;  // seq of the burst on offer (held until taken)
+  std::vector<int> eligible_;  // scratch, reused (no allocation per cycle once warm)
   AxiSlaveSignals out_;
+  Held heldAr_, heldAw_;
   AxiMemoryStats stats_;
   std::vector<std::string> violations_;
+  int64_t violationCount_ = 0;
   std::vector<Region> regions_;
   Snapshot batch_;
 };

@@ -20,7 +20,7 @@ int64_t DramModel::burstCharge(uint64_t addr, uint64_t n, int burst) {
   return int64_t((addr + n - 1) / burst - addr / burst + 1) * burst;
 }
 
-int DramModel::issue(uint64_t addr, uint32_t bytes, uint32_t beatBytes, uint32_t latency, int64_t now) {
+int DramModel::issue(uint64_t addr, uint32_t bytes, uint32_t latency, int64_t now) {
   if (latency < 1) throw std::invalid_argument("DramModel: latency must be >= 1 cycle");
   if (now <= lastTick_)
     throw std::logic_error("DramModel: issue in cycle " + std::to_string(now) + " after the channel moved cycle " +
@@ -38,11 +38,7 @@ int DramModel::issue(uint64_t addr, uint32_t bytes, uint32_t beatBytes, uint32_t
   s.used = true;
   s.seq = nextSeq_++;
   s.readyAt = now + latency - 1;
-  s.milliTotal = s.milliLeft = charged * 1000;
-  s.beats = (bytes + beatBytes - 1) / beatBytes;
-  // Charged bytes spread over the beats: a beat is out once its share has crossed.
-  s.milliPerBeat = (s.milliTotal + s.beats - 1) / s.beats;
-  s.beatsMoved = 0;
+  s.milliLeft = charged * 1000;
   pending_.push_back(h);
   bytes_ += charged;
   return h;
@@ -68,8 +64,6 @@ void DramModel::tick(int64_t now) {
     s.milliLeft -= n;
     budget -= n;
     moved = true;
-    int64_t crossed = s.milliTotal - s.milliLeft;
-    s.beatsMoved = s.milliLeft == 0 ? s.beats : uint32_t(std::min<int64_t>(s.beats, crossed / s.milliPerBeat));
     if (s.milliLeft == 0) pending_.erase(pending_.begin() + bestAt);
   }
   if (moved) busyCycles_ += 1;

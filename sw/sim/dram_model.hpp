@@ -10,11 +10,7 @@
 // Arbitration: the transfer that became ready first (ties: issued first).
 // Bandwidth is kept in thousandths of a byte, so a clock that does not divide
 // the peak (51.2 B/cycle at 250 MHz) accumulates no rounding.
-//
-// What AXI adds: a transfer is an AXI burst, and its beats become available
-// as the channel moves them (beat i once the first (i+1) * beatBytes of the
-// transfer have crossed), so a one-beat burst is exactly a Scala record
-// transfer and a long burst streams at the channel's rate.
+// For AXI a transfer is one burst (AxiMemory).
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -28,13 +24,10 @@ class DramModel {
   // Bytes a DRAM moves for `n` bytes at `addr`: every burst-aligned burst the range touches.
   static int64_t burstCharge(uint64_t addr, uint64_t n, int burst);
 
-  // Starts a transfer; returns a handle valid until it is released. `beats`
-  // of `beatBytes` each are what the requester will take out of it.
-  int issue(uint64_t addr, uint32_t bytes, uint32_t beatBytes, uint32_t latency, int64_t now);
+  // Starts a transfer of `bytes` at `addr`; returns a handle valid until it is released.
+  int issue(uint64_t addr, uint32_t bytes, uint32_t latency, int64_t now);
   // Moves cycle `now`'s data (once per cycle, cycles consecutive).
   void tick(int64_t now);
-  // Beats of transfer `h` whose bytes have crossed the channel.
-  uint32_t beatsMoved(int h) const { return slots_[h].beatsMoved; }
   bool done(int h) const { return slots_[h].milliLeft == 0; }
   // Cycle the transfer became (or becomes) eligible for the channel.
   int64_t readyAt(int h) const { return slots_[h].readyAt; }
@@ -50,8 +43,7 @@ class DramModel {
     bool used = false;
     uint64_t seq = 0;
     int64_t readyAt = 0;
-    int64_t milliLeft = 0, milliTotal = 0, milliPerBeat = 0;
-    uint32_t beats = 0, beatsMoved = 0;
+    int64_t milliLeft = 0;
   };
   double bytesPerCycle_;
   int burstBytes_;

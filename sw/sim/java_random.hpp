@@ -1,6 +1,7 @@
-// java.util.Random's generator, bit for bit: the Scala memory model draws its
-// uniform latencies (MEM_LATENCY=LO-HI) from scala.util.Random(seed), which
-// is this LCG, so a C++ run seeded alike draws the same latencies.
+// java.util.Random's generator, bit for bit: the Scala memory models draw
+// their latencies, readies and reordering choices from scala.util.Random(seed),
+// which is this LCG, so a C++ model making the same calls in the same order
+// makes the same choices.
 #pragma once
 #include <cstdint>
 
@@ -9,6 +10,9 @@ namespace rtaccel::sim {
 class JavaRandom {
  public:
   explicit JavaRandom(int64_t seed) : seed_((uint64_t(seed) ^ kMult) & kMask) {}
+
+  // Random.nextDouble(): 53 random bits in [0, 1).
+  double nextDouble() { return double((int64_t(next(26)) << 27) + next(27)) * 0x1.0p-53; }
 
   // Random.nextInt(bound), bound >= 1: the same rejection loop as the JDK.
   int32_t nextInt(int32_t bound) {

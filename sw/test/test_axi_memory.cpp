@@ -1,6 +1,7 @@
 // The C++ DDR model against what the Scala model charges (DramModelSpec's
 // cases), and the AXI4 slave's protocol: bursts, IDs (in order within an ID,
-// out of order across IDs), wstrb, wlast, 4 KB and resp errors. Randomised
+// out of order across IDs), wstrb, wlast, 4 KB and resp errors; and the
+// random draws of sysmem's AxiMemoryModel (java.util.Random). Randomised
 // cases are seeded; the seed is printed.
 #include <cstdio>
 #include <cstdlib>
@@ -57,13 +58,16 @@ static std::vector<Beat> runReads(AxiMemory& m, std::vector<Ar> ars, int64_t cyc
 static AxiMemoryParams fixed(uint32_t l) { AxiMemoryParams p; p.latencyLo = p.latencyHi = l; return p; }
 
 static void javaRandom() {
-  // Values from the JDK (jshell): new Random(1).nextInt(41) x5, new Random(7).nextInt(64) x3, Random(3).nextInt(1e9+7).
-  JavaRandom a(1), b(7), c(3);
+  // Values from the JDK (jshell): new Random(1).nextInt(41) x5, new Random(7).nextInt(64) x3, Random(3).nextInt(1e9+7),
+  // Random(5).nextDouble().
+  JavaRandom a(1), b(7), c(3), d(5);
   int want1[] = {23, 38, 18, 14, 39}, want7[] = {46, 40, 47};
   for (int w : want1) { int g = a.nextInt(41); CHECK(g == w, "Random(1).nextInt(41): %d, JDK %d", g, w); }
   for (int w : want7) { int g = b.nextInt(64); CHECK(g == w, "Random(7).nextInt(64): %d, JDK %d", g, w); }
   int g = c.nextInt(1000000007);
   CHECK(g == 569933727, "Random(3).nextInt(1000000007): %d", g);
+  double x = d.nextDouble();
+  CHECK(x == 0x1.7606b3169ae5ap-1, "Random(5).nextDouble(): %.17g", x);
 }
 
 static void charges() {
@@ -81,18 +85,20 @@ static void latencyAndBandwidth() {
           r.empty() ? -1LL : (long long)r[0].cycle);
     CHECK(m.dram().bytes() == 64, "charged %lld", (long long)m.dram().bytes());
   }
-  // Two beats: one more cycle of channel (DramModelSpec: a two-burst record is seen at 11); beats stream.
+  // Two beats: one more cycle of channel (DramModelSpec: a two-burst record is seen at 11); the burst is
+  // offered once its transfer is done (as AxiMemoryModel), then one beat per cycle.
   {
     AxiMemory m(fixed(10));
     auto r = runReads(m, {{0, 1, 0x1000, 1}}, 30);
-    CHECK(r.size() == 2 && r[0].cycle == 10 && r[1].cycle == 11 && r[1].last && !r[0].last, "two beats");
+    CHECK(r.size() == 2 && r[0].cycle == 11 && r[1].cycle == 12 && r[1].last && !r[0].last, "two beats");
   }
   // Shared channel: a two-burst read issued in cycle 0 holds the channel in cycles 9 and 10; a one-beat
-  // read of another ID issued in cycle 1 (ready in 10) waits until 11, seen at 12 (DramModelSpec).
+  // read of another ID issued in cycle 1 (ready in 10) waits until 11, done to be seen at 12
+  // (DramModelSpec), but R is busy with the first burst's second beat then: 13.
   {
     AxiMemory m(fixed(10));
     auto r = runReads(m, {{0, 1, 0x1000, 1}, {1, 2, 0x2000, 0}}, 30);
-    CHECK(r.size() == 3 && r[2].id == 2 && r[2].cycle == 12, "shared: id %u at %lld", r.size() == 3 ? r[2].id : 99,
+    CHECK(r.size() == 3 && r[2].id == 2 && r[2].cycle == 13, "shared: id %u at %lld", r.size() == 3 ? r[2].id : 99,
           r.size() == 3 ? (long long)r[2].cycle : -1LL);
   }
   // 51.2 B/cycle (12.8 GB/s at 250 MHz): ten bursts take 12.5 cycles of channel: the tenth is out in the
@@ -191,7 +197,7 @@ static void protocolErrors() {
   AxiMemory m(fixed(2));
   auto r = runReads(m, {{0, 1, 0x0fc0, 1}, {0, 2, 0x2000, 0, 6, 2 /*WRAP*/}}, 20);
   CHECK(m.violations().size() == 2, "violations %zu", m.violations().size());
-  CHECK(r.size() == 3 && r[2].resp == 2, "WRAP answered SLVERR");
+  CHECK(r.size() == 3 && r[0].resp == 2 && r[1].resp == 2 && r[2].resp == 2, "4 KB crossing and WRAP answered SLVERR");
 }
 
 int main(int argc, char** argv) {
