@@ -102,7 +102,10 @@ typedef struct rtaccel_sim_options {
   uint32_t latency_ns_lo;     /* 100 */
   uint32_t latency_ns_hi;     /* = lo */
   uint32_t max_outstanding;   /* 64 */
-  int64_t seed;               /* 1 (latency draws when lo < hi) */
+  int64_t seed;               /* 1 (the memory model's random draws: latency when lo < hi, reordering) */
+  uint32_t no_reorder;        /* 0: a random done burst among IDs goes next (as the Scala AxiMemoryModel's
+                                 default); 1: bursts answered in acceptance order (deterministic whatever
+                                 the seed and the cycles before) */
   uint64_t max_cycles;        /* 0: no limit on a wait, else RTACCEL_ERR_TIMEOUT after this many cycles */
   const char* vcd_path;       /* NULL: no waveform (only when built with tracing) */
 } rtaccel_sim_options;

@@ -7,6 +7,10 @@
 
 #include "rtaccel.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct rtaccel_backend {
   const char* name;
   rtaccel_status (*reg_read)(void* ctx, uint32_t offset, uint32_t* value, char* err, size_t errn);
@@ -31,5 +35,9 @@ rtaccel_status rtaccel_attach(const rtaccel_backend* be, void* ctx, uint64_t buf
                               rtaccel_dev** out);
 /* Records an open failure for rtaccel_open_error (thread-local). */
 void rtaccel_set_open_error(const char* fmt, ...);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

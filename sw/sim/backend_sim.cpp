@@ -135,7 +135,8 @@ extern "C" rtaccel_status rtaccel_open_sim(const rtaccel_sim_options* opt, rtacc
   p.burstBytes = o.burst_bytes ? int(o.burst_bytes) : 64;
   p.latencyLo = cycles(lo);
   p.latencyHi = cycles(hi);
-  p.maxOutstanding = o.max_outstanding ? o.max_outstanding : 64;
+  p.maxReads = p.maxWrites = o.max_outstanding ? o.max_outstanding : 64;
+  p.reorder = !o.no_reorder;
   p.seed = o.seed ? o.seed : 1;
   SimCtx* c;
   try {

@@ -17,8 +17,8 @@ SystemSim::SystemSim(const AxiMemoryParams& mem, const char* vcdPath)
 #if VM_TRACE
   if (vcdPath) {
     ctx_->traceEverOn(true);
-    vcd_.reset(new VerilatedVcdC);
-    top_->trace(vcd_.get(), 99);
+    vcd_ = new VerilatedVcdC;
+    top_->trace(vcd_, 99);
     vcd_->open(vcdPath);
   }
 #else
@@ -31,7 +31,7 @@ SystemSim::SystemSim(const AxiMemoryParams& mem, const char* vcdPath)
 
 SystemSim::~SystemSim() {
 #if VM_TRACE
-  if (vcd_) vcd_->close();
+  if (vcd_) { vcd_->close(); delete vcd_; }
 #endif
   top_->final();
 }
@@ -49,7 +49,8 @@ void SystemSim::reset(int cycles) {
   top_->aresetn = 1;
 }
 
-bool SystemSim::interrupt() const { return top_->interrupt; }
+// Verilator escapes the port name `interrupt` (a reserved word of some C compilers) as __SYM__interrupt.
+bool SystemSim::interrupt() const { return top_->__SYM__interrupt; }
 
 void SystemSim::step() {
   Vrtaccel_system& t = *top_;

@@ -48,7 +48,7 @@ class SystemSim {
   void eval();
   std::unique_ptr<VerilatedContext> ctx_;
   std::unique_ptr<Vrtaccel_system> top_;
-  std::unique_ptr<VerilatedVcdC> vcd_;
+  VerilatedVcdC* vcd_ = nullptr;  // owned; complete type only with VM_TRACE
   AxiMemory mem_;
   AxiMasterSignals in_;
   uint64_t cycles_ = 0;
