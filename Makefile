@@ -64,7 +64,7 @@ verilog: setup ## SystemVerilog for the ZC706 into build/verilog/, lint, Yosys r
 	$(if $(SCENE),$(BRIDGE) compile $(SCENE) --out $(BUILD)/verilog/scene --rays $(or $(RAYS),primary) --bvh $(or $(BVH),4))
 	$(SBT) "runMain rtaccel.tools.EmitVerilog --out $(BUILD)/verilog --bvh $(or $(BVH),4) --float $(or $(FLOAT),e8m23) --triangle $(or $(TRIANGLE),watertight) --rounding $(or $(ROUNDING),conservative) --synth $(or $(SYNTH),1) --system $(or $(SYSTEM),1)$(if $(CORES), --cores $(CORES))$(if $(VERILOG_PACKAGE), --package $(VERILOG_PACKAGE))"
 
-regress: setup ## Scene regression: make regress SCENE=scenes/x/x.xml [RAYS= FLOAT= TRIANGLE= ROUNDING=conservative|rne MEMORY=ddr|onchip MEM_LATENCY=<ns> FABRIC_MHZ=200 IDS= STACK= OUT= WAVES=1]
+regress: setup ## Scene regression: make regress SCENE=scenes/x/x.xml [RAYS= FLOAT= TRIANGLE= ROUNDING=conservative|rne MEMORY=ddr|onchip MEM_LATENCY=<ns> FABRIC_MHZ=200 IDS= STACK= OUT= WAVES=1 SIM=chiseltest|cpp]
 	@scripts/regress.sh
 
 clean: ## Remove build outputs (keeps downloaded toolchains and caches)
