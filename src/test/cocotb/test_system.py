@@ -35,13 +35,11 @@ async def _check_config(bench):
             "CONFIG_AXI_DATA_BITS": 512}
     got = {k: await bench.read(k) for k in want}
     assert got == want, f"configuration registers: got {got}, want {want}"
-    header = c.get("header")
-    if header and os.path.exists(header):
-        bad = bench.regs.header_disagreements(header)
-        assert not bad, "the C header disagrees with the register map:\n  " + "\n  ".join(bad[:10])
-        bench.log.info("%s agrees with the register map", header)
-    else:
-        bench.log.info("no C header at %s yet: offsets from the register map only", header)
+    header = c["header"]
+    assert os.path.exists(header), f"{header}: missing (regenerate with `make regmap`)"
+    bad = bench.regs.header_disagreements(header)
+    assert not bad, "the C header disagrees with the register map:\n  " + "\n  ".join(bad[:10])
+    bench.log.info("%s agrees with the register map", header)
 
 
 def _compare(bench, rays, want, blob, what):
