@@ -125,8 +125,11 @@ object EmitVerilog {
       val md = ResourceTable(s"RtAccel ${dp.name}, $nodes (${cfg.boxLanes} box lanes), ${cfg.numRayIds} ray IDs, stack ${cfg.stackDepth}",
         rows.map { case ("BoxLane", a) => s"BoxLane x${cfg.boxLanes} (BboxIntersect)" -> a; case r => r }, Zc706,
         (System.nanoTime() - t0) / 1e9)
-      Files.writeString(out.resolve("resources.md"), md)
-      println(md)
+      val t1 = System.nanoTime()
+      val fmax = FmaxEstimate.markdown(FmaxEstimate.measure(sv, top, areaCache, jobs, DelayModel.zynq7), DelayModel.zynq7,
+        (System.nanoTime() - t1) / 1e9)
+      Files.writeString(out.resolve("resources.md"), md + "\n" + fmax)
+      println(md + "\n" + fmax)
       rows
     }
   }
