@@ -8,11 +8,7 @@ CPPSIM_PKG := $(BUILD)/cppsim/cornell-16x16
 CPPSIM_RAYS ?= 256
 
 .PHONY: cppsim-test cppsim-lib
-# Not yet a prerequisite of `test`: rtaccel_system does not elaborate until
-# NamedPorts (src/main/scala/rtaccel/system/RtAccelSystem.scala) clones its
-# field types (see the cppsim report). Once it does, add:
-#   test: cppsim-test
-test: cppsim-lib
+test: cppsim-test
 
 cppsim-lib: setup-apt ## librtaccel (board backend) into build/cppsim/lib/
 	$(MAKE) -C sw lib unit
