@@ -58,13 +58,25 @@ Scene meshes_of(const rtg::Image& img) {
 bool same(float a, float b) { return rt::bits(a) == rt::bits(b); }
 bool same3(const Vector3f& a, const Vector3f& b) { return same(a.x(), b.x()) && same(a.y(), b.y()) && same(a.z(), b.z()); }
 
-int check(const std::string& dir) {
-  const rtg::Image img = rtg::read_image(dir + "/image.bin");
-  const std::vector<rtg::RayIn> rays = rtg::read_rays_csv(dir + "/rays.csv");
-  Scene s = meshes_of(img);
+// A package's image and rays, and a drop-in built over its triangles split into meshes.
+struct Loaded {
+  rtg::Image img;
+  std::vector<rtg::RayIn> rays;
+  Scene s;
   Accel accel;
-  for (auto& m : s.meshes) accel.addMesh(m.get());
-  accel.build();
+  explicit Loaded(const std::string& dir)
+      : img(rtg::read_image(dir + "/image.bin")), rays(rtg::read_rays_csv(dir + "/rays.csv")), s(meshes_of(img)) {
+    for (auto& m : s.meshes) accel.addMesh(m.get());
+    accel.build();
+  }
+};
+
+int check(const std::string& dir) {
+  Loaded pkg(dir);
+  const rtg::Image& img = pkg.img;
+  const std::vector<rtg::RayIn>& rays = pkg.rays;
+  Scene& s = pkg.s;
+  Accel& accel = pkg.accel;
   const rtg::WalkConfig cfg;
   long bad = 0, hits = 0;
   for (size_t i = 0; i < rays.size(); ++i) {
@@ -111,12 +123,9 @@ double thread_cpu() {
 // rays, repeated to at least 2M rays in all. Wall-clock rays/s on a shared
 // machine depend on its load, so CPU-seconds are reported beside them.
 int bench(const std::string& dir, unsigned threads) {
-  const rtg::Image img = rtg::read_image(dir + "/image.bin");
-  const std::vector<rtg::RayIn> rays = rtg::read_rays_csv(dir + "/rays.csv");
-  Scene s = meshes_of(img);
-  Accel accel;
-  for (auto& m : s.meshes) accel.addMesh(m.get());
-  accel.build();
+  Loaded pkg(dir);
+  const std::vector<rtg::RayIn>& rays = pkg.rays;
+  Accel& accel = pkg.accel;
   const size_t per = std::max<size_t>(rays.size(), 2000000 / threads);
   std::vector<double> cpu(threads);
   std::vector<long> found(threads);

@@ -103,15 +103,20 @@ void SystemSim::step() {
   cycles_++;
 }
 
+void SystemSim::awaitLite(bool& done, const char* access, const char* respName, uint32_t offset) {
+  for (int i = 0; i < kLiteTimeout && !done; ++i) step();
+  if (!done) throw SimError(std::string("s_axi ") + access + " of register offset " + std::to_string(offset) +
+                            ": no response in " + std::to_string(kLiteTimeout) + " cycles");
+  done = false;
+  if (liteResp_ != 0) throw SimError(std::string("s_axi ") + access + " of offset " + std::to_string(offset) + ": " +
+                                     respName + " " + std::to_string(liteResp_));
+}
+
 uint32_t SystemSim::readReg(uint32_t offset) {
   liteAddr_ = offset;
   arPending_ = true;
   rDone_ = false;
-  for (int i = 0; i < kLiteTimeout && !rDone_; ++i) step();
-  if (!rDone_) throw SimError("s_axi read of register offset 0x" + std::to_string(offset) + ": no response in " +
-                              std::to_string(kLiteTimeout) + " cycles");
-  rDone_ = false;
-  if (liteResp_ != 0) throw SimError("s_axi read of offset " + std::to_string(offset) + ": RRESP " + std::to_string(liteResp_));
+  awaitLite(rDone_, "read", "RRESP", offset);
   return rData_;
 }
 
@@ -120,11 +125,7 @@ void SystemSim::writeReg(uint32_t offset, uint32_t value) {
   liteData_ = value;
   awPending_ = wPending_ = true;
   bDone_ = false;
-  for (int i = 0; i < kLiteTimeout && !bDone_; ++i) step();
-  if (!bDone_) throw SimError("s_axi write of register offset " + std::to_string(offset) + ": no response in " +
-                              std::to_string(kLiteTimeout) + " cycles");
-  bDone_ = false;
-  if (liteResp_ != 0) throw SimError("s_axi write of offset " + std::to_string(offset) + ": BRESP " + std::to_string(liteResp_));
+  awaitLite(bDone_, "write", "BRESP", offset);
 }
 
 bool SystemSim::runUntilInterrupt(uint64_t maxCycles) {

@@ -46,6 +46,8 @@ class SystemSim {
 
  private:
   void eval();
+  // Steps until the s_axi handshake sets `done`, then checks the response code.
+  void awaitLite(bool& done, const char* access, const char* respName, uint32_t offset);
   std::unique_ptr<VerilatedContext> ctx_;
   std::unique_ptr<Vrtaccel_system> top_;
   VerilatedVcdC* vcd_ = nullptr;  // owned; complete type only with VM_TRACE
