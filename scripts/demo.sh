@@ -4,7 +4,10 @@
 # the picture of what the hardware saw, then the box shaded at 256x256 from
 # RTL-traced rays.
 set -euo pipefail
-export SCENE=scenes/cornell-box/cornell-box.xml OUT=${OUT:-build/demo} ROUNDING=${ROUNDING:-conservative}
+# SIM=cpp (default): the regression runs the system top under the C++
+# Verilator harness through librtaccel (sw/sim/), ~30k cycles/s here;
+# SIM=chiseltest runs it under chiseltest (~2k cycles/s: minutes more).
+export SCENE=scenes/cornell-box/cornell-box.xml OUT=${OUT:-build/demo} ROUNDING=${ROUNDING:-conservative} SIM=${SIM:-cpp}
 scripts/regress.sh
 # The Cornell box shaded (eye light), 256x256, every camera ray traced by the
 # RTL (the Verilated system through librtaccel, make render RTL=1), beside
