@@ -1,13 +1,22 @@
 # Shaded images from the accelerator's hits, and nori-accel (golden walk,
 # Nori drop-in). See docs/nori-dropin.md.
-.PHONY: render nori-accel nori-accel-bench
+.PHONY: render nori-accel nori-accel-bench nori-accel-rtl-test
 BRIDGE_BIN := nori-bridge/target/release/nori-bridge
+
+# The C++ simulation of rtaccel_system in the configuration render and the
+# drop-in use (ZC706, FP32 watertight conservative, 4-wide nodes), as make
+# cppsim-test builds it (rtaccel.regress.CppSim.simDir). Rebuilt through
+# cppsim-test when missing or older than the Chisel sources.
+NORI_SIMDIR := $(BUILD)/cppsim/system_e8m23_wt_cons_c1_n64_d64_k4
+$(NORI_SIMDIR)/rtaccel-sim: $(shell find src/main/scala -name '*.scala')
+	$(MAKE) cppsim-test
+	touch $@
 
 nori-accel: setup-apt ## Build nori-accel/: the golden walk (bit-exact with the FP32 RTL) and the Nori drop-in
 	$(MAKE) -C nori-accel
 
-render: setup nori-accel ## Shaded PNG + Embree image + diff + montage.png [SCENE= INTEGRATOR=normals|ao|direct WIDTH=256 HEIGHT=256 SPP=1 SAMPLES=4 RTL=1 OUT=]
-	scripts/render.sh
+render: setup nori-accel $(if $(filter 1,$(RTL)),$(NORI_SIMDIR)/rtaccel-sim) ## Shaded PNG + Embree image + diff + montage.png [SCENE= INTEGRATOR=normals|ao|direct WIDTH=256 HEIGHT=256 SPP=1 SAMPLES=4 RTL=1 OUT=]
+	RTL_SIMDIR=$(NORI_SIMDIR) scripts/render.sh
 
 NORI_ACCEL_BENCH := build/nori-accel-bench
 nori-accel-bench: setup nori-accel ## Golden-mode throughput of the Nori drop-in on 2 threads (Cornell 256x256 camera and AO rays, dragon AO) -> build/nori-accel-bench/bench.json
@@ -17,3 +26,13 @@ nori-accel-bench: setup nori-accel ## Golden-mode throughput of the Nori drop-in
 	$(BRIDGE_BIN) compile scenes/dragon/dragon.xml --out $(NORI_ACCEL_BENCH)/dragon-ao --rays ao --width 128 --height 128 --bvh 4 >/dev/null
 	@for p in cornell-primary cornell-ao dragon-ao; do nori-accel/build/dropin-check --bench $(NORI_ACCEL_BENCH)/$$p 2; done | tee $(NORI_ACCEL_BENCH)/bench.json
 	@echo "nori-accel-bench: $(NORI_ACCEL_BENCH)/bench.json (wall-clock figures depend on the machine's load; mrays_per_cpu_s does not)"
+
+# The drop-in's rtl mode (RTACCEL_MODE=rtl: librtaccel's simulation backend)
+# against golden mode, hit for hit, from 4 threads on make cppsim-test's
+# Cornell package (256 rays, every third a shadow ray, and 2 invalid rays).
+# Reuses cppsim-test's simulator build, so in make test it costs only the
+# drop-in's link and the run.
+test: nori-accel-rtl-test
+nori-accel-rtl-test: setup nori-accel cppsim-test ## The Nori drop-in's rtl mode (Verilated system via librtaccel) against golden mode, from 4 threads (part of make test)
+	$(MAKE) -C nori-accel rtl SIMDIR=$(abspath $(NORI_SIMDIR))
+	nori-accel/build/dropin-check-rtl --rtl $(CPPSIM_PKG) 256 4

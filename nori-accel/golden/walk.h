@@ -70,4 +70,11 @@ struct WalkConfig {
 
 HitOut trace(const Image& img, const RayIn& ray, const WalkConfig& cfg, WalkStats* stats = nullptr);
 
+// The four-slot SIMD box test (AVX-512, when compiled in) against four
+// scalar box tests on `n` seeded random rays and nodes, special values mixed
+// in (zeros of both signs, subnormals, infinities, NaN, FLT_MAX): returns how
+// many slots differ (hit, or the bits of near), printing the first few;
+// -1 when the build has no SIMD box test. tests/directed_check.cpp runs it.
+long box4_selfcheck(uint64_t seed, long n);
+
 }  // namespace rtg

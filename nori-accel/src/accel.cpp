@@ -3,7 +3,8 @@
 // memory image exactly as for `make regress` (Embree's builder, 4-wide nodes);
 // rayIntersect() asks the accelerator's golden model (golden/walk.h, bit-exact
 // with the FP32 RTL) and fills the Intersection the way Nori's Accel does
-// after a hit. Modes and recording: docs/nori-dropin.md.
+// after a hit. In `rtl` mode the rays go through librtaccel's simulation
+// instead (src/rtl_batcher.h). Modes, errors and recording: docs/nori-dropin.md.
 #include <nori/accel.h>
 
 #include <algorithm>
@@ -12,12 +13,16 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <mutex>
 #include <stdexcept>
 #include <string>
 
 #include "../golden/package_io.h"
 #include "../golden/walk.h"
+#ifdef RTACCEL_SIM
+#include "rtl_batcher.h"
+#endif
 
 #ifndef NORI_ACCEL_BRIDGE
 #define NORI_ACCEL_BRIDGE "nori-bridge"
@@ -44,15 +49,70 @@ struct RayRecorder {
     std::ofstream out;
 };
 
+/// What happens to a ray the hardware flags (HitOut.errors != 0): never a silent miss.
+enum class OnError { Throw, Warn };
+
+/// RTACCEL_ON_ERROR=warn: flagged rays are misses, each counted and the first
+/// few printed to stderr; the total is printed when the Accel is destroyed.
+struct ErrorLog {
+    std::mutex lock;
+    uint64_t count = 0;
+    static constexpr uint64_t kPrinted = 10;
+};
+
 struct RtAccelState {
     rtg::Image image;
     rtg::WalkConfig config;
     std::vector<uint32_t> firstPrim;  ///< prim number of each mesh's first triangle
     std::unique_ptr<RayRecorder> recorder;
+    OnError onError = OnError::Throw;
+    ErrorLog errors;
+#ifdef RTACCEL_SIM
+    std::unique_ptr<nori_rtl::RtlBatcher> rtl;  ///< rtl mode: the simulated hardware answers
+#endif
 };
 
+namespace {
+const char *const kErrorNames[] = {"stack overflow", "index overflow", "leaf too big", "invalid ray", "bad scene data"};
+
+std::string errorText(uint32_t bits) {
+    std::string s;
+    for (uint32_t b = 0; b < 32; ++b)
+        if (bits >> b & 1)
+            s += (s.empty() ? "" : ", ") + std::string(b < 5 ? kErrorNames[b] : "bit " + std::to_string(b));
+    return s;
+}
+
+#ifdef RTACCEL_SIM
+uint32_t envCount(const char *name, uint32_t fallback) {
+    const std::string v = env(name, "");
+    if (v.empty())
+        return fallback;
+    char *end = nullptr;
+    const unsigned long x = std::strtoul(v.c_str(), &end, 10);
+    if (*end != '\0' || x > 1000000)
+        throw std::runtime_error(std::string(name) + "=" + v + ": expected a whole number up to 1000000");
+    return static_cast<uint32_t>(x);
+}
+#endif
+}  // namespace
+
 Accel::Accel() = default;
-Accel::~Accel() = default;
+Accel::~Accel() {
+    if (!m_state)
+        return;
+#ifdef RTACCEL_SIM
+    if (m_state->rtl) {
+        const nori_rtl::BatchStats b = m_state->rtl->stats();
+        std::fprintf(stderr, "nori-accel rtl: %llu rays in %llu batches (largest %llu), %llu simulated cycles\n",
+                     (unsigned long long)b.rays, (unsigned long long)b.batches, (unsigned long long)b.largestBatch,
+                     (unsigned long long)b.simCycles);
+    }
+#endif
+    if (m_state->errors.count > 0)
+        std::fprintf(stderr, "nori-accel: %llu rays were flagged by the hardware and answered as misses (RTACCEL_ON_ERROR=warn)\n",
+                     (unsigned long long)m_state->errors.count);
+}
 
 void Accel::addMesh(Mesh *mesh) {
     if (m_state)
@@ -64,11 +124,18 @@ void Accel::addMesh(Mesh *mesh) {
 void Accel::build() {
     auto state = std::make_unique<RtAccelState>();
     const std::string mode = env("RTACCEL_MODE", "golden");
+#ifndef RTACCEL_SIM
     if (mode == "rtl")
-        throw std::runtime_error("RTACCEL_MODE=rtl needs librtaccel's simulation backend (issue 13), which is not built yet; "
-                                 "use RTACCEL_MODE=golden, or record the rays (RTACCEL_RECORD=rays.txt) and replay them with make regress");
-    if (mode != "golden")
+        throw std::runtime_error("RTACCEL_MODE=rtl: this build of the drop-in does not link librtaccel's simulation backend; "
+                                 "build it with RTACCEL_SIM defined and the Verilated system linked (make -C nori-accel rtl SIMDIR=..., "
+                                 "docs/nori-dropin.md), or use RTACCEL_MODE=golden");
+#endif
+    if (mode != "golden" && mode != "rtl")
         throw std::runtime_error("RTACCEL_MODE=" + mode + ": expected golden or rtl");
+    const std::string onError = env("RTACCEL_ON_ERROR", "throw");
+    if (onError != "throw" && onError != "warn")
+        throw std::runtime_error("RTACCEL_ON_ERROR=" + onError + ": expected throw or warn");
+    state->onError = onError == "warn" ? OnError::Warn : OnError::Throw;
     if (m_meshes.empty())
         throw std::runtime_error("Accel::build(): no mesh was added");
 
@@ -103,11 +170,24 @@ void Accel::build() {
     if (std::system(cmd.c_str()) != 0)
         throw std::runtime_error("Accel::build(): `" + cmd + "` failed; see " + (dir / "compile.log").string() +
                                  " (set RTACCEL_NORI_BRIDGE to nori-bridge's path)");
-    state->image = rtg::read_image((dir / "pkg" / "image.bin").string());
+    const std::string imagePath = (dir / "pkg" / "image.bin").string();
+    std::ifstream imageFile(imagePath, std::ios::binary);
+    const std::vector<uint8_t> imageBytes((std::istreambuf_iterator<char>(imageFile)), std::istreambuf_iterator<char>());
+    std::string err;
+    if (!rtg::parse_image(imageBytes.data(), imageBytes.size(), state->image, err))
+        throw std::runtime_error(imagePath + ": " + err);
     if (state->image.tris.size() != prims)
         throw std::runtime_error("Accel::build(): the image holds " + std::to_string(state->image.tris.size()) +
                                  " triangles for " + std::to_string(prims));
     std::filesystem::remove_all(dir);
+#ifdef RTACCEL_SIM
+    if (mode == "rtl") {
+        nori_rtl::BatchOptions opt;
+        opt.maxBatch = envCount("RTACCEL_RTL_BATCH", opt.maxBatch);
+        opt.windowUs = envCount("RTACCEL_RTL_WINDOW_US", opt.windowUs);
+        state->rtl = std::make_unique<nori_rtl::RtlBatcher>(imageBytes, opt);
+    }
+#endif
 
     const std::string record = env("RTACCEL_RECORD", "");
     if (!record.empty()) {
@@ -137,9 +217,24 @@ bool Accel::rayIntersect(const Ray3f &ray, Intersection &its, bool shadowRay) co
         rec->out << num(r.o[0]) << ' ' << num(r.o[1]) << ' ' << num(r.o[2]) << ' ' << num(r.d[0]) << ' ' << num(r.d[1]) << ' '
                  << num(r.d[2]) << ' ' << num(r.tmin) << ' ' << num(r.tmax) << (shadowRay ? " # shadow\n" : "\n");
     }
-    // A ray the hardware flags (error bits) is answered as a miss, as the
-    // accelerator's hit port reports it (hit = 0).
+#ifdef RTACCEL_SIM
+    const rtg::HitOut h = m_state->rtl ? m_state->rtl->trace(r) : rtg::trace(m_state->image, r, m_state->config);
+#else
     const rtg::HitOut h = rtg::trace(m_state->image, r, m_state->config);
+#endif
+    // A ray the hardware flags (error bits; its hit bit is 0) is never a silent miss.
+    if (h.errors != 0) {
+        const std::string what = "nori-accel: the accelerator flagged the ray o=(" + num(r.o[0]) + ", " + num(r.o[1]) + ", " +
+                                 num(r.o[2]) + ") d=(" + num(r.d[0]) + ", " + num(r.d[1]) + ", " + num(r.d[2]) + ") mint=" +
+                                 num(r.tmin) + " maxt=" + num(r.tmax) + ": " + errorText(h.errors);
+        if (m_state->onError == OnError::Throw)
+            throw std::runtime_error(what + " (RTACCEL_ON_ERROR=warn answers such rays as misses, reported)");
+        ErrorLog &log = m_state->errors;
+        std::lock_guard<std::mutex> g(log.lock);
+        if (++log.count <= ErrorLog::kPrinted)
+            std::fprintf(stderr, "%s; answered as a miss%s\n", what.c_str(), log.count == ErrorLog::kPrinted ? " (no more printed)" : "");
+        return false;
+    }
     if (!h.hit)
         return false;
     if (shadowRay)

@@ -11,13 +11,24 @@
 //     4-wide image through nori-bridge from those meshes; on 4-wide packages
 //     equal answers mean the same tree (visiting order decides ties), on the
 //     other layouts they show the layouts agree on these rays.
+//     A ray the golden walk flags (error bits) must make rayIntersect throw
+//     (RTACCEL_ON_ERROR's default), never answer a silent miss.
+//   dropin-check --rtl <package dir> <rays> <threads>   the drop-in in rtl
+//     mode (librtaccel's simulation; only in the build that links it,
+//     dropin-check-rtl) against golden mode, hit for hit: the package's first
+//     <rays> rays (every third one as a shadow ray) plus two invalid rays,
+//     asked from <threads> threads at once of the rtl Accel, every answer
+//     (return value, its bit for bit, mesh, or the thrown message) equal to
+//     golden mode's answer to the same ray.
 //   dropin-check --bench <package dir> [threads]   golden-mode throughput.
 #include <nori/accel.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
+#include <stdexcept>
 #include <thread>
 
 #include "../golden/package_io.h"
@@ -71,6 +82,24 @@ struct Loaded {
   }
 };
 
+// One answer of rayIntersect: the return value, its, or what it threw.
+struct Answer {
+  bool hit = false;
+  Intersection its;
+  std::string thrown;
+};
+
+Answer ask(const Accel& accel, const rtg::RayIn& r) {
+  Answer a;
+  a.its.t = -1.0f;  // a sentinel: shadow rays must leave its alone
+  try {
+    a.hit = accel.rayIntersect(Ray3f(Point3f(r.o[0], r.o[1], r.o[2]), Vector3f(r.d[0], r.d[1], r.d[2]), r.tmin, r.tmax), a.its, r.shadow);
+  } catch (const std::runtime_error& e) {
+    a.thrown = e.what();
+  }
+  return a;
+}
+
 int check(const std::string& dir) {
   Loaded pkg(dir);
   const rtg::Image& img = pkg.img;
@@ -82,12 +111,15 @@ int check(const std::string& dir) {
   for (size_t i = 0; i < rays.size(); ++i) {
     const rtg::RayIn& r = rays[i];
     const rtg::HitOut g = rtg::trace(img, r, cfg);
-    Ray3f ray(Point3f(r.o[0], r.o[1], r.o[2]), Vector3f(r.d[0], r.d[1], r.d[2]), r.tmin, r.tmax);
-    Intersection its;
-    its.t = -1.0f;  // a sentinel: shadow rays must leave its alone
-    const bool got = accel.rayIntersect(ray, its, r.shadow);
+    const Answer a = ask(accel, r);
+    const bool got = a.hit;
+    const Intersection& its = a.its;
+    const std::string& thrown = a.thrown;
     std::string why;
-    if (got != g.hit) why = "hit " + std::to_string(got) + ", golden " + std::to_string(g.hit);
+    if (g.errors != 0 || !thrown.empty()) {
+      if (g.errors == 0) why = "threw '" + thrown + "' for an unflagged ray";
+      else if (thrown.empty()) why = "answered a ray the hardware flags (errors " + std::to_string(g.errors) + ") without throwing";
+    } else if (got != g.hit) why = "hit " + std::to_string(got) + ", golden " + std::to_string(g.hit);
     else if (r.shadow && its.t != -1.0f) why = "shadow ray wrote its";
     else if (got && !r.shadow) {
       ++hits;
@@ -111,6 +143,86 @@ int check(const std::string& dir) {
   std::printf("dropin-check: %s: %zu rays (%ld hits) through Accel::rayIntersect, %ld differ from the golden walk\n", dir.c_str(),
               rays.size(), hits, bad);
   return bad == 0 ? 0 : 1;
+}
+
+// RTACCEL_ON_ERROR=warn: a flagged ray (NaN direction) is answered a miss
+// without throwing (and reported on stderr), its untouched; the default
+// (throw) is checked on every flagged ray by check() and rtlCheck().
+int warnCheck(const std::string& dir) {
+  const char* rec = std::getenv("RTACCEL_RECORD");
+  const std::string record = rec ? rec : "";  // this ray is not one to record
+  unsetenv("RTACCEL_RECORD");
+  setenv("RTACCEL_ON_ERROR", "warn", 1);
+  Loaded pkg(dir);
+  unsetenv("RTACCEL_ON_ERROR");
+  if (!record.empty()) setenv("RTACCEL_RECORD", record.c_str(), 1);
+  rtg::RayIn r = pkg.rays.at(0);
+  r.d[0] = std::nanf("");
+  r.shadow = false;
+  const Answer a = ask(pkg.accel, r);
+  const bool ok = a.thrown.empty() && !a.hit && a.its.t == -1.0f;
+  std::printf("dropin-check: RTACCEL_ON_ERROR=warn: a NaN-direction ray %s\n",
+              ok ? "is answered a reported miss" : ("gave hit " + std::to_string(a.hit) + ", thrown '" + a.thrown + "'").c_str());
+  return ok ? 0 : 1;
+}
+
+bool sameFrame(const Frame& a, const Frame& b) { return same3(a.n, b.n) && same3(a.s, b.s) && same3(a.t, b.t); }
+
+// Which part of two answers differs ("" if none), meshes compared by their index in each scene.
+std::string differs(const Answer& a, const Scene& sa, const Answer& b, const Scene& sb) {
+  if (a.thrown != b.thrown) return "thrown '" + a.thrown + "' vs '" + b.thrown + "'";
+  if (a.hit != b.hit) return "hit " + std::to_string(a.hit) + " vs " + std::to_string(b.hit);
+  auto meshIndex = [](const Scene& s, const Mesh* m) {
+    for (size_t k = 0; k < s.meshes.size(); ++k) if (s.meshes[k].get() == m) return static_cast<long>(k);
+    return -1L;
+  };
+  if (!same(a.its.t, b.its.t)) return "t";
+  if (!same(a.its.uv.x(), b.its.uv.x()) || !same(a.its.uv.y(), b.its.uv.y())) return "uv";
+  if (!same3(a.its.p, b.its.p)) return "p";
+  if (!sameFrame(a.its.geoFrame, b.its.geoFrame) || !sameFrame(a.its.shFrame, b.its.shFrame)) return "frames";
+  if (meshIndex(sa, a.its.mesh) != meshIndex(sb, b.its.mesh)) return "mesh";
+  return "";
+}
+
+int rtlCheck(const std::string& dir, size_t count, unsigned threads) {
+  setenv("RTACCEL_MODE", "golden", 1);
+  Loaded golden(dir);
+  setenv("RTACCEL_MODE", "rtl", 1);
+  Loaded rtl(dir);
+  std::vector<rtg::RayIn> rays(golden.rays.begin(), golden.rays.begin() + static_cast<long>(std::min(count, golden.rays.size())));
+  for (size_t i = 2; i < rays.size(); i += 3) rays[i].shadow = true;
+  // Two rays the hardware flags (invalid ray): a NaN direction and a zero direction.
+  rtg::RayIn bad = rays.at(0);
+  bad.d[1] = std::nanf("");
+  rays.push_back(bad);
+  bad.d[0] = bad.d[1] = bad.d[2] = 0.0f;
+  rays.push_back(bad);
+  std::vector<Answer> got(rays.size());
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<std::thread> pool;
+  for (unsigned k = 0; k < threads; ++k)
+    pool.emplace_back([&, k] {
+      for (size_t i = k; i < rays.size(); i += threads) got[i] = ask(rtl.accel, rays[i]);
+    });
+  for (auto& t : pool) t.join();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  long bad_rays = 0, hits = 0, flagged = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const Answer want = ask(golden.accel, rays[i]);
+    hits += want.hit;
+    flagged += !want.thrown.empty();
+    const std::string why = differs(got[i], rtl.s, want, golden.s);
+    if (!why.empty() && ++bad_rays <= 10)
+      std::printf("dropin-check --rtl: %s: ray %zu%s: rtl mode and golden mode differ: %s\n", dir.c_str(), i,
+                  rays[i].shadow ? " (shadow)" : "", why.c_str());
+  }
+  if (flagged != 2) {
+    std::printf("dropin-check --rtl: %ld rays threw in golden mode, expected the 2 invalid rays\n", flagged);
+    ++bad_rays;
+  }
+  std::printf("dropin-check --rtl: %s: %zu rays (%ld hits, %ld flagged) from %u threads through the rtl mode in %.1f s wall, "
+              "%ld differ from golden mode\n", dir.c_str(), rays.size(), hits, flagged, threads, wall, bad_rays);
+  return bad_rays == 0 ? 0 : 1;
 }
 
 double thread_cpu() {
@@ -160,8 +272,13 @@ int main(int argc, char** argv) {
   try {
     if (argc >= 3 && std::strcmp(argv[1], "--bench") == 0)
       return bench(argv[2], argc >= 4 ? static_cast<unsigned>(std::atoi(argv[3])) : 2u);
-    if (argc < 2) { std::fprintf(stderr, "usage: dropin-check <package dir>... | --bench <package dir> [threads]\n"); return 2; }
-    int rc = 0;
+    if (argc == 5 && std::strcmp(argv[1], "--rtl") == 0)
+      return rtlCheck(argv[2], std::strtoul(argv[3], nullptr, 10), static_cast<unsigned>(std::atoi(argv[4])));
+    if (argc < 2 || argv[1][0] == '-') {
+      std::fprintf(stderr, "usage: dropin-check <package dir>... | --rtl <package dir> <rays> <threads> | --bench <package dir> [threads]\n");
+      return 2;
+    }
+    int rc = warnCheck(argv[1]);
     for (int i = 1; i < argc; ++i) rc |= check(argv[i]);
     return rc;
   } catch (const std::exception& e) {

@@ -178,6 +178,15 @@ enum Cmd {
         #[arg(long)]
         runtime_note: Option<String>,
     },
+    /// Count the pixels that differ between two PNGs of the same size
+    /// (e.g. make render RTL=1's image against the golden walk's); prints the
+    /// count, exits 1 if any differ, --out writes the difference image.
+    DiffPng {
+        a: PathBuf,
+        b: PathBuf,
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Write the hard-case suite (scenes, rays.txt, expect.csv; deterministic).
     HardCases {
         #[arg(long, default_value = "scenes/hard")]
@@ -253,6 +262,21 @@ pub fn run() -> Result<()> {
             crate::sweep::report::run(&crate::sweep::report::ReportOpts { sweep, json, md, plots, baseline_format, runtime_note })?
         }
         Cmd::Bench { package, min_rays, robust } => crate::reference::bench::bench(&Package::load(&package)?, min_rays, robust)?,
+        Cmd::DiffPng { a, b, out } => {
+            let load = |p: &PathBuf| image::open(p).map(|i| i.to_rgb8()).map_err(|e| anyhow!("{}: {e}", p.display()));
+            let (ia, ib) = (load(&a)?, load(&b)?);
+            if ia.dimensions() != ib.dimensions() {
+                return Err(anyhow!("{} is {:?}, {} is {:?}: not the same size", a.display(), ia.dimensions(), b.display(), ib.dimensions()));
+            }
+            let (d, n) = crate::shade::montage::diff(&ia, &ib);
+            if let Some(o) = &out {
+                d.save(o).map_err(|e| anyhow!("{}: {e}", o.display()))?;
+            }
+            println!("{} pixels of {} differ between {} and {}", n, ia.width() * ia.height(), a.display(), b.display());
+            if n > 0 {
+                std::process::exit(1);
+            }
+        }
         Cmd::HardCases { out } => {
             let n = crate::hard::cases::generate(&out)?;
             println!("{}: {n} hard cases, seed {}", out.display(), crate::hard::cases::SEED);
