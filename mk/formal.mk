@@ -6,8 +6,8 @@ FORMAL_DIR := $(BUILD)/formal
 formal-emit: setup-sbt
 	$(SBT) "Test/runMain rtaccel.formal.EmitFormal --out $(FORMAL_DIR)"
 
-formal: setup formal-emit ## Bounded model check of small RtAccel configurations (Yosys SAT): no overflow, IDs once, every ray once -> build/formal/formal.log [FORMAL_DEPTH=]
+formal: setup formal-emit ## Bounded model check of small RtAccel configurations (Yosys -> AIGER -> ABC bmc3): no overflow, IDs once, every ray once -> build/formal/formal.log [FORMAL_DEPTH=]
 	scripts/formal.sh $(FORMAL_DIR) $(FORMAL_DEPTH)
 
-formal-mutants: formal ## Break the n2 design on purpose three ways; each must be caught -> build/formal/mutants.log [FORMAL_MUTANT_DEPTH=16]
-	scripts/formal-mutants.sh $(FORMAL_DIR) $(or $(FORMAL_MUTANT_DEPTH),16)
+formal-mutants: formal ## Break the n2 design on purpose three ways (each must be caught) and two probes (leaf round trip inside the depth; bounded_response can fail) -> build/formal/mutants.log [FORMAL_MUTANT_DEPTH=28]
+	scripts/formal-mutants.sh $(FORMAL_DIR) $(or $(FORMAL_MUTANT_DEPTH),28)

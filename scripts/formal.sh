@@ -1,47 +1,40 @@
 #!/usr/bin/env bash
 # Bounded model checking of the small RtAccel configurations EmitFormal wrote
 # into $1 (docs/formal.md). For each case in cases.txt: a wrapper holds reset
-# in the first cycle, Yosys reads the design with its assertions and
-# assumptions, and its SAT engine checks every assertion at every step up to
-# the case's depth. Each property and the depth reached go to formal.log.
+# in the first cycle, Yosys turns the design with its assertions and
+# assumptions into an AIGER model, and ABC's bmc3 checks every assertion at
+# every step up to the case's depth. Each property and the depth reached go
+# to formal.log; on a failure each property is checked alone to name it.
 # Usage: scripts/formal.sh <dir> [DEPTH override]
 set -euo pipefail
 dir=$1; override=${2:-}
+. "$(dirname "$0")/formal-lib.sh"
 log=$dir/formal.log
 : > "$log"
 status=0
 while read -r name depth bound; do
   [ -n "$override" ] && depth=$override
-  top=FormalTop_$name
-  cat > "$dir/wrap_$name.sv" <<WRAP
-module formal_$name(input clock);
-  reg init = 1'b1;  // reset in the first cycle only
-  always @(posedge clock) init <= 1'b0;
-  $top top(.clock(clock), .reset(init));
-endmodule
-WRAP
+  formal_wrap "$dir" "$name"
   start=$(date +%s)
-  if yosys -q -l "$dir/yosys_$name.log" -p "read_verilog -formal -sv $dir/FormalAnySeq.v $dir/formal_$name.sv $dir/wrap_$name.sv;
-      prep -flatten -top formal_$name; memory_map; opt -fast; async2sync; dffunmap;
-      sat -seq $depth -prove-asserts -set-assumes -verify -show-public -dump_vcd $dir/cex_$name.vcd" >/dev/null 2>&1; then
-    result="PASS (no assertion fails in steps 1..$depth)"
-  else
-    result="FAIL"; status=1
-  fi
+  formal_aig "$dir" "$name" "$dir/formal_$name.sv" "$dir/formal_$name.aig"
+  verdict=$(formal_bmc "$dir/formal_$name.aig" "$depth" "$dir/bmc_$name.log")
   secs=$(( $(date +%s) - start ))
+  if [ "$verdict" = pass ]; then result="PASS (no assertion fails in steps 1..$depth)"
+  else result="FAIL (an assertion fails at step $verdict)"; status=1; fi
   {
-    echo "case $name: bounded model check to depth $depth (cycle 1 is reset), $secs s: $result"
+    echo "case $name: bounded model check (ABC bmc3) to depth $depth (step 1 is reset), $secs s: $result"
     echo "  responseBound = $bound cycles"
     while read -r prop; do
       note=""
       # A ray can only overstay the bound after `bound` cycles: below that depth the check is empty.
       case $prop in bounded_response*) [ "$depth" -le "$bound" ] && note=" (VACUOUS: depth $depth <= responseBound $bound, not proven)";; esac
-      echo "  $prop: ${result%% *} to depth $depth$note"
+      if [ "$verdict" = pass ]; then echo "  $prop: PASS to depth $depth$note"
+      else
+        formal_aig "$dir" "$name" "$dir/formal_$name.sv" "$dir/formal_${name}_$prop.aig" "$prop"
+        one=$(formal_bmc "$dir/formal_${name}_$prop.aig" "$depth" "$dir/bmc_${name}_$prop.log")
+        if [ "$one" = pass ]; then echo "  $prop: PASS to depth $depth$note"; else echo "  $prop: FAIL at step $one"; fi
+      fi
     done < "$dir/formal_$name.props"
-    if [ "$result" = FAIL ]; then
-      grep -E "failed|Assert|assert.*\b1'0\b" "$dir/yosys_$name.log" | grep -v "Import proof" | tail -5 | sed 's/^/  /'
-      echo "  counterexample: $dir/cex_$name.vcd"
-    fi
   } | tee -a "$log"
 done < "$dir/cases.txt"
 exit $status

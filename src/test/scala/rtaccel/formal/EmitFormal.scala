@@ -17,8 +17,8 @@ object FormalCase {
   private val dp = new FormalDatapath(prepLatency = 1, boxLatency = 2, primLatency = 2)
 
   val all: Seq[FormalCase] = Seq(
-    FormalCase("n2", small(2), dp, FormalEnv(memLatency = 3, memStall = 1, hitStall = 2, responseBound = 80), depth = 20),
-    FormalCase("n4", small(4), dp, FormalEnv(memLatency = 3, memStall = 1, hitStall = 2, responseBound = 160), depth = 16)
+    FormalCase("n2", small(2), dp, FormalEnv(memLatency = 3, memStall = 1, hitStall = 2, responseBound = 80), depth = 28),
+    FormalCase("n4", small(4), dp, FormalEnv(memLatency = 3, memStall = 1, hitStall = 2, responseBound = 160), depth = 20)
   )
 }
 
