@@ -4,7 +4,8 @@
 //! the exact min/max of the f32 vertices below them.
 
 use crate::bvh::layout::{EMPTY_SLOT, LEAF_BIT};
-use crate::bvh::{Bvh, Layout, Node};
+use crate::bvh::quant::QuantNode;
+use crate::bvh::{Bvh, Layout, Node, Slot};
 use crate::geom::{Aabb, Tri};
 use anyhow::{bail, Result};
 
@@ -23,6 +24,13 @@ pub fn flatten(tree: &Tree, tris: &[Tri], max_leaf_size: u32, layout: Layout) ->
             let d = f.nori(tree)?;
             (d, d)
         }
+        quant if quant.is_quant() => {
+            let k = quant.records_per_node();
+            let q = crate::bvh::quant::flatten_quant(tree, tris, k)?;
+            let fields = q.nodes.chunks(k).map(|slots| QuantNode::encode(&slots.iter().map(|s| (s.slot() != Slot::Empty).then_some(s.bounds)).collect::<Vec<_>>()))
+                .collect::<Result<Vec<_>>>()?;
+            return Ok(Bvh { layout, nodes: q.nodes, slot_prim: q.slot_prim, depth: q.stack, tree_depth: q.depth, max_leaf_size, quant: fields });
+        }
         wide => {
             let k = wide.records_per_node();
             let root = match tree {
@@ -33,7 +41,7 @@ pub fn flatten(tree: &Tree, tris: &[Tri], max_leaf_size: u32, layout: Layout) ->
             (w.stack, w.depth)
         }
     };
-    Ok(Bvh { layout, nodes: f.nodes, slot_prim: f.slot_prim, depth, tree_depth, max_leaf_size })
+    Ok(Bvh { layout, nodes: f.nodes, slot_prim: f.slot_prim, depth, tree_depth, max_leaf_size, quant: Vec::new() })
 }
 
 struct Flattener<'a> {

@@ -6,6 +6,7 @@
 pub mod build;
 pub mod flatten;
 pub mod layout;
+pub mod quant;
 
 pub use layout::{Layout, Slot, EMPTY_SLOT, LEAF_BIT};
 
@@ -53,6 +54,9 @@ pub struct Bvh {
     /// Inner (wide) nodes on the longest root-to-leaf path.
     pub tree_depth: u32,
     pub max_leaf_size: u32,
+    /// Quantized layouts: each node's quantization fields (`nodes` keep the
+    /// exact boxes); empty otherwise.
+    pub quant: Vec<quant::QuantNode>,
 }
 
 impl Bvh {

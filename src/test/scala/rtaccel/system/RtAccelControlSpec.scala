@@ -32,7 +32,7 @@ class RtAccelControlSpec extends AnyFlatSpec with ChiselScalatestTester {
   )
 
   for (layout <- BvhLayout.all; (ids, rayCount) <- Seq(2 -> 150, 4 -> 250, 16 -> 600)
-       if layout == BvhLayout.Nori || layout == BvhLayout.Wide(4) || ids == 4) {
+       if (layout == BvhLayout.Nori || layout == BvhLayout.Wide(4) || ids == 4) && layout != BvhLayout.Wide(8, quantized = true)) {
     it should s"answer every ray exactly once, bit-exact with the golden model, with $ids ray IDs in every environment (layout ${layout.name})" in
       Seeded(s"RtAccelControl.${layout.name}.ids$ids") { rnd =>
         val (_, stack) = treeOf(layout, new Random(0))

@@ -56,7 +56,8 @@ class PrepFetchSpec extends AnyFlatSpec with ChiselScalatestTester {
     id
   }
 
-  for (layout <- Seq(BvhLayout.Nori, BvhLayout.Wide(4))) {
+  // 4q: random bytes through the quantized decode (rounding adds, NaN scales, corrupt meta bytes).
+  for (layout <- Seq(BvhLayout.Nori, BvhLayout.Wide(4), BvhLayout.Wide(4, quantized = true))) {
   val cfg = cfgOf(layout)
   it should s"pair each response with its ray when memory answers in reverse order (layout ${layout.name})" in {
     val img = SyntheticImage(nodes = 64, tris = 4, new Random(11), layout)
