@@ -13,6 +13,9 @@ HARD_CASES     := $(patsubst scenes/hard/%/expect.csv,%,$(wildcard scenes/hard/*
 IMAGE_RUNS     := cornell-box-primary cornell-box-ao dragon-primary dragon-ao
 SWEEP_RUNS     := $(IMAGE_RUNS) $(addprefix hard-,$(HARD_CASES))
 SPEED_RAYS     ?= 1024
+# local: make -j$(SWEEP_JOBS) on this machine; slurm: one Slurm job array
+# (scripts/slurm/sweep-array.sh); `make slurm-up` starts a one-node cluster.
+SWEEP_ENGINE   ?= local
 SWEEP_JAVA     := java -Xss8m -Xmx3g -cp "$$(cat $(SWEEP)/classpath)"
 comma := ,
 empty :=
@@ -20,13 +23,29 @@ space := $(empty) $(empty)
 
 .PHONY: speed-vs-error sweep-jobs sweep-packages sweep-clean
 
-speed-vs-error: setup ## Precision sweep (formats x rounding x triangle test x scenes): docs/speed-vs-error.{md,json} + plots [SWEEP_JOBS=2 SWEEP_FORMATS=...]
+speed-vs-error: setup ## Precision sweep (formats x rounding x triangle test x scenes): docs/speed-vs-error.{md,json} + plots [SWEEP_JOBS=2 SWEEP_FORMATS=... SWEEP_ENGINE=local|slurm]
 	@start=$$(date +%s); \
 	rm -f $(SWEEP)/classpath && $(MAKE) --no-print-directory $(SWEEP)/classpath && \
-	$(MAKE) --no-print-directory -j$(SWEEP_JOBS) sweep-jobs && \
+	$(MAKE) --no-print-directory sweep-run-$(SWEEP_ENGINE) && \
 	end=$$(date +%s); \
 	$(BRIDGE) sweep-report --sweep $(SWEEP) --json docs/speed-vs-error.json --md docs/speed-vs-error.md --plots docs/speed-vs-error \
-	  --runtime-note "$(words $(SWEEP_POINTS)) points; the last make speed-vs-error took $$(( (end - start + 30) / 60 )) min wall with make -j$(SWEEP_JOBS) on $$(nproc) cores on $$(date -u +%Y-%m-%d) (jobs already done are not rerun)"
+	  --runtime-note "$(words $(SWEEP_POINTS)) points; the last make speed-vs-error took $$(( (end - start + 30) / 60 )) min wall with $(if $(filter slurm,$(SWEEP_ENGINE)),a Slurm job array,make -j$(SWEEP_JOBS)) on $$(nproc) cores on $$(date -u +%Y-%m-%d) (jobs already done are not rerun)"
+
+# The point jobs: what `make -j` runs here, or what a Slurm array runs.
+SWEEP_POINT_JOBS := $(addprefix $(SWEEP)/points/,$(addsuffix .json,$(SWEEP_POINTS))) \
+            $(if $(HARD_CASES),$(addprefix $(SWEEP)/points/,$(addsuffix .hard.json,$(SWEEP_POINTS)))) \
+            $(addprefix $(SWEEP)/area/,$(addsuffix .json,$(SWEEP_POINTS)))
+# Their shared inputs, built once before the jobs (two array tasks must never
+# race to build the same package).
+SWEEP_SHARED := $(SWEEP)/classpath $(foreach r,$(SWEEP_RUNS),$(SWEEP)/packages/$(r)/package.json) \
+            $(foreach c,$(HARD_CASES),$(foreach r,embree robust double,$(SWEEP)/hard-ref/$(c)-$(r).json))
+
+.PHONY: sweep-run-local sweep-run-slurm
+sweep-run-local:
+	$(MAKE) --no-print-directory -j$(SWEEP_JOBS) sweep-jobs
+sweep-run-slurm:
+	$(MAKE) --no-print-directory -j$(SWEEP_JOBS) $(SWEEP_SHARED)
+	scripts/slurm/sweep-array.sh $(SWEEP) SWEEP=$(SWEEP) SPEED_RAYS=$(SPEED_RAYS) -- $(SWEEP_POINT_JOBS)
 
 sweep-jobs: $(addprefix $(SWEEP)/points/,$(addsuffix .json,$(SWEEP_POINTS))) \
             $(if $(HARD_CASES),$(addprefix $(SWEEP)/points/,$(addsuffix .hard.json,$(SWEEP_POINTS)))) \

@@ -8,6 +8,7 @@
 #   SIZE=1 (hardware sized to the scene)   BVH=4|2|8|nori|4q|8q (node layout; 4 if unset)
 #   MEMORY=ddr|onchip   MEM_LATENCY=100 (ns, or 80-300; ddr only)   FABRIC_MHZ=200
 #   OUTSTANDING=64   CACHE=0 (KiB; ddr only)
+#   SIM=chiseltest|cpp (cpp: the system top under the C++ Verilator harness, sw/sim/)
 set -euo pipefail
 : "${SCENE:?make regress needs SCENE=scenes/<name>/<name>.xml (or a package directory)}"
 bridge=nori-bridge/target/release/nori-bridge
@@ -29,7 +30,7 @@ fi
 start=$(date +%s)
 opts="--package $pkg --out $OUT --float ${FLOAT:-e8m23} --triangle ${TRIANGLE:-watertight}"
 opts+=" --rounding ${ROUNDING:-conservative} --memory ${MEMORY:-ddr} --fabric-mhz ${FABRIC_MHZ:-200}"
-opts+=" --outstanding ${OUTSTANDING:-64} --ids ${IDS:-64}"
+opts+=" --outstanding ${OUTSTANDING:-64} --ids ${IDS:-64} --sim ${SIM:-chiseltest}"
 opts+=" --waves ${WAVES:-0} --strict ${STRICT:-0} --seed ${SEED:-1} --bridge $bridge"
 # Empty values would vanish in sbt's argument splitting: pass only what is set.
 [ -n "${STACK:-}" ] && opts+=" --stack $STACK"

@@ -2,6 +2,7 @@
 
 use crate::compare::judge::Tolerances;
 use crate::compare::render::Shade;
+use crate::shade::{Integrator, ShadeOpts};
 use crate::bvh::Layout;
 use crate::compare::{compare, summary};
 use crate::package::compile::{compile, write_json, CompileOpts, RaySpec};
@@ -22,6 +23,29 @@ struct Cli {
 enum RefKind {
     Embree,
     Double,
+}
+
+/// What both shading stages take: the camera package, its hits from the
+/// hit source, and the options the secondary rays are generated with.
+#[derive(clap::Args)]
+struct ShadeInput {
+    #[arg(long)]
+    package: PathBuf,
+    #[arg(long)]
+    hits: PathBuf,
+    #[arg(long, value_enum)]
+    integrator: Integrator,
+    /// AO rays, or light samples, per camera hit.
+    #[arg(long, default_value_t = 4)]
+    samples: u32,
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+}
+
+impl ShadeInput {
+    fn opts(&self) -> ShadeOpts {
+        ShadeOpts { integrator: self.integrator, samples: self.samples, seed: self.seed }
+    }
 }
 
 #[derive(Subcommand)]
@@ -88,6 +112,33 @@ enum Cmd {
         out_dir: PathBuf,
         #[arg(long, value_enum, default_value = "normal")]
         shade: Shade,
+    },
+    /// Secondary rays (AO, or shadow rays to the lights) of a camera
+    /// package's hits, as a rays.txt for `compile --rays` / `make regress RAYS=`.
+    ShadeRays {
+        #[command(flatten)]
+        input: ShadeInput,
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Shaded PNGs of a camera package from a hit source (and, for ao and
+    /// direct, the secondary package made from `shade-rays`' file with its
+    /// hits): accel.png, embree.png (the same rays answered by the
+    /// package's Embree reference), diff.png, montage.png, shade.json.
+    Shade {
+        #[command(flatten)]
+        input: ShadeInput,
+        /// The package compiled from shade-rays' rays.txt (ao, direct).
+        #[arg(long)]
+        secondary: Option<PathBuf>,
+        /// The hit source's answers for the secondary package's rays.
+        #[arg(long)]
+        secondary_hits: Option<PathBuf>,
+        /// Label of the hit source in the montage (e.g. "golden", "RTL").
+        #[arg(long, default_value = "accelerator")]
+        source: String,
+        #[arg(long)]
+        out_dir: PathBuf,
     },
     /// Trace the package's rays through its own memory image in software
     /// (f32, the hardware's algorithm) and write a hits.csv.
@@ -178,6 +229,19 @@ pub fn run() -> Result<()> {
             let (_, classes) = compare(&pkg.image.by_prim(), &pkg.rays, &got, &pkg.reference, Tolerances::default())?;
             crate::compare::render::render(&pkg, &got, &classes, shade, &out_dir)?;
             println!("{}: hits.png reference.png diff.png", out_dir.display());
+        }
+        Cmd::ShadeRays { input, out } => {
+            let pkg = Package::load(&input.package)?;
+            let scene = crate::scene::xml::load_scene(std::path::Path::new(&pkg.manifest.source_scene))?;
+            let got = crate::ray::csv_io::read_hits(&input.hits)?;
+            let sec = crate::shade::secondary(&scene, &pkg, &got, &input.opts())?;
+            crate::shade::write_rays_txt(&out, &sec)?;
+            println!("{}: {} secondary rays", out.display(), sec.len());
+        }
+        Cmd::Shade { input, secondary, secondary_hits, source, out_dir } => {
+            crate::shade::run::shade(&crate::shade::run::ShadeArgs {
+                opts: input.opts(), package: input.package, hits: input.hits, secondary, secondary_hits, source, out_dir,
+            })?
         }
         Cmd::Trace { package, out } => {
             let pkg = Package::load(&package)?;

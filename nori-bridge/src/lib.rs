@@ -23,6 +23,7 @@ pub mod progress;
 pub mod ray;
 pub mod reference;
 pub mod scene;
+pub mod shade;
 pub mod sweep;
 
 // The flat module paths of the layout before the folders, kept for the

@@ -38,7 +38,7 @@ pub fn primary(cam: &Camera, spp: u32, rng: &mut ChaCha8Rng) -> Vec<Ray> {
 }
 
 /// The hit point in f64 and the face normal turned toward the ray origin.
-fn hit_frame(tris: &[Tri], ray: &Ray, hit: &Hit) -> (D3, D3) {
+pub fn hit_frame(tris: &[Tri], ray: &Ray, hit: &Hit) -> (D3, D3) {
     let p = ray.at64(hit.t as f64);
     let mut n = normalize64(tris[hit.prim as usize].normal64());
     if dot64(n, to64(ray.d)) > 0.0 {
@@ -69,16 +69,21 @@ pub fn ambient_occlusion(tris: &[Tri], prim_rays: &[Ray], hits: &[Hit], per_hit:
     let mut rays = Vec::new();
     for (r, h) in prim_rays.iter().zip(hits).filter(|(_, h)| h.hit) {
         let (p, n) = hit_frame(tris, r, h);
-        let (t, b) = basis(n);
         for _ in 0..per_hit {
-            let (u1, u2): (f64, f64) = (rng.gen(), rng.gen());
-            let (rad, phi) = (u1.sqrt(), 2.0 * std::f64::consts::PI * u2);
-            let z = (1.0 - u1).max(0.0).sqrt();
-            let d = add64(add64(scale64(t, rad * phi.cos()), scale64(b, rad * phi.sin())), scale64(n, z));
+            let d = cosine_dir(n, rng);
             rays.push(Ray { o: to32(p), d: to32(d), tmin: (1e-5 * diag) as f32, tmax: f32::INFINITY, shadow: false });
         }
     }
     rays
+}
+
+/// A cosine-distributed direction about the unit normal n (two uniforms from rng).
+pub fn cosine_dir(n: D3, rng: &mut ChaCha8Rng) -> D3 {
+    let (t, b) = basis(n);
+    let (u1, u2): (f64, f64) = (rng.gen(), rng.gen());
+    let (rad, phi) = (u1.sqrt(), 2.0 * std::f64::consts::PI * u2);
+    let z = (1.0 - u1).max(0.0).sqrt();
+    add64(add64(scale64(t, rad * phi.cos()), scale64(b, rad * phi.sin())), scale64(n, z))
 }
 
 fn basis(n: D3) -> (D3, D3) {

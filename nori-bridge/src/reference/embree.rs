@@ -95,11 +95,16 @@ impl EmbreeScene {
 
     fn trace8(&self, rays: &[Ray], out: &mut [Hit]) {
         let mut rh: sys::RTCRayHit8 = unsafe { std::mem::zeroed() };
-        let mut valid = [0i32; 8];
+        // Embree reads the valid mask with aligned 256-bit loads: it must be
+        // 32-byte aligned ([i32; 8] alone is 4-aligned and crashed once the
+        // stack layout moved it off a 32-byte boundary).
+        #[repr(C, align(32))]
+        struct Valid8([i32; 8]);
+        let mut valid = Valid8([0; 8]);
         let any_shadow = rays.iter().any(|r| r.shadow);
         let all_shadow = rays.iter().all(|r| r.shadow);
         for (i, r) in rays.iter().enumerate() {
-            valid[i] = -1;
+            valid.0[i] = -1;
             let ray = &mut rh.ray;
             (ray.org_x[i], ray.org_y[i], ray.org_z[i]) = (r.o[0], r.o[1], r.o[2]);
             (ray.dir_x[i], ray.dir_y[i], ray.dir_z[i]) = (r.d[0], r.d[1], r.d[2]);
@@ -112,12 +117,12 @@ impl EmbreeScene {
         let mut ctx = new_context();
         unsafe {
             if all_shadow {
-                sys::rtcOccluded8(valid.as_ptr(), self.scene, &mut ctx, &mut rh.ray);
+                sys::rtcOccluded8(valid.0.as_ptr(), self.scene, &mut ctx, &mut rh.ray);
             } else if !any_shadow {
-                sys::rtcIntersect8(valid.as_ptr(), self.scene, &mut ctx, &mut rh);
+                sys::rtcIntersect8(valid.0.as_ptr(), self.scene, &mut ctx, &mut rh);
             } else {
                 // A mixed packet: trace closest hits, the occlusion answer is the same.
-                sys::rtcIntersect8(valid.as_ptr(), self.scene, &mut ctx, &mut rh);
+                sys::rtcIntersect8(valid.0.as_ptr(), self.scene, &mut ctx, &mut rh);
             }
         }
         for (i, r) in rays.iter().enumerate() {

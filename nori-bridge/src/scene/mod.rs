@@ -25,6 +25,8 @@ pub struct MeshInfo {
     /// Prim number of this mesh's first triangle.
     pub first_prim: usize,
     pub tri_count: usize,
+    /// Radiance of the mesh's area emitter (`<emitter type="area">`), if any.
+    pub emitter: Option<[f64; 3]>,
 }
 
 #[derive(Clone, Debug)]

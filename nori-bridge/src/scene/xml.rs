@@ -45,7 +45,8 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
                 let (file, to_world) = ctx.mesh(el, base)?;
                 let tris = load_obj(&file, &to_world)
                     .with_context(|| format!("{}:{}: in this <mesh>", path.display(), ctx.line(el)))?;
-                scene.meshes.push(MeshInfo { file, first_prim: scene.tris.len(), tri_count: tris.len() });
+                let emitter = ctx.area_emitter(el)?;
+                scene.meshes.push(MeshInfo { file, first_prim: scene.tris.len(), tri_count: tris.len(), emitter });
                 scene.tris.extend(tris);
             }
             "emitter" if el.attribute("type") == Some("point") => {
@@ -140,6 +141,16 @@ impl Ctx<'_, '_> {
                 "camera fov {} must be in (0,180) and 0 < nearClip {} < farClip {}", cam.fov_deg, cam.near, cam.far)));
         }
         Ok(cam)
+    }
+
+    /// A mesh's `<emitter type="area">` radiance (Nori's `radiance` colour), if it has one.
+    fn area_emitter(&self, el: Node) -> Result<Option<[f64; 3]>> {
+        let Some(e) = el.children().find(|c| c.is_element() && c.tag_name().name() == "emitter") else { return Ok(None) };
+        if e.attribute("type") != Some("area") {
+            return Ok(None);
+        }
+        let c = self.param(e, "color", "radiance").ok_or_else(|| self.err(e, "<emitter type=\"area\"> needs <color name=\"radiance\">".into()))?;
+        Ok(Some(self.vec3(c)?))
     }
 
     fn mesh(&self, el: Node, base: &Path) -> Result<(std::path::PathBuf, Mat4)> {

@@ -10,10 +10,11 @@ use std::sync::OnceLock;
 /// DejaVu Sans from Debian's fonts-dejavu-core, loaded at run time
 /// (plotters' ab_glyph backend has no system font lookup).
 pub const FONT_FILE: &str = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
-const FONT: &str = "sans-serif";
+pub const FONT: &str = "sans-serif";
 const SIZE: (u32, u32) = (1100, 750);
 
-fn register_font() -> Result<()> {
+/// Registers DejaVu Sans under the name FONT once per process.
+pub fn register_font() -> Result<()> {
     static DONE: OnceLock<Result<(), String>> = OnceLock::new();
     DONE.get_or_init(|| {
         let bytes = std::fs::read(FONT_FILE).map_err(|e| format!("{FONT_FILE}: {e} (install the Debian package fonts-dejavu-core)"))?;

@@ -57,6 +57,11 @@ class RayIdFreeList(numIds: Int) extends Module {
   when(io.free.valid && !freeLegal) { doubleFreeReg := true.B }
   inFlightReg := inFlightReg + allocFire.asUInt - freeFire.asUInt
 
+  // Checked in every simulation and proved by `make formal` (docs/formal.md);
+  // they hold whatever `free` is driven with, since illegal frees are dropped.
+  assert(!(allocFire && inUseReg(io.alloc.bits)), "id_allocated_once: an ID in flight was handed out again")
+  assert(inFlightReg === PopCount(inUseReg), "id_count: the in-flight count disagrees with the IDs in use")
+
   io.inFlight   := inFlightReg
   io.doubleFree := doubleFreeReg
 }

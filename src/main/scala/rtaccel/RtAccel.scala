@@ -77,6 +77,12 @@ class RtAccel[T <: Data](val cfg: AccelConfig, val dp: Datapath[T]) extends Modu
   fetch.io.free.valid := io.hits.fire
   fetch.io.free.bits  := id
   io.broken := trav.io.overflow || fetch.io.doubleFree || init.io.broken || leaf.io.broken
+  // Checked in every simulation and proved by `make formal` (docs/formal.md).
+  // Here, not in the units: their own specs drive these flags on purpose.
+  assert(!trav.io.overflow, "no_overflow_traversal: a Traversal queue took an enqueue while full")
+  assert(!init.io.broken, "no_overflow_init: a prepared ray found InitTraversal's queue full")
+  assert(!leaf.io.broken, "no_overflow_leaf_exit: a ray's last answer found LeafIntersect's exit queue full")
+  assert(!fetch.io.doubleFree, "id_freed_once: a hit returned an ID that was not in flight")
 
   // ---- Performance counters ----
   private def count(event: Bool): UInt = {

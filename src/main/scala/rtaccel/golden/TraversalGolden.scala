@@ -34,7 +34,8 @@ trait ArithGolden[S] {
 object TraversalGolden {
   final case class Trace(hit: HitRecord, boxTests: Int, triTests: Int, decisions: Int)
 
-  def trace[S](cfg: AccelConfig, img: MemoryImage, arith: ArithGolden[S], ray: RayRecord): Trace = {
+  /** `onNode` is told the index of every node the walk fetches, in order (the root first): the node reads the hardware makes. */
+  def trace[S](cfg: AccelConfig, img: MemoryImage, arith: ArithGolden[S], ray: RayRecord, onNode: Long => Unit = _ => ()): Trace = {
     val fmt = arith.format
     val p = arith.prep(ray)
     val stack = mutable.ArrayBuffer.empty[ControlGolden.Ref]
@@ -45,6 +46,7 @@ object TraversalGolden {
     var boxTests, triTests, decisions = 0
     var state: ControlGolden.State = ControlGolden.Traverse
     var node = Records.node(img, 0)
+    onNode(0)
     var fromLeaf = false
     while (state != ControlGolden.Done) {
       // A ray back from a leaf only pops: no node, no box test.
@@ -55,7 +57,7 @@ object TraversalGolden {
       state = out.state
       fromLeaf = false
       state match {
-        case ControlGolden.Traverse | ControlGolden.GoBack => node = Records.node(img, tok.nodeIdx)
+        case ControlGolden.Traverse | ControlGolden.GoBack => node = Records.node(img, tok.nodeIdx); onNode(tok.nodeIdx)
         case ControlGolden.Leaf =>
           var leafErrors = 0
           val leafTmax = tmax

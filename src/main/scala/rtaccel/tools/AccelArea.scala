@@ -46,7 +46,7 @@ object AccelArea {
     md.digest().take(8).map(b => f"$b%02x").mkString
   }
 
-  private def toJson(a: Synth.Area): String = ujson.write(ujson.Obj("lut" -> a.lut, "ff" -> a.ff, "srl" -> a.srl, "dsp" -> a.dsp,
+  def toJson(a: Synth.Area): String = ujson.write(ujson.Obj("lut" -> a.lut, "ff" -> a.ff, "srl" -> a.srl, "dsp" -> a.dsp,
     "carry" -> a.carry, "ramb36" -> a.ramb36, "ramb18" -> a.ramb18, "lutram" -> a.lutram))
   def fromJson(j: ujson.Value): Synth.Area = Synth.Area(j("lut").num.toInt, j("ff").num.toInt, j("srl").num.toInt, j("dsp").num.toInt,
     j("carry").num.toInt, j("ramb36").num.toInt, j("ramb18").num.toInt, j("lutram").num.toInt)

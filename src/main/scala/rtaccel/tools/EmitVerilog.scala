@@ -3,6 +3,7 @@ package rtaccel.tools
 import rtaccel.datapath.{BoxRounding, FloatDatapath, TriangleTest}
 import rtaccel.fp.FloatFormat
 import rtaccel.scene.ScenePackage
+import rtaccel.system.{RtAccelSystem, SystemConfig}
 import rtaccel.{AccelConfig, BvhLayout, RtAccel}
 
 import java.nio.file.{Files, Path, Paths}
@@ -14,7 +15,10 @@ import scala.sys.process._
   * beside the device's capacity (AccelArea: each datapath unit alone, the
   * control with them as black boxes, summed). With `--package`, the hardware
   * is sized to the scene and `sized.md` says what that saves against the
-  * generic configuration.
+  * generic configuration. With `--system 1` (the default) it also emits the
+  * ZC706 system top `rtaccel_system.sv` (RtAccelSystem: m_axi/s_axi ports)
+  * with `--cores N` cores, by default as many as fit by the core's resource
+  * table (2 without synthesis), and lints it.
   */
 object EmitVerilog {
   /** xc7z045 capacity (Zynq-7000 data sheet DS190). */
@@ -56,6 +60,14 @@ object EmitVerilog {
     }
     val dp = FloatDatapath(cfg.float, test, box)
     val rows = run(cfg, dp, out, synth, jobs)
+    if (kv.getOrElse("--system", "1") == "1") {
+      val fits = rows.map(r => AccelArea.instances(AccelArea.total(r), Zc706).max(1))
+      val cores = kv.get("--cores").map(_.toInt).orElse(fits).getOrElse(SystemConfig().cores)
+      system(SystemConfig(core = cfg, cores = cores), dp, out)
+      if (rows.isDefined) Files.writeString(out.resolve("resources.md"), Files.readString(out.resolve("resources.md")) +
+        s"System top: `rtaccel_system.sv` (RtAccelSystem) with $cores ${if (cores == 1) "core" else "cores"}" +
+        s"${if (kv.contains("--cores")) " (--cores)" else " (the cores that fit)"}, lint clean; its own area is not in this table.\n")
+    }
     // Sized hardware: report what it saves against the generic configuration of the same arithmetic.
     for (p <- pkg; sizedRows <- rows) {
       val gdp = FloatDatapath(generic.float, test, box)
@@ -70,6 +82,29 @@ object EmitVerilog {
   private def area(sv: String, dp: FloatDatapath, jobs: Int): Seq[(String, Synth.Area)] =
     AccelArea.measure(sv, Synth.modules(sv).last, dp.name, areaCache, jobs)
 
+  /** `verilator --lint-only -Wall` with the waivers (each with its reason in verilator-waivers.vlt); fails on any finding. */
+  def lint(out: Path, svFile: Path, top: String, log: String): Unit = {
+    val waivers = out.resolve("verilator-waivers.vlt")
+    Files.write(waivers, getClass.getResourceAsStream("/rtaccel/verilator-waivers.vlt").readAllBytes())
+    val lintLog = out.resolve(log)
+    Files.deleteIfExists(lintLog)
+    val cmd = Seq("verilator", "--lint-only", "-Wall", waivers.toString, svFile.toString, "--top-module", top)
+    val rc = cmd.!(ProcessLogger(line => Files.writeString(lintLog, line + "\n", java.nio.file.StandardOpenOption.CREATE, java.nio.file.StandardOpenOption.APPEND)))
+    require(rc == 0, s"lint: `${cmd.mkString(" ")}` found problems; see $lintLog")
+    println(s"verilog: $top lint clean (verilator --lint-only -Wall, waivers in $waivers)")
+  }
+
+  /** The system top: emits build/verilog/rtaccel_system.sv and lints it. */
+  def system(sys: SystemConfig, dp: FloatDatapath, out: Path): Path = {
+    Files.createDirectories(out)
+    val sv = Synth.emit(new RtAccelSystem(sys, dp))
+    val svFile = out.resolve("rtaccel_system.sv")
+    Files.writeString(svFile, sv)
+    println(s"verilog: wrote $svFile (${sys.cores} cores of ${dp.name}, ${Synth.modules(sv).size} modules, ${sv.linesIterator.size} lines)")
+    lint(out, svFile, "rtaccel_system", "lint-system.log")
+    svFile
+  }
+
   /** Emits, lints and (with `synth`) measures; returns the per-unit rows. */
   def run(cfg: AccelConfig, dp: FloatDatapath, out: Path, synth: Boolean, jobs: Int): Option[Seq[(String, Synth.Area)]] = {
     Files.createDirectories(out)
@@ -81,13 +116,7 @@ object EmitVerilog {
     Files.writeString(svFile, sv)
     println(s"verilog: wrote $svFile (${mods.size} modules, ${sv.linesIterator.size} lines)")
 
-    val waivers = out.resolve("verilator-waivers.vlt")
-    Files.write(waivers, getClass.getResourceAsStream("/rtaccel/verilator-waivers.vlt").readAllBytes())
-    val lintLog = out.resolve("lint.log")
-    val lint = Seq("verilator", "--lint-only", "-Wall", waivers.toString, svFile.toString, "--top-module", top)
-    val rc = (lint #> lintLog.toFile).!(ProcessLogger(line => Files.writeString(lintLog, line + "\n", java.nio.file.StandardOpenOption.CREATE, java.nio.file.StandardOpenOption.APPEND)))
-    require(rc == 0, s"lint: `${lint.mkString(" ")}` found problems; see $lintLog")
-    println(s"verilog: lint clean (verilator --lint-only -Wall, waivers in $waivers)")
+    lint(out, svFile, top, "lint.log")
 
     Option.when(synth) {
       val rows = area(sv, dp, jobs)
@@ -96,8 +125,11 @@ object EmitVerilog {
       val md = ResourceTable(s"RtAccel ${dp.name}, $nodes (${cfg.boxLanes} box lanes), ${cfg.numRayIds} ray IDs, stack ${cfg.stackDepth}",
         rows.map { case ("BoxLane", a) => s"BoxLane x${cfg.boxLanes} (BboxIntersect)" -> a; case r => r }, Zc706,
         (System.nanoTime() - t0) / 1e9)
-      Files.writeString(out.resolve("resources.md"), md)
-      println(md)
+      val t1 = System.nanoTime()
+      val fmax = FmaxEstimate.markdown(FmaxEstimate.measure(sv, top, areaCache, jobs, DelayModel.zynq7), DelayModel.zynq7,
+        (System.nanoTime() - t1) / 1e9)
+      Files.writeString(out.resolve("resources.md"), md + "\n" + fmax)
+      println(md + "\n" + fmax)
       rows
     }
   }

@@ -30,7 +30,9 @@ final case class RegressArgs(
     strict: Boolean = false,
     /** Size stack depth, index widths and leaf size to the scene. */
     sized: Boolean = false,
-    seed: Long = 1
+    seed: Long = 1,
+    /** `chiseltest` (the core, the Scala memory model on its ports) or `cpp` (the system top under sw/sim/). */
+    sim: String = "chiseltest"
 ) {
   def clock: FabricClock = FabricClock(fabricMhz)
   def memoryKind: MemoryKind = memory match {
@@ -58,7 +60,8 @@ object RegressArgs {
     """usage: Regress --package DIR --out DIR [--float e8m23] [--triangle moller|watertight] [--rounding conservative|rne]
       |       [--memory ddr|onchip] [--mem-latency NS|LO-HI (ddr only; default 100)] [--fabric-mhz 200]
       |       [--outstanding 64] [--cache KiB (ddr only)] [--ids 64]
-      |       [--stack N] [--rays N] [--bridge PATH] [--waves 0|1] [--strict 0|1] [--size 0|1] [--seed N]""".stripMargin
+      |       [--stack N] [--rays N] [--bridge PATH] [--waves 0|1] [--strict 0|1] [--size 0|1] [--seed N]
+      |       [--sim chiseltest|cpp]""".stripMargin
 
   def parse(args: Seq[String]): RegressArgs = {
     if (args.size % 2 != 0) fail(s"options come in pairs: ${args.mkString(" ")}")
@@ -88,6 +91,10 @@ object RegressArgs {
       case "--waves"           => a = a.copy(waves = flag(k, v))
       case "--strict"          => a = a.copy(strict = flag(k, v))
       case "--size"            => a = a.copy(sized = flag(k, v))
+      case "--sim"             => a = a.copy(sim = v match {
+                                    case "chiseltest" | "cpp" | "" => if (v.isEmpty) "chiseltest" else v
+                                    case _ => fail(s"$k: '$v' (chiseltest or cpp)")
+                                  })
       case "--seed"            => a = a.copy(seed = v.toLongOption.getOrElse(fail(s"--seed: '$v'")))
       case other               => fail(s"unknown option '$other'")
     }

@@ -1,0 +1,49 @@
+package rtaccel.system
+
+import chisel3._
+
+/** A 32-byte record to write (a hit record): `addr` is a byte address, 32-byte
+  * aligned (its low five bits are ignored); `data` little-endian, byte 0 in
+  * bits 7..0.
+  */
+class WriteRecord(sys: SystemConfig) extends Bundle {
+  val addr = UInt(sys.axiAddrBits.W)
+  val data = UInt((WriteRecord.Bytes * 8).W)
+}
+object WriteRecord {
+  val Bytes = 32
+}
+
+/** Loading the on-chip node store (MemoryFabric's side): a `start` pulse
+  * copies `bytes` bytes at `base` (64-byte aligned: the node array's start)
+  * from DRAM into the store, clamped to its capacity. Until `done`, every
+  * node read goes to DRAM; `done` stays high until the next `start`. A
+  * `start` while `busy` is ignored.
+  * `storedBytes`: how many bytes the store holds (reads below
+  * base + storedBytes are served on chip).
+  */
+class NodeStoreLoad(addrBits: Int) extends Bundle {
+  def this(sys: SystemConfig) = this(sys.axiAddrBits)
+  val base        = Input(UInt(addrBits.W))
+  val bytes       = Input(UInt(32.W))
+  val start       = Input(Bool())
+  val busy        = Output(Bool())
+  val done        = Output(Bool())
+  val storedBytes = Output(UInt(32.W))
+}
+
+/** Event counters of the memory side, free-running from reset (a consumer
+  * that clears its counters keeps a snapshot). 64 bits: no wrap in any run.
+  */
+class FabricStats extends Bundle {
+  /** R beats received (every ID, node-store fill included). */
+  val readBeats       = UInt(64.W)
+  /** W beats sent. */
+  val writeBeats      = UInt(64.W)
+  /** Cycles with arvalid && !arready. */
+  val arStallCycles   = UInt(64.W)
+  /** Node-client requests served by the node store. */
+  val nodeStoreHits   = UInt(64.W)
+  /** Node-client requests sent to DRAM. */
+  val nodeStoreMisses = UInt(64.W)
+}

@@ -1,0 +1,99 @@
+package rtaccel.system
+
+import chisel3._
+import chisel3.util._
+import rtaccel.fetch.RayIn
+import rtaccel.mem.{MemPort, MemPortParams}
+
+/** Reads the batch's ray records (48 bytes each, docs/register-map.md) in
+  * blocks of `raysPerBlock` (whole 64-byte lines from a 64-aligned RAY_BASE),
+  * up to `rayBlockTags` blocks in flight, answered in any order, and hands the
+  * rays out one per cycle. Rays leave in block-arrival order; RayIn.number is
+  * the record's index, so order does not matter.
+  *
+  * Flags: bit 0 is shadow. A record with any other flag bit set is made an
+  * invalid ray (its origin x becomes a quiet NaN), so the core returns it with
+  * ErrorFlags.InvalidRay and no hit. Bytes 36..47 are not read.
+  * The last block may read up to `rayBlockBytes - 48` bytes past the last record.
+  */
+class RayDma(sys: SystemConfig) extends Module {
+  private val rpb = sys.raysPerBlock
+  require(isPow2(rpb), s"RayDma: raysPerBlock must be a power of two, got $rpb")
+  val io = IO(new Bundle {
+    val start    = Input(Bool())
+    val rayBase  = Input(UInt(sys.axiAddrBits.W))
+    val rayCount = Input(UInt(32.W))
+    val mem      = new MemPort(RayDma.port(sys))
+    val rays     = Decoupled(new RayIn)
+    /** Sticky: a block came back for a tag not in flight. */
+    val broken   = Output(Bool())
+  })
+  private val nTags = sys.rayBlockTags
+  private val blocksReg  = RegInit(0.U(32.W))
+  private val issuedReg  = RegInit(0.U(32.W))
+  private val baseReg    = RegInit(0.U(sys.axiAddrBits.W))
+  private val countReg   = RegInit(0.U(32.W))
+  private val addrReg    = RegInit(0.U(sys.axiAddrBits.W))
+  private val freeReg    = RegInit(((BigInt(1) << nTags) - 1).U(nTags.W))
+  private val blockOfTag = Reg(Vec(nTags, UInt(32.W)))
+  private val brokenReg  = RegInit(false.B)
+
+  when(io.start) {
+    countReg  := io.rayCount
+    blocksReg := (io.rayCount +& (rpb - 1).U) >> log2Ceil(rpb)
+    issuedReg := 0.U
+    addrReg   := io.rayBase
+  }
+  private val tag = PriorityEncoder(freeReg)
+  io.mem.req.valid := issuedReg < blocksReg && freeReg.orR && !io.start
+  io.mem.req.bits.addr := addrReg
+  io.mem.req.bits.tag := tag
+  when(io.mem.req.fire) {
+    blockOfTag(tag) := issuedReg
+    issuedReg := issuedReg + 1.U
+    addrReg := addrReg + sys.rayBlockBytes.U
+  }
+
+  // One buffer entry per tag: a block arrives only for a tag in flight, and its
+  // tag is free again only when its entry leaves, so the queue never overflows.
+  private val q = Module(new Queue(new Bundle {
+    val data = UInt((sys.rayBlockBytes * 8).W)
+    val tag  = UInt(sys.rayTagBits.W)
+  }, nTags))
+  io.mem.resp.ready := true.B
+  q.io.enq.valid := io.mem.resp.valid
+  q.io.enq.bits.data := io.mem.resp.bits.data
+  q.io.enq.bits.tag := io.mem.resp.bits.tag
+  when(io.mem.resp.valid && (!q.io.enq.ready || freeReg(io.mem.resp.bits.tag))) { brokenReg := true.B }
+
+  // ---- unpack: ray `subReg` of the head block ----
+  private val subReg = RegInit(0.U(log2Ceil(rpb).max(1).W))
+  private val number = Cat(blockOfTag(q.io.deq.bits.tag), 0.U(log2Ceil(rpb).W)) | subReg
+  private val present = number < countReg
+  private val rec = (q.io.deq.bits.data >> (subReg * (SystemConfig.RayBytes * 8).U))(SystemConfig.RayBytes * 8 - 1, 0)
+  private def word(k: Int): UInt = rec(32 * k + 31, 32 * k)
+  private val flags = word(8)
+  private val r = io.rays.bits
+  r.number := number
+  r.ray.origin(0) := Mux(flags(31, 1) =/= 0.U, RayDma.QuietNaN.U(32.W), word(0))
+  r.ray.origin(1) := word(1)
+  r.ray.origin(2) := word(2)
+  for (k <- 0 until 3) r.ray.dir(k) := word(3 + k)
+  r.ray.tmin := word(6)
+  r.ray.tmax := word(7)
+  r.shadow := flags(0)
+  io.rays.valid := q.io.deq.valid && present
+  private val step = q.io.deq.valid && (io.rays.ready || !present)
+  private val last = subReg === (rpb - 1).U || !present || (number + 1.U) === countReg
+  q.io.deq.ready := step && last
+  when(step) { subReg := Mux(last, 0.U, subReg + 1.U) }
+  private val freed = Mux(q.io.deq.fire, UIntToOH(q.io.deq.bits.tag, nTags), 0.U)
+  private val taken = Mux(io.mem.req.fire, UIntToOH(tag, nTags), 0.U)
+  freeReg := (freeReg | freed) & ~taken
+  io.broken := brokenReg
+}
+
+object RayDma {
+  val QuietNaN = 0x7fc00000L
+  def port(sys: SystemConfig): MemPortParams = MemPortParams(sys.axiAddrBits, sys.rayTagBits, sys.rayBlockBytes)
+}

@@ -1,0 +1,196 @@
+package rtaccel.system
+
+import chisel3._
+import chisel3.util._
+import rtaccel.axi.{Axi4Addr, Axi4Params, Axi4R, BurstMath, ByteRotate}
+
+/** A record read on its way to DRAM: `client` picks the response queue. */
+class ReadReq(addrBits: Int, clientBits: Int, tagBits: Int) extends Bundle {
+  val addr   = UInt(addrBits.W)
+  val client = UInt(clientBits.W)
+  val tag    = UInt(tagBits.W)
+}
+
+/** A finished record for one client. */
+class ReadResp(dataBits: Int, tagBits: Int) extends Bundle {
+  val data = UInt(dataBits.W)
+  val tag  = UInt(tagBits.W)
+}
+
+/** Reads whole records of any byte size and alignment over AXI4.
+  *
+  * Each accepted request takes a *slot*, and the slot number is its AXI ID
+  * (0 .. slots-1): one record per ID, so records come back in any order and
+  * the beats of one record (one or more bursts split at 4 KB, same ID) come
+  * in order. At most `slots` records are outstanding: that is the bound,
+  * reached when the free-slot vector is empty (requests then wait).
+  *
+  * Reassembly: beat k of a record at byte offset o (address mod beatBytes) is
+  * rotated right by o bytes; its first beatBytes - o bytes are record chunk k,
+  * the rest chunk k - 1. Chunk c lives in bank c (one memory per chunk,
+  * `slots` deep), so each beat writes at most one masked row into each of two
+  * banks. When the last beat is written the slot joins its client's
+  * completion queue; a round-robin pick reads the banks and the record lands
+  * in the client's two-entry output queue one cycle later.
+  *
+  * Errors (sticky `error`): a non-OKAY rresp, an R beat whose ID names no
+  * waiting record (dropped), or a wrong rlast.
+  */
+class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: Int) extends Module {
+  require(recordBytes.nonEmpty && recordBytes.forall(b => b >= 1 && b <= 4096), s"ReadEngine: record sizes must be 1..4096 bytes, got $recordBytes")
+  require(slots >= 1 && slots <= (1 << p.idBits), s"ReadEngine: $slots slots do not fit ${p.idBits} ID bits")
+  private val n          = recordBytes.size
+  private val B          = p.beatBytes
+  private val beatBits   = log2Ceil(B)
+  private val slotBits   = log2Ceil(slots).max(1)
+  private val clientBits = log2Ceil(n).max(1)
+  /** Chunks of the largest record: banks of the reassembly buffer. */
+  private val chunks     = recordBytes.map(b => (b + B - 1) / B).max
+  /** Beats of the largest record at its worst alignment: ceil((o + b) / B) for o = B - 1. */
+  private val maxBeats   = recordBytes.map(b => (B + b - 2) / B + 1).max
+  private val countBits  = log2Ceil(maxBeats + 1)
+  private val pageBits   = 12
+
+  val io = IO(new Bundle {
+    val req   = Flipped(Decoupled(new ReadReq(p.addrBits, clientBits, tagBits)))
+    val ar    = Decoupled(new Axi4Addr(p))
+    /** R beats of this engine's IDs; always taken. */
+    val r     = Flipped(Valid(new Axi4R(p)))
+    val resp  = MixedVec(recordBytes.map(b => Decoupled(new ReadResp(8 * b, tagBits))))
+    val error = Output(Bool())
+    val idle  = Output(Bool())
+  })
+
+  private class Meta extends Bundle {
+    val client = UInt(clientBits.W)
+    val tag    = UInt(tagBits.W)
+    /** The record's byte address within its 4 KB page: offset and beat position. */
+    val page   = UInt(pageBits.W)
+    val beats  = UInt(countBits.W)
+  }
+  // Slot table: written when a slot is taken, read by R beats and the pick.
+  private val meta      = Mem(slots, new Meta)
+  private val busyReg   = RegInit(0.U(slots.W))
+  private val doneReg   = RegInit(0.U(slots.W)) // all beats in, not yet picked
+  private val countRegs = RegInit(VecInit(Seq.fill(slots)(0.U(countBits.W))))
+  private val errorReg  = RegInit(false.B)
+
+  // ---- Issue: take a slot, then emit the record's bursts (split at 4 KB) ----
+  private val pendValidReg = RegInit(false.B)
+  private val pendAddrReg  = Reg(UInt(p.addrBits.W)) // beat-aligned address of the next burst
+  private val pendLeftReg  = Reg(UInt(countBits.W))
+  private val pendIdReg    = Reg(UInt(slotBits.W))
+  private val toBoundary   = BurstMath.beatsToBoundary(p, pendAddrReg)
+  private val burstBeats   = Mux(pendLeftReg < toBoundary, pendLeftReg, toBoundary)
+  private val lastBurst    = burstBeats === pendLeftReg
+  io.ar.valid := pendValidReg
+  io.ar.bits  := Axi4Addr.incr(p, pendIdReg, pendAddrReg, burstBeats)
+  when(io.ar.fire) {
+    pendAddrReg := pendAddrReg + (burstBeats << beatBits)
+    pendLeftReg := pendLeftReg - burstBeats
+    when(lastBurst) { pendValidReg := false.B }
+  }
+
+  private val free    = ~busyReg
+  private val newSlot = PriorityEncoder(free)
+  io.req.ready := free.orR && (!pendValidReg || (io.ar.fire && lastBurst))
+  private val bytesOf = VecInit(recordBytes.map(_.U(13.W)))
+  private val reqBeats = BurstMath.beatsCovering(p, io.req.bits.addr, bytesOf(io.req.bits.client))
+  private val allocOH = Mux(io.req.fire, UIntToOH(newSlot, slots), 0.U)
+  when(io.req.fire) {
+    val m = Wire(new Meta)
+    m.client := io.req.bits.client
+    m.tag    := io.req.bits.tag
+    m.page   := io.req.bits.addr(pageBits - 1, 0)
+    m.beats  := reqBeats
+    meta.write(newSlot, m)
+    pendValidReg := true.B
+    pendAddrReg  := Cat(io.req.bits.addr(p.addrBits - 1, beatBits), 0.U(beatBits.W))
+    pendLeftReg  := reqBeats
+    pendIdReg    := newSlot
+  }
+
+  // ---- R: check the beat against its slot, count it, stage it for the banks ----
+  private val rId     = io.r.bits.id
+  private val rSlot   = rId(slotBits - 1, 0)
+  private val rMeta   = meta(rSlot)
+  private val rCount  = countRegs(rSlot)
+  private val rKnown  = rId < slots.U && busyReg(rSlot) && !doneReg(rSlot)
+  private val rFinal  = rCount === rMeta.beats - 1.U
+  // The beat ends a burst where the next beat would start a new 4 KB page.
+  private val rBeatInPage = rMeta.page(pageBits - 1, beatBits) +& rCount + 1.U
+  private val rEndsPage   = rBeatInPage(pageBits - beatBits - 1, 0) === 0.U
+  private val rLastOk = io.r.bits.last === (rFinal || rEndsPage)
+  // A beat of a waiting record is kept even with an error, so the record
+  // still completes (its client does not hang; `error` tells the host).
+  private val rGood   = io.r.valid && rKnown
+  when(io.r.valid && !(rKnown && rLastOk && io.r.bits.resp === 0.U)) { errorReg := true.B }
+  private val completeOH = Mux(rGood && rFinal, UIntToOH(rSlot, slots), 0.U)
+  when(rGood) { countRegs(rSlot) := Mux(rFinal, 0.U, rCount + 1.U) }
+
+  private val wValidReg  = RegNext(rGood, false.B)
+  private val wSlotReg   = RegEnable(rSlot, rGood)
+  private val wBeatReg   = RegEnable(rCount, rGood)
+  private val wOffReg    = RegEnable(rMeta.page(beatBits - 1, 0), rGood)
+  private val wDataReg   = RegEnable(io.r.bits.data, rGood)
+  private val wFinalReg  = RegEnable(rFinal, rGood)
+  private val wClientReg = RegEnable(rMeta.client, rGood)
+
+  private val banks   = Seq.fill(chunks)(SyncReadMem(slots, Vec(B, UInt(8.W))))
+  private val rotated = ByteRotate.right(wDataReg, wOffReg).asTypeOf(Vec(B, UInt(8.W)))
+  // Bytes j < B - o of the rotated beat belong to chunk k, the others to chunk k - 1.
+  private val lowMask = VecInit((0 until B).map(j => j.U < (B.U - wOffReg)))
+  private val highMask = VecInit(lowMask.map(!_))
+  for ((bank, c) <- banks.zipWithIndex) {
+    val own  = wBeatReg === c.U
+    val next = wBeatReg === (c + 1).U
+    when(wValidReg && (own || next)) { bank.write(wSlotReg, rotated, Mux(own, lowMask, highMask)) }
+  }
+
+  // Each slot enters one completion queue once per use, so `slots` entries never overflow.
+  private val completions = Seq.fill(n)(Module(new Queue(UInt(slotBits.W), slots)))
+  for ((q, c) <- completions.zipWithIndex) {
+    q.io.enq.valid := wValidReg && wFinalReg && wClientReg === c.U
+    q.io.enq.bits  := wSlotReg
+    when(q.io.enq.valid && !q.io.enq.ready) { errorReg := true.B } // impossible (above); checked
+  }
+
+  // ---- Pick a finished record, read it out, queue it for its client ----
+  private val outQs = recordBytes.map(b => Module(new Queue(new ReadResp(8 * b, tagBits), 2)))
+  private val pickValidReg  = RegInit(false.B)
+  private val pickClientReg = Reg(UInt(clientBits.W))
+  private val pickTagReg    = Reg(UInt(tagBits.W))
+  private val arb = Module(new RRArbiter(UInt(slotBits.W), n))
+  for (c <- 0 until n) {
+    // Credit: queued + being read < 2, so the record read now has a place next cycle.
+    val inflight = pickValidReg && pickClientReg === c.U
+    val credit   = outQs(c).io.count +& inflight.asUInt < 2.U
+    arb.io.in(c).valid := completions(c).io.deq.valid && credit
+    arb.io.in(c).bits  := completions(c).io.deq.bits
+    completions(c).io.deq.ready := arb.io.in(c).ready && credit
+  }
+  arb.io.out.ready := true.B
+  private val pickSlot = arb.io.out.bits
+  private val pick     = arb.io.out.valid
+  private val record   = Cat(banks.reverse.map(b => b.read(pickSlot, pick).asUInt))
+  pickValidReg := pick
+  when(pick) {
+    pickClientReg := arb.io.chosen
+    pickTagReg    := meta(pickSlot).tag
+  }
+  private val freeOH = Mux(pick, UIntToOH(pickSlot, slots), 0.U)
+  busyReg := (busyReg | allocOH) & ~freeOH
+  doneReg := (doneReg | completeOH) & ~freeOH
+
+  for (c <- 0 until n) {
+    val q = outQs(c).io
+    q.enq.valid     := pickValidReg && pickClientReg === c.U
+    q.enq.bits.data := record(8 * recordBytes(c) - 1, 0)
+    q.enq.bits.tag  := pickTagReg
+    // Impossible by the credit above; checked all the same.
+    when(q.enq.valid && !q.enq.ready) { errorReg := true.B }
+    io.resp(c) <> q.deq
+  }
+  io.error := errorReg
+  io.idle  := busyReg === 0.U && !pendValidReg
+}

@@ -1,0 +1,87 @@
+package rtaccel.system
+
+import chisel3._
+import chisel3.util._
+import rtaccel.mem.{MemPort, MemPortParams}
+import rtaccel.scene.MemoryImage
+
+/** LOAD_SCENE: reads the 64-byte image header at `sceneBase`, checks it against
+  * the hardware (docs/memory-format.md; codes in RegisterMap.sceneErrors),
+  * derives the node and triangle bases, then has the fabric preload its node
+  * store and waits for it before `ready`. `finished` pulses when the load ends
+  * either way (IRQ SCENE).
+  */
+class SceneLoader(sys: SystemConfig) extends Module {
+  val io = IO(new Bundle {
+    val start     = Input(Bool())
+    val sceneBase = Input(UInt(sys.axiAddrBits.W))
+    val mem       = new MemPort(SceneLoader.port(sys))
+    val store     = Flipped(new NodeStoreLoad(sys))
+    val busy      = Output(Bool())
+    val ready     = Output(Bool())
+    val error     = Output(Bool())
+    val errorCode = Output(UInt(3.W))
+    val finished  = Output(Bool())
+    val nodeBase  = Output(UInt(sys.axiAddrBits.W))
+    val triBase   = Output(UInt(sys.axiAddrBits.W))
+  })
+  private val sIdle :: sReq :: sResp :: sStore :: sWait :: Nil = Enum(5)
+  private val stateReg    = RegInit(sIdle)
+  private val readyReg    = RegInit(false.B)
+  private val errorReg    = RegInit(false.B)
+  private val codeReg     = RegInit(0.U(3.W))
+  private val baseReg     = RegInit(0.U(sys.axiAddrBits.W))
+  private val nodeBaseReg = RegInit(0.U(sys.axiAddrBits.W))
+  private val triBaseReg  = RegInit(0.U(sys.axiAddrBits.W))
+  private val bytesReg    = RegInit(0.U(32.W))
+  private val finished    = WireDefault(false.B)
+
+  private def fail(code: Int): Unit = { errorReg := true.B; codeReg := code.U; stateReg := sIdle; finished := true.B }
+
+  when(io.start && stateReg === sIdle) {
+    readyReg := false.B; errorReg := false.B; codeReg := 0.U; baseReg := io.sceneBase
+    when(io.sceneBase(5, 0) =/= 0.U) { fail(5) }.otherwise { stateReg := sReq }
+  }
+  io.mem.req.valid := stateReg === sReq
+  io.mem.req.bits.addr := baseReg
+  io.mem.req.bits.tag := 0.U
+  when(io.mem.req.fire) { stateReg := sResp }
+
+  io.mem.resp.ready := stateReg === sResp
+  private val w = VecInit.tabulate(16)(k => io.mem.resp.bits.data(32 * k + 31, 32 * k))
+  private val magic = java.nio.ByteBuffer.wrap(MemoryImage.Magic).order(java.nio.ByteOrder.LITTLE_ENDIAN)
+  private val (magic0, magic1) = (magic.getInt(0).toLong & 0xffffffffL, magic.getInt(4).toLong & 0xffffffffL)
+  private val (nodeOffset, triOffset, nodeBytes, triBytes, bvhDepth, layout) = (w(5), w(6), w(7), w(8), w(10), w(11))
+  when(io.mem.resp.fire) {
+    when(w(0) =/= magic0.U || w(1) =/= magic1.U) { fail(1) }
+      .elsewhen(w(2) =/= MemoryImage.Version.U) { fail(2) }
+      .elsewhen(layout =/= sys.core.layout.code.U) { fail(3) }
+      .elsewhen(nodeBytes =/= sys.core.layout.nodeBytes.U || triBytes =/= MemoryImage.TriBytes.U) { fail(4) }
+      .elsewhen(nodeOffset(5, 0) =/= 0.U || triOffset(5, 0) =/= 0.U) { fail(5) }
+      .elsewhen(bvhDepth > sys.core.stackDepth.U) { fail(6) }
+      .otherwise {
+        nodeBaseReg := baseReg + nodeOffset
+        triBaseReg  := baseReg + triOffset
+        // The node array's bytes (nodeCount * nodeBytes, at most triOffset - nodeOffset).
+        bytesReg    := triOffset - nodeOffset
+        stateReg    := sStore
+      }
+  }
+  io.store.start := stateReg === sStore
+  io.store.base  := nodeBaseReg
+  io.store.bytes := bytesReg
+  when(stateReg === sStore) { stateReg := sWait }
+  when(stateReg === sWait && io.store.done) { stateReg := sIdle; readyReg := true.B; finished := true.B }
+
+  io.busy      := stateReg =/= sIdle
+  io.ready     := readyReg
+  io.error     := errorReg
+  io.errorCode := codeReg
+  io.finished  := finished
+  io.nodeBase  := nodeBaseReg
+  io.triBase   := triBaseReg
+}
+
+object SceneLoader {
+  def port(sys: SystemConfig): MemPortParams = MemPortParams(sys.axiAddrBits, 1, SystemConfig.HeaderBytes)
+}

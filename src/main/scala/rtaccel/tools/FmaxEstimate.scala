@@ -1,0 +1,161 @@
+package rtaccel.tools
+
+import java.nio.file.{Files, Path}
+import java.security.MessageDigest
+import scala.concurrent.duration.Duration
+import scala.concurrent.{Await, ExecutionContext, Future}
+import scala.sys.process._
+
+/** Fmax estimate per unit (docs/fmax.md): each unit of an emitted design is
+  * synthesised alone (Yosys 0.23 `synth_xilinx -family xc7`, flattened; the
+  * datapath units black-boxed inside the control units), then `ltp` finds its
+  * longest topological path with flip-flops cut out (`ltp -noff t:FD* %n`, as
+  * plain `-noff` does not cut at FDRE) and the cells on it are counted and
+  * turned into ns by a [[DelayModel]]. The longest path by cell count is not
+  * always the slowest one, and placement is unknown: an ESTIMATE.
+  *
+  * Also cut (treated as registers): DSP48E1, RAMB and LUTRAM/SRL cells (their
+  * internal and read paths are not modelled), I/O buffers and black boxes. A
+  * unit's ports count as register boundaries: within the datapath every unit
+  * input comes from a register or another unit's registered output.
+  */
+object FmaxEstimate {
+  final case class PathCells(cells: Seq[String]) {
+    private def n(p: String => Boolean) = cells.count(p)
+    def luts: Int = n(c => DelayModel.kind(c) == "LUT")
+    def muxf: Int = n(c => c == "MUXF7" || c == "MUXF8")
+    def carry4: Int = n(_ == "CARRY4")
+    def inv: Int = n(_ == "INV")
+    def other: Int = cells.size - luts - muxf - carry4 - inv
+    def summary: String =
+      s"${cells.size} (${luts} LUT, ${muxf} MUXF, ${carry4} CARRY4${if (inv > 0) s", $inv INV" else ""}${if (other > 0) s", $other other" else ""})"
+  }
+  final case class Row(unit: String, module: String, area: Synth.Area, path: PathCells, ns: Double) {
+    def mhz: Double = 1000.0 / ns
+  }
+
+  /** Cell types renamed into the cell names before `ltp`, so that the path it prints names its types. */
+  val namedTypes: Seq[String] = Seq("LUT1", "LUT2", "LUT3", "LUT4", "LUT5", "LUT6", "MUXF7", "MUXF8", "CARRY4", "INV")
+  private val cutTypes = Seq("t:FD*", "t:DSP48E1", "t:RAM*", "t:SRL*", "t:IBUF", "t:OBUF", "t:BUFG")
+
+  def script(sv: Path, top: String, blackboxes: Seq[String]): String = {
+    val bb = if (blackboxes.isEmpty) "" else s"blackbox ${blackboxes.mkString(" ")}; "
+    val rename = namedTypes.map(t => s"rename -enumerate -pattern c${t}_% t:$t; ").mkString
+    val cut = (cutTypes ++ blackboxes.map(b => s"t:$b")).reduceLeft((a, b) => s"$a $b %u")
+    s"read_verilog -sv $sv; ${bb}synth_xilinx -family xc7 -top $top; flatten; stat; ${rename}ltp -noff $cut %n"
+  }
+
+  private val pathHead = """Longest topological path in \S+ \(length=(\d+)\):""".r
+  private val via = """\(via (\S+)\)""".r
+  private val typed = """^c([A-Z0-9]+)_\d+$""".r
+
+  /** The cells on the path `ltp` printed last in `log`, by type ("other" for unnamed cells). */
+  def parsePath(log: String, file: String): PathCells = {
+    val at = log.lastIndexOf("Longest topological path in")
+    require(at >= 0, s"$file: no 'Longest topological path' in the Yosys log")
+    val block = log.substring(at).linesIterator.drop(1).takeWhile(l => l.trim.matches("""\d+:.*""")).toSeq
+    val length = pathHead.findFirstMatchIn(log.substring(at)).map(_.group(1).toInt).get
+    val cells = block.flatMap(l => via.findFirstMatchIn(l).map(_.group(1))).map {
+      case typed(t) if namedTypes.contains(t) => t
+      case _ => "other"
+    }
+    require(cells.size == length, s"$file: ltp reported length $length but ${cells.size} cells were parsed")
+    PathCells(cells)
+  }
+
+  private def hash(parts: String*): String = {
+    val md = MessageDigest.getInstance("SHA-256")
+    parts.foreach(p => md.update(p.getBytes("UTF-8")))
+    md.digest().take(8).map(b => f"$b%02x").mkString
+  }
+
+  /** One cached Yosys run: area and longest path of `top` in `text`. */
+  def run(cacheDir: Path, label: String, text: String, top: String, bb: Seq[String]): (Synth.Area, PathCells) = {
+    Files.createDirectories(cacheDir)
+    val key = hash(text, top, bb.mkString(","), script(Path.of("x"), top, bb))
+    val done = cacheDir.resolve(s"fmax-$label-$key.json")
+    if (Files.exists(done)) {
+      val j = ujson.read(Files.readString(done))
+      (AccelArea.fromJson(j("area")), PathCells(j("path").arr.map(_.str).toSeq))
+    } else {
+      val stem = s"fmax-$label-$key.${ProcessHandle.current().pid()}"
+      val sv = cacheDir.resolve(s"$stem.sv")
+      val log = cacheDir.resolve(s"$stem.yosys.log")
+      Files.writeString(sv, text)
+      val rc = Seq("yosys", "-q", "-l", log.toString, "-p", script(sv, top, bb)).!(ProcessLogger(_ => ()))
+      require(rc == 0, s"yosys failed on $top from $sv (exit $rc); see $log")
+      val logText = Files.readString(log)
+      val area = Synth.parseTotal(logText.substring(0, logText.lastIndexOf("Longest topological path in").max(0)), log)
+      val path = parsePath(logText, log.toString)
+      val json = ujson.Obj("area" -> ujson.read(AccelArea.toJson(area)), "path" -> path.cells)
+      val tmp = Files.createTempFile(cacheDir, label, ".tmp")
+      Files.writeString(tmp, ujson.write(json))
+      Files.move(tmp, done, java.nio.file.StandardCopyOption.REPLACE_EXISTING, java.nio.file.StandardCopyOption.ATOMIC_MOVE)
+      Files.deleteIfExists(sv)
+      (area, path)
+    }
+  }
+
+  /** Memories, queues and arbiters firtool and chisel3.util emit: part of their parent's row. */
+  private def isPlumbing(m: String): Boolean =
+    m.matches(""".*_\d+x\d+""") || m.startsWith("Queue") || m.startsWith("RRArbiter")
+
+  /** The units of `top` in `sv`, in file order: each FP unit, each datapath
+    * unit (whole), and every other non-plumbing module with the datapath
+    * units black-boxed (the top's row is the whole control). */
+  def units(sv: String, top: String): Seq[(String, String, Seq[String])] = {
+    val mods = AccelArea.subtree(AccelArea.modules(sv), top)
+    val names = mods.map(_.name)
+    val dpTops = names.filter(n => AccelArea.datapathUnits.exists(u => n.startsWith(u + "_")))
+    val inDatapath = dpTops.flatMap(t => AccelArea.subtree(mods, t).map(_.name)).toSet
+    names.flatMap { n =>
+      if (n.startsWith("Fp")) Some((n, n, Nil))
+      else if (dpTops.contains(n)) Some((n, n, Nil))
+      else if (inDatapath.contains(n) || isPlumbing(n)) None
+      else {
+        val inside = AccelArea.subtree(mods, n).map(_.name).toSet
+        Some((if (n == top) s"$n (control)" else n, n, dpTops.filter(inside.contains)))
+      }
+    }
+  }
+
+  def measure(sv: String, top: String, cacheDir: Path, jobs: Int, model: DelayModel): Seq[Row] = {
+    val mods = AccelArea.modules(sv)
+    val pool = java.util.concurrent.Executors.newFixedThreadPool(jobs)
+    implicit val ec: ExecutionContext = ExecutionContext.fromExecutor(pool)
+    try {
+      val us = units(sv, top)
+      val futures = us.map { case (label, m, bb) =>
+        val text = AccelArea.subtree(mods, m).filterNot(x => bb.exists(b => x.name != b && AccelArea.subtree(mods, b).exists(_.name == x.name)))
+          .map(_.text).mkString
+        label -> Future {
+          val (a, p) = run(cacheDir, m.takeWhile(_ != '_'), text, m, bb)
+          println(f"fmax: $label: ${p.summary}, ${model.pathNs(p.cells)}%.2f ns")
+          Row(label, m, a, p, model.pathNs(p.cells))
+        }
+      }
+      futures.map { case (_, f) => Await.result(f, Duration.Inf) }
+    } finally pool.shutdown()
+  }
+
+  /** `runMain rtaccel.tools.FmaxEstimate <design.sv> [jobs]`: the table for an already emitted design. */
+  def main(args: Array[String]): Unit = {
+    require(args.nonEmpty, "usage: FmaxEstimate <design.sv> [jobs]")
+    val sv = Files.readString(Path.of(args(0)))
+    val t0 = System.nanoTime()
+    val rows = measure(sv, Synth.modules(sv).last, EmitVerilog.areaCache, args.lift(1).fold(2)(_.toInt), DelayModel.zynq7)
+    println(markdown(rows, DelayModel.zynq7, (System.nanoTime() - t0) / 1e9))
+  }
+
+  /** The markdown section appended to resources.md. */
+  def markdown(rows: Seq[Row], model: DelayModel, seconds: Double): String = {
+    val worst = rows.maxBy(_.ns)
+    def line(r: Row) = f"| ${r.unit} | ${r.area.lut}%,d | ${r.area.ff}%,d | ${r.area.dsp}%,d | ${r.area.bram36}%.1f | ${r.path.summary} | ${r.ns}%.2f | ${r.mhz}%.0f |"
+    (Seq("## Fmax estimate per unit (ESTIMATE)", "",
+      f"Each unit synthesised alone (`synth_xilinx -family xc7`, flattened; datapath units black-boxed in control units), longest register-to-register path by `ltp -noff t:FD* ... %%n`, cells on it turned into ns by the delay model *${model.name}* (docs/fmax.md) in $seconds%.0f s. Area here is per instance (the table above counts instances). No placement or routing: an estimate, not a timing sign-off.", "",
+      "| unit | LUT | FF | DSP48 | BRAM36 | path cells | ns | MHz |",
+      "| --- | ---: | ---: | ---: | ---: | --- | ---: | ---: |") ++
+      rows.map(line) ++
+      Seq("", f"Estimated system Fmax (slowest unit, **${worst.unit}**): **${worst.mhz}%.0f MHz** (${worst.ns}%.2f ns).", "")).mkString("\n")
+  }
+}

@@ -1,0 +1,37 @@
+package rtaccel.nodestore
+
+import rtaccel.BvhLayout
+import rtaccel.scene.{MemoryImage, Records}
+
+import scala.collection.mutable
+
+/** Orders of an image's nodes, as positions: `pos(i)` is where node i would
+  * sit in the node array. Image order is the identity (nori-bridge writes
+  * depth-first pre-order); breadth-first puts the top levels first.
+  */
+object NodeOrder {
+  /** The node indices of node i's inner children. */
+  def children(img: MemoryImage, i: Long): Seq[Long] = img.layout match {
+    case BvhLayout.Nori =>
+      val n = Records.node(img, i).head
+      if (n.isLeaf) Nil else Seq(i + 1, n.word1)
+    case _ =>
+      // Wide slots: word0 == 0 marks an inner child (docs/memory-format.md).
+      Records.node(img, i).takeWhile(_.word0 != 0x40000000L).filter(_.word0 == 0).map(_.word1)
+  }
+
+  def breadthFirst(img: MemoryImage): Array[Long] = {
+    val pos = Array.fill(img.nodeCount.toInt)(-1L)
+    val queue = mutable.Queue(0L)
+    var next = 0L
+    while (queue.nonEmpty) {
+      val i = queue.dequeue()
+      require(pos(i.toInt) < 0, s"${img.source}: node $i reached twice")
+      pos(i.toInt) = next
+      next += 1
+      queue ++= children(img, i)
+    }
+    require(next == img.nodeCount, s"${img.source}: ${img.nodeCount - next} nodes unreachable from the root")
+    pos
+  }
+}

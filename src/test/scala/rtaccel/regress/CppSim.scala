@@ -1,0 +1,103 @@
+package rtaccel.regress
+
+import chisel3.Data
+import rtaccel.golden.HitRecord
+import rtaccel.mem.{DramStats, MemStats, MemoryKind}
+import rtaccel.system.{RtAccelSystem, RunResult, SystemConfig}
+import rtaccel.tools.Synth
+import rtaccel.{AccelConfig, Datapath, ErrorFlags}
+
+import java.nio.ByteBuffer
+import java.nio.ByteOrder
+import java.nio.file.{Files, Path, Paths}
+import scala.sys.process._
+
+/** `make regress SIM=cpp`: the system top (rtaccel_system, one core) under a
+  * C++ Verilator harness with no JVM in the loop (sw/sim/, driven by
+  * librtaccel as a program on the board would be). The JVM only emits the
+  * Verilog, starts `rtaccel-sim`, and reads back what it wrote: the hit
+  * records as the hardware wrote them into DDR (hits.bin) and the counters
+  * and DDR statistics (sim.json, sim-memory.json); the report is then made
+  * by the same code as the chiseltest path's.
+  */
+object CppSim {
+  /** Where the simulator of a configuration is built (make reuses an unchanged build). */
+  def simDir(dp: String, cfg: AccelConfig, cores: Int): Path =
+    Paths.get("build", "cppsim", s"system_${dp}_c${cores}_n${cfg.numRayIds}_d${cfg.stackDepth}_k${cfg.boxLanes}").toAbsolutePath
+
+  /** Emits rtaccel_system for `cfg` and builds rtaccel-sim and test-librtaccel beside it (sw/Makefile). */
+  def build[T <: Data](cfg: AccelConfig, dp: Datapath[T], cores: Int = 1): Path = {
+    val dir = simDir(dp.name, cfg, cores)
+    Files.createDirectories(dir)
+    val sv = Synth.emit(new RtAccelSystem(SystemConfig(core = cfg, cores = cores), dp))
+    val svPath = dir.resolve("rtaccel_system.sv")
+    // Rewritten only when it changed, so make keeps a build of the same hardware.
+    if (!Files.exists(svPath) || Files.readString(svPath) != sv) Files.writeString(svPath, sv)
+    println(s"cppsim: building the simulator in $dir (Verilator; a few minutes the first time)")
+    val rc = Seq("make", "-s", "-C", "sw", "sim", s"SIMDIR=$dir", s"VSRC=$svPath").!
+    if (rc != 0) throw new IllegalStateException(s"cppsim: building the simulator in $dir failed (make -C sw sim, exit $rc)")
+    dir
+  }
+
+  /** Hit records as the hardware writes them (system contract): 32 bytes, ray order. */
+  def readHits(path: Path, rays: Int): IndexedSeq[HitRecord] = {
+    val bytes = Files.readAllBytes(path)
+    if (bytes.length != 32 * rays)
+      throw new IllegalArgumentException(s"$path: ${bytes.length} bytes, expected $rays hit records of 32 bytes")
+    val b = ByteBuffer.wrap(bytes).order(ByteOrder.LITTLE_ENDIAN)
+    def u32(off: Int) = b.getInt(off).toLong & 0xffffffffL
+    (0 until rays).map { i =>
+      val o = 32 * i
+      val status = u32(o + 4)
+      HitRecord(u32(o), (status & 1) == 1, u32(o + 8), u32(o + 12), u32(o + 16), u32(o + 20),
+        ((status >> 8) & ((1 << ErrorFlags.width) - 1)).toInt)
+    }
+  }
+
+  /** The rtaccel-sim options that carry `a`'s memory settings; refuses what the system has not got. */
+  def memoryOptions(a: RegressArgs): Seq[String] = {
+    if (a.memoryKind == MemoryKind.OnChip)
+      throw new IllegalArgumentException("SIM=cpp: MEMORY=onchip: the system top reads DDR through m_axi (use MEMORY=ddr)")
+    if (a.cache.isDefined)
+      throw new IllegalArgumentException("SIM=cpp: CACHE=: the system has its own node store; the DDR model has no cache")
+    val lat = a.memLatency.getOrElse(MemoryKind.Ddr.DefaultLatency)
+    Seq("--mem-latency", s"${lat.lo}-${lat.hi}", "--fabric-mhz", a.fabricMhz.toString, "--outstanding", a.outstanding.toString,
+      "--seed", a.seed.toString)
+  }
+
+  /** Runs `rays` (the package's first `rays`) through rtaccel-sim; returns the run and the simulation's speed. */
+  def run(a: RegressArgs, dir: Path, nodeBytes: Int, triBytes: Int, rays: Int): (RunResult, ujson.Obj) = {
+    val out = a.out.toAbsolutePath
+    val cmd = Seq(dir.resolve("rtaccel-sim").toString, "--package", a.pkg.toAbsolutePath.toString, "--out", out.toString,
+      "--rays", rays.toString) ++ memoryOptions(a) ++ (if (a.waves) Seq("--vcd", out.resolve("waves.vcd").toString) else Nil)
+    println(s"cppsim: ${cmd.mkString(" ")}")
+    val rc = cmd.!
+    if (rc != 0) throw new IllegalStateException(s"cppsim: rtaccel-sim failed (exit $rc)")
+    val sim = ujson.read(Files.readString(out.resolve("sim.json"))).obj
+    val mem = ujson.read(Files.readString(out.resolve("sim-memory.json"))).obj
+    val violations = mem("violations").arr
+    if (violations.nonEmpty)
+      throw new IllegalStateException(s"cppsim: AXI protocol violations by rtaccel_system:\n  ${violations.map(_.str).mkString("\n  ")}")
+    (result(sim, mem, out.resolve("hits.bin"), nodeBytes, triBytes, rays), ujson.Obj.from(sim("simulation").obj))
+  }
+
+  /** The run in the chiseltest path's terms. The system's memory is one AXI port,
+    * so the per-port statistics are the hardware's fetch counters and the bytes
+    * of bursts that fell in the node and triangle arrays; cache and per-port
+    * stall fields do not apply (0).
+    */
+  def result(sim: collection.Map[String, ujson.Value], mem: collection.Map[String, ujson.Value], hits: Path,
+      nodeBytes: Int, triBytes: Int, rays: Int): RunResult = {
+    val counters = sim("counters").obj
+    val cycles = counters("cycles").num.toLong
+    val perf = counters.map { case (k, v) => k -> BigInt(v.num.toLong) }.toMap
+    def regionRead(name: String) = mem("regions").obj.get(name).fold(0L)(_("readBytes").num.toLong)
+    def port(name: String, recordBytes: Int, fetches: Long, dramBytes: Long) =
+      MemStats(name, cycles, recordBytes, fetches, fetches, dramBytes, 0, 0, 0, 0, 0, 0, 0, 0)
+    val d = mem("dram").obj
+    RunResult(readHits(hits, rays), cycles, perf,
+      port("node", nodeBytes, counters("nodeFetches").num.toLong, regionRead("nodes")),
+      port("triangle", triBytes, counters("triFetches").num.toLong, regionRead("triangles")),
+      Some(DramStats(cycles, d("bytes").num.toLong, d("bytesPerCycle").num, d("burstBytes").num.toInt, d("busyCycles").num.toLong)))
+  }
+}

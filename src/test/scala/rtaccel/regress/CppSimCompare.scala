@@ -1,0 +1,70 @@
+package rtaccel.regress
+
+import chisel3.Data
+import chiseltest._
+import firrtl2.options.TargetDirAnnotation
+import rtaccel.axi.AxiMemoryParams
+import rtaccel.scene.ScenePackage
+import rtaccel.system.{SystemConfig, SystemHarness, SystemSimTop}
+
+import java.nio.file.{Files, Paths}
+import scala.sys.process._
+
+/** The two harnesses of the system top side by side on the same rays and
+  * memory settings: the chiseltest one (SystemHarness + AxiMemoryModel) and
+  * the C++ one (rtaccel-sim: librtaccel + the C++ twin of AxiMemoryModel).
+  * Same buffer layout as librtaccel's (scene at 0x10000000, rays and hits each
+  * at the next 64-byte boundary). Prints both batches' CYCLES, their speed, and
+  * whether every hit record agrees. A measurement, not a test.
+  *
+  * usage: CppSimCompare --package DIR --out DIR [--rays N] [--reorder 0|1]
+  */
+object CppSimCompare {
+  def main(args: Array[String]): Unit = Cli.orExit {
+    val kv = args.toSeq.grouped(2).collect { case Seq(k, v) => k -> v }.toMap
+    val a = RegressArgs(Paths.get(kv("--package")), Paths.get(kv("--out")))
+    val reorder = kv.getOrElse("--reorder", "1") == "1"
+    val pkg = ScenePackage.load(a.pkg)
+    val rays = kv.get("--rays").fold(pkg.rays)(n => pkg.rays.take(n.toInt))
+    val cfg = Regress.config(a, pkg)
+    Files.createDirectories(a.out)
+    DatapathChoice.resolve(a.float, a.triangle, a.rounding) match {
+      case c: Chosen[t, s] =>
+        val dp = c.asInstanceOf[Chosen[Data, s]].dp
+        val dir = CppSim.build(cfg, dp)
+        // C++ first (quick), then chiseltest.
+        val cmd = Seq(dir.resolve("rtaccel-sim").toString, "--package", a.pkg.toAbsolutePath.toString, "--out",
+          a.out.toAbsolutePath.toString, "--rays", rays.size.toString, "--reorder", if (reorder) "1" else "0")
+        if (cmd.! != 0) throw new IllegalStateException("rtaccel-sim failed")
+        val cppHits = CppSim.readHits(a.out.resolve("hits.bin"), rays.size)
+        val sim = ujson.read(Files.readString(a.out.resolve("sim.json")))
+        val base = 0x10000000L
+        def up(x: Long) = (x + 63) / 64 * 64
+        val rayBase = base + up(pkg.image.bytes.length.toLong)
+        val lay = SystemHarness.Layout(base, rayBase, up(rayBase + SystemConfig.RayBytes.toLong * rays.size))
+        val annos = Seq(VerilatorBackendAnnotation, chiseltest.internal.CachingAnnotation,
+          TargetDirAnnotation(Paths.get("").toAbsolutePath.relativize(dir.resolve("chiseltest")).toString))
+        var line = ""
+        RawTester.test(new SystemSimTop(SystemConfig(core = cfg, cores = 1), dp), annos) { dut =>
+          val h = new SystemHarness(dut, AxiMemoryParams(reorder = reorder))
+          h.put(lay.sceneBase, pkg.image.bytes)
+          h.putRays(lay.rayBase, rays)
+          val code = h.loadScene(lay.sceneBase)
+          require(code == 0, s"SCENE_ERROR_CODE $code")
+          val c0 = h.cycle
+          val t0 = System.nanoTime()
+          h.runBatch(lay.rayBase, rays.size, lay.hitBase, 50000000L)
+          val secs = (System.nanoTime() - t0) / 1e9
+          val cycles = h.read64("CYCLES")
+          val hits = rays.indices.map(i => h.hitRecord(lay.hitBase, i)._1)
+          val same = hits.zip(cppHits).count { case (x, y) => x == y }
+          line = s"chiseltest: batch CYCLES $cycles, ${h.cycle - c0} cycles simulated in ${"%.2f".format(secs)} s " +
+            s"(${"%.0f".format((h.cycle - c0) / secs)} cycles/s)\n" +
+            s"cpp:        batch CYCLES ${sim("batchCycles").num.toLong}, ${sim("simulation").obj.mkString(", ")}\n" +
+            s"hit records equal: $same of ${rays.size}; reorder=$reorder"
+        }
+        println(line)
+        Files.writeString(a.out.resolve("compare.txt"), line + "\n")
+    }
+  }
+}

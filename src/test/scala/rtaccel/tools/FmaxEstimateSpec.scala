@@ -1,0 +1,72 @@
+package rtaccel.tools
+
+import org.scalatest.flatspec.AnyFlatSpec
+
+/** The Fmax estimate's arithmetic and its reading of Yosys's `ltp` output (no Yosys run). */
+class FmaxEstimateSpec extends AnyFlatSpec {
+  private val m = DelayModel.zynq7
+
+  "DelayModel.pathNs" should "charge clock-to-out, setup, and a routed hop before a lone LUT" in {
+    assert(math.abs(m.pathNs(Seq("LUT6")) - (m.tcko + m.setup + m.net + m.lut)) < 1e-9)
+  }
+
+  it should "route nothing inside a slice: LUT into CARRY4 or MUXF7, MUXF7 into MUXF8, along a carry chain" in {
+    val chain = Seq("LUT2", "CARRY4", "CARRY4", "CARRY4")
+    val expect = m.tcko + m.setup + m.net + m.lut + m.carryIn + 2 * m.carryBypass + m.carryOut
+    assert(math.abs(m.pathNs(chain) - expect) < 1e-9)
+    val wide = Seq("LUT6", "MUXF7", "MUXF8", "LUT3")
+    assert(math.abs(m.pathNs(wide) - (m.tcko + m.setup + 2 * m.net + 2 * m.lut + m.muxf7 + m.muxf8)) < 1e-9)
+  }
+
+  it should "enter a carry chain anew after another cell, and leave it through CI->O" in {
+    // The first chain is routed to from the register, the LUT from the chain; the LUT feeds its own slice's chain.
+    val twoChains = Seq("CARRY4", "LUT1", "CARRY4")
+    val expect = m.tcko + m.setup + 2 * m.net + m.lut + 2 * (m.carryIn + m.carryOut)
+    assert(math.abs(m.pathNs(twoChains) - expect) < 1e-9)
+  }
+
+  it should "treat an inverter as absorbed into the cell it feeds (no delay, no hop)" in {
+    assert(math.abs(m.pathNs(Seq("LUT6", "INV", "CARRY4")) - m.pathNs(Seq("LUT6", "CARRY4"))) < 1e-9)
+  }
+
+  private val log =
+    """Longest topological path in Top (length=4):
+      |    0: \a [3]
+      |    1: $abc$1.f0 (via cLUT6_0)
+      |    2: $abc$2.f0 (via cMUXF7_12)
+      |    3: $auto$alu.CO [3] (via cCARRY4_7)
+      |    4: \b (via $flatten\x.$abc$9)
+      |
+      |End of script.
+      |""".stripMargin
+
+  "FmaxEstimate.parsePath" should "read the cell types ltp printed, in order, unnamed cells as other" in {
+    val p = FmaxEstimate.parsePath(log, "test.log")
+    assert(p.cells == Seq("LUT6", "MUXF7", "CARRY4", "other"))
+    assert((p.luts, p.muxf, p.carry4, p.other) == ((1, 1, 1, 1)))
+  }
+
+  it should "refuse a log whose path length disagrees with the cells it lists" in {
+    val bad = log.replace("length=4", "length=5")
+    val e = intercept[IllegalArgumentException](FmaxEstimate.parsePath(bad, "bad.log"))
+    assert(e.getMessage.contains("bad.log"))
+  }
+
+  it should "refuse a log without a path, naming the file" in {
+    val e = intercept[IllegalArgumentException](FmaxEstimate.parsePath("nothing", "empty.log"))
+    assert(e.getMessage.contains("empty.log"))
+  }
+
+  "FmaxEstimate.units" should "list FP and datapath units alone, other modules with the datapath black-boxed, and skip plumbing" in {
+    def mod(name: String, insts: String*) =
+      s"module $name(\n  input a\n);\n" + insts.map(i => s"  $i u_$i (\n    .a (a)\n  );\n").mkString + "endmodule\n\n"
+    val sv = mod("FpAdd_e8m23_rne_l7") + mod("BoxLane_x", "FpAdd_e8m23_rne_l7") + mod("ram_64x6") +
+      mod("Queue64_T", "ram_64x6") + mod("Ctl", "BoxLane_x", "Queue64_T") + mod("Top", "Ctl")
+    val us = FmaxEstimate.units(sv, "Top")
+    assert(us == Seq(
+      ("FpAdd_e8m23_rne_l7", "FpAdd_e8m23_rne_l7", Nil),
+      ("BoxLane_x", "BoxLane_x", Nil),
+      ("Ctl", "Ctl", Seq("BoxLane_x")),
+      ("Top (control)", "Top", Seq("BoxLane_x"))))
+  }
+}
