@@ -54,6 +54,11 @@ fn every_stored_box_contains_its_exact_box() {
             let img = Image::parse(&bytes).unwrap_or_else(|e| panic!("{what}: {e:#}"));
             assert!(img.nodes == built.nodes && img.quant == built.quant && img.to_bytes() == bytes, "{what}: bytes do not read back");
             check_tri_records(&what, &scene.tris, &img);
+            // The same tree in the same (breadth-first) order as the FP32 layout of the same K: only the boxes differ.
+            let wide = PAIRS.iter().find(|p| p.1 == layout).unwrap().0;
+            let (_, fp32) = build_as(&scene, 4, wide);
+            let refs = |i: &Image| i.nodes.iter().map(|s| (s.word0, s.word1)).collect::<Vec<_>>();
+            assert!(refs(&img) == refs(&fp32) && img.tris == fp32.tris, "{what}: records or triangle order differ from --bvh {wide}'s");
             let exact = exact_boxes(&img);
             let k = layout.records_per_node();
             let (mut slots, mut growth) = (0usize, 0f64);

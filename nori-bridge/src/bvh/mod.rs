@@ -1,5 +1,6 @@
 //! The flattened BVH in one of our memory layouts (docs/memory-format.md):
-//! 32-byte records in depth-first node order, triangles in leaf order.
+//! 32-byte records; nori nodes depth first, wide nodes breadth first;
+//! triangles in the order the layout's walk meets the leaves.
 //! `nori`: one record per node, left child = index + 1. Wide (K = 2, 4, 8):
 //! K records (slots) per node, slot i of node n at record K n + i.
 

@@ -15,10 +15,9 @@
 //! `childBase` and its leaves' triangles consecutive slots from `triBase`,
 //! in slot order, so one byte per child (its kind and leaf count) suffices.
 
-use crate::bvh::flatten::Tree;
 use crate::bvh::layout::{EMPTY_SLOT, LEAF_BIT};
 use crate::bvh::{Node, Slot};
-use crate::geom::{Aabb, Tri};
+use crate::geom::Aabb;
 use anyhow::{bail, ensure, Result};
 
 /// Meta byte of an unused slot.
@@ -132,7 +131,7 @@ const FIXED_BYTES: usize = 24;
 
 /// The node's bytes (docs/memory-format.md): `slots` are its K records
 /// (word0/word1 in the wide meaning), whose references must be contiguous
-/// as `flatten_quant` lays them out.
+/// as `flatten::wide_breadth_first` lays them out.
 pub fn encode_bytes(q: &QuantNode, slots: &[Node], node_bytes: usize) -> Result<Vec<u8>> {
     let k = slots.len();
     let mut b = Vec::with_capacity(node_bytes);
@@ -214,72 +213,4 @@ pub fn decode_bytes(b: &[u8], k: usize) -> (Vec<Node>, QuantNode) {
         })
         .collect();
     (nodes, q)
-}
-
-/// What `flatten_quant` returns: K exact-box records per node, the stack
-/// bound and the tree depth (as for the wide layouts).
-pub struct QuantTree {
-    pub nodes: Vec<Node>,
-    pub slot_prim: Vec<u32>,
-    pub stack: u32,
-    pub depth: u32,
-}
-
-/// Lays out the builder's tree for a quantized layout: node 0 is the root;
-/// when a node is laid out its inner children get the next consecutive
-/// node indices and its leaves' triangles the next consecutive slots (slot
-/// order), then each inner child is laid out in slot order (depth first).
-/// Records hold the exact boxes; Image::from_bvh quantizes them.
-pub fn flatten_quant(tree: &Tree, tris: &[Tri], k: usize) -> Result<QuantTree> {
-    let root = match tree {
-        Tree::Leaf(_) => std::slice::from_ref(tree),
-        Tree::Inner(kids) => kids.as_slice(),
-    };
-    let mut out = QuantTree { nodes: Vec::new(), slot_prim: Vec::new(), stack: 0, depth: 0 };
-    let empty = Node { word0: EMPTY_SLOT, word1: 0, bounds: Aabb { min: [0.0; 3], max: [0.0; 3] } };
-    out.nodes.resize(k, empty);
-    let (_, stack, depth) = lay(&mut out, root, 0, k, tris, empty)?;
-    out.stack = stack;
-    out.depth = depth;
-    Ok(out)
-}
-
-/// Fills node `me`'s slots with `kids`; returns (its box, stack bound, depth).
-fn lay(out: &mut QuantTree, kids: &[Tree], me: usize, k: usize, tris: &[Tri], empty: Node) -> Result<(Aabb, u32, u32)> {
-    if kids.len() > k {
-        bail!("Embree gave a node of {} children for {k}-wide nodes", kids.len());
-    }
-    let mut first_child = out.nodes.len() / k;
-    for (i, kid) in kids.iter().enumerate() {
-        out.nodes[me * k + i] = match kid {
-            Tree::Leaf(prims) => {
-                let first = out.slot_prim.len() as u32;
-                let mut b = Aabb::empty();
-                for &p in prims {
-                    b = b.union(&tris[p as usize].bounds());
-                    out.slot_prim.push(p);
-                }
-                Node { word0: LEAF_BIT | prims.len() as u32, word1: first, bounds: b }
-            }
-            Tree::Inner(_) => {
-                let n = Node { word0: 0, word1: first_child as u32, bounds: Aabb::empty() };
-                first_child += 1;
-                n
-            }
-        };
-    }
-    out.nodes.resize(first_child * k, empty);
-    let (mut bounds, mut stack_below, mut depth_below) = (Aabb::empty(), 0, 0);
-    for (i, kid) in kids.iter().enumerate() {
-        if let Tree::Inner(grand) = kid {
-            let child = out.nodes[me * k + i].word1 as usize;
-            let (b, s, d) = lay(out, grand, child, k, tris, empty)?;
-            out.nodes[me * k + i].bounds = b;
-            stack_below = stack_below.max(s);
-            depth_below = depth_below.max(d);
-        }
-        bounds = bounds.union(&out.nodes[me * k + i].bounds);
-    }
-    // At this node the walk pushes at most (used slots - 1) entries.
-    Ok((bounds, (kids.len() as u32).saturating_sub(1) + stack_below, 1 + depth_below))
 }
