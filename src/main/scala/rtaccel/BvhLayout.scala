@@ -26,6 +26,8 @@ sealed trait BvhLayout {
   def maxPushes: Int
   /** What `make regress BVH=` and `nori-bridge compile --bvh` call it. */
   def name: String
+  /** Child boxes stored quantized (4q, 8q). */
+  def quantized: Boolean
 }
 
 object BvhLayout {
@@ -34,6 +36,7 @@ object BvhLayout {
     val lanes = 1
     val maxPushes = 1
     val name = "nori"
+    val quantized = false
   }
   final case class Wide(k: Int, quantized: Boolean = false) extends BvhLayout {
     require(Seq(2, 4, 8).contains(k), s"BvhLayout.Wide: k must be 2, 4 or 8, got $k")
