@@ -5,7 +5,7 @@
 #   RAYS=primary|shadow|ao|random|file.txt   SPP=1   WIDTH= HEIGHT=   SEED=1
 #   OUT=build/regress/<scene>   FLOAT=e8m23   TRIANGLE=watertight|moller
 #   ROUNDING=conservative|rne   IDS=64   STACK=   MAX_RAYS=   WAVES=0   STRICT=0
-#   SIZE=1 (hardware sized to the scene)   BVH=4|2|8|nori (node layout; 4 if unset)
+#   SIZE=1 (hardware sized to the scene)   BVH=4|2|8|nori|4q|8q (node layout; 4 if unset)
 #   MEMORY=ddr|onchip   MEM_LATENCY=100 (ns, or 80-300; ddr only)   FABRIC_MHZ=200
 #   OUTSTANDING=64   CACHE=0 (KiB; ddr only)
 #   SIM=chiseltest|cpp (cpp: the system top under the C++ Verilator harness, sw/sim/)

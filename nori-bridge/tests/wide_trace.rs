@@ -8,86 +8,17 @@
 
 mod common;
 use common::*;
-use nori_bridge::bvh::{Layout, Slot};
-use nori_bridge::geom::Aabb;
+use nori_bridge::bvh::Layout;
 use nori_bridge::image_bin::Image;
-use nori_bridge::ray::{Hit, Ray};
-use nori_bridge::{ray_gen, traverse};
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
+use nori_bridge::traverse;
 use std::process::Command;
-
-const RAYS: usize = 20_000;
-
-/// The rays: RAYS closest-hit rays, then RAYS / 4 shadow rays (some with
-/// short tmax), from `seed`.
-fn rays(name: &str, seed: u64) -> Vec<Ray> {
-    let scene = load(name);
-    let mut rays = ray_gen::random(&scene.tris, &scene.bounds(), RAYS + RAYS / 4, &mut ChaCha8Rng::seed_from_u64(seed));
-    for (k, r) in rays.iter_mut().enumerate().skip(RAYS) {
-        r.shadow = true;
-        r.tmax = if k % 3 == 0 { f32::INFINITY } else { 0.05 * (k % 40) as f32 };
-    }
-    rays
-}
-
-/// Is `prim` hit by `ray` at exactly `t` by the f32 triangle test?
-fn hit_at(img: &Image, prim: i64, ray: &Ray, t: f32) -> bool {
-    let rec = img.tris.iter().find(|r| r.prim as i64 == prim).unwrap();
-    traverse::moller_trumbore(&rec.tri.v, ray).is_some_and(|h| h.0 == t)
-}
-
-/// The boxes a walk of `img` tests on its way to the leaf holding `prim`
-/// (nori: the nodes' boxes; wide: the slots' boxes), root first.
-fn path_boxes(img: &Image, prim: i64) -> Vec<Aabb> {
-    let slot = img.tris.iter().position(|r| r.prim as i64 == prim).unwrap() as u32;
-    let holds = |first: u32, count: u32| (first..first + count).contains(&slot);
-    let mut todo = vec![(0usize, Vec::new())];
-    while let Some((n, path)) = todo.pop() {
-        if img.layout == Layout::Nori {
-            let node = img.nodes[n];
-            let path = [path, vec![node.bounds]].concat();
-            match node.is_leaf() {
-                true if holds(node.word1, node.count()) => return path,
-                true => {}
-                false => todo.extend([(n + 1, path.clone()), (node.word1 as usize, path)]),
-            }
-            continue;
-        }
-        for s in img.wide_node(n) {
-            let path = [path.clone(), vec![s.bounds]].concat();
-            match s.slot() {
-                Slot::Leaf { first, count } if holds(first, count) => return path,
-                Slot::Inner { node } => todo.push((node as usize, path)),
-                _ => {}
-            }
-        }
-    }
-    panic!("prim {prim} is in no leaf");
-}
-
-/// The tie rule. Two walks can differ only in which leaves they cull
-/// against the current best t, and the near side of the slab test is not
-/// padded, so a leaf whose f32 entry distance rounds past a best t is
-/// skipped even when it holds a hit at that t or an ulp below. So a
-/// difference is allowed only when: both hit, on different prims; the
-/// better answer (smaller t, then lower prim) is that prim's f32 hit; and
-/// the walk with the worse answer culls a box on the way to the better
-/// prim when its tfar is the worse t. Returns the t distance in ulps.
-fn tie(ray: &Ray, a: (&Hit, &Image), b: (&Hit, &Image)) -> Option<u32> {
-    let (better, worse) = if (a.0.t, a.0.prim) < (b.0.t, b.0.prim) { (a, b) } else { (b, a) };
-    let inv = ray.d.map(|x| 1.0 / x);
-    let culled = path_boxes(worse.1, better.0.prim).iter().any(|bx| traverse::box_near(bx, ray, &inv, worse.0.t).is_none());
-    (better.0.hit && worse.0.hit && better.0.prim != worse.0.prim && hit_at(better.1, better.0.prim, ray, better.0.t) && culled)
-        .then(|| worse.0.t.to_bits() - better.0.t.to_bits())
-}
 
 #[test]
 fn wide_walks_equal_the_nori_walk_ray_by_ray() {
     for (i, name) in SHIPPED.iter().enumerate() {
         let seed = 40 + i as u64;
         let scene = load(name);
-        let rays = rays(name, seed);
+        let rays = walk_rays(name, seed);
         let (_, nori_img) = build_as(&scene, 4, Layout::Nori);
         let (want, nori_stats) = traverse::trace_all(&nori_img, &rays);
         assert!(nori_stats.max_stack <= nori_img.bvh_depth as usize, "{name} seed {seed}: nori stack");
@@ -121,7 +52,7 @@ fn wide_walks_equal_the_nori_walk_ray_by_ray() {
 fn cli_compiles_each_layout_deterministically() {
     let dir = tempfile::tempdir().unwrap();
     let scene = scene_path("icosphere");
-    for layout in ["nori", "2", "4", "8"] {
+    for layout in ["nori", "2", "4", "8", "4q", "8q"] {
         let pkg = |k: &str| dir.path().join(format!("{layout}-{k}"));
         for k in ["a", "b"] {
             run(&["compile", s(&scene), "--out", s(&pkg(k)), "--rays", "random", "--count", "3000", "--bvh", layout]);
@@ -149,7 +80,7 @@ fn cli_compiles_each_layout_deterministically() {
     }
     let out = Command::new(bridge_bin()).args(["compile", s(&scene), "--out", s(dir.path()), "--bvh", "3"]).output().unwrap();
     assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("BVH layout '3' is not one of nori, 2, 4, 8"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("BVH layout '3' is not one of nori, 2, 4, 8, 4q, 8q"));
 }
 
 /// `trace` on an image whose layout word is malformed fails naming the
@@ -166,5 +97,5 @@ fn trace_refuses_a_malformed_layout_word() {
     let out = Command::new(bridge_bin()).args(["trace", "--package", s(&pkg), "--out", s(&dir.path().join("h.csv"))]).output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{err}");
-    assert!(err.contains(s(&path)) && err.contains("header layout 3 (bytes 44-47) is not 0 (nori), 2, 4 or 8"), "{err}");
+    assert!(err.contains(s(&path)) && err.contains("header layout 3 (bytes 44-47) is not 0 (nori), 2, 4, 8, 20 (4q) or 24 (8q)"), "{err}");
 }

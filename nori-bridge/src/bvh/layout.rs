@@ -2,6 +2,9 @@
 //! `nori` (32-byte binary nodes, left child implicit) and the wide layouts
 //! with K = 2, 4 or 8 child slots of 32 bytes per node. A slot has the
 //! fields of a nori node record, so one record decoder serves both.
+//! `4q` / `8q`: wide nodes with quantized child boxes (bvh/quant.rs); in
+//! memory they are decoded into the same K slot records (word0, word1, the
+//! decoded box), so the walks and checks serve them unchanged.
 
 use std::fmt;
 use std::str::FromStr;
@@ -21,19 +24,41 @@ pub enum Layout {
     Wide2,
     Wide4,
     Wide8,
+    /// 4-wide, child boxes quantized to 8 bits per plane (64-byte nodes).
+    Quant4,
+    /// 8-wide, child boxes quantized to 8 bits per plane (80-byte nodes).
+    Quant8,
 }
 
 impl Layout {
-    pub const ALL: [Layout; 4] = [Layout::Nori, Layout::Wide2, Layout::Wide4, Layout::Wide8];
+    pub const ALL: [Layout; 6] = [Layout::Nori, Layout::Wide2, Layout::Wide4, Layout::Wide8, Layout::Quant4, Layout::Quant8];
 
-    /// The header's `layout` word: 0 for nori, K for the wide layouts.
+    /// The header's `layout` word: 0 for nori, K for the wide layouts,
+    /// 16 + K for the quantized ones (20 = 4q, 24 = 8q).
     pub fn word(self) -> u32 {
         match self {
             Layout::Nori => 0,
             Layout::Wide2 => 2,
             Layout::Wide4 => 4,
             Layout::Wide8 => 8,
+            Layout::Quant4 => 20,
+            Layout::Quant8 => 24,
         }
+    }
+
+    /// Child slots per node (1 for nori).
+    pub fn k(self) -> u32 {
+        match self {
+            Layout::Nori => 1,
+            Layout::Quant4 => 4,
+            Layout::Quant8 => 8,
+            wide => wide.word(),
+        }
+    }
+
+    /// Child boxes stored quantized relative to the node (4q, 8q).
+    pub fn is_quant(self) -> bool {
+        matches!(self, Layout::Quant4 | Layout::Quant8)
     }
 
     pub fn from_word(w: u32) -> Option<Layout> {
@@ -44,21 +69,24 @@ impl Layout {
     pub fn branching(self) -> u32 {
         match self {
             Layout::Nori => 2,
-            wide => wide.word(),
+            wide => wide.k(),
         }
     }
 
-    /// 32-byte records per node: 1 (nori) or K (one per slot).
+    /// Records per node in memory (Image::nodes): 1 (nori) or K (one per
+    /// slot; a quantized node is decoded into K slot records).
     pub fn records_per_node(self) -> usize {
-        match self {
-            Layout::Nori => 1,
-            wide => wide.word() as usize,
-        }
+        self.k() as usize
     }
 
-    /// The header's `nodeBytes`.
+    /// The header's `nodeBytes`: 32 K, or for the quantized layouts 64 (4q)
+    /// and 80 (8q) (docs/memory-format.md).
     pub fn node_bytes(self) -> usize {
-        RECORD_BYTES * self.records_per_node()
+        match self {
+            Layout::Quant4 => 64,
+            Layout::Quant8 => 80,
+            _ => RECORD_BYTES * self.records_per_node(),
+        }
     }
 
     pub fn is_wide(self) -> bool {
@@ -72,6 +100,8 @@ impl Layout {
             Layout::Wide2 => "2",
             Layout::Wide4 => "4",
             Layout::Wide8 => "8",
+            Layout::Quant4 => "4q",
+            Layout::Quant8 => "8q",
         }
     }
 }
@@ -88,7 +118,7 @@ impl FromStr for Layout {
         Layout::ALL
             .into_iter()
             .find(|l| l.name() == s)
-            .ok_or_else(|| format!("BVH layout '{s}' is not one of nori, 2, 4, 8"))
+            .ok_or_else(|| format!("BVH layout '{s}' is not one of nori, 2, 4, 8, 4q, 8q"))
     }
 }
 

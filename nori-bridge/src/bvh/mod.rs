@@ -1,11 +1,13 @@
 //! The flattened BVH in one of our memory layouts (docs/memory-format.md):
-//! 32-byte records in depth-first node order, triangles in leaf order.
+//! 32-byte records; nori nodes depth first, wide nodes breadth first;
+//! triangles in the order the layout's walk meets the leaves.
 //! `nori`: one record per node, left child = index + 1. Wide (K = 2, 4, 8):
 //! K records (slots) per node, slot i of node n at record K n + i.
 
 pub mod build;
 pub mod flatten;
 pub mod layout;
+pub mod quant;
 
 pub use layout::{Layout, Slot, EMPTY_SLOT, LEAF_BIT};
 
@@ -53,6 +55,9 @@ pub struct Bvh {
     /// Inner (wide) nodes on the longest root-to-leaf path.
     pub tree_depth: u32,
     pub max_leaf_size: u32,
+    /// Quantized layouts: each node's quantization fields (`nodes` keep the
+    /// exact boxes); empty otherwise.
+    pub quant: Vec<quant::QuantNode>,
 }
 
 impl Bvh {

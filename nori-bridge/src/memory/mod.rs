@@ -5,6 +5,7 @@
 pub mod traverse;
 
 use crate::bvh::layout::RECORD_BYTES;
+use crate::bvh::quant::{self, QuantNode};
 use crate::bvh::{Bvh, Layout, Node, Slot};
 use crate::geom::{Aabb, Tri};
 use anyhow::{bail, Context, Result};
@@ -33,8 +34,12 @@ pub struct Image {
     pub max_leaf_size: u32,
     /// The stack bound (see Bvh::depth).
     pub bvh_depth: u32,
-    /// 32-byte records in file order: one per nori node, K per wide node.
+    /// 32-byte records in file order: one per nori node, K per wide node
+    /// (quantized layouts: K decoded slot records per node, boxes as the
+    /// hardware decodes them).
     pub nodes: Vec<Node>,
+    /// Quantized layouts: each node's quantization fields; empty otherwise.
+    pub quant: Vec<QuantNode>,
     pub tris: Vec<TriRecord>,
 }
 
@@ -53,7 +58,17 @@ impl Image {
                 TriRecord { tri, prim: p, flags }
             })
             .collect();
-        Image { layout: bvh.layout, max_leaf_size: bvh.max_leaf_size, bvh_depth: bvh.depth, nodes: bvh.nodes.clone(), tris: records }
+        let mut nodes = bvh.nodes.clone();
+        if bvh.layout.is_quant() {
+            // What the image holds is the decoded box, not the exact one.
+            let k = bvh.layout.records_per_node();
+            for (n, q) in nodes.chunks_mut(k).zip(&bvh.quant) {
+                for (i, s) in n.iter_mut().enumerate().filter(|(_, s)| s.slot() != Slot::Empty) {
+                    s.bounds = q.decoded(i);
+                }
+            }
+        }
+        Image { layout: bvh.layout, max_leaf_size: bvh.max_leaf_size, bvh_depth: bvh.depth, nodes, quant: bvh.quant.clone(), tris: records }
     }
 
     pub fn node_offset() -> usize {
@@ -61,7 +76,7 @@ impl Image {
     }
 
     pub fn tri_offset(&self) -> usize {
-        align_up(HEADER_BYTES + RECORD_BYTES * self.nodes.len())
+        align_up(HEADER_BYTES + self.layout.node_bytes() * self.node_count())
     }
 
     /// Nodes in the image: nori nodes, or wide nodes of K slots.
@@ -93,7 +108,14 @@ impl Image {
             b.extend_from_slice(&w.to_le_bytes());
         }
         b.resize(HEADER_BYTES, 0);
-        for n in &self.nodes {
+        if self.layout.is_quant() {
+            let k = self.layout.records_per_node();
+            for (slots, q) in self.nodes.chunks(k).zip(&self.quant) {
+                // Image::from_bvh and parse only make images that encode.
+                b.extend(quant::encode_bytes(q, slots, self.layout.node_bytes()).expect("a quantized node that does not encode"));
+            }
+        }
+        for n in self.nodes.iter().filter(|_| !self.layout.is_quant()) {
             b.extend_from_slice(&n.word0.to_le_bytes());
             b.extend_from_slice(&n.word1.to_le_bytes());
             for f in n.bounds.min.iter().chain(n.bounds.max.iter()) {
@@ -132,15 +154,20 @@ impl Image {
             bail!("format version {version}, this tool reads {VERSION}");
         }
         let layout = Layout::from_word(u(44))
-            .with_context(|| format!("header layout {} (bytes 44-47) is not 0 (nori), 2, 4 or 8", u(44)))?;
+            .with_context(|| format!("header layout {} (bytes 44-47) is not 0 (nori), 2, 4, 8, 20 (4q) or 24 (8q)", u(44)))?;
         if u(28) as usize != layout.node_bytes() || u(32) as usize != TRI_BYTES {
             bail!("record sizes {}/{} differ from {}/{TRI_BYTES} (layout {layout})", u(28), u(32), layout.node_bytes());
         }
         let records = nodes * layout.records_per_node();
-        if node_off + RECORD_BYTES * records > tri_off || tri_off + TRI_BYTES * tris > b.len() {
+        if node_off + layout.node_bytes() * nodes > tri_off || tri_off + TRI_BYTES * tris > b.len() {
             bail!("offsets/counts ({nodes} nodes at {node_off}, {tris} triangles at {tri_off}) exceed the file ({} bytes)", b.len());
         }
-        let nodes = (0..records)
+        let (nodes, quant): (Vec<Node>, Vec<QuantNode>) = if layout.is_quant() {
+            let (nb, k) = (layout.node_bytes(), layout.records_per_node());
+            let decoded: Vec<(Vec<Node>, QuantNode)> = (0..nodes).map(|i| quant::decode_bytes(&b[node_off + nb * i..node_off + nb * (i + 1)], k)).collect();
+            (decoded.iter().flat_map(|d| d.0.clone()).collect(), decoded.into_iter().map(|d| d.1).collect())
+        } else {
+            ((0..records)
             .map(|i| {
                 let o = node_off + RECORD_BYTES * i;
                 Node {
@@ -149,7 +176,8 @@ impl Image {
                     bounds: Aabb { min: [f(o + 8), f(o + 12), f(o + 16)], max: [f(o + 20), f(o + 24), f(o + 28)] },
                 }
             })
-            .collect();
+            .collect(), Vec::new())
+        };
         let tris = (0..tris)
             .map(|i| {
                 let o = tri_off + TRI_BYTES * i;
@@ -157,7 +185,7 @@ impl Image {
                 TriRecord { tri: Tri { v: [v(0), v(1), v(2)] }, prim: u(o + 36), flags: u(o + 40) }
             })
             .collect();
-        let img = Image { layout, max_leaf_size: u(36), bvh_depth: u(40), nodes, tris };
+        let img = Image { layout, max_leaf_size: u(36), bvh_depth: u(40), nodes, quant, tris };
         if layout.is_wide() {
             img.check_wide_slots()?;
         }
@@ -180,6 +208,9 @@ impl Image {
                         None
                     }
                     _ if seen_empty => Some("used slot after an empty one".into()),
+                    _ if !(s.bounds.min.iter().chain(&s.bounds.max).all(|x| x.is_finite())) => {
+                        Some(format!("non-finite box {:?} (quantized: a scale exponent outside {}..={})", s.bounds, quant::EXP_MIN, quant::EXP_MAX))
+                    }
                     Slot::Inner { node } if node as usize >= nodes || node as usize <= n => Some(format!("child node {node}")),
                     Slot::Leaf { first, count } if count == 0 || first as usize + count as usize > self.tris.len() => {
                         Some(format!("leaf of {count} triangles at slot {first}"))

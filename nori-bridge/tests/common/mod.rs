@@ -8,6 +8,11 @@ use nori_bridge::image_bin::{Image, FLAG_ZERO_AREA};
 use nori_bridge::scene::Scene;
 use nori_bridge::scene_xml::load_scene;
 use nori_bridge::geom::Tri;
+use nori_bridge::bvh::Slot;
+use nori_bridge::geom::Aabb;
+use nori_bridge::ray::{Hit, Ray};
+use nori_bridge::{ray_gen, traverse};
+use rand::SeedableRng;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use std::path::{Path, PathBuf};
@@ -103,3 +108,71 @@ pub fn json(p: &Path) -> serde_json::Value {
 pub fn s(p: &Path) -> &str {
     p.to_str().unwrap()
 }
+
+// ---- Walk rays and the tie rule of the f32 walks (tests/wide_trace.rs, tests/quant_layout.rs) ----
+
+pub const RAYS: usize = 20_000;
+
+/// The rays: RAYS closest-hit rays, then RAYS / 4 shadow rays (some with
+/// short tmax), from `seed`.
+pub fn walk_rays(name: &str, seed: u64) -> Vec<Ray> {
+    let scene = load(name);
+    let mut rays = ray_gen::random(&scene.tris, &scene.bounds(), RAYS + RAYS / 4, &mut ChaCha8Rng::seed_from_u64(seed));
+    for (k, r) in rays.iter_mut().enumerate().skip(RAYS) {
+        r.shadow = true;
+        r.tmax = if k % 3 == 0 { f32::INFINITY } else { 0.05 * (k % 40) as f32 };
+    }
+    rays
+}
+
+/// Is `prim` hit by `ray` at exactly `t` by the f32 triangle test?
+pub fn hit_at(img: &Image, prim: i64, ray: &Ray, t: f32) -> bool {
+    let rec = img.tris.iter().find(|r| r.prim as i64 == prim).unwrap();
+    traverse::moller_trumbore(&rec.tri.v, ray).is_some_and(|h| h.0 == t)
+}
+
+/// The boxes a walk of `img` tests on its way to the leaf holding `prim`
+/// (nori: the nodes' boxes; wide: the slots' boxes), root first.
+pub fn path_boxes(img: &Image, prim: i64) -> Vec<Aabb> {
+    let slot = img.tris.iter().position(|r| r.prim as i64 == prim).unwrap() as u32;
+    let holds = |first: u32, count: u32| (first..first + count).contains(&slot);
+    let mut todo = vec![(0usize, Vec::new())];
+    while let Some((n, path)) = todo.pop() {
+        if img.layout == Layout::Nori {
+            let node = img.nodes[n];
+            let path = [path, vec![node.bounds]].concat();
+            match node.is_leaf() {
+                true if holds(node.word1, node.count()) => return path,
+                true => {}
+                false => todo.extend([(n + 1, path.clone()), (node.word1 as usize, path)]),
+            }
+            continue;
+        }
+        for s in img.wide_node(n) {
+            let path = [path.clone(), vec![s.bounds]].concat();
+            match s.slot() {
+                Slot::Leaf { first, count } if holds(first, count) => return path,
+                Slot::Inner { node } => todo.push((node as usize, path)),
+                _ => {}
+            }
+        }
+    }
+    panic!("prim {prim} is in no leaf");
+}
+
+/// The tie rule. Two walks can differ only in which leaves they cull
+/// against the current best t, and the near side of the slab test is not
+/// padded, so a leaf whose f32 entry distance rounds past a best t is
+/// skipped even when it holds a hit at that t or an ulp below. So a
+/// difference is allowed only when: both hit, on different prims; the
+/// better answer (smaller t, then lower prim) is that prim's f32 hit; and
+/// the walk with the worse answer culls a box on the way to the better
+/// prim when its tfar is the worse t. Returns the t distance in ulps.
+pub fn tie(ray: &Ray, a: (&Hit, &Image), b: (&Hit, &Image)) -> Option<u32> {
+    let (better, worse) = if (a.0.t, a.0.prim) < (b.0.t, b.0.prim) { (a, b) } else { (b, a) };
+    let inv = ray.d.map(|x| 1.0 / x);
+    let culled = path_boxes(worse.1, better.0.prim).iter().any(|bx| traverse::box_near(bx, ray, &inv, worse.0.t).is_none());
+    (better.0.hit && worse.0.hit && better.0.prim != worse.0.prim && hit_at(better.1, better.0.prim, ray, better.0.t) && culled)
+        .then(|| worse.0.t.to_bits() - better.0.t.to_bits())
+}
+

@@ -8,6 +8,12 @@ package rtaccel
   *  - [[BvhLayout.Wide]]`(k)`: a node of k 32-byte child slots, each with the
   *    child's box, so one fetch brings k boxes and BboxIntersect tests all of
   *    them at once (k lanes).
+  *  - `Wide(k, quantized = true)` (`4q`, `8q`): the same k slots, but the
+  *    node stores its child boxes as 8-bit offsets from a per-node origin and
+  *    power-of-two scale (docs/memory-format.md, "Quantized wide node"),
+  *    64 bytes (k = 4) or 80 bytes (k = 8). BvhNode.decode turns it into the
+  *    same k slots (exact FP32 boxes), so everything after the decoder is
+  *    the wide layout's.
   */
 sealed trait BvhLayout {
   /** The image header's `layout` word. */
@@ -20,6 +26,8 @@ sealed trait BvhLayout {
   def maxPushes: Int
   /** What `make regress BVH=` and `nori-bridge compile --bvh` call it. */
   def name: String
+  /** Child boxes stored quantized (4q, 8q). */
+  def quantized: Boolean
 }
 
 object BvhLayout {
@@ -28,21 +36,25 @@ object BvhLayout {
     val lanes = 1
     val maxPushes = 1
     val name = "nori"
+    val quantized = false
   }
-  final case class Wide(k: Int) extends BvhLayout {
+  final case class Wide(k: Int, quantized: Boolean = false) extends BvhLayout {
     require(Seq(2, 4, 8).contains(k), s"BvhLayout.Wide: k must be 2, 4 or 8, got $k")
-    def code: Int = k
+    require(!quantized || k >= 4, s"BvhLayout.Wide: quantized nodes are 4- or 8-wide, got $k")
+    def code: Int = if (quantized) 16 + k else k
     def lanes: Int = k
+    /** Quantized: 24 fixed bytes + 7 per slot, padded to a multiple of 16 (64, 80). */
+    override def nodeBytes: Int = if (quantized) (24 + 7 * k + 15) / 16 * 16 else 32 * k
     def maxPushes: Int = k - 1
-    def name: String = k.toString
+    def name: String = if (quantized) s"${k}q" else k.toString
   }
 
-  val all: Seq[BvhLayout] = Seq(Nori, Wide(2), Wide(4), Wide(8))
+  val all: Seq[BvhLayout] = Seq(Nori, Wide(2), Wide(4), Wide(8), Wide(4, quantized = true), Wide(8, quantized = true))
 
   def parse(s: String): BvhLayout = all.find(_.name == s.trim)
     .getOrElse(throw new IllegalArgumentException(s"BVH layout '$s': expected one of ${all.map(_.name).mkString(", ")}"))
 
   /** From an image header's `layout` word; `source` names the file for the error. */
   def fromCode(code: Long, source: String): BvhLayout = all.find(_.code == code)
-    .getOrElse(throw new IllegalArgumentException(s"$source: header layout = $code, expected 0 (nori), 2, 4 or 8"))
+    .getOrElse(throw new IllegalArgumentException(s"$source: header layout = $code, expected 0 (nori), 2, 4, 8, 20 (4q) or 24 (8q)"))
 }

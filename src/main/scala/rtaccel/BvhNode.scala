@@ -45,24 +45,30 @@ object BvhNode {
 
   /** Decodes a little-endian node record of `cfg.layout`, flagging fields too
     * wide for `cfg`, corrupt kind words and non-finite bounds. Only used slots
-    * can flag.
+    * can flag. A quantized node's boxes are decoded to FP32 here (QuantNode),
+    * so the box lanes see exact FP32 boxes in every layout.
     */
   def decode(cfg: AccelConfig, record: UInt): BvhNode = {
     val bytes = cfg.layout.nodeBytes
     require(record.getWidth == bytes * 8, s"BvhNode.decode: record must be ${bytes * 8} bits")
     def word(slot: Int, i: Int): UInt = record(256 * slot + 32 * i + 31, 256 * slot + 32 * i)
     def highBitsSet(w: UInt, keep: Int): Bool = if (keep >= 32) false.B else w(31, keep).orR
+    // A quantized node is first decoded into the slot words a 32-byte slot would hold.
+    val raw: Seq[SlotWords[UInt]] = cfg.layout match {
+      case w: BvhLayout.Wide if w.quantized => QuantNode.decode(w.k, record)
+      case _ => (0 until cfg.boxLanes).map(s => SlotWords(word(s, 0), word(s, 1), (2 until 5).map(word(s, _)), (5 until 8).map(word(s, _))))
+    }
     val n = Wire(new BvhNode(cfg))
     val slotErrors = for (s <- 0 until cfg.boxLanes) yield {
-      val (w0, w1) = (word(s, 0), word(s, 1))
+      val (w0, w1) = (raw(s).word0, raw(s).word1)
       val slot = n.slots(s)
       val leaf = w0(31)
       slot.child.isLeaf := leaf
       slot.child.index  := w1(cfg.refIndexBits - 1, 0)
       slot.child.count  := w0(cfg.leafCountBits - 1, 0)
       for (a <- 0 until 3) {
-        slot.boxMin(a) := word(s, 2 + a)
-        slot.boxMax(a) := word(s, 5 + a)
+        slot.boxMin(a) := raw(s).boxMin(a)
+        slot.boxMax(a) := raw(s).boxMax(a)
       }
       val indexTooWide = Mux(leaf, highBitsSet(w1, cfg.triIndexBits), highBitsSet(w1, cfg.nodeIndexBits))
       val leafTooBig = leaf && (w0(30, 0) > cfg.maxLeafSize.U)
@@ -80,7 +86,7 @@ object BvhNode {
         Mux(present && leafTooBig, ErrorFlags.bit(ErrorFlags.LeafTooBig), 0.U) |
         Mux(present && badBox, ErrorFlags.bit(ErrorFlags.BadSceneData), 0.U)
     }
-    n.axis   := word(0, 0)(1, 0)
+    n.axis   := raw(0).word0(1, 0)
     n.errors := slotErrors.reduce(_ | _)
     n
   }

@@ -5,9 +5,9 @@ import java.nio.file.{Files, Path}
 
 /** A nori-bridge memory image (`image.bin`), as specified in
   * docs/memory-format.md (version 2): a 64-byte little-endian header, then
-  * BVH nodes of the header's layout (32-byte nori nodes, or wide nodes of K
-  * 32-byte child slots) and 48-byte triangle records, each section 64-byte
-  * aligned.
+  * BVH nodes of the header's layout (32-byte nori nodes, wide nodes of K
+  * 32-byte child slots, or quantized wide nodes of 64 / 80 bytes) and 48-byte
+  * triangle records, each section 64-byte aligned.
   *
   * The hardware sees this file as its memory, byte address 0 = file offset 0.
   */
@@ -85,10 +85,17 @@ final case class NodeRecord(word0: Long, word1: Long, boxMin: Seq[Long], boxMax:
 final case class TriangleRecord(vertexWords: Seq[Long], prim: Long, flags: Long)
 
 object Records {
-  /** Node `i`'s 32-byte records: the node itself (nori), or its K slots (wide). */
-  def node(img: MemoryImage, i: Long): IndexedSeq[NodeRecord] = (0 until img.layout.lanes).map { s =>
-    val w = (0 until 8).map(k => img.readLE(img.nodeAddr(i) + 32 * s + 4 * k, 4).toLong)
-    NodeRecord(w(0), w(1), w.slice(2, 5), w.slice(5, 8))
+  /** Node `i`'s 32-byte records: the node itself (nori), or its K slots (wide;
+    * a quantized node decoded as the hardware decodes it, rtaccel.QuantNode).
+    */
+  def node(img: MemoryImage, i: Long): IndexedSeq[NodeRecord] = img.layout match {
+    case w: rtaccel.BvhLayout.Wide if w.quantized =>
+      val bytes = (0 until w.nodeBytes).map(b => img.readLE(img.nodeAddr(i) + b, 1).toInt)
+      rtaccel.QuantNode.decodeSoft(w.k, bytes).map(s => NodeRecord(s.word0, s.word1, s.boxMin, s.boxMax)).toIndexedSeq
+    case _ => (0 until img.layout.lanes).map { s =>
+      val w = (0 until 8).map(k => img.readLE(img.nodeAddr(i) + 32 * s + 4 * k, 4).toLong)
+      NodeRecord(w(0), w(1), w.slice(2, 5), w.slice(5, 8))
+    }
   }
   def triangle(img: MemoryImage, i: Long): TriangleRecord = {
     val w = (0 until 11).map(k => img.readLE(img.triAddr(i) + 4 * k, 4).toLong)

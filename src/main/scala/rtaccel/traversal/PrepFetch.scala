@@ -32,7 +32,7 @@ class PrepFetch(cfg: AccelConfig) extends Module {
 
   private val parked = Mem(cfg.numRayIds, new TraversalToken(cfg))
   io.mem.req.valid     := queue.io.deq.valid
-  io.mem.req.bits.addr := io.nodeBase + (queue.io.deq.bits.nodeIdx << log2Ceil(cfg.layout.nodeBytes))
+  io.mem.req.bits.addr := io.nodeBase + PrepFetch.nodeOffset(cfg, queue.io.deq.bits.nodeIdx)
   io.mem.req.bits.tag  := queue.io.deq.bits.rayId
   queue.io.deq.ready   := io.mem.req.ready
   when(io.mem.req.fire) { parked.write(queue.io.deq.bits.rayId, queue.io.deq.bits) }
@@ -51,6 +51,13 @@ class PrepFetch(cfg: AccelConfig) extends Module {
 object PrepFetch {
   /** Node requests are tagged with the ray ID; one request brings one whole node record. */
   def port(cfg: AccelConfig): MemPortParams = MemPortParams(cfg.addrBits, cfg.rayIdBits, cfg.layout.nodeBytes)
+  /** Byte offset of node `idx`: a shift for power-of-two node sizes, a
+    * constant multiply (shifts and one add) for the 80-byte 8q node.
+    */
+  def nodeOffset(cfg: AccelConfig, idx: UInt): UInt = {
+    val n = cfg.layout.nodeBytes
+    if (isPow2(n)) idx << log2Ceil(n) else idx * n.U
+  }
 }
 
 /** A ray's token with the node it fetched. */

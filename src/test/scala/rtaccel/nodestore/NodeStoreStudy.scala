@@ -13,7 +13,8 @@ import scala.collection.mutable
   * scenes, from the golden walk's node fetches (the hardware's node reads,
   * one per node test):
   *  - preload: a node read hits when the node lies in the first S bytes of
-  *    the node array, in image order (depth-first) or breadth-first;
+  *    the node array, in image order (as nori-bridge writes it: breadth
+  *    first for the wide layouts, depth first for nori) or breadth-first;
   *  - cache: an LRU set-associative cache of S bytes (64-byte lines, 4 ways),
   *    a read hits when every line of its node is present; rays are
   *    interleaved 64 at a time, one fetch each in turn, as 64 ray IDs in
@@ -24,7 +25,7 @@ import scala.collection.mutable
   */
 object NodeStoreStudy {
   val SizesKiB: Seq[Int] = Seq(16, 64, 256, 512, 1024, 2048)
-  val Layouts: Seq[String] = Seq("4", "8", "nori")
+  val Layouts: Seq[String] = Seq("4", "8", "4q", "8q", "nori")
   val InFlight = 64
 
   def main(args: Array[String]): Unit = Cli.orExit {
@@ -51,6 +52,7 @@ object NodeStoreStudy {
       }
       val nb = p.image.nodeBytes.toInt
       val bfs = NodeOrder.breadthFirst(p.image)
+      val order = NodeOrder.name(p.image, bfs)
       val fetches = traces.map(_.length.toLong).sum
       val cells = SizesKiB.map { kib =>
         val s = kib * 1024L
@@ -61,14 +63,14 @@ object NodeStoreStudy {
         f"${100 * dfs}%.1f / ${100 * bf}%.1f / ${100 * cold}%.1f / ${100 * warm}%.1f"
       }
       val arrayKiB = p.image.nodeCount * nb / 1024.0
-      rows += s"| ${run.name} | $layout | ${rays.size} | ${f"${fetches.toDouble / rays.size}%.1f"} | ${f"$arrayKiB%.0f"} | ${cells.mkString(" | ")} |"
+      rows += s"| ${run.name} | $layout | $order | ${rays.size} | ${f"${fetches.toDouble / rays.size}%.1f"} | ${f"$arrayKiB%.0f"} | ${cells.mkString(" | ")} |"
       println(rows.last)
     }
     val md = new StringBuilder
-    md ++= s"Node reads that hit, in percent: preload in image (depth-first) order / preload breadth-first / LRU cache " +
+    md ++= s"Node reads that hit, in percent: preload in image order / preload breadth-first / LRU cache " +
       s"(64 B lines, 4-way, $InFlight rays interleaved) cold / warm, per store size.\n\n"
-    md ++= s"| rays | layout | rays walked | node reads/ray | node array KiB | ${SizesKiB.map(k => s"$k KiB").mkString(" | ")} |\n"
-    md ++= s"| --- | --- | ---: | ---: | ---: | ${SizesKiB.map(_ => "---:").mkString(" | ")} |\n"
+    md ++= s"| rays | layout | image order | rays walked | node reads/ray | node array KiB | ${SizesKiB.map(k => s"$k KiB").mkString(" | ")} |\n"
+    md ++= s"| --- | --- | --- | ---: | ---: | ---: | ${SizesKiB.map(_ => "---:").mkString(" | ")} |\n"
     rows.foreach(r => md ++= r + "\n")
     Files.createDirectories(root)
     Files.writeString(root.resolve("study.md"), md.toString)

@@ -31,7 +31,10 @@ class RtAccelControlSpec extends AnyFlatSpec with ChiselScalatestTester {
                                          MemoryParams(Latency.Fixed(40), inOrder = true), hitRefuse = 0.2)
   )
 
-  for (layout <- BvhLayout.all; (ids, rayCount) <- Seq(2 -> 150, 4 -> 250, 16 -> 600)
+  // Quantized layouts (4q, 8q) run in `make soak` (every layout), not here: their control is the wide layout's, and
+  // their decoder is covered by the 4q cases of PrepFetchSpec, BboxIntersectSpec, TraversalSpec and RtAccelSceneSpec
+  // (a 4q case here passed, about 37 s, over make test's budget).
+  for (layout <- BvhLayout.all.filterNot(_.quantized); (ids, rayCount) <- Seq(2 -> 150, 4 -> 250, 16 -> 600)
        if layout == BvhLayout.Nori || layout == BvhLayout.Wide(4) || ids == 4) {
     it should s"answer every ray exactly once, bit-exact with the golden model, with $ids ray IDs in every environment (layout ${layout.name})" in
       Seeded(s"RtAccelControl.${layout.name}.ids$ids") { rnd =>

@@ -77,7 +77,7 @@ class RtAccelSceneSpec extends AnyFlatSpec with ChiselScalatestTester {
     ), embreeStrict = true, "RtAccelScene.fp32")
   }
 
-  for (layout <- Seq(BvhLayout.Wide(2), BvhLayout.Wide(8)))
+  for (layout <- Seq(BvhLayout.Wide(2), BvhLayout.Wide(8), BvhLayout.Wide(4, quantized = true)))
     it should s"match the golden model and Embree in FP32 with ${layout.name}-wide nodes and conservative boxes on the Cornell box, sized to it" in {
       val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.Watertight, BoxRounding.Conservative)
       // Sized: the stack holds exactly the layout's bound (the header's bvhDepth), indices the node and triangle counts.

@@ -16,6 +16,7 @@ import scala.util.Random
   *  - nori: depth-first, left child = index + 1, right child stored.
   *  - wide: nodes of K slots, 1..K used (the rest empty), each a leaf (0..maxLeaf
   *    triangles) or an inner child.
+  *  - quantized wide (4q, 8q): the wide tree re-laid out by SyntheticQuant.
   * The header's bvhDepth is the layout's stack bound, computed as documented.
   */
 object SyntheticBvh {
@@ -83,6 +84,12 @@ object SyntheticBvh {
     val order = rnd.shuffle(tris.indices.toList)
     for ((t, p) <- tris.zip(order)) t(9) = p
 
+    // Quantized: the same tree, re-laid out (SyntheticQuant).
+    val (quantNodes, outTris) = layout match {
+      case w: BvhLayout.Wide if w.quantized =>
+        val (q, t) = SyntheticQuant(rnd, nodes.toIndexedSeq, tris.toIndexedSeq, k); (Some(q), t)
+      case _ => (None, tris.toIndexedSeq)
+    }
     def align64(x: Int) = (x + 63) / 64 * 64
     val nodeOffset = MemoryImage.HeaderBytes
     val triOffset  = align64(nodeOffset + nodes.size * layout.nodeBytes)
@@ -90,8 +97,12 @@ object SyntheticBvh {
     buf.put(MemoryImage.Magic)
     Seq(MemoryImage.Version.toInt, nodes.size, tris.size, nodeOffset, triOffset, layout.nodeBytes, 48, maxLeaf, stackBound,
       layout.code).foreach(buf.putInt)
-    buf.position(nodeOffset); nodes.foreach(_.foreach(buf.putInt))
-    buf.position(triOffset); tris.foreach(_.foreach(buf.putInt))
+    buf.position(nodeOffset)
+    quantNodes match {
+      case Some(q) => q.foreach(b => buf.put(b))
+      case None    => nodes.foreach(_.foreach(buf.putInt))
+    }
+    buf.position(triOffset); outTris.foreach(_.foreach(buf.putInt))
     MemoryImage.fromBytes(s"synthetic ${layout.name} BVH (depth <= $maxDepth)", buf.array())
   }
 

@@ -148,7 +148,8 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
     }
   }
 
-  for (layout <- BvhLayout.all) {
+  // Quantized layouts decide as their wide layouts do (the node decoder differs, not the control).
+  for (layout <- BvhLayout.all.filterNot(_.quantized)) {
     it should s"end a ray with StackOverflow instead of dropping a subtree, and stop on errors (layout ${layout.name})" in {
       val cfg = cfgOf(layout, stackDepth = 8)
       test(new TraversalControl(cfg)).withAnnotations(Backends.treadle) { dut =>

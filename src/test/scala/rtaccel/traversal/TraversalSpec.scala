@@ -80,7 +80,7 @@ class TraversalSpec extends AnyFlatSpec with ChiselScalatestTester {
     (leaves.toSeq, tok)
   }
 
-  for (layout <- Seq(BvhLayout.Nori, BvhLayout.Wide(4))) {
+  for (layout <- Seq(BvhLayout.Nori, BvhLayout.Wide(4), BvhLayout.Wide(4, quantized = true))) {
     it should s"visit each ray's leaves in the golden order and finish it exactly once (layout ${layout.name})" in
       Seeded(s"Traversal.${layout.name}") { rnd =>
         val (img, stack) = layout match {
