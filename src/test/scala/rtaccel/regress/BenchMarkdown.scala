@@ -2,7 +2,7 @@ package rtaccel.regress
 
 /** docs/performance.md from the bench rows: one table, runs x layouts x memory side by side. */
 object BenchMarkdown {
-  def apply(rows: Seq[ujson.Obj], areaLuts: Map[String, Double], maxRays: Int, seconds: Double): String = {
+  def apply(rows: Seq[ujson.Obj], areaLuts: Map[String, Double], maxRays: Int, seconds: Double, system: String = ""): String = {
     def f(v: ujson.Value, d: Int) = v match { case ujson.Num(x) => s"%.${d}f".format(x); case _ => "–" }
     val header = Seq(
       "# Performance", "",
@@ -34,6 +34,6 @@ object BenchMarkdown {
     // Hand-written reading of the table, kept beside it (like the sweep's notes).
     val notes = java.nio.file.Paths.get("docs/performance-notes.md")
     val tail = if (java.nio.file.Files.exists(notes)) Seq("", java.nio.file.Files.readString(notes).trim) else Nil
-    (header ++ body ++ tail ++ Seq("")).mkString("\n")
+    (header ++ body ++ Option.when(system.nonEmpty)(system).toSeq ++ tail ++ Seq("")).mkString("\n")
   }
 }
