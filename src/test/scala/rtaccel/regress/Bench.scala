@@ -114,7 +114,7 @@ object Bench {
     Files.createDirectories(a.area.toAbsolutePath.getParent)
     Files.writeString(a.area, ujson.write(ujson.Obj.from(area.map { case (k, v) => k -> ujson.Num(v) }), indent = 2))
     Files.createDirectories(a.out.toAbsolutePath.getParent)
-    Files.writeString(a.out, BenchMarkdown(rows, area, a.maxRays, (System.nanoTime() - t0) / 1e9,
+    Files.writeString(a.out, BenchMarkdown(rows, area, a.maxRays, if (a.renderOnly) -1 else (System.nanoTime() - t0) / 1e9,
       system.fold("")(BenchSystemMarkdown(_, a.maxRays))))
     println(s"bench: wrote ${a.out}")
   }

@@ -39,7 +39,8 @@ class BenchSpec extends AnyFlatSpec {
 
   it should "state each issue-13 goal as met or not and name the term that holds it back" in {
     def row(run: String, cores: Int, rpc: Double) = ujson.Obj("run" -> run, "cores" -> cores, "rays" -> 100, "raySetSize" -> 4096,
-      "cycles" -> 100 / rpc, "raysPerCycle" -> rpc, "nodeStoreHitRate" -> 0.5, "dramBytesPerRay" -> 100.0, "goldenMismatches" -> 0,
+      "cycles" -> 100 / rpc, "raysPerCycle" -> rpc, "nodeStoreHitRate" -> 0.5, "dramBytesPerRay" -> 100.0, "readBytesPerRay" -> 100.0, "readBeatsPerCycle" -> 0.5,
+      "goldenMismatches" -> 0,
       "simCyclesPerSecond" -> 1.0, "simCyclesPerCpuSecond" -> 1.0)
     val r = BenchSystem.Result(Seq(row("cornell-box-primary", 1, 0.1), row("cornell-box-primary", 2, 0.2),
       row("dragon-primary", 1, 0.05), row("dragon-primary", 2, 0.1)),

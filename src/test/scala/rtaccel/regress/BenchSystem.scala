@@ -100,10 +100,13 @@ object BenchSystem {
       require(bad == 0, s"${run.name}, $n cores: $bad of ${rays.size} rays differ from the golden model")
       def perf(k: String) = r.perf.getOrElse(k, BigInt(0)).toDouble
       val storeReads = perf("nodeStoreHits") + perf("nodeStoreMisses")
+      // m_axi's R beats in the batch (the DDR model's count): 64 bytes each, at most one per cycle.
+      val readBeats = ujson.read(Files.readString(out.resolve("sim-memory.json")))("axi")("readBeats").num
       val row = ujson.Obj("run" -> run.name, "cores" -> n, "rays" -> rays.size, "raySetSize" -> p.rays.size,
         "cycles" -> r.cycles.toDouble, "raysPerCycle" -> rays.size.toDouble / r.cycles,
         "nodeStoreHitRate" -> (if (storeReads > 0) perf("nodeStoreHits") / storeReads else 0.0),
-        "dramBytesPerRay" -> r.dram.fold(0.0)(_.bytes.toDouble / rays.size), "goldenMismatches" -> bad,
+        "dramBytesPerRay" -> r.dram.fold(0.0)(_.bytes.toDouble / rays.size), "readBytesPerRay" -> 64 * readBeats / rays.size,
+        "readBeatsPerCycle" -> readBeats / r.cycles, "goldenMismatches" -> bad,
         "simCyclesPerSecond" -> speed("cyclesPerSecond").num, "simCyclesPerCpuSecond" -> speed("cyclesPerCpuSecond").num)
       println(f"bench: system ${run.name}%-20s $n cores ${rays.size}%5d rays ${r.cycles}%,9d cycles ${rays.size.toDouble / r.cycles}%.4f r/c")
       row

@@ -40,12 +40,13 @@ object BenchSystemMarkdown {
       s"From `make verilog` (`build/verilog/resources.md`, ${v.title}): **$fit cores fit** on the xc7z045, and the",
       s"**Fmax estimate is ${f(v.fmaxMhz, 1)} MHz** (slowest unit ${v.slowestUnit}; Yosys path length and a delay model, `docs/fmax.md`).",
       s"The estimate uses ${f(mhz, 0)} MHz (rounded down).", "",
-      s"| rays | simulated | ${cores.map(n => s"$n ${if (n == 1) "core" else "cores"}${if (n == fit) " (fit)" else ""}").mkString(" | ")} | node store hit rate ($fit) | DRAM bytes/ray ($fit) | golden mismatches |",
-      s"| --- | ---: | ${cores.map(_ => "---:").mkString(" | ")} | ---: | ---: | ---: |")
+      s"| rays | simulated | ${cores.map(n => s"$n ${if (n == 1) "core" else "cores"}${if (n == fit) " (fit)" else ""}").mkString(" | ")} | node store hit rate ($fit) | DRAM bytes/ray ($fit) | m_axi R bytes/ray ($fit) | m_axi R beats/cycle ($fit; max 1) | golden mismatches |",
+      s"| --- | ---: | ${cores.map(_ => "---:").mkString(" | ")} | ---: | ---: | ---: | ---: | ---: |")
     val table = runs.map { run =>
       val x = row(run, fit)
       s"| $run | ${x("rays").num.toInt} of ${x("raySetSize").num.toInt} | ${cores.map(n => f(rpc(run, n), 4)).mkString(" | ")} | " +
-        s"${f(100 * x("nodeStoreHitRate").num, 1)}% | ${f(x("dramBytesPerRay").num, 0)} | " +
+        s"${f(100 * x("nodeStoreHitRate").num, 1)}% | ${f(x("dramBytesPerRay").num, 0)} | ${f(x("readBytesPerRay").num, 0)} | " +
+        s"${f(x("readBeatsPerCycle").num, 2)} | " +
         s"${cores.map(n => row(run, n)("goldenMismatches").num.toInt).sum} |"
     }
     val answer = Seq("", "rays/cycle: of the whole system (all its cores).", "",
@@ -72,13 +73,14 @@ object BenchSystemMarkdown {
     val est = sysRpc * mhz
     if (est >= target) return s"- $what: **met**, ${f(est, 1)} Mrays/s."
     val need = target / est
-    // Ceilings: the clock at ClockCeilingMhz; cores at what fits (area); rays/cycle at the DRAM bound of the fitting
-    // system at this clock (bytes per cycle, at most one beat, over its DRAM bytes per ray).
-    val bytesPerCycle = math.min(BeatBytes, DdrBytesPerSecond / (mhz * 1e6))
-    val dramBound = if (x("dramBytesPerRay").num > 0) bytesPerCycle / x("dramBytesPerRay").num else Double.PositiveInfinity
+    // Ceilings: the clock at ClockCeilingMhz; cores at what fits (area); rays/cycle at the memory bound of the fitting
+    // system at this clock: the least of m_axi's R channel (one 64-byte beat per cycle over its read bytes per ray)
+    // and the DDR (12.8 GB/s in bytes per cycle over its DRAM bytes per ray, reads and writes in whole bursts).
+    def over(bytesPerCycle: Double, perRay: Double) = if (perRay > 0) bytesPerCycle / perRay else Double.PositiveInfinity
+    val dramBound = math.min(over(BeatBytes, x("readBytesPerRay").num), over(DdrBytesPerSecond / (mhz * 1e6), x("dramBytesPerRay").num))
     val terms = Seq(
       ("clock", ClockCeilingMhz / mhz, s"${f(mhz, 0)} MHz now; the goal needs ${f(mhz * need, 0)} MHz at these cores and rays/cycle (ceiling taken as ${f(ClockCeilingMhz, 0)} MHz, the fabric clock the DDR model and the MIG's AXI side assume)"),
-      ("rays/cycle", dramBound / sysRpc, s"${f(sysRpc, 4)} per system now (${f(sysRpc / fit, 4)} per core); the goal needs ${f(sysRpc * need, 4)}; the DRAM bound at this clock is ${if (dramBound.isInfinite) "none (no DRAM traffic)" else f(dramBound, 4)}"),
+      ("rays/cycle", dramBound / sysRpc, s"${f(sysRpc, 4)} per system now (${f(sysRpc / fit, 4)} per core); the goal needs ${f(sysRpc * need, 4)}; the memory bound at this clock is ${if (dramBound.isInfinite) "none (no DRAM traffic)" else f(dramBound, 4)} (m_axi R: ${f(x("readBytesPerRay").num, 0)} bytes/ray at ${f(x("readBeatsPerCycle").num, 2)} beats/cycle now; DDR: ${f(x("dramBytesPerRay").num, 0)} bytes/ray)"),
       ("cores", 1.0, s"$fit fit now (area, `make verilog`); the goal needs ${f(fit * need, 1)} at this rays/cycle per core and clock"))
     val (worst, headroom, _) = terms.maxBy(_._2)
     val alone = if (headroom >= need) s"raising it to its ceiling alone would meet the goal" else
