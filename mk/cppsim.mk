@@ -18,3 +18,20 @@ $(CPPSIM_PKG)/image.bin: | setup-cargo
 
 cppsim-test: setup cppsim-lib $(CPPSIM_PKG)/image.bin ## librtaccel + the C++ Verilator harness on Cornell (part of make test)
 	$(SBT) "Test/runMain rtaccel.regress.CppSimTest --package $(CPPSIM_PKG) --out $(BUILD)/cppsim/test --rays $(CPPSIM_RAYS)"
+
+# The two harnesses of the one-core system top side by side (issue 13): the
+# chiseltest one (SystemHarness + AxiMemoryModel) and the C++ one (rtaccel-sim:
+# librtaccel + the C++ twin of AxiMemoryModel), same rays, same memory settings,
+# same random draws. Fails unless every hit record and the batch's CYCLES agree;
+# prints and writes (OUT/compare.json) both harnesses' simulated cycles per wall
+# second and per CPU second (docs/cppsim.md). Not in make test: the chiseltest
+# system build alone takes minutes.
+CPPSIM_COMPARE_SCENE ?= scenes/cornell-box/cornell-box.xml
+CPPSIM_COMPARE_RAYS_KIND ?= primary
+# REORDER=0 (default): the exact check; with REORDER=1 the random draws fall in a different phase at START (docs/cppsim.md).
+CPPSIM_COMPARE_PKG = $(BUILD)/cppsim/compare-pkg/$(basename $(notdir $(CPPSIM_COMPARE_SCENE)))-$(CPPSIM_COMPARE_RAYS_KIND)
+
+.PHONY: cppsim-compare
+cppsim-compare: setup ## The chiseltest and C++ system harnesses on the same rays: same hits and cycles, and their speed [CPPSIM_COMPARE_SCENE= CPPSIM_COMPARE_RAYS_KIND=primary|shadow|ao MAX_RAYS= REORDER=0|1]
+	$(BRIDGE) compile $(CPPSIM_COMPARE_SCENE) --out $(CPPSIM_COMPARE_PKG) --rays $(CPPSIM_COMPARE_RAYS_KIND) --bvh 4 >/dev/null
+	$(SBT) "Test/runMain rtaccel.regress.CppSimCompare --package $(CPPSIM_COMPARE_PKG) --out $(CPPSIM_COMPARE_PKG)-r$(or $(REORDER),0)$(if $(MAX_RAYS), --rays $(MAX_RAYS)) --reorder $(or $(REORDER),0)"

@@ -36,10 +36,16 @@ object Bench {
       out: Path = Paths.get("docs/performance.md"), area: Path = Paths.get("build/bench/area.json"),
       bridge: Path = Paths.get("nori-bridge/target/release/nori-bridge"), threads: Int = 2,
       /** Only redraw the table from build/bench/bench.json (after a run, e.g. with new area figures). */
-      renderOnly: Boolean = false)
+      renderOnly: Boolean = false,
+      /** The system section (BenchSystem): the system top for 1, 2, 4 and the cores that fit, under the C++ harness:
+        * "1" measures it, "0" leaves it out, "cached" redraws it from build/bench/system.json. */
+      system: String = "1",
+      /** What `make verilog` wrote: the cores that fit and the Fmax estimate (VerilogFigures). */
+      verilog: Path = Paths.get("build/verilog/resources.md"))
 
   val usage = "usage: Bench [--out docs/performance.md] [--layouts nori,2,4,8] [--runs cornell-box-primary,dragon-ao,...] " +
-    "[--max-rays 2048] [--area build/bench/area.json] [--threads 2] [--render-only 0|1]"
+    "[--max-rays 2048] [--area build/bench/area.json] [--threads 2] [--render-only 0|1] [--system 0|1|cached] " +
+    "[--verilog build/verilog/resources.md]"
 
   def parse(args: Seq[String]): Args = {
     def fail(why: String): Nothing = throw new IllegalArgumentException(s"$why\n$usage")
@@ -56,6 +62,8 @@ object Bench {
         case "--area"     => a.copy(area = Paths.get(v))
         case "--threads"  => a.copy(threads = int)
         case "--render-only" => a.copy(renderOnly = v == "1")
+        case "--system"   => if (Seq("0", "1", "cached").contains(v)) a.copy(system = v) else fail(s"--system: '$v' (0, 1 or cached)")
+        case "--verilog"  => a.copy(verilog = Paths.get(v))
         case other        => fail(s"unknown option '$other'")
       }
     }
@@ -75,6 +83,20 @@ object Bench {
     val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.parse(base.triangle), BoxRounding.parse(base.rounding))
     val golden = FloatGolden(dp)
     a.layouts.foreach(configFor) // refuse an unknown layout before any work
+    // The system section first (the C++ harness is quick, and a missing make verilog shows at once):
+    // measured now, or redrawn from build/bench/system.json.
+    val systemJson = root.resolve("system.json")
+    val system = a.system match {
+      case "0" => None
+      case "cached" =>
+        if (!Files.exists(systemJson)) throw new IllegalArgumentException(s"--system cached: $systemJson is missing (run with --system 1)")
+        Some(BenchSystem.fromJson(ujson.read(Files.readString(systemJson))))
+      case _ =>
+        val r = BenchSystem.run(a, dp, golden, root)
+        Files.createDirectories(root)
+        Files.writeString(systemJson, ujson.write(BenchSystem.toJson(r), indent = 2))
+        Some(r)
+    }
     val rows =
       if (a.renderOnly) ujson.read(Files.readString(root.resolve("bench.json"))).arr.map(_.obj).map(o => ujson.Obj.from(o)).toSeq
       else {
@@ -92,7 +114,8 @@ object Bench {
     Files.createDirectories(a.area.toAbsolutePath.getParent)
     Files.writeString(a.area, ujson.write(ujson.Obj.from(area.map { case (k, v) => k -> ujson.Num(v) }), indent = 2))
     Files.createDirectories(a.out.toAbsolutePath.getParent)
-    Files.writeString(a.out, BenchMarkdown(rows, area, a.maxRays, (System.nanoTime() - t0) / 1e9))
+    Files.writeString(a.out, BenchMarkdown(rows, area, a.maxRays, if (a.renderOnly) -1 else (System.nanoTime() - t0) / 1e9,
+      system.fold("")(BenchSystemMarkdown(_, a.maxRays))))
     println(s"bench: wrote ${a.out}")
   }
 

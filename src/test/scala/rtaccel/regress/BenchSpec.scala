@@ -19,6 +19,44 @@ class BenchSpec extends AnyFlatSpec {
     assert(bad.getMessage.contains("'3'") && bad.getMessage.contains("--layouts"), bad.getMessage)
   }
 
+  it should "read the cores that fit and the Fmax estimate from make verilog's resources.md, and refuse another configuration" in {
+    val dir = java.nio.file.Files.createTempDirectory("bench-spec")
+    val f = dir.resolve("resources.md")
+    val text = Seq("# Resources: RtAccel e8m23_wt_cons, 4-wide BVH nodes (4 box lanes), 64 ray IDs, stack 64", "",
+      "Instances that fit on the device (by its scarcest resource): **3**.", "", "## Fmax estimate per unit (ESTIMATE)", "",
+      "Estimated system Fmax (slowest unit, **FpAdd_1**): **40 MHz** (25.00 ns).").mkString("\n")
+    java.nio.file.Files.writeString(f, text)
+    val want = Seq("RtAccel e8m23_wt_cons,", "(4 box lanes)", "64 ray IDs")
+    val v = VerilogFigures.read(f, want)
+    assert(v.coresFit == 3 && v.fmaxNs == 25.0 && v.fmaxMhz == 40.0 && v.slowestUnit == "FpAdd_1", v)
+    val other = intercept[IllegalArgumentException](VerilogFigures.read(f, Seq("(8 box lanes)")))
+    assert(other.getMessage.contains("make verilog") && other.getMessage.contains("(8 box lanes)"), other.getMessage)
+    java.nio.file.Files.writeString(f, text.linesIterator.filterNot(_.startsWith("Estimated")).mkString("\n"))
+    val noFmax = intercept[IllegalArgumentException](VerilogFigures.read(f, want))
+    assert(noFmax.getMessage.contains("Fmax") && noFmax.getMessage.contains(f.toString), noFmax.getMessage)
+    assert(intercept[IllegalArgumentException](VerilogFigures.read(dir.resolve("none.md"), want)).getMessage.contains("missing"))
+  }
+
+  it should "state each issue-13 goal as met or not and name the term that holds it back" in {
+    def row(run: String, cores: Int, rpc: Double) = ujson.Obj("run" -> run, "cores" -> cores, "rays" -> 100, "raySetSize" -> 4096,
+      "cycles" -> 100 / rpc, "raysPerCycle" -> rpc, "nodeStoreHitRate" -> 0.5, "dramBytesPerRay" -> 100.0, "readBytesPerRay" -> 100.0, "readBeatsPerCycle" -> 0.5,
+      "goldenMismatches" -> 0,
+      "simCyclesPerSecond" -> 1.0, "simCyclesPerCpuSecond" -> 1.0)
+    val r = BenchSystem.Result(Seq(row("cornell-box-primary", 1, 0.1), row("cornell-box-primary", 2, 0.2),
+      row("dragon-primary", 1, 0.05), row("dragon-primary", 2, 0.1)),
+      Map("cornell-box-primary" -> BenchSystem.Embree(50, 40, 2), "dragon-primary" -> BenchSystem.Embree(1, 1, 2)),
+      VerilogFigures("t", 2, 1000.0 / 40, "FpAdd"), 40)
+    val md = BenchSystemMarkdown(r, 2048)
+    // Cornell: 0.2 rays/cycle x 40 MHz = 8 Mrays/s, short of 160 by x20; the clock has x5 of headroom to 200 MHz,
+    // the rays/cycle x3.2 (64 B/cycle... at 40 MHz 320 B/cycle, capped at one 64-byte beat: 0.64 rays/cycle).
+    assert(md.contains("| cornell-box-primary | 100 of 4096 | 0.1000 | 0.2000 |"), md)
+    assert(md.contains("Cornell primary ≥ 160 Mrays/s") && md.contains("**not met**, 8.0 Mrays/s (×20.00 short)"), md)
+    assert(md.contains("Held back most by the **clock**") && md.contains("more than one term must move"), md)
+    // Dragon: 0.1 x 40 = 4 Mrays/s against 5 x 1 Mrays/s of Embree: not met by x1.25, and the clock alone would do it.
+    assert(md.contains("**not met**, 4.0 Mrays/s (×1.25 short)") && md.contains("raising it to its ceiling alone would meet the goal"), md)
+    assert(md.contains("estimate, not run on a board") && md.contains("this machine"), md)
+  }
+
   it should "put layouts (in the order asked for) and memories side by side per run, with box-lane LUTs where known" in {
     def row(run: String, layout: String, memory: String) = ujson.Obj("run" -> run, "layout" -> layout, "memoryKind" -> memory,
       "rays" -> 10, "raySetSize" -> 100, "raysPerCycle" -> 0.05, "efficiency" -> 0.9, "boundLimitedBy" -> "control",

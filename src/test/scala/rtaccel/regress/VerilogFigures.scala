@@ -1,0 +1,35 @@
+package rtaccel.regress
+
+import java.nio.file.{Files, Path}
+
+/** What `make verilog` wrote into build/verilog/resources.md that `make bench`
+  * needs: the cores that fit on the xc7z045 and the estimated system Fmax
+  * (rtaccel.tools.ResourceTable and FmaxEstimate.markdown). Read, never
+  * hard-coded: the Fmax moves whenever the FP units are re-pipelined.
+  */
+final case class VerilogFigures(title: String, coresFit: Int, fmaxNs: Double, slowestUnit: String) {
+  def fmaxMhz: Double = 1000.0 / fmaxNs
+}
+
+object VerilogFigures {
+  private val fitsRe = """Instances that fit on the device \(by its scarcest resource\): \*\*(\d+)\*\*""".r
+  private val fmaxRe = """Estimated system Fmax \(slowest unit, \*\*(.+?)\*\*\): \*\*[\d.]+ MHz\*\* \(([\d.]+) ns\)""".r
+
+  /** Parses `path`; `expect` are words the title must hold (the configuration the bench simulates). */
+  def read(path: Path, expect: Seq[String]): VerilogFigures = {
+    val how = "run `make verilog` (the default ZC706 configuration, with synthesis) first"
+    if (!Files.exists(path)) throw new IllegalArgumentException(s"$path: missing; $how")
+    val text = Files.readString(path)
+    val title = text.linesIterator.find(_.startsWith("# Resources: ")).map(_.stripPrefix("# Resources: "))
+      .getOrElse(throw new IllegalArgumentException(s"$path: no '# Resources:' title line; $how"))
+    val missing = expect.filterNot(title.contains)
+    if (missing.nonEmpty)
+      throw new IllegalArgumentException(s"$path: made for '$title', not the bench's configuration (no ${missing.mkString(", ")}); $how")
+    val fits = fitsRe.findFirstMatchIn(text).map(_.group(1).toInt)
+      .getOrElse(throw new IllegalArgumentException(s"$path: no 'Instances that fit on the device' line; $how"))
+    val (unit, ns) = fmaxRe.findFirstMatchIn(text).map(m => (m.group(1), m.group(2).toDouble))
+      .getOrElse(throw new IllegalArgumentException(s"$path: no 'Estimated system Fmax' line (the Fmax estimate); $how"))
+    if (fits < 1) throw new IllegalArgumentException(s"$path: $fits instances fit: nothing to simulate")
+    VerilogFigures(title, fits, ns, unit)
+  }
+}
