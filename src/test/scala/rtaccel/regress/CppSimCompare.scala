@@ -53,7 +53,9 @@ object CppSimCompare {
           require(code == 0, s"SCENE_ERROR_CODE $code")
           val c0 = h.cycle
           val t0 = System.nanoTime()
-          h.runBatch(lay.rayBase, rays.size, lay.hitBase, 50000000L)
+          val bar = new Progress("chiseltest:", rays.size)
+          h.runBatch(lay.rayBase, rays.size, lay.hitBase, 50000000L, bar.update)
+          bar.finish(rays.size)
           val secs = (System.nanoTime() - t0) / 1e9
           val cycles = h.read64("CYCLES")
           val hits = rays.indices.map(i => h.hitRecord(lay.hitBase, i)._1)
