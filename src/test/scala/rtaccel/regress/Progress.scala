@@ -3,18 +3,20 @@ package rtaccel.regress
 import java.io.PrintStream
 
 /** A progress line for long simulations (make regress, CppSimCompare): rays
-  * answered of the total, percent, elapsed time and ETA, on stderr. The Scala
+  * answered of the total, percent, elapsed time and ETA. The Scala
   * twin of sw/include/rtaccel_progress.hpp (same rules, same line):
   *  - nothing for the first 3 s (short runs stay quiet);
   *  - a terminal: one line redrawn in place with \r at most 4 times a second,
   *    ended by `finish`;
-  *  - otherwise (sbt's forked JVM, CI logs): a plain line at most every 10 s,
-  *    and a last one from `finish` if any was printed.
+  *  - otherwise (sbt's forked JVM, CI logs): a plain line on stdout at most
+  *    every 10 s, and a last one from `finish` if any was printed.
   * RTACCEL_PROGRESS=off|plain|tty overrides the choice (sbt pipes a forked
   * JVM's output, so it never looks like a terminal). Only what is printed
   * depends on time; nothing a test checks reads it.
   */
-final class Progress(label: String, total: Long, mode: Progress.Mode = Progress.defaultMode, out: PrintStream = System.err) {
+final class Progress(label: String, total: Long, mode: Progress.Mode = Progress.defaultMode) {
+  // Plain lines go to stdout: sbt tags every stderr line of a forked JVM "[error]".
+  private val to: PrintStream = if (mode == Progress.Tty) System.err else System.out
   import Progress._
   private val start = System.nanoTime()
   private var nextAt = 0.0
@@ -37,15 +39,15 @@ final class Progress(label: String, total: Long, mode: Progress.Mode = Progress.
     finished = true
     if (drawn) {
       draw(done, seconds)
-      if (mode == Tty) out.println()
+      if (mode == Tty) to.println()
     }
   }
 
   private def draw(done: Long, s: Double): Unit = {
     val l = line(label, done, total, s, bar = mode == Tty)
     // \r and a pad over a longer previous line.
-    if (mode == Tty) out.print("\r" + l.padTo(width, ' ')) else out.println(l)
-    out.flush()
+    if (mode == Tty) to.print("\r" + l.padTo(width, ' ')) else to.println(l)
+    to.flush()
     width = l.length
     drawn = true
   }

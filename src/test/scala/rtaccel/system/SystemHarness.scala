@@ -104,13 +104,13 @@ final class SystemHarness[T <: Data](dut: SystemSimTop[T], p: AxiMemoryParams) {
   def read64(counter: String): BigInt = { val lo = read(s"${counter}_LO"); (BigInt(read(s"${counter}_HI")) << 32) | lo }
   def status(field: String): Boolean = ((read("STATUS") >> RegisterMap.field("STATUS", field).lsb) & 1) == 1
 
-  /** Steps until `interrupt` is high (failing after `limit` cycles); `tick` every 2^16 cycles. */
+  /** Steps until `interrupt` is high (failing after `limit` cycles); `tick` every 2^12 cycles. */
   def awaitInterrupt(limit: Long, tick: () => Unit = () => ()): Unit = {
     val start = cycle
     while (!flag("interrupt")) {
       step()
       if (cycle - start > limit) throw new AssertionError(s"no interrupt within $limit cycles (cycle $cycle)")
-      if ((cycle & 0xffff) == 0) tick()
+      if ((cycle & 0xfff) == 0) tick()
     }
   }
 
