@@ -9,6 +9,7 @@
 #          each hit checked against the golden walk, and the image rendered
 #          again from golden hits (OUT/golden/) and compared pixel for pixel
 #   OUT=build/render/<scene>-<integrator>
+#   WHY=1: pixels differing from Embree's image explained ray by ray (OUT/why.json)
 # Stages: camera rays -> hits -> secondary rays (ao, direct) -> hits -> shade.
 # The hit source is the only thing RTL=1 changes; shading is a function of
 # the hits alone, so equal hits give equal pixels.
@@ -67,8 +68,13 @@ if [ "$integ" != normals ]; then
 fi
 "$bridge" shade --package "$OUT/camera" --hits "$h1" "${opts[@]}" "${sec[@]}" --source "$source_name" --out-dir "$OUT"
 echo "render: $OUT/montage.png ($source_name hits, $(printf '%.1f' "$(echo "$(date +%s.%N) - $start" | bc)") s)"
+# Pixels that differ from Embree's image: each traced to its rays and their
+# compare class (tie, edge, reference_wrong, ...) in OUT/why.json.
+if [ "${WHY:-1}" = 1 ] && ! grep -q '"pixels_differing": 0,' "$OUT/shade.json"; then
+  scripts/render_why.py "$OUT" "$h1" ${h2:+"$h2"}
+fi
 if [ "${RTL:-0}" = 1 ]; then
   # The same image from the golden walk's hits, pixel for pixel.
-  RTL=0 OUT="$OUT/golden" "$0" >/dev/null
+  WHY=0 RTL=0 OUT="$OUT/golden" "$0" >/dev/null
   "$bridge" diff-png "$OUT/accel.png" "$OUT/golden/accel.png" --out "$OUT/rtl-vs-golden.png"
 fi

@@ -7,6 +7,7 @@
 // shadow rays: occlusion and error bits). Exits 1 if any ray differs.
 #include <cstdio>
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 #include <exception>
 #include <fstream>
@@ -16,6 +17,7 @@
 
 #include "../golden/package_io.h"
 #include "../../hls/fp32.h"
+#include "../../sw/include/rtaccel_progress.hpp"
 
 namespace {
 // The golden walk over every ray, split over the machine's threads (rays are independent).
@@ -24,9 +26,21 @@ std::vector<rtg::HitOut> trace_all(const rtg::Image& img, const std::vector<rtg:
   const rtg::WalkConfig cfg;
   const unsigned n = std::max(1u, std::thread::hardware_concurrency());
   std::vector<std::thread> pool;
+  // Long runs (large scenes, many rays) show rays traced / total and an ETA on stderr.
+  rtaccel::Progress bar("golden-trace:", rays.size());
+  std::atomic<uint64_t> done{0};
+  constexpr size_t kReport = 4096;  // rays a thread traces between looks at the clock
   for (unsigned k = 0; k < n; ++k)
-    pool.emplace_back([&, k] { for (size_t i = k; i < rays.size(); i += n) hits[i] = rtg::trace(img, rays[i], cfg); });
+    pool.emplace_back([&, k] {
+      size_t mine = 0;
+      for (size_t i = k; i < rays.size(); i += n) {
+        hits[i] = rtg::trace(img, rays[i], cfg);
+        if (++mine == kReport) bar.update(done += mine), mine = 0;
+      }
+      done += mine;
+    });
   for (auto& t : pool) t.join();
+  bar.finish(done);
   return hits;
 }
 

@@ -108,6 +108,8 @@ typedef struct rtaccel_sim_options {
                                  the seed and the cycles before) */
   uint64_t max_cycles;        /* 0: no limit on a wait, else RTACCEL_ERR_TIMEOUT after this many cycles */
   const char* vcd_path;       /* NULL: no waveform (only when built with tracing) */
+  uint32_t progress;          /* 0: quiet; 1: a wait lasting over 3 s shows hits written / rays of the batch,
+                                 elapsed and ETA on stderr (rtaccel_progress.hpp; RTACCEL_PROGRESS=off|plain|tty) */
 } rtaccel_sim_options;
 
 typedef struct rtaccel_dev rtaccel_dev;

@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
   std::string pkg, out, vcd;
   unsigned long long maxRays = 0;
   rtaccel_sim_options o{};
+  o.progress = 1;  // long batches show rays answered and an ETA on stderr
   for (int i = 1; i < argc; i += 2) {
     std::string k = argv[i];
     if (i + 1 >= argc) return usage("option " + k + " needs a value");

@@ -174,9 +174,9 @@ fn make_rays(o: &CompileOpts, scene: &Scene, embree: &EmbreeScene) -> Result<(Ve
     })
 }
 
-/// Trace in chunks so a progress bar (stderr terminals only) can advance.
+/// Trace in chunks so the progress line (crate::progress) can advance.
 fn with_progress(what: &'static str, rays: &[Ray], f: impl Fn(&[Ray]) -> Result<Vec<Hit>>) -> Result<Vec<Hit>> {
-    let pb = crate::progress::bar(rays.len() as u64, what);
+    let mut pb = crate::progress::bar(rays.len() as u64, what);
     let mut out = Vec::with_capacity(rays.len());
     for chunk in rays.chunks(1 << 15) {
         out.extend(f(chunk)?);

@@ -71,7 +71,8 @@ object CppSim {
     val cmd = Seq(dir.resolve("rtaccel-sim").toString, "--package", a.pkg.toAbsolutePath.toString, "--out", out.toString,
       "--rays", rays.toString) ++ memoryOptions(a) ++ (if (a.waves) Seq("--vcd", out.resolve("waves.vcd").toString) else Nil)
     println(s"cppsim: ${cmd.mkString(" ")}")
-    val rc = cmd.!
+    // rtaccel-sim's progress lines (stderr, "rtaccel sim: ...") to stdout: sbt tags a forked JVM's stderr "[error]".
+    val rc = cmd.!(scala.sys.process.ProcessLogger(println(_), l => if (l.startsWith("rtaccel sim: ")) println(l) else System.err.println(l)))
     if (rc != 0) throw new IllegalStateException(s"cppsim: rtaccel-sim failed (exit $rc)")
     val sim = ujson.read(Files.readString(out.resolve("sim.json"))).obj
     val mem = ujson.read(Files.readString(out.resolve("sim-memory.json"))).obj

@@ -66,7 +66,9 @@ object CppSimCompare {
           val c0 = h.cycle
           val t0 = System.nanoTime()
           val cpu0 = cpuNanos()
-          h.runBatch(lay.rayBase, rays.size, lay.hitBase, 50000000L)
+          val bar = new Progress("chiseltest:", rays.size)
+          h.runBatch(lay.rayBase, rays.size, lay.hitBase, 50000000L, bar.update)
+          bar.finish(rays.size)
           val cpu = (cpuNanos() - cpu0) / 1e9
           val secs = (System.nanoTime() - t0) / 1e9
           val cycles = h.read64("CYCLES")

@@ -63,8 +63,9 @@ object Regress {
     var simStart = 0L
     RawTester.test(new SimTop(cfg, c.dp), annos) { dut =>
       simStart = System.nanoTime()
-      result = AccelHarness.run(dut, pkg.image, rays, a.environment,
-        progress = cyc => println(f"regress: cycle $cyc%,d"))
+      val bar = new Progress("regress:", rays.size)
+      result = AccelHarness.run(dut, pkg.image, rays, a.environment, progress = bar.update)
+      bar.finish(result.hits.size)
     }
     val simSeconds = (System.nanoTime() - simStart) / 1e9
     if (a.waves) println(s"regress: waveform under $simDir")

@@ -18,6 +18,8 @@ final class SystemHarness[T <: Data](dut: SystemSimTop[T], p: AxiMemoryParams) {
   private val sys = dut.sys
   private val io = dut.io
   var cycle = 0L
+  /** B responses on m_axi: in a batch, one per hit record (WriteEngine writes each as a single-beat burst). */
+  var writesAnswered = 0L
   dut.clock.setTimeout(0)
 
   // What the driver offers on s_axi this cycle.
@@ -48,6 +50,7 @@ final class SystemHarness[T <: Data](dut: SystemSimTop[T], p: AxiMemoryParams) {
       "bvalid" -> s.b.isDefined, "lite_awvalid" -> liteAw, "lite_wvalid" -> liteW, "lite_bready" -> liteBReady,
       "lite_arvalid" -> liteAr, "lite_rready" -> liteRReady)
     ctrlNow = set(io.ctrl, SystemSimTop.inFields.zipWithIndex.map { case (n, i) => if (ins(n)) BigInt(1) << i else BigInt(0) }.sum, ctrlNow)
+    if (s.b.isDefined && flag("bready")) writesAnswered += 1
     model.commit(AxiMasterSignals(ar, aw, w, rReady = s.r.isDefined && flag("rready"), bReady = s.b.isDefined && flag("bready")))
     dut.clock.step()
     model.tick()
@@ -101,10 +104,14 @@ final class SystemHarness[T <: Data](dut: SystemSimTop[T], p: AxiMemoryParams) {
   def read64(counter: String): BigInt = { val lo = read(s"${counter}_LO"); (BigInt(read(s"${counter}_HI")) << 32) | lo }
   def status(field: String): Boolean = ((read("STATUS") >> RegisterMap.field("STATUS", field).lsb) & 1) == 1
 
-  /** Steps until `interrupt` is high (failing after `limit` cycles). */
-  def awaitInterrupt(limit: Long): Unit = {
+  /** Steps until `interrupt` is high (failing after `limit` cycles); `tick` every 2^12 cycles. */
+  def awaitInterrupt(limit: Long, tick: () => Unit = () => ()): Unit = {
     val start = cycle
-    while (!flag("interrupt")) { step(); if (cycle - start > limit) throw new AssertionError(s"no interrupt within $limit cycles (cycle $cycle)") }
+    while (!flag("interrupt")) {
+      step()
+      if (cycle - start > limit) throw new AssertionError(s"no interrupt within $limit cycles (cycle $cycle)")
+      if ((cycle & 0xfff) == 0) tick()
+    }
   }
 
   def put(at: Long, bytes: Array[Byte]): Unit = mem.write(at, bytes)
@@ -141,13 +148,14 @@ final class SystemHarness[T <: Data](dut: SystemSimTop[T], p: AxiMemoryParams) {
     read("SCENE_ERROR_CODE")
   }
 
-  /** The driver sequence for a batch: registers, START, interrupt, clear it. */
-  def runBatch(rayBase: Long, count: Int, hitBase: Long, limit: Long): Long = {
+  /** The driver sequence for a batch: registers, START, interrupt, clear it. `progress`: hit records written so far. */
+  def runBatch(rayBase: Long, count: Int, hitBase: Long, limit: Long, progress: Long => Unit = _ => ()): Long = {
     write("RAY_BASE", rayBase); write("RAY_COUNT", count); write("HIT_BASE", hitBase)
     write("IRQ_ENABLE", 1)
     val t0 = cycle
+    val w0 = writesAnswered
     write("CTRL", 1L << RegisterMap.field("CTRL", "START").lsb)
-    awaitInterrupt(limit)
+    awaitInterrupt(limit, () => progress(writesAnswered - w0))
     val t = cycle - t0
     assert((read("IRQ_STATUS") & 1) == 1, "interrupt without IRQ_STATUS.DONE")
     write("IRQ_STATUS", 1)
