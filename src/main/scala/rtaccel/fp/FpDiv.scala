@@ -25,14 +25,15 @@ class FpDivState(fmt: FloatFormat, dynamicRm: Boolean) extends Bundle {
   * rounded (not just faithfully, as a Newton-Raphson estimate without a
   * remainder correction would be).
   *
-  * Pipelining: `p + 4` cut points (after normalisation, after each recurrence
-  * step, at the output) share the `latency` registers evenly ([[FpPipeline]]).
-  * Each step is one (p+1)-bit compare-subtract, i.e. one carry chain.
+  * Pipelining: cut points after normalisation, after each recurrence step,
+  * the rounder's, and at the output share the `latency` registers evenly
+  * ([[FpPipeline]]). Each step is one (p+1)-bit compare-subtract, i.e. one
+  * carry chain and a mux.
   */
 object FpDivCore {
-  def cuts(fmt: FloatFormat): Int = fmt.precision + 4
-  /** About four recurrence steps per register stage, plus front and output. */
-  def defaultLatency(fmt: FloatFormat): Int = (fmt.precision + 2 + 3) / 4 + 2
+  def cuts(fmt: FloatFormat): Int = 1 + (fmt.precision + 2) + FpRound.cuts(fmt, fmt.precision + 2) + 1
+  /** One register per cut point: one recurrence step per cycle (docs/fmax.md). */
+  def defaultLatency(fmt: FloatFormat): Int = cuts(fmt)
 
   /** Builds the divider for dividend `a` and divisor `b` (bits of `fmt`). */
   def apply(fmt: FloatFormat, rm: Option[RoundingMode], latency: Int, valid: Bool, a: UInt, b: UInt,
@@ -42,7 +43,7 @@ object FpDivCore {
     val ua = FpUnpack(fmt, a)
     val ub = FpUnpack(fmt, b)
     def normalise(u: FpUnpacked): (UInt, SInt) = {
-      val lz = PriorityEncoder(Reverse(u.sig))
+      val lz = FpUnpack.leadingZeros(u.sig) // a zero operand is flagged apart
       ((u.sig << lz)(p - 1, 0), u.exp -& lz.zext)
     }
     val (sigA, expA) = normalise(ua)
@@ -77,7 +78,10 @@ object FpDivCore {
     val last = WireInit(stage.bits.meta)
     last.raw.sig := stage.bits.quo
     last.raw.sticky := stage.bits.rem =/= 0.U
-    val out = pipe.cut(stage.valid, FpRound(fmt, last.raw, FpUnitIO.roundingMode(rm, last.rm)))
+    val stages = new FpStages(pipe, stage.valid)
+    // Rounded first: its cuts advance `stages.valid`.
+    val rounded = FpRound(fmt, last.raw, FpUnitIO.roundingMode(rm, last.rm), stages = Some(stages))
+    val out = pipe.cut(stages.valid, rounded)
     pipe.done()
     out
   }

@@ -5,15 +5,17 @@ import chisel3.util._
 
 /** Floating-point multiplier: the exact `precision x precision` significand
   * product, rounded once by [[FpRound]] (which also normalises subnormal
-  * operands' products). Registers: see [[FpPipeline]] (cuts after the
-  * multiply and at the output).
+  * operands' products). Cut points ([[FpPipeline]]): after the multiply (the
+  * DSP48 output register), the rounder's, the output; the default latency
+  * puts one register on each.
   */
 class FpMul(val fmt: FloatFormat, val rm: Option[RoundingMode], val latency: Int = FpMul.defaultLatency) extends Module {
   val io = IO(new FpUnitIO(new FpBinaryIn(fmt, rm.isEmpty), UInt(fmt.width.W)))
   override def desiredName: String = FpUnitIO.name("FpMul", fmt, rm, latency)
 
   private val p = fmt.precision
-  private val pipe = new FpPipeline(latency, cuts = 2)
+  private val pipe = new FpPipeline(latency, FpMul.cuts(fmt))
+  private val stages = new FpStages(pipe, io.in.valid)
   private val ua = FpUnpack(fmt, io.in.bits.a)
   private val ub = FpUnpack(fmt, io.in.bits.b)
 
@@ -28,12 +30,16 @@ class FpMul(val fmt: FloatFormat, val rm: Option[RoundingMode], val latency: Int
   raw.exp := ua.exp +& ub.exp
   raw.sticky := false.B
 
-  private val mid = pipe.cut(io.in.valid, front)
-  io.out := pipe.cut(mid.valid, FpRound(fmt, mid.bits.raw, FpUnitIO.roundingMode(rm, mid.bits.rm)))
+  private val mid = stages(front)
+  // Rounded first: its cuts advance `stages.valid`.
+  private val rounded = FpRound(fmt, mid.raw, FpUnitIO.roundingMode(rm, mid.rm), stages = Some(stages))
+  io.out := pipe.cut(stages.valid, rounded)
   pipe.done()
 }
 
 object FpMul {
-  /** One register after the multiply (DSP output), one at the output. */
-  val defaultLatency: Int = 2
+  /** The multiply, the rounder's cut points, the output. */
+  def cuts(fmt: FloatFormat): Int = 1 + FpRound.cuts(fmt, 2 * fmt.precision) + 1
+  /** One register per cut point (the same for every format: the product always takes the full rounder). */
+  def defaultLatency: Int = cuts(FloatFormat.FP32)
 }

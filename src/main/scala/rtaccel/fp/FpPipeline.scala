@@ -27,3 +27,16 @@ class FpPipeline(val latency: Int, val cuts: Int) {
   /** Checks at elaboration that the unit used every cut, so its latency is exactly `latency`. */
   def done(): Unit = require(next == cuts, s"FpPipeline: only $next of $cuts cut points used")
 }
+
+/** Threads a unit's valid bit through its cut points in dataflow order:
+  * `stages(x)` is `x` after the next cut point of `pipe`.
+  */
+final class FpStages(pipe: FpPipeline, valid0: Bool) {
+  private var v = valid0
+  def valid: Bool = v
+  def apply[T <: Data](data: T): T = {
+    val o = pipe.cut(v, data)
+    v = o.valid
+    o.bits
+  }
+}

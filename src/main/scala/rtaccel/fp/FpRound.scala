@@ -15,66 +15,151 @@ import chisel3.util._
   * every result and the right shifter is left out (the adder and same-range
   * conversions). Otherwise the rounder normalises fully, keeps p+2 bits plus
   * a sticky bit, and shifts those right onto the grid.
+  *
+  * Pipelining: a unit that passes its [[FpStages]] gets [[FpRound.cuts]] cut
+  * points inside the rounder (after the leading-zero count, after the
+  * shift(s), after the rounding decision); without, the rounder is
+  * combinational. The exponent arithmetic is arranged so that no carry chain
+  * waits on another inside a stage (the tiny test and the shifts read the
+  * leading-zero count and exponent sums computed beside it); every value is
+  * the same integer the straightforward formula gives.
   */
 object FpRound {
-  def apply(fmt: FloatFormat, raw: FpRaw, rm: UInt, minExp: Option[Int] = None): UInt = {
+  private def fastPath(fmt: FloatFormat, w: Int, pad: Int, minExp: Option[Int]): Boolean =
+    minExp.map(e => 2 - (e - pad) - w - fmt.bias).exists(_ <= 0)
+  private def pad(fmt: FloatFormat, sigWidth: Int): Int = (fmt.precision + 2 - sigWidth).max(0)
+
+  /** Cut points inside the rounder for a raw value of `sigWidth` bits. */
+  def cuts(fmt: FloatFormat, sigWidth: Int, minExp: Option[Int] = None): Int = {
+    val pd = pad(fmt, sigWidth)
+    if (fastPath(fmt, sigWidth + pd, pd, minExp)) 3 else 4
+  }
+
+  /** Everything the stages pass on; fields not yet computed are DontCare. */
+  private class State(w: Int, p: Int, ew: Int, lzw: Int, dynamicRm: Boolean) extends Bundle {
+    val isNaN = Bool()
+    val isInf = Bool()
+    val zero = Bool()
+    val sign = Bool()
+    val sticky = Bool()
+    val sig = UInt(w.W)
+    val lz = UInt(lzw.W)
+    /** Biased exponent of the MSB position, and one less. */
+    val eTop = SInt(ew.W)
+    val eTopM1 = SInt(ew.W)
+    val biasedExp = SInt(ew.W)
+    val tiny = Bool()
+    val subShift = UInt(ew.W)
+    /** The kept p bits, guard and round (`window`); any 1 below them (`tail`). */
+    val window = UInt((p + 2).W)
+    val tail = Bool()
+    val up = Bool()
+    val expNormal = SInt(ew.W)
+    val expInc = SInt(ew.W)
+    val ovSame = Bool()
+    val ovInc = Bool()
+    val overflowToInf = Bool()
+    val rm = Option.when(dynamicRm)(UInt(RoundingMode.width.W))
+  }
+
+  def apply(fmt: FloatFormat, raw: FpRaw, rm: UInt, minExp: Option[Int] = None, stages: Option[FpStages] = None): UInt = {
     val p = fmt.precision
     // At least a guard bit and one more below the kept bits.
-    val pad = (p + 2 - raw.sigWidth).max(0)
-    val w = raw.sigWidth + pad
+    val pd = pad(fmt, raw.sigWidth)
+    val w = raw.sigWidth + pd
     val ew = raw.expWidth.max(FpUnpack.expWidth(fmt)) + log2Ceil(w + 1) + 2
-    val sig = if (pad > 0) Cat(raw.sig, 0.U(pad.W)) else raw.sig
-    val exp = raw.exp.pad(ew) - pad.S(ew.W)
+    val lzw = log2Ceil(w)
+    val dynamicRm = !rm.isLit
+    def cut(s: State): State = stages.fold(s)(_(s))
+    def next(s: State): State = { val n = Wire(new State(w, p, ew, lzw, dynamicRm)); n := s; n }
+    def rmOf(s: State): UInt = s.rm.getOrElse(rm)
 
-    val lz = PriorityEncoder(Reverse(sig))
-    // Biased exponent of the leading one.
-    val biasedExp = exp + (w - 1 + fmt.bias).S(ew.W) - lz.zext.pad(ew)
-    val tiny = biasedExp < 1.S
-    // Extra right shift that brings a tiny value onto the subnormal grid.
-    val subShift = Mux(tiny, (1.S(ew.W) - biasedExp).asUInt, 0.U)
-    val maxRightShift = minExp.map(e => 2 - (e - pad) - w - fmt.bias)
+    // Stage 1: leading zeros, and the exponent sums the next stage compares them with.
+    val s0 = Wire(new State(w, p, ew, lzw, dynamicRm))
+    s0 := DontCare
+    s0.rm.foreach(_ := rm)
+    val sig = if (pd > 0) Cat(raw.sig, 0.U(pd.W)) else raw.sig
+    val exp = raw.exp.pad(ew) - pd.S(ew.W)
+    s0.isNaN := raw.isNaN
+    s0.isInf := raw.isInf
+    s0.zero := raw.isZero || sig === 0.U
+    s0.sign := raw.sign
+    s0.sticky := raw.sticky
+    s0.sig := sig
+    s0.lz := FpUnpack.leadingZeros(sig) // zero is flagged apart
+    // Biased exponent of the leading one is eTop - lz.
+    s0.eTop := exp + (w - 1 + fmt.bias).S(ew.W)
+    s0.eTopM1 := exp + (w - 2 + fmt.bias).S(ew.W)
+    val s1 = cut(s0)
+
+    // Stage 2: tiny (eTop - lz < 1, i.e. lz > eTop - 1), the extra right shift onto the
+    // subnormal grid (1 - biasedExp = lz - (eTop - 1)), and the normalising shift.
+    val s2 = next(s1)
+    val lzS = s1.lz.zext.pad(ew)
+    s2.biasedExp := s1.eTop - lzS
+    s2.tiny := s1.eTopM1 < lzS
+    s2.subShift := Mux(s2.tiny, (lzS - s1.eTopM1).asUInt, 0.U)
     def below(n: UInt): Bool = if (w > p + 2) n(w - p - 3, 0).orR else false.B
-    // `window`: the kept p bits, the guard bit and the round bit; `tail`: any 1 below them.
-    val (window, tail) =
-      if (maxRightShift.exists(_ <= 0)) {
+    val s3 =
+      if (fastPath(fmt, w, pd, minExp)) {
         // Never below the subnormal grid: one left shift, stopped at the grid, does both.
-        val n = (sig << (lz - subShift(lz.getWidth - 1, 0)))(w - 1, 0)
-        (n(w - 1, w - p - 2), below(n))
+        // lz - subShift is eTop - 1 when tiny, lz otherwise (the same bits mod 2^lzw).
+        val amount = Mux(s2.tiny, s1.eTopM1.asUInt(lzw - 1, 0), s1.lz)
+        val n = (s1.sig << amount)(w - 1, 0)
+        s2.window := n(w - 1, w - p - 2)
+        s2.tail := below(n) || s1.sticky
+        cut(s2)
       } else {
-        // Normalise, keep p+2 bits and a sticky, then shift right onto the subnormal grid
-        // (a (p+2)-bit shifter instead of a 2w-bit one).
-        val n = (sig << lz)(w - 1, 0)
-        val (r, lost) = FpUnpack.shiftRightSticky(n(w - 1, w - p - 2), subShift)
-        (r, below(n) || lost)
+        // Normalise, keep p+2 bits and a sticky, then (next stage) shift right onto the
+        // subnormal grid (a (p+2)-bit shifter instead of a 2w-bit one).
+        val n = (s1.sig << s1.lz)(w - 1, 0)
+        s2.window := n(w - 1, w - p - 2)
+        s2.tail := below(n) || s1.sticky
+        val s2b = cut(s2)
+        val s3 = next(s2b)
+        val (r, lost) = FpUnpack.shiftRightSticky(s2b.window, s2b.subShift)
+        s3.window := r
+        s3.tail := s2b.tail || lost
+        cut(s3)
       }
 
-    val kept = window(p + 1, 2)
-    val guard = window(1)
-    val rest = window(0) || tail || raw.sticky
+    // Stage 3: the rounding decision, and both candidate exponents with their overflow tests.
+    val s4 = next(s3)
+    val kept0 = s3.window(p + 1, 2)
+    val guard = s3.window(1)
+    val rest = s3.window(0) || s3.tail
     val inexact = guard || rest
-    val sign = raw.sign
-    val up = MuxLookup(rm, false.B)(Seq(
-      RoundingMode.RNE.code.U -> (guard && (rest || kept(0))),
+    val rm3 = rmOf(s3)
+    s4.up := MuxLookup(rm3, false.B)(Seq(
+      RoundingMode.RNE.code.U -> (guard && (rest || kept0(0))),
       RoundingMode.RTZ.code.U -> false.B,
-      RoundingMode.RDN.code.U -> (sign && inexact),
-      RoundingMode.RUP.code.U -> (!sign && inexact)
+      RoundingMode.RDN.code.U -> (s3.sign && inexact),
+      RoundingMode.RUP.code.U -> (!s3.sign && inexact)
     ))
-    val rounded = kept +& up
-    val carry = rounded(p) // 1.11..1 rounded up to 10.00..0: next binade
-    val expNormal = Mux(tiny, 1.S(ew.W), biasedExp)
-    val expOut = Mux(carry, expNormal + 1.S, Mux(rounded(p - 1), expNormal, 0.S))
-    val fracOut = Mux(carry, 0.U, rounded(p - 2, 0))
-    val overflow = expOut >= fmt.maxExpField.S
-
+    s4.expNormal := Mux(s3.tiny, 1.S(ew.W), s3.biasedExp)
+    s4.expInc := s4.expNormal + 1.S
+    s4.ovSame := s4.expNormal >= fmt.maxExpField.S
+    s4.ovInc := s4.expInc >= fmt.maxExpField.S
     // Overflow goes to infinity only when the mode rounds away from zero on this side.
-    val overflowToInf = rm === RoundingMode.RNE.code.U ||
-      (rm === RoundingMode.RUP.code.U && !sign) || (rm === RoundingMode.RDN.code.U && sign)
+    s4.overflowToInf := rm3 === RoundingMode.RNE.code.U ||
+      (rm3 === RoundingMode.RUP.code.U && !s3.sign) || (rm3 === RoundingMode.RDN.code.U && s3.sign)
+    val s5 = cut(s4)
+
+    // Stage 4: round, encode, substitute special values.
+    val kept = s5.window(p + 1, 2)
+    val rounded = kept +& s5.up
+    val carry = rounded(p) // 1.11..1 rounded up to 10.00..0: next binade
+    val expOut = Mux(carry, s5.expInc, Mux(rounded(p - 1), s5.expNormal, 0.S))
+    val fracOut = Mux(carry, 0.U, rounded(p - 2, 0))
+    // expOut >= maxExpField, from the tests made beside each candidate (0 never overflows).
+    val overflow = Mux(carry, s5.ovInc, rounded(p - 1) && s5.ovSame)
+    val sign = s5.sign
     val signBit = Cat(sign, 0.U((fmt.width - 1).W))
     MuxCase(Cat(sign, expOut(fmt.expBits - 1, 0), fracOut), Seq(
-      raw.isNaN -> fmt.canonicalNaN.U(fmt.width.W),
-      raw.isInf -> (signBit | fmt.infinity(false).U),
-      (raw.isZero || sig === 0.U) -> signBit,
-      overflow -> (signBit | Mux(overflowToInf, fmt.infinity(false).U, fmt.maxFinite(false).U))
+      s5.isNaN -> fmt.canonicalNaN.U(fmt.width.W),
+      s5.isInf -> (signBit | fmt.infinity(false).U),
+      s5.zero -> signBit,
+      overflow -> (signBit | Mux(s5.overflowToInf, fmt.infinity(false).U, fmt.maxFinite(false).U))
     ))
   }
 }

@@ -39,6 +39,28 @@ object FpUnpack {
     u
   }
 
+  /** Leading zeros of a nonzero `x` (what `PriorityEncoder(Reverse(x))`
+    * gives), in log2Ceil(width) bits, by a binary tree: log depth, where
+    * PriorityEncoder is a chain of muxes as long as `x` (docs/fmax.md). For
+    * x = 0 the count is meaningless; every caller flags a zero apart.
+    */
+  def leadingZeros(x: UInt): UInt = {
+    val w = x.getWidth
+    val k = log2Ceil(w)
+    // Padded with ones below the LSB, so a nonzero x counts the same and the width is 2^k.
+    val padded = if ((1 << k) > w) Cat(x, Fill((1 << k) - w, 1.U(1.W))) else x
+    def tree(v: UInt): (Bool, UInt) =
+      if (v.getWidth == 2) (!v.orR, (!v(1)).asUInt)
+      else {
+        val h = v.getWidth / 2
+        val (zHi, cHi) = tree(v(v.getWidth - 1, h))
+        val (zLo, cLo) = tree(v(h - 1, 0))
+        (zHi && zLo, Mux(zHi, Cat(1.U(1.W), cLo), Cat(0.U(1.W), cHi)))
+      }
+    require(w >= 2, s"leadingZeros: a ${w}-bit value")
+    tree(padded)._2
+  }
+
   /** Shifts `x` right by `amount` (clamped to its width); returns the shifted
     * value and whether any 1 bit fell off the end (the sticky bit).
     */

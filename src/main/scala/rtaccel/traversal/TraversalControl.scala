@@ -64,7 +64,8 @@ class ControlOut(cfg: AccelConfig) extends Bundle {
   * order, so the golden model stays bit-exact.
   *
   * Pipeline (box-result lane): wide layouts rank the children in a first
-  * cycle (K(K-1)/2 key comparisons and a popcount per lane); then the
+  * cycle (K(K-1)/2 key comparisons and a popcount per lane, beside them the
+  * push count, the stack-overflow test and the error flags); then the
   * decision and the stack access; the popped value (synchronous read) joins
   * the output the cycle after. The leaf-return lane decides in its input
   * cycle and outputs the next. A ray is never in this unit twice at once, so
@@ -86,10 +87,23 @@ class TraversalControl(cfg: AccelConfig) extends Module {
   val latency: Int = if (cfg.layout == BvhLayout.Nori) 1 else 2
 
   // ---- Rank stage (wide): rank(i) = hit children before child i ----
+  // What depends only on which children were hit (not on their order) is
+  // decided here too, beside the key comparisons (which are longer): the push
+  // count, the overflow test and the error flags then leave a register rather
+  // than run into the stack's write address in the decision cycle (Fmax,
+  // docs/fmax.md). Same logic, one register earlier; the nori layout has no
+  // rank stage and computes it in its one cycle as before.
   class Ranked extends Bundle {
     val in   = new ControlIn(cfg)
     val rank = Vec(k, UInt(rankBits.W))
     val hits = UInt(log2Ceil(k + 1).W)
+    /** Some child box was hit: there is a next child. */
+    val chosenOk  = Bool()
+    val pushCount = UInt(log2Ceil(pushes + 1).W)
+    /** The token's, the node's and StackOverflow (pushes past stackDepth). */
+    val errors    = ErrorFlags()
+    /** DONE: an error, or no hit and an empty stack. */
+    val finished  = Bool()
   }
   private def rank(in: ControlIn): Ranked = {
     val r = Wire(new Ranked)
@@ -101,6 +115,17 @@ class TraversalControl(cfg: AccelConfig) extends Module {
       r.rank(i) := PopCount(before)
     }
     r.hits := PopCount(in.hit)
+    cfg.layout match {
+      case BvhLayout.Nori =>
+        r.chosenOk  := in.hit(0)
+        r.pushCount := (in.hit(0) && !in.refs(0).isLeaf).asUInt
+      case _: BvhLayout.Wide =>
+        r.chosenOk  := r.hits =/= 0.U
+        r.pushCount := Mux(r.chosenOk, r.hits - 1.U, 0.U)
+    }
+    val overflow = r.chosenOk && (in.token.sp +& r.pushCount > cfg.stackDepth.U)
+    r.errors   := in.token.errors | in.nodeErrors | Mux(overflow, ErrorFlags.bit(ErrorFlags.StackOverflow), 0.U)
+    r.finished := r.errors.orR || (!r.chosenOk && in.token.sp === 0.U)
     r
   }
   private val (valid, d) = cfg.layout match {
@@ -112,8 +137,8 @@ class TraversalControl(cfg: AccelConfig) extends Module {
   private val in  = d.in
   private val tok = in.token
   private val chosen    = Wire(new ChildRef(cfg))
-  private val chosenOk  = Wire(Bool())
-  private val pushCount = Wire(UInt(log2Ceil(pushes + 1).W))
+  private val chosenOk  = d.chosenOk
+  private val pushCount = d.pushCount
   private val pushVals  = Wire(Vec(pushes, new ChildRef(cfg)))
   cfg.layout match {
     case BvhLayout.Nori =>
@@ -127,24 +152,17 @@ class TraversalControl(cfg: AccelConfig) extends Module {
         c.isLeaf := false.B; c.index := idx; c.count := 0.U
         c
       }
-      chosenOk  := in.hit(0)
       chosen    := Mux(self.isLeaf, self, inner(Mux(rightNear, self.index, left)))
-      pushCount := (in.hit(0) && !self.isLeaf).asUInt
       pushVals(0) := inner(Mux(rightNear, left, self.index))
     case _: BvhLayout.Wide =>
-      chosenOk  := d.hits =/= 0.U
       chosen    := Mux1H(in.hit.zip(d.rank).map { case (h, r) => h && r === 0.U }, in.refs)
-      pushCount := Mux(chosenOk, d.hits - 1.U, 0.U)
       // Port p (slot sp + p) takes the child ranked hits-1-p: farthest lowest.
       for (p <- 0 until pushes)
         pushVals(p) := Mux1H(in.hit.zip(d.rank).map { case (h, r) => h && r === d.hits - 1.U - p.U }, in.refs)
   }
 
-  private val errorsIn  = tok.errors | in.nodeErrors
-  private val overflow  = chosenOk && (tok.sp +& pushCount > cfg.stackDepth.U)
-  private val errors    = errorsIn | Mux(overflow, ErrorFlags.bit(ErrorFlags.StackOverflow), 0.U)
-  private val stackEmpty = tok.sp === 0.U
-  private val finished  = errors.orR || (!chosenOk && stackEmpty)
+  private val errors    = d.errors
+  private val finished  = d.finished
 
   private val state = Wire(TraversalState())
   state := Mux(finished, TraversalState.Done,

@@ -4,6 +4,8 @@ import chisel3._
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import rtaccel.AccelConfig
+import rtaccel.datapath.{BoxRounding, FloatDatapath, TriangleTest}
+import rtaccel.fp.FloatFormat
 import rtaccel.mem._
 import rtaccel.scene.MemoryImage
 import rtaccel.testutil.{Backends, Seeded, Waves}
@@ -17,6 +19,36 @@ class LeafIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   private val cfg = AccelConfig(numRayIds = 4, stackDepth = 4, maxNodes = 256, maxTriangles = 1024, maxLeafSize = 15)
   private val numTris = 400
+  /** The harness's memory: at most this many requests outstanding; the port refuses a request with this probability. */
+  private val maxOutstanding = 8
+  private val refuse = 0.2
+
+  /** The ZC706 triangle unit's latency (FP32 watertight), read from its elaborated
+    * module, so the spec keeps pace with the FP units' pipelining. */
+  private lazy val zc706PrimLatency: Int = {
+    var lat = 0
+    circt.stage.ChiselStage.emitCHIRRTL {
+      val p = FloatDatapath(FloatFormat.FP32, TriangleTest.Watertight, BoxRounding.Conservative).prim(AccelConfig.zc706)
+      lat = p.latency; p
+    }
+    lat
+  }
+
+  /** Leaves per cycle the harness can sustain, the least of three physical limits
+    * (leaf sizes uniform in 0..maxLeafSize, mean m):
+    *  - issue: one triangle request per cycle, refused with probability `refuse`: (1 - refuse) / m;
+    *  - memory: `maxOutstanding` requests, each held ~memMean + 1 cycles (Little's law): maxOutstanding / (memMean + 1) / m;
+    *  - ray IDs: each of numRayIds IDs holds one leaf at a time, at least for its own issue
+    *    (m / (1 - refuse)), the memory (memMean + 1), the triangle unit (primLatency) and the exit
+    *    (exit queue, tmax write and out port, each ready 3/4 of cycles: ~3): numRayIds / that.
+    */
+  private def leafRate(memMean: Double, primLatency: Int): Double = {
+    val m = cfg.maxLeafSize / 2.0
+    val issue = (1 - refuse) / m
+    val memory = maxOutstanding / (memMean + 1) / m
+    val ids = cfg.numRayIds / (m / (1 - refuse) + memMean + 1 + primLatency + 3)
+    Seq(issue, memory, ids).min
+  }
 
   /** Triangle i: t from a small set (so ties happen), hit with probability 1/2, prim = a scrambled index. */
   private def craftImage(rnd: Random): (MemoryImage, IndexedSeq[(Boolean, Long, Long, Long, Long)]) = {
@@ -37,11 +69,14 @@ class LeafIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
       var best: Option[(Long, Long, Long, Long)] = None, var occluded: Boolean = false,
       var issued: Int = 0, var leaf: (Int, Int) = (0, 0))
 
-  private def run(latency: Latency, primLatency: Int, cycles: Int, name: String): Unit = Seeded(name) { rnd =>
+  /** `earlyExits`: require a shadow ray to stop issuing early at least once
+    * (see the cases below for when that can happen). */
+  private def run(latency: Latency, primLatency: Int, cycles: Int, name: String, earlyExits: Boolean = true): Unit = Seeded(name) { rnd =>
+    val memMean = latency match { case Latency.Fixed(c) => c.toDouble; case Latency.Uniform(lo, hi) => (lo + hi) / 2.0 }
     val (img, tris) = craftImage(rnd)
     Waves.onFailure(Backends.verilator) { annos => test(new LeafIntersect(cfg, UInt(16.W), () => new FieldPrim(cfg, primLatency))).withAnnotations(annos) { dut =>
-      val model = new MemorySystemModel(img, 48, MemoryParams(latency = latency, maxOutstanding = 8, seed = rnd.nextLong()), "tri")
-      val mem = new MemPortHarness(dut.io.mem, model, refuse = 0.2, rnd = rnd)
+      val model = new MemorySystemModel(img, 48, MemoryParams(latency = latency, maxOutstanding = maxOutstanding, seed = rnd.nextLong()), "tri")
+      val mem = new MemPortHarness(dut.io.mem, model, refuse = refuse, rnd = rnd)
       dut.io.triBase.poke(img.triOffset.U)
       val lives = mutable.Map.empty[Int, Life]        // rays in flight, by ID
       val waiting = mutable.Queue.empty[Int]          // IDs with a job to send
@@ -130,8 +165,15 @@ class LeafIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
         dut.clock.step(); mem.tick()
         if (accepted) { val id = waiting.dequeue(); lives(id).issued = 0 }
       }
-      assert(leavesDone > cycles / 60, s"only $leavesDone leaves finished in $cycles cycles")
-      assert(shadowEarly > 0, "no shadow ray ever stopped early: the early exit went untested")
+      // Ray starts (a free ID takes a ray with probability 1/3 a cycle), empty
+      // leaves and shadow rays' early exits are not in leafRate, and two limits of
+      // similar size compound: a third of it. That still fails a unit that
+      // serialises leaves behind the out-of-order memory (a quarter of it).
+      val expected = leafRate(memMean, primLatency) * cycles
+      info(f"$leavesDone leaves in $cycles cycles (triangle latency $primLatency); the physical bound is ${expected}%.0f")
+      assert(leavesDone > expected / 3, f"only $leavesDone leaves finished in $cycles cycles; the harness sustains ~${expected}%.0f")
+      info(s"$shadowEarly shadow rays stopped issuing early")
+      if (earlyExits) assert(shadowEarly > 0, "no shadow ray ever stopped early: the early exit went untested")
     } }
   }
 
@@ -140,5 +182,13 @@ class LeafIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
   }
   it should "do the same with out-of-order memory (latency 5-60)" in {
     run(Latency.Uniform(5, 60), primLatency = 6, cycles = 20000, "LeafIntersect.ooo")
+  }
+  // Behind the real triangle unit a leaf's first answer comes at least
+  // 5 + 1 + zc706PrimLatency cycles (86 for FP32 today) after its first request,
+  // while its <= 15 requests issue in about 15 / 0.8 cycles: a shadow ray can
+  // stop early only when the outstanding limit holds its issue back that long,
+  // which is rare, so early exits are counted, not required, here.
+  it should "keep its throughput and answers behind the ZC706 triangle unit's latency" in {
+    run(Latency.Uniform(5, 60), primLatency = zc706PrimLatency, cycles = 10000, "LeafIntersect.zc706", earlyExits = false)
   }
 }
