@@ -5,9 +5,10 @@ BRIDGE_BIN := nori-bridge/target/release/nori-bridge
 
 # The C++ simulation of rtaccel_system in the configuration render and the
 # drop-in use (ZC706, FP32 watertight conservative, 4-wide nodes), as make
-# cppsim-test builds it (rtaccel.regress.CppSim.simDir). Rebuilt through
-# cppsim-test when missing or older than the Chisel sources or sw/'s driver and harness.
-NORI_SIMDIR := $(BUILD)/cppsim/system_e8m23_wt_cons_c1_n64_d64_k4
+# cppsim-test builds it: a link that cppsim-test points at its build
+# (rtaccel.regress.CppSim.TestSystemLink). Rebuilt through cppsim-test when
+# missing or older than the Chisel sources or sw/'s driver and harness.
+NORI_SIMDIR := $(BUILD)/cppsim/test-system
 $(NORI_SIMDIR)/rtaccel-sim: $(shell find src/main/scala -name '*.scala') $(wildcard sw/include/* sw/lib/* sw/sim/*)
 	$(MAKE) cppsim-test
 	touch $@

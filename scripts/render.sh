@@ -24,7 +24,7 @@ name=$(basename "${SCENE%.xml}")
 OUT=${OUT:-build/render/$name-$integ}
 W=${WIDTH:-256} H=${HEIGHT:-256} SAMPLES=${SAMPLES:-4} SEED=${SEED:-1}
 source_name=golden; [ "${RTL:-0}" = 1 ] && source_name=RTL
-sim=${RTL_SIMDIR:-build/cppsim/system_e8m23_wt_cons_c1_n64_d64_k4}/rtaccel-sim
+sim=${RTL_SIMDIR:-build/cppsim/test-system}/rtaccel-sim
 if [ "${RTL:-0}" = 1 ] && [ ! -x "$sim" ]; then
   echo "Error: $sim: no C++ simulator of the system (make render builds it through make cppsim-test)" >&2; exit 2
 fi

@@ -25,6 +25,18 @@ object CppSim {
   def simDir(dp: String, cfg: AccelConfig, cores: Int): Path =
     Paths.get("build", "cppsim", s"system_${dp}_c${cores}_n${cfg.numRayIds}_d${cfg.stackDepth}_k${cfg.boxLanes}").toAbsolutePath
 
+  /** make cppsim-test's build, under a name that does not spell its configuration: `make render RTL=1` and
+    * the Nori drop-in's rtl mode (mk/render.mk, scripts/render.sh) link against it, so the configuration
+    * is named once, by the package cppsim-test runs on.
+    */
+  val TestSystemLink: Path = Paths.get("build", "cppsim", "test-system").toAbsolutePath
+
+  /** Points [[TestSystemLink]] at `dir` (a sibling, so the link is relative and survives a moved checkout). */
+  def linkTestSystem(dir: Path): Unit = {
+    Files.deleteIfExists(TestSystemLink)
+    Files.createSymbolicLink(TestSystemLink, TestSystemLink.getParent.relativize(dir))
+  }
+
   /** Emits rtaccel_system for `cfg` and builds rtaccel-sim and test-librtaccel beside it (sw/Makefile). */
   def build[T <: Data](cfg: AccelConfig, dp: Datapath[T], cores: Int = 1): Path = {
     val dir = simDir(dp.name, cfg, cores)

@@ -37,6 +37,7 @@ object CppSimTest {
       case c: Chosen[t, s] =>
         val cc = c.asInstanceOf[Chosen[Data, s]]
         val dir = CppSim.build(cfg, cc.dp)
+        CppSim.linkTestSystem(dir)
         val rc = Seq(dir.resolve("test-librtaccel").toString, pkgDir.toAbsolutePath.toString, a.out.toAbsolutePath.toString,
           rays.size.toString).!
         if (rc != 0) { println(s"cppsim-test: test-librtaccel failed (exit $rc)"); return false }
