@@ -35,7 +35,11 @@ object FpRound {
     if (fastPath(fmt, sigWidth + pd, pd, minExp)) 3 else 4
   }
 
-  /** Everything the stages pass on; fields not yet computed are DontCare. */
+  /** Everything the stages pass on; fields not yet computed are DontCare. Its first fields look like
+    * [[FpRaw]]'s but are not the same values: `zero` also covers a significand that cancelled to 0, `sig`
+    * carries the guard pad, and the exponent is replaced from stage 1 on by `eTop`/`eTopM1`, so an
+    * FpRaw field would carry a dead exponent through every cut.
+    */
   private class State(w: Int, p: Int, ew: Int, lzw: Int, dynamicRm: Boolean) extends Bundle {
     val isNaN = Bool()
     val isInf = Bool()
