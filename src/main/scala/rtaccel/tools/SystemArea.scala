@@ -11,7 +11,8 @@ import scala.concurrent.{Await, ExecutionContext, Future}
   * whole design flattened. MemoryFabric is measured with the NodeStore
   * black-boxed (the node store has its own row: its BRAM), SystemCore with
   * every unit and core black-boxed (its own glue: the batch registers, the
-  * ray distribution and the counters).
+  * ray distribution and the counters). Flattened before memory mapping
+  * ([[FmaxEstimate.script]]), so the node store's memory is block RAM.
   */
 object SystemArea {
   /** The units, by module-name prefix, in the table's order. */
@@ -51,7 +52,7 @@ object SystemArea {
         val inside = subtreeStopping(mods, m, bb.toSet)
         // The black boxes' own text stays: `blackbox` keeps their ports.
         Future {
-          val (a, p) = FmaxEstimate.run(cacheDir, u, inside.map(_.text).mkString, m, bb.filter(b => inside.exists(_.name == b)))
+          val (a, p) = FmaxEstimate.run(cacheDir, u, inside.map(_.text).mkString, m, bb.filter(b => inside.exists(_.name == b)), flatten = true)
           println(f"system: $u: $a, ${p.summary}, ${model.pathNs(p.cells)}%.2f ns")
           FmaxEstimate.Row(u, m, a, p, model.pathNs(p.cells))
         }
