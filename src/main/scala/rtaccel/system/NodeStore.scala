@@ -74,13 +74,34 @@ class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes:
     busyReg     := true.B
     loadedReg   := false.B
   }
-  private val fillAddr = baseReg + (issuedReg << beatBits)
+  // The next burst is sized a cycle before it is offered, from registers
+  // only (its address, the lines left), and waits in arAddrReg/arBeatsReg:
+  // the 4 KB room, the two minimums and the counters' adds are not one path
+  // (docs/fmax.md). A burst is prepared only while none waits, and counted in
+  // burstsReg when it leaves, so at most FillBursts are outstanding as before.
+  private val fillAddrReg  = RegInit(0.U(p.addrBits.W)) // the next burst's address: base + issued beats
+  private val arPendReg    = RegInit(false.B)
+  private val arAddrReg    = Reg(UInt(p.addrBits.W))
+  private val arBeatsReg   = Reg(UInt(log2Ceil(NodeStore.FillBurstBeats + 1).W))
   private val left     = totalReg - issuedReg
-  private val room     = BurstMath.beatsToBoundary(p, fillAddr)
+  private val room     = BurstMath.beatsToBoundary(p, fillAddrReg)
   private val beats    = Seq(left, room, NodeStore.FillBurstBeats.U).reduce((a, b) => Mux(a < b, a, b))
-  io.ar.valid := busyReg && issuedReg =/= totalReg && burstsReg =/= NodeStore.FillBursts.U
-  io.ar.bits  := Axi4Addr.incr(p, fillId.U, fillAddr, beats)
-  when(io.ar.fire) { issuedReg := issuedReg + beats }
+  when(busyReg && !arPendReg && issuedReg =/= totalReg && burstsReg =/= NodeStore.FillBursts.U) {
+    arPendReg  := true.B
+    arAddrReg  := fillAddrReg
+    arBeatsReg := beats
+  }
+  io.ar.valid := arPendReg
+  io.ar.bits  := Axi4Addr.incr(p, fillId.U, arAddrReg, arBeatsReg)
+  when(io.ar.fire) {
+    arPendReg   := false.B
+    issuedReg   := issuedReg + arBeatsReg
+    fillAddrReg := fillAddrReg + (arBeatsReg << beatBits)
+  }
+  when(startNow) {
+    fillAddrReg := io.load.base
+    arPendReg   := false.B
+  }
   private val beatOk = busyReg && receivedReg =/= issuedReg && io.r.bits.resp === 0.U
   when(io.r.valid && !beatOk) { errorReg := true.B }
   private val fillWrite = io.r.valid && beatOk
