@@ -85,7 +85,7 @@ object SystemArea {
     val fit = coresThatFit(core, own, device)
     val worst = rows.maxBy(_.ns)
     (Seq(s"## The system's own units (rtaccel_system, $cores ${if (cores == 1) "core" else "cores"})", "",
-      s"Each unit synthesised alone from `rtaccel_system.sv` (the Fmax estimate's Yosys run; MemoryFabric with the NodeStore black-boxed, " +
+      s"Each unit synthesised alone from `rtaccel_system.sv` (the Fmax estimate's Yosys run, flattened first so that memories map to block RAM; MemoryFabric with the NodeStore black-boxed, " +
         s"SystemCore with its units and cores black-boxed). Node store: ${nodeStoreBytes / 1024} KiB, " +
         s"one copy per two node clients (cores). ESTIMATE, as above.", "",
       "| unit | LUT | FF | DSP48 | BRAM36 | LUTRAM cells | path cells | ns | MHz |",
