@@ -23,8 +23,8 @@ import rtaccel.mem.{MemPortParams, MemRequest, MemResponse}
   *
   * A request hits when the store is loaded, its address is record-aligned
   * relative to `base`, and lies below base + storedBytes. Latency: request
-  * accepted in cycle t, response offered from t + 3 (BRAM read with output
-  * register, then the output queue). Full rate: one record per client per
+  * accepted in cycle t, response offered from t + `NodeStore.Latency` = 2
+  * (the BRAM read, then the output queue). Full rate: one record per client per
   * cycle.
   */
 class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: Int, fillId: Int) extends Module {
@@ -74,13 +74,34 @@ class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes:
     busyReg     := true.B
     loadedReg   := false.B
   }
-  private val fillAddr = baseReg + (issuedReg << beatBits)
+  // The next burst is sized a cycle before it is offered, from registers
+  // only (its address, the lines left), and waits in arAddrReg/arBeatsReg:
+  // the 4 KB room, the two minimums and the counters' adds are not one path
+  // (docs/fmax.md). A burst is prepared only while none waits, and counted in
+  // burstsReg when it leaves, so at most FillBursts are outstanding as before.
+  private val fillAddrReg  = RegInit(0.U(p.addrBits.W)) // the next burst's address: base + issued beats
+  private val arPendReg    = RegInit(false.B)
+  private val arAddrReg    = Reg(UInt(p.addrBits.W))
+  private val arBeatsReg   = Reg(UInt(log2Ceil(NodeStore.FillBurstBeats + 1).W))
   private val left     = totalReg - issuedReg
-  private val room     = BurstMath.beatsToBoundary(p, fillAddr)
+  private val room     = BurstMath.beatsToBoundary(p, fillAddrReg)
   private val beats    = Seq(left, room, NodeStore.FillBurstBeats.U).reduce((a, b) => Mux(a < b, a, b))
-  io.ar.valid := busyReg && issuedReg =/= totalReg && burstsReg =/= NodeStore.FillBursts.U
-  io.ar.bits  := Axi4Addr.incr(p, fillId.U, fillAddr, beats)
-  when(io.ar.fire) { issuedReg := issuedReg + beats }
+  when(busyReg && !arPendReg && issuedReg =/= totalReg && burstsReg =/= NodeStore.FillBursts.U) {
+    arPendReg  := true.B
+    arAddrReg  := fillAddrReg
+    arBeatsReg := beats
+  }
+  io.ar.valid := arPendReg
+  io.ar.bits  := Axi4Addr.incr(p, fillId.U, arAddrReg, arBeatsReg)
+  when(io.ar.fire) {
+    arPendReg   := false.B
+    issuedReg   := issuedReg + arBeatsReg
+    fillAddrReg := fillAddrReg + (arBeatsReg << beatBits)
+  }
+  when(startNow) {
+    fillAddrReg := io.load.base
+    arPendReg   := false.B
+  }
   private val beatOk = busyReg && receivedReg =/= issuedReg && io.r.bits.resp === 0.U
   when(io.r.valid && !beatOk) { errorReg := true.B }
   private val fillWrite = io.r.valid && beatOk
@@ -101,9 +122,16 @@ class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes:
 
   // ---- Serve ----
   private val storedBytes = totalReg << beatBits
+  // The end of the stored bytes, registered: it follows baseReg and totalReg a
+  // cycle late, and a hit needs loadedReg, set only when the fill is done, many
+  // cycles after both were loaded. So the hit test is two compares side by
+  // side (and the low bits' equality), not a subtraction then a compare.
+  private val limitReg = RegNext(baseReg +& storedBytes, 0.U)
+  private val recBits  = log2Ceil(recBytes)
   for (c <- 0 until clients) {
-    val rel = io.probe(c) - baseReg
-    io.hit(c) := loadedReg && !startNow && rel < storedBytes && rel(log2Ceil(recBytes) - 1, 0) === 0.U
+    val a = io.probe(c)
+    val aligned = if (recBits == 0) true.B else a(recBits - 1, 0) === baseReg(recBits - 1, 0)
+    io.hit(c) := loadedReg && !startNow && a >= baseReg && a < limitReg && aligned
   }
   private val copies  = (clients + 1) / 2
   private val mems    = Seq.fill(copies)(SyncReadMem(words, Vec(lanes, UInt((8 * B).W))))
@@ -115,9 +143,8 @@ class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes:
     val mem    = mems(c / 2)
     val outQ   = Module(new Queue(new MemResponse(port), NodeStore.OutDepth))
     val s1ValidReg = RegInit(false.B)
-    val s2ValidReg = RegInit(false.B)
-    // Credit: queued + in the pipeline < depth, so every read has a place when it lands.
-    val credit = outQ.io.count +& s1ValidReg.asUInt +& s2ValidReg.asUInt < NodeStore.OutDepth.U
+    // Credit: queued + being read < depth, so every read has a place when it lands.
+    val credit = outQ.io.count +& s1ValidReg.asUInt < NodeStore.OutDepth.U
     io.req(c).ready := credit
     val fire = io.req(c).fire
     val rel  = io.req(c).bits.addr - baseReg
@@ -129,21 +156,26 @@ class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes:
     s1ValidReg := fire
     val s1TagReg = RegEnable(io.req(c).bits.tag, fire)
     val s1SubReg = RegEnable(rel(log2Ceil(wordBytes) - 1, 0), fire)
-    val s2DataReg = RegEnable(
-      if (recBytes >= B) rdata.asUInt else (rdata.asUInt >> (s1SubReg << 3))(8 * recBytes - 1, 0), s1ValidReg)
-    val s2TagReg = RegEnable(s1TagReg, s1ValidReg)
-    s2ValidReg := s1ValidReg
-    outQ.io.enq.valid     := s2ValidReg
-    outQ.io.enq.bits.data := s2DataReg
-    outQ.io.enq.bits.tag  := s2TagReg
+    // The read data goes straight into the output queue, with no register of
+    // its own: Yosys 0.23 would merge such a register into the memory's read
+    // port first and leave the port's address register outside, so the shared
+    // read/write port would become a read port and a write port, and the
+    // memory would be doubled to give the second client its read port
+    // (measured: 456 instead of 228 BRAM36 for 1 MiB). The BRAM's output is
+    // the read's register.
+    outQ.io.enq.valid     := s1ValidReg
+    outQ.io.enq.bits.data := (if (recBytes >= B) rdata.asUInt else (rdata.asUInt >> (s1SubReg << 3))(8 * recBytes - 1, 0))
+    outQ.io.enq.bits.tag  := s1TagReg
     when(outQ.io.enq.valid && !outQ.io.enq.ready) { errorReg := true.B }
     io.resp(c) <> outQ.io.deq
   }
 }
 
 object NodeStore {
+  /** Request to response offered, in cycles: the BRAM read (its address register), then the output queue. */
+  val Latency = 2
   val FillBurstBeats = 16
   val FillBursts = 8
-  /** Output queue per client: 3 reads in the pipeline + 1, so a client that always takes keeps one per cycle. */
-  val OutDepth = 4
+  /** Output queue per client: the read in the pipeline + 1 more than it takes to see a dequeue, so a client that always takes keeps one per cycle. */
+  val OutDepth: Int = Latency + 1
 }

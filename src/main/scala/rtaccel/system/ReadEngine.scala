@@ -30,8 +30,9 @@ class ReadResp(dataBits: Int, tagBits: Int) extends Bundle {
   * the rest chunk k - 1. Chunk c lives in bank c (one memory per chunk,
   * `slots` deep), so each beat writes at most one masked row into each of two
   * banks. When the last beat is written the slot joins its client's
-  * completion queue; a round-robin pick reads the banks and the record lands
-  * in the client's two-entry output queue one cycle later.
+  * completion queue; a round-robin pick selects it (registered), the next
+  * cycle reads the banks, and the record lands in the client's output queue
+  * (`ReadEngine.OutDepth` entries) the cycle after.
   *
   * Errors (sticky `error`): a non-OKAY rresp, an R beat whose ID names no
   * waiting record (dropped), or a wrong rlast.
@@ -91,12 +92,27 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
     when(lastBurst) { pendValidReg := false.B }
   }
 
-  private val free    = ~busyReg
-  private val newSlot = PriorityEncoder(free)
-  io.req.ready := free.orR && (!pendValidReg || (io.ar.fire && lastBurst))
+  // The free slot the next request takes is found a cycle ahead and held in
+  // a register (index and one-hot), so no search over `slots` bits lies
+  // between `busyReg` and the request handshake (docs/fmax.md). The search
+  // skips the slot on offer: if that one is taken this cycle, the register
+  // loads another slot that is free now; only an allocation sets a busy bit,
+  // so it is still free next cycle. Slots freed meanwhile are found on a later
+  // search (the register is reloaded every cycle it is empty or taken).
+  private val freeValidReg = RegInit(false.B)
+  private val freeSlotReg  = RegInit(0.U(slotBits.W))
+  private val freeOHReg    = RegInit(0.U(slots.W))
+  private val (otherFree, otherSlot) = FirstSet(~busyReg & ~Mux(freeValidReg, freeOHReg, 0.U))
+  private val newSlot = freeSlotReg
+  io.req.ready := freeValidReg && (!pendValidReg || (io.ar.fire && lastBurst))
+  when(io.req.fire || !freeValidReg) {
+    freeValidReg := otherFree
+    freeSlotReg  := otherSlot
+    freeOHReg    := UIntToOH(otherSlot, slots)
+  }
   private val bytesOf = VecInit(recordBytes.map(_.U(13.W)))
   private val reqBeats = BurstMath.beatsCovering(p, io.req.bits.addr, bytesOf(io.req.bits.client))
-  private val allocOH = Mux(io.req.fire, UIntToOH(newSlot, slots), 0.U)
+  private val allocOH = Mux(io.req.fire, freeOHReg, 0.U)
   when(io.req.fire) {
     val m = Wire(new Meta)
     m.client := io.req.bits.client
@@ -155,30 +171,46 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
     when(q.io.enq.valid && !q.io.enq.ready) { errorReg := true.B } // impossible (above); checked
   }
 
-  // ---- Pick a finished record, read it out, queue it for its client ----
-  private val outQs = recordBytes.map(b => Module(new Queue(new ReadResp(8 * b, tagBits), 2)))
+  // ---- Pick a finished record (select, then read), queue it for its client ----
+  // Two stages, each ending in registers: the select stage's round-robin pick
+  // of a client lands in `sel*Reg`; the read stage reads the banks and the
+  // slot's tag at `selSlotReg` and frees the slot; the record enters the
+  // output queue the cycle after. So neither the credit compare nor the
+  // arbiter drives the slot clear or the banks' read address (docs/fmax.md).
+  private val outQs = recordBytes.map(b => Module(new Queue(new ReadResp(8 * b, tagBits), ReadEngine.OutDepth)))
+  private val selValidReg   = RegInit(false.B)
+  private val selClientReg  = Reg(UInt(clientBits.W))
+  private val selSlotReg    = Reg(UInt(slotBits.W))
   private val pickValidReg  = RegInit(false.B)
   private val pickClientReg = Reg(UInt(clientBits.W))
   private val pickTagReg    = Reg(UInt(tagBits.W))
   private val arb = Module(new RRArbiter(UInt(slotBits.W), n))
   for (c <- 0 until n) {
-    // Credit: queued + being read < 2, so the record read now has a place next cycle.
-    val inflight = pickValidReg && pickClientReg === c.U
-    val credit   = outQs(c).io.count +& inflight.asUInt < 2.U
+    // Credit: queued + selected + being read < OutDepth, so every record picked
+    // now has a place in its queue when it arrives two cycles later: the
+    // queue only loses entries meanwhile, and both stages ahead of it count.
+    val inSel    = selValidReg && selClientReg === c.U
+    val inRead   = pickValidReg && pickClientReg === c.U
+    val credit   = outQs(c).io.count +& inSel.asUInt +& inRead.asUInt < ReadEngine.OutDepth.U
     arb.io.in(c).valid := completions(c).io.deq.valid && credit
     arb.io.in(c).bits  := completions(c).io.deq.bits
     completions(c).io.deq.ready := arb.io.in(c).ready && credit
   }
   arb.io.out.ready := true.B
-  private val pickSlot = arb.io.out.bits
-  private val pick     = arb.io.out.valid
-  private val record   = Cat(banks.reverse.map(b => b.read(pickSlot, pick).asUInt))
-  pickValidReg := pick
-  when(pick) {
-    pickClientReg := arb.io.chosen
-    pickTagReg    := meta(pickSlot).tag
+  selValidReg := arb.io.out.valid
+  when(arb.io.out.valid) {
+    selClientReg := arb.io.chosen
+    selSlotReg   := arb.io.out.bits
   }
-  private val freeOH = Mux(pick, UIntToOH(pickSlot, slots), 0.U)
+  private val record = Cat(banks.reverse.map(b => b.read(selSlotReg, selValidReg).asUInt))
+  pickValidReg := selValidReg
+  when(selValidReg) {
+    pickClientReg := selClientReg
+    pickTagReg    := meta(selSlotReg).tag
+  }
+  // The slot is free once its banks are being read: it is taken again at the
+  // earliest next cycle, and its new record's beats come after a new AR.
+  private val freeOH = Mux(selValidReg, UIntToOH(selSlotReg, slots), 0.U)
   busyReg := (busyReg | allocOH) & ~freeOH
   doneReg := (doneReg | completeOH) & ~freeOH
 
@@ -193,4 +225,9 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
   }
   io.error := errorReg
   io.idle  := busyReg === 0.U && !pendValidReg
+}
+
+object ReadEngine {
+  /** Output queue per client: the select and read stages ahead of it + 1, so a client that always takes gets one record per cycle. */
+  val OutDepth = 3
 }

@@ -17,8 +17,10 @@ import scala.sys.process._
   * is sized to the scene and `sized.md` says what that saves against the
   * generic configuration. With `--system 1` (the default) it also emits the
   * ZC706 system top `rtaccel_system.sv` (RtAccelSystem: m_axi/s_axi ports)
-  * with `--cores N` cores, by default as many as fit by the core's resource
-  * table (2 without synthesis), and lints it.
+  * with `--cores N` cores, by default as many as fit beside the system's own
+  * units (SystemArea: fabric, node store, registers, DMAs, loader, each
+  * synthesised alone; 2 without synthesis), lints it, and appends their
+  * area and Fmax rows to the resource table.
   */
 object EmitVerilog {
   /** xc7z045 capacity (Zynq-7000 data sheet DS190). */
@@ -59,14 +61,30 @@ object EmitVerilog {
       sized
     }
     val dp = FloatDatapath(cfg.float, test, box)
-    val rows = run(cfg, dp, out, synth, jobs)
+    val measured = run(cfg, dp, out, synth, jobs)
+    val rows = measured.map(_._1)
     if (kv.getOrElse("--system", "1") == "1") {
       val fits = rows.map(r => AccelArea.instances(AccelArea.total(r), Zc706).max(1))
-      val cores = kv.get("--cores").map(_.toInt).orElse(fits).getOrElse(SystemConfig().cores)
-      system(SystemConfig(core = cfg, cores = cores), dp, out)
-      if (rows.isDefined) Files.writeString(out.resolve("resources.md"), Files.readString(out.resolve("resources.md")) +
-        s"System top: `rtaccel_system.sv` (RtAccelSystem) with $cores ${if (cores == 1) "core" else "cores"}" +
-        s"${if (kv.contains("--cores")) " (--cores)" else " (the cores that fit)"}, lint clean; its own area is not in this table.\n")
+      val coresArg = kv.get("--cores").map(_.toInt)
+      val first = coresArg.orElse(fits).getOrElse(SystemConfig().cores)
+      val svFile = system(SystemConfig(core = cfg, cores = first), dp, out)
+      for ((coreRows, coreFmax) <- measured) {
+        // The system's own units, then the cores that fit beside them: if fewer
+        // than the core alone suggested, the system is emitted again with that many.
+        val core = AccelArea.total(coreRows)
+        def own(sv: Path) = SystemArea.measure(Files.readString(sv), areaCache, jobs, DelayModel.zynq7)
+        val own1 = own(svFile)
+        val fit = SystemArea.coresThatFit(core, own1.map(_.area).foldLeft(Synth.zero)(_ + _), Zc706).max(1)
+        val (cores, sysRows) =
+          if (coresArg.isEmpty && fit < first) { println(s"verilog: $fit cores fit beside the system's units"); (fit, own(system(SystemConfig(core = cfg, cores = fit), dp, out))) }
+          else (first, own1)
+        val worst = (coreFmax ++ sysRows).maxBy(_.ns)
+        Files.writeString(out.resolve("resources.md"), Files.readString(out.resolve("resources.md")) + "\n" +
+          SystemArea.markdown(sysRows, cores, core, Zc706, SystemConfig().nodeStoreBytes) +
+          s"System top: `rtaccel_system.sv` (RtAccelSystem) with $cores ${if (cores == 1) "core" else "cores"}" +
+          s"${if (coresArg.isDefined) " (--cores)" else " (the cores that fit beside the system's units)"}, lint clean.\n\n" +
+          f"**Estimated Fmax of the system** (its slowest unit, core or system, **${worst.unit}**): **${worst.mhz}%.0f MHz** (${worst.ns}%.2f ns). An ESTIMATE (docs/fmax.md).\n")
+      }
     }
     // Sized hardware: report what it saves against the generic configuration of the same arithmetic.
     for (p <- pkg; sizedRows <- rows) {
@@ -106,7 +124,7 @@ object EmitVerilog {
   }
 
   /** Emits, lints and (with `synth`) measures; returns the per-unit rows. */
-  def run(cfg: AccelConfig, dp: FloatDatapath, out: Path, synth: Boolean, jobs: Int): Option[Seq[(String, Synth.Area)]] = {
+  def run(cfg: AccelConfig, dp: FloatDatapath, out: Path, synth: Boolean, jobs: Int): Option[(Seq[(String, Synth.Area)], Seq[FmaxEstimate.Row])] = {
     Files.createDirectories(out)
     val t0 = System.nanoTime()
     val sv = Synth.emit(new RtAccel(cfg, dp))
@@ -126,11 +144,11 @@ object EmitVerilog {
         rows.map { case ("BoxLane", a) => s"BoxLane x${cfg.boxLanes} (BboxIntersect)" -> a; case r => r }, Zc706,
         (System.nanoTime() - t0) / 1e9)
       val t1 = System.nanoTime()
-      val fmax = FmaxEstimate.markdown(FmaxEstimate.measure(sv, top, areaCache, jobs, DelayModel.zynq7), DelayModel.zynq7,
-        (System.nanoTime() - t1) / 1e9)
+      val fmaxRows = FmaxEstimate.measure(sv, top, areaCache, jobs, DelayModel.zynq7)
+      val fmax = FmaxEstimate.markdown(fmaxRows, DelayModel.zynq7, (System.nanoTime() - t1) / 1e9)
       Files.writeString(out.resolve("resources.md"), md + "\n" + fmax)
       println(md + "\n" + fmax)
-      rows
+      (rows, fmaxRows)
     }
   }
 }

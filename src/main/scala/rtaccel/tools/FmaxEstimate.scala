@@ -38,11 +38,19 @@ object FmaxEstimate {
   val namedTypes: Seq[String] = Seq("LUT1", "LUT2", "LUT3", "LUT4", "LUT5", "LUT6", "MUXF7", "MUXF8", "CARRY4", "INV")
   private val cutTypes = Seq("t:FD*", "t:DSP48E1", "t:RAM*", "t:SRL*", "t:IBUF", "t:OBUF", "t:BUFG")
 
-  def script(sv: Path, top: String, blackboxes: Seq[String]): String = {
+  /** With `flatten`, synth_xilinx flattens before it maps memories: firtool
+    * emits each memory as a module with one clock input per port, and Yosys
+    * 0.23 does not merge a read port's address register into a port whose
+    * clock differs from the write port's, so hierarchically every such
+    * memory is read asynchronously and lands in LUTRAM whatever its size.
+    * Flattened, the ports share the one clock and block RAM is inferred
+    * (Vivado infers it either way). The system's units use it
+    * ([[SystemArea]]); the core's rows keep the hierarchical run. */
+  def script(sv: Path, top: String, blackboxes: Seq[String], flatten: Boolean = false): String = {
     val bb = if (blackboxes.isEmpty) "" else s"blackbox ${blackboxes.mkString(" ")}; "
     val rename = namedTypes.map(t => s"rename -enumerate -pattern c${t}_% t:$t; ").mkString
     val cut = (cutTypes ++ blackboxes.map(b => s"t:$b")).reduceLeft((a, b) => s"$a $b %u")
-    s"read_verilog -sv $sv; ${bb}synth_xilinx -family xc7 -top $top; flatten; stat; ${rename}ltp -noff $cut %n"
+    s"read_verilog -sv $sv; ${bb}synth_xilinx -family xc7${if (flatten) " -flatten" else ""} -top $top; flatten; stat; ${rename}ltp -noff $cut %n"
   }
 
   private val pathHead = """Longest topological path in \S+ \(length=(\d+)\):""".r
@@ -70,9 +78,9 @@ object FmaxEstimate {
   }
 
   /** One cached Yosys run: area and longest path of `top` in `text`. */
-  def run(cacheDir: Path, label: String, text: String, top: String, bb: Seq[String]): (Synth.Area, PathCells) = {
+  def run(cacheDir: Path, label: String, text: String, top: String, bb: Seq[String], flatten: Boolean = false): (Synth.Area, PathCells) = {
     Files.createDirectories(cacheDir)
-    val key = hash(text, top, bb.mkString(","), script(Path.of("x"), top, bb))
+    val key = hash(text, top, bb.mkString(","), script(Path.of("x"), top, bb, flatten))
     val done = cacheDir.resolve(s"fmax-$label-$key.json")
     if (Files.exists(done)) {
       val j = ujson.read(Files.readString(done))
@@ -82,7 +90,7 @@ object FmaxEstimate {
       val sv = cacheDir.resolve(s"$stem.sv")
       val log = cacheDir.resolve(s"$stem.yosys.log")
       Files.writeString(sv, text)
-      val rc = Seq("yosys", "-q", "-l", log.toString, "-p", script(sv, top, bb)).!(ProcessLogger(_ => ()))
+      val rc = Seq("yosys", "-q", "-l", log.toString, "-p", script(sv, top, bb, flatten)).!(ProcessLogger(_ => ()))
       require(rc == 0, s"yosys failed on $top from $sv (exit $rc); see $log")
       val logText = Files.readString(log)
       val area = Synth.parseTotal(logText.substring(0, logText.lastIndexOf("Longest topological path in").max(0)), log)

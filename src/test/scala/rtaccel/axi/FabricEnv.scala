@@ -144,9 +144,12 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
     while (next < nodes || outstanding.exists(_.nonEmpty)) {
       val c = next % 2
       val o = Option.when(next < nodes)((NodeBase + NodeBytes.toLong * next, next % 32))
-      val before = outstanding(c).size
+      // Taken when its tag is outstanding afterwards (it was not before): a
+      // count would miss it when an earlier answer of the same client leaves
+      // in the same cycle (store latency 2, the client asking every other cycle).
+      require(o.forall(x => !outstanding(c).contains(x._2)), s"storeOnly: tag ${o.map(_._2)} of client $c is still outstanding")
       cycleWith(i => if (i == c) o else None, _ => true, onResp = (_, p) => lat += cycle - p.cycle)
-      if (o.isDefined && outstanding(c).size > before) next += 1
+      if (o.exists(x => outstanding(c).contains(x._2))) next += 1
     }
     lat.toSeq
   }

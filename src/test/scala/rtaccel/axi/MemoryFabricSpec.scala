@@ -92,6 +92,6 @@ object MemoryFabricSpec {
   val WriteSpan = 0x2000
   /** The slave answers SLVERR here (outside the random reads' span). */
   val ErrorAddr: Long = 0x8000
-  /** Request accepted in cycle t, response offered from t + 3 (NodeStore). */
-  val NodeStoreLatency = 3
+  /** Request accepted in cycle t, response offered from t + NodeStore.Latency. */
+  val NodeStoreLatency: Int = rtaccel.system.NodeStore.Latency
 }
