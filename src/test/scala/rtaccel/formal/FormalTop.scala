@@ -6,14 +6,15 @@ import rtaccel.fetch.RayIn
 import rtaccel.{AccelConfig, BvhLayout, RtAccel}
 
 /** The environment of a proof: memory latency and stall bounds, how long the
-  * host may refuse a hit, and the bound every ray must leave within.
+  * host may refuse a hit, and the scenes memory may hold. The bound every ray
+  * must leave within is derived from these (ResponseBound), not chosen.
   *
   * @param memLatency  each memory answers 1..memLatency cycles after it took the request
   * @param memStall    a memory refuses a request at most this many cycles in a row
   * @param hitStall    the host refuses a hit at most this many cycles in a row
-  * @param responseBound every accepted ray's hit leaves within this many cycles (docs/formal.md derives it)
+  * @param scene       the rule node records obey (SceneRule)
   */
-case class FormalEnv(memLatency: Int, memStall: Int, hitStall: Int, responseBound: Int)
+case class FormalEnv(memLatency: Int, memStall: Int, hitStall: Int, scene: SceneRule = SceneRule.ChildrenFollow)
 
 /** RtAccel in a formal environment (docs/formal.md): rays with free data and
   * host numbers, memories that answer within a bound, a host that takes hits
@@ -26,15 +27,18 @@ case class FormalEnv(memLatency: Int, memStall: Int, hitStall: Int, responseBoun
   *  - bounded_response: a ray in flight has been in for at most `responseBound` cycles.
   *  - in_flight_bound: at most numRayIds rays inside.
   *
-  * Scene rule (an assumption): an inner child's index is greater than its
-  * parent's, as in every image nori-bridge writes (children follow their
-  * parent), so traversal ends; without it a node could name itself and a
-  * ray would rightly never finish.
+  * Scene rule (an assumption, SceneRule): at least, an inner child's index
+  * is greater than its parent's, as in every image nori-bridge writes
+  * (children follow their parent), so traversal ends; without it a node
+  * could name itself and a ray would rightly never finish.
+  *
+  * @param responseBound ResponseBound(cfg, dp, env), or a probe's cut bound
+  * @param tag           the module name's suffix (the case name)
   */
-class FormalTop(cfg: AccelConfig, dp: FormalDatapath, env: FormalEnv) extends Module {
+class FormalTop(cfg: AccelConfig, dp: FormalDatapath, env: FormalEnv, responseBound: Int, tag: String) extends Module {
   require(cfg.layout.isInstanceOf[BvhLayout.Wide], "FormalTop: the scene rule is written for the wide layouts")
   val io = IO(new Bundle {})
-  override def desiredName = s"FormalTop_n${cfg.numRayIds}"
+  override def desiredName = s"FormalTop_$tag"
 
   private val accel = Module(new RtAccel(cfg, dp))
   accel.io.nodeBase := 0.U
@@ -45,12 +49,16 @@ class FormalTop(cfg: AccelConfig, dp: FormalDatapath, env: FormalEnv) extends Mo
   nodeMem.io.mem <> accel.io.nodeMem
   triMem.io.mem <> accel.io.triMem
 
-  // ---- Scene rule: node k's inner children are nodes > k (node base is 0) ----
+  // ---- Scene rule: node k's inner children are nodes > k (node base is 0);
+  // in a tree, slot s of node k names only node k*K + s + 1 ----
   private val nodeIdx = nodeMem.io.respAddr >> log2Ceil(cfg.layout.nodeBytes)
   private val record  = nodeMem.io.mem.resp.bits.data
   for (s <- 0 until cfg.boxLanes) {
     val (w0, w1) = (record(256 * s + 31, 256 * s), record(256 * s + 63, 256 * s + 32))
-    assume(!(nodeMem.io.mem.resp.valid && w0 === 0.U && w1 <= nodeIdx), s"scene_children_follow: slot $s")
+    val inner = nodeMem.io.mem.resp.valid && w0 === 0.U
+    assume(!(inner && w1 <= nodeIdx), s"scene_children_follow: slot $s")
+    if (env.scene == SceneRule.Tree)
+      assume(!(inner && w1 =/= nodeIdx * cfg.boxLanes.U + (s + 1).U), s"scene_tree: slot $s")
   }
 
   // ---- Host: free rays, numbers unique among the rays in flight ----
@@ -62,7 +70,7 @@ class FormalTop(cfg: AccelConfig, dp: FormalDatapath, env: FormalEnv) extends Mo
   rays.bits        := FormalAnySeq(new RayIn)
   rays.bits.number := number
   private val inFlightReg = RegInit(VecInit(Seq.fill(slots)(false.B)))
-  private val ageReg      = RegInit(VecInit(Seq.fill(slots)(0.U(log2Ceil(env.responseBound + 2).W))))
+  private val ageReg      = RegInit(VecInit(Seq.fill(slots)(0.U(log2Ceil(responseBound + 2).W))))
   assume(!(rays.valid && inFlightReg(number)), "host_numbers_unique")
 
   // ---- Host: takes a hit after at most hitStall refusals in a row ----
@@ -80,8 +88,8 @@ class FormalTop(cfg: AccelConfig, dp: FormalDatapath, env: FormalEnv) extends Mo
     val out = hits.fire && hitNum === i.U
     when(in) { inFlightReg(i) := true.B; ageReg(i) := 0.U }
     when(out) { inFlightReg(i) := false.B }
-    when(inFlightReg(i) && !out && ageReg(i) <= env.responseBound.U) { ageReg(i) := ageReg(i) + 1.U }
-    assert(!inFlightReg(i) || ageReg(i) < env.responseBound.U, s"bounded_response: ray number $i in flight for ${env.responseBound} cycles")
+    when(inFlightReg(i) && !out && ageReg(i) <= responseBound.U) { ageReg(i) := ageReg(i) + 1.U }
+    assert(!inFlightReg(i) || ageReg(i) < responseBound.U, s"bounded_response: ray number $i in flight for ${responseBound} cycles")
   }
   assert(PopCount(inFlightReg) <= cfg.numRayIds.U, "in_flight_bound: more rays inside than IDs")
 }
