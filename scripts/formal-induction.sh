@@ -3,8 +3,8 @@
 # `make formal-induction` after the emission; not part of make test.
 #  1. Units by ABC's pdr (IC3), which either proves an assertion for every
 #     reachable state or gives a counterexample: RayIdFreeList alone, every
-#     input free (2 and 4 IDs: id_allocated_once, id_count); PrepFetch
-#     (2 and 4 IDs) and LeafIntersect (2 IDs, fast environment) in RtAccel's
+#     input free (2 and 4 IDs: id_allocated_once, id_count); PrepFetch (2 IDs)
+#     and LeafIntersect (2 IDs, fast environment) in RtAccel's
 #     environment: their bounded response, once, never refusing a ray.
 #  2. The n2 core's safety properties (every assertion but bounded_response,
 #     which is bounded by nature), ray_conservation among them so that it
@@ -45,8 +45,7 @@ unit() { # name, what
 }
 unit ids2 "RayIdFreeList, 2 IDs, inputs free" 120
 unit ids4 "RayIdFreeList, 4 IDs, inputs free" 120
-unit fetch2 "PrepFetch, 2 IDs, L = 3, S = 1, bound $(awk '$1=="fetch2"{print $3}' "$dir/cases.txt")" 120
-unit fetch4 "PrepFetch, 4 IDs, L = 3, S = 1, bound $(awk '$1=="fetch4"{print $3}' "$dir/cases.txt")" 120
+unit fetch2 "PrepFetch, 2 IDs, L = 3, S = 1, bound $(awk '$1=="fetch2"{print $3}' "$dir/cases-deep.txt")" 120
 unit leaf2f "LeafIntersect, 2 IDs, L = 1, S = 0, leaves of 1, bound $(awk '$1=="leaf2f"{print $3}' "$dir/cases-deep.txt")" 300
 
 formal_wrap "$dir" n2

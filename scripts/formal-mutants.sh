@@ -42,6 +42,9 @@ mutant free_unfired "an ID is freed while its hit still waits for the host, so t
 mutant init_queue_one "InitTraversal's queue holds one ray, not numRayIds: a prepared ray can find it full" \
   "/^module Queue2_PreparedEntry/,/^endmodule/{s/assign io_enq_ready = ~full;/assign io_enq_ready = empty;/;s/wire       do_enq = ~full \\& io_enq_valid;/wire       do_enq = empty \\& io_enq_valid;/}" \
   "module Queue2_PreparedEntry" no_overflow_init_1
+mutant lose_ray "a ray that ends on the leaf-return lane is never queued for its hit: lost, no ID freed twice, no number twice" \
+  "/Queue2_TraversalToken doneQs_1 (/,/io_enq_valid/s/(_q_io_enq_valid_T_15)/(1'b0)/" "Queue2_TraversalToken doneQs_1 (" \
+  ray_conservation_1
 # Not a break: an assertion that no ray ever comes back from a leaf. Its
 # shortest counterexample is the first step at which a leaf round trip (box
 # test, leaf job, triangle fetches and tests, return to TraversalControl) lies
@@ -60,7 +63,7 @@ mutant short_bound "(probe) responseBound 16 instead of $n2bound: a ray that liv
   "s/ageReg_0 < $hexb/ageReg_0 < $bw'h10/" "ageReg_0 < $hexb" bounded_response_1
 
 # Per-unit bounded response (FormalUnits), each to its own depth (the bound + 8).
-case_=fetch2; cdepth=$(awk '$1=="fetch2"{print $2}' "$dir/cases.txt"); formal_wrap "$dir" fetch2
+case_=fetch2; cdepth=$(awk '$1=="fetch2"{print $2}' "$dir/cases-deep.txt"); formal_wrap "$dir" fetch2
 mutant fetch_lost_answer "PrepFetch drops ray 1's node answers: the ray is lost, which only bounded response sees" \
   "s/io_out_pipe_v <= io_mem_resp_valid;/io_out_pipe_v <= io_mem_resp_valid \& ~io_mem_resp_bits_tag;/" \
   "io_out_pipe_v <= io_mem_resp_valid;" fetch_bounded_response_2

@@ -27,7 +27,7 @@ case class FormalEnv(memLatency: Int, memStall: Int, hitStall: Int, scene: Scene
   *  - bounded_response: a ray in flight has been in for at most `responseBound` cycles.
   *  - in_flight_bound: at most numRayIds rays inside.
   *
-  * Scene rule (an assumption, SceneRule): at least, an inner child's index
+  * Scene rule (an assumption, SceneRule): an inner child's index
   * is greater than its parent's, as in every image nori-bridge writes
   * (children follow their parent), so traversal ends; without it a node
   * could name itself and a ray would rightly never finish.
@@ -49,16 +49,12 @@ class FormalTop(cfg: AccelConfig, dp: FormalDatapath, env: FormalEnv, responseBo
   nodeMem.io.mem <> accel.io.nodeMem
   triMem.io.mem <> accel.io.triMem
 
-  // ---- Scene rule: node k's inner children are nodes > k (node base is 0);
-  // in a tree, slot s of node k names only node k*K + s + 1 ----
+  // ---- Scene rule: node k's inner children are nodes > k (node base is 0) ----
   private val nodeIdx = nodeMem.io.respAddr >> log2Ceil(cfg.layout.nodeBytes)
   private val record  = nodeMem.io.mem.resp.bits.data
   for (s <- 0 until cfg.boxLanes) {
     val (w0, w1) = (record(256 * s + 31, 256 * s), record(256 * s + 63, 256 * s + 32))
-    val inner = nodeMem.io.mem.resp.valid && w0 === 0.U
-    assume(!(inner && w1 <= nodeIdx), s"scene_children_follow: slot $s")
-    if (env.scene == SceneRule.Tree)
-      assume(!(inner && w1 =/= nodeIdx * cfg.boxLanes.U + (s + 1).U), s"scene_tree: slot $s")
+    assume(!(nodeMem.io.mem.resp.valid && w0 === 0.U && w1 <= nodeIdx), s"scene_children_follow: slot $s")
   }
 
   // ---- Host: free rays, numbers unique among the rays in flight ----

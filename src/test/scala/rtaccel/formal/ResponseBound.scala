@@ -27,16 +27,6 @@ object SceneRule {
       (k, k * k)
     }
   }
-
-  /** A tree: slot s of node k may name only inner node k*K + s + 1 (any other
-    * inner index is refused). Each node then has one parent slot, so a ray
-    * visits each node at most once: at most maxNodes - 1 fetches (the root is
-    * on chip) and at most one leaf per slot not used by an inner child.
-    */
-  case object Tree extends SceneRule {
-    def visits(cfg: AccelConfig): (Int, Int) =
-      (cfg.maxNodes - 1, cfg.maxNodes * cfg.boxLanes - (cfg.maxNodes - 1))
-  }
 }
 
 /** The cycles a ray can spend inside RtAccel, from its accept to its hit
