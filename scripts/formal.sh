@@ -31,7 +31,7 @@ while read -r name depth bound; do
       # A ray can only overstay the bound after `bound` cycles: below that depth the check is empty.
       case $prop in *bounded_response*)
         if [ "$depth" -le "$bound" ]; then note=" (VACUOUS: depth $depth <= responseBound $bound, not proven)"
-        else note=" (every ray accepted by step $((depth - bound)) is followed to its hit)"; fi;; esac
+        else note=" (every ray that entered by step $((depth - bound)) is followed until it leaves)"; fi;; esac
       if [ "$verdict" = pass ]; then echo "  $prop: PASS to depth $depth$note"
       else
         formal_aig "$dir" "$name" "$dir/formal_$name.sv" "$dir/formal_${name}_$prop.aig" "$prop"
