@@ -216,9 +216,9 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
     leafErrorsReg(io.clear.bits) := 0.U
   }
   io.result.valid := hasHitReg(io.resultId)
+  io.result.bits  := best.read(io.resultId)
 
   // Waiting jobs, exits, and between them each ray issuing or owed answers.
   private val working = (0 until n).map(i => outstandingReg(i) =/= 0.U || ((busyReg || stoppingReg) && issueIdReg === i.U))
   io.held := jobs.io.count +& PopCount(working) +& exits.io.count
-  io.result.bits  := best.read(io.resultId)
 }
