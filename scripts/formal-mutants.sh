@@ -2,10 +2,11 @@
 # Breaks the emitted n2 design on purpose, one way at a time, and checks that
 # the bounded model check catches each break with the property meant to catch
 # it (docs/formal.md). Each mutant is a sed edit of a scratch copy of
-# formal_n2.sv; the original is untouched. For each expected property the
-# other assertions are removed and an incremental BMC (Yosys `sat
-# -tempinduct-baseonly`) finds the shortest counterexample.
-# Usage: scripts/formal-mutants.sh <dir> <depth>   (after scripts/formal.sh)
+# formal_<case>.sv (n2, or r2 for bounded response); the original is
+# untouched. For each expected property the other assertions are removed and
+# ABC's bmc3, which unrolls one step at a time, finds the shortest
+# counterexample.
+# Usage: scripts/formal-mutants.sh <dir> <depth>   (after make formal-emit)
 set -euo pipefail
 dir=$1; depth=$2
 . "$(dirname "$0")/formal-lib.sh"
@@ -13,21 +14,22 @@ formal_wrap "$dir" n2
 log=$dir/mutants.log
 : > "$log"
 status=0
-mutant() { # name, what it breaks, sed expression, a text the edit must find, expected properties...
+case_=n2; cdepth=$depth
+mutant() { # name, what it breaks, sed expression, a text the edit must find, expected properties... (case: $case_)
   local name=$1 what=$2 expr=$3 must=$4; shift 4
-  local sv=$dir/mutant_$name.sv
-  grep -qF -- "$must" "$dir/formal_n2.sv" || { echo "mutant $name: '$must' not in formal_n2.sv (update the mutant)" | tee -a "$log"; status=1; return; }
-  sed -e "$expr" "$dir/formal_n2.sv" > "$sv"
-  if cmp -s "$sv" "$dir/formal_n2.sv"; then echo "mutant $name: sed changed nothing" | tee -a "$log"; status=1; return; fi
-  echo "mutant $name: $what" | tee -a "$log"
+  local sv=$dir/mutant_$name.sv orig=$dir/formal_$case_.sv
+  grep -qF -- "$must" "$orig" || { echo "mutant $name: '$must' not in formal_$case_.sv (update the mutant)" | tee -a "$log"; status=1; return; }
+  sed -e "$expr" "$orig" > "$sv"
+  if cmp -s "$sv" "$orig"; then echo "mutant $name: sed changed nothing" | tee -a "$log"; status=1; return; fi
+  echo "mutant $name ($case_): $what" | tee -a "$log"
   for prop in "$@"; do
     local start=$(date +%s) step
-    formal_aig "$dir" n2 "$sv" "$dir/mutant_${name}_$prop.aig" "$prop"
-    step=$(formal_bmc "$dir/mutant_${name}_$prop.aig" "$depth" "$dir/mutant_${name}_$prop.log")
+    formal_aig "$dir" "$case_" "$sv" "$dir/mutant_${name}_$prop.aig" "$prop"
+    step=$(formal_bmc "$dir/mutant_${name}_$prop.aig" "$cdepth" "$dir/mutant_${name}_$prop.log")
     if [ "$step" != pass ] && [ "$step" != error ]; then
       echo "  $prop: CAUGHT, shortest counterexample $step steps (step 1 is reset), $(( $(date +%s) - start )) s" | tee -a "$log"
     else
-      echo "  $prop: NOT CAUGHT within $depth steps ($step)" | tee -a "$log"; status=1
+      echo "  $prop: NOT CAUGHT within $cdepth steps ($step)" | tee -a "$log"; status=1
     fi
   done
 }
@@ -40,6 +42,9 @@ mutant free_unfired "an ID is freed while its hit still waits for the host, so t
 mutant init_queue_one "InitTraversal's queue holds one ray, not numRayIds: a prepared ray can find it full" \
   "/^module Queue2_PreparedEntry/,/^endmodule/{s/assign io_enq_ready = ~full;/assign io_enq_ready = empty;/;s/wire       do_enq = ~full \\& io_enq_valid;/wire       do_enq = empty \\& io_enq_valid;/}" \
   "module Queue2_PreparedEntry" no_overflow_init_1
+mutant lose_ray "a ray that ends on the leaf-return lane is never queued for its hit: lost, no ID freed twice, no number twice" \
+  "/Queue2_TraversalToken doneQs_1 (/,/io_enq_valid/s/(_q_io_enq_valid_T_15)/(1'b0)/" "Queue2_TraversalToken doneQs_1 (" \
+  ray_conservation_1
 # Not a break: an assertion that no ray ever comes back from a leaf. Its
 # shortest counterexample is the first step at which a leaf round trip (box
 # test, leaf job, triangle fetches and tests, return to TraversalControl) lies
@@ -47,9 +52,31 @@ mutant init_queue_one "InitTraversal's queue holds one ray, not numRayIds: a pre
 mutant reach_leaf_exit "(probe) no ray ever returns from a leaf: fails at the first step a leaf round trip can end" \
   "s/^      if (~reset \& _init_io_broken) begin/      if (~reset \& _leaf_io_out_valid) begin reach_leaf_exit_1: assert(1'b0); end\n&/" \
   "      if (~reset & _init_io_broken) begin" reach_leaf_exit_1
-# Not a break either: bounded_response with the bound cut from 80 to 16
-# cycles. It must fail (a ray with a leaf visit or a node fetch lives longer),
-# which shows the monitor can catch a ray that overstays its bound.
-mutant short_bound "(probe) responseBound 16 instead of 80: a ray that lives longer must be caught" \
-  "s/ageReg_0 < 7'h50/ageReg_0 < 7'h10/" "ageReg_0 < 7'h50" bounded_response_1
+# Not a break either: the core's bounded_response with its derived bound
+# (cases.txt, 141 cycles for n2) cut to 16. It must fail (a ray with a leaf
+# visit or a node fetch lives longer): the monitor catches a ray that
+# overstays its bound, though the derived bound itself lies past the depth.
+n2bound=$(awk '$1=="n2"{print $3}' "$dir/cases.txt")
+bw=1; while [ $(( (1 << bw) )) -lt $(( n2bound + 2 )) ]; do bw=$((bw + 1)); done
+hexb=$(printf "%d'h%X" "$bw" "$n2bound")
+mutant short_bound "(probe) responseBound 16 instead of $n2bound: a ray that lives longer must be caught" \
+  "s/ageReg_0 < $hexb/ageReg_0 < $bw'h10/" "ageReg_0 < $hexb" bounded_response_1
+
+# Per-unit bounded response (FormalUnits), each to its own depth (the bound + 8).
+case_=fetch2; cdepth=$(awk '$1=="fetch2"{print $2}' "$dir/cases-deep.txt"); formal_wrap "$dir" fetch2
+mutant fetch_lost_answer "PrepFetch drops ray 1's node answers: the ray is lost, which only bounded response sees" \
+  "s/io_out_pipe_v <= io_mem_resp_valid;/io_out_pipe_v <= io_mem_resp_valid \& ~io_mem_resp_bits_tag;/" \
+  "io_out_pipe_v <= io_mem_resp_valid;" fetch_bounded_response_2
+# A probe: with the derived bound (8) cut to 6 the monitor must fail: a ray
+# needs 7 cycles here (cut to 7, BMC finds none), so the bound has 1 cycle of slack.
+mutant fetch_tight "(probe) PrepFetch's derived bound 8 cut to 6: a ray needs 7" \
+  "s/~(~insideReg_0 | ~(ageReg_0\[3\]))/~(~insideReg_0 | ageReg_0 < 4'h6)/" "~(~insideReg_0 | ~(ageReg_0[3]))" fetch_bounded_response_1
+case_=leaf2f; cdepth=$(awk '$1=="leaf2f"{print $2}' "$dir/cases-deep.txt"); formal_wrap "$dir" leaf2f
+mutant leaf_stuck_stop "LeafIntersect drops the exit of a ray that stopped issuing (empty leaf, occluded shadow ray): the ray is lost" \
+  "s/\.io_enq_valid               (lastAnswer | issueExit),/.io_enq_valid               (lastAnswer),/" \
+  ".io_enq_valid               (lastAnswer | issueExit)," leaf_bounded_response_1
+# A probe: LeafIntersect's derived bound 16 cut to 9 must fail: a ray needs
+# 10 cycles here (cut to 10, BMC finds none), so the bound has 6 cycles of slack.
+mutant leaf_tight "(probe) LeafIntersect's derived bound 16 cut to 9: a ray needs 10" \
+  "s/~(~insideReg_0 | ~(ageReg_0\[4\]))/~(~insideReg_0 | ageReg_0 < 5'h9)/" "~(~insideReg_0 | ~(ageReg_0[4]))" leaf_bounded_response_1
 exit $status

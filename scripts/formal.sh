@@ -5,11 +5,13 @@
 # assumptions into an AIGER model, and ABC's bmc3 checks every assertion at
 # every step up to the case's depth. Each property and the depth reached go
 # to formal.log; on a failure each property is checked alone to name it.
-# Usage: scripts/formal.sh <dir> [DEPTH override]
+# With a case list other than cases.txt (make formal-deep: cases-deep.txt)
+# the log is formal-<list>.log.
+# Usage: scripts/formal.sh <dir> [DEPTH override] [case list]
 set -euo pipefail
-dir=$1; override=${2:-}
+dir=$1; override=${2:-}; list=${3:-cases.txt}
 . "$(dirname "$0")/formal-lib.sh"
-log=$dir/formal.log
+if [ "$list" = cases.txt ]; then log=$dir/formal.log; else log=$dir/formal-${list%.txt}.log; fi
 : > "$log"
 status=0
 while read -r name depth bound; do
@@ -27,7 +29,9 @@ while read -r name depth bound; do
     while read -r prop; do
       note=""
       # A ray can only overstay the bound after `bound` cycles: below that depth the check is empty.
-      case $prop in bounded_response*) [ "$depth" -le "$bound" ] && note=" (VACUOUS: depth $depth <= responseBound $bound, not proven)";; esac
+      case $prop in *bounded_response*)
+        if [ "$depth" -le "$bound" ]; then note=" (VACUOUS: depth $depth <= responseBound $bound, not proven)"
+        else note=" (every ray that entered by step $((depth - bound)) is followed until it leaves)"; fi;; esac
       if [ "$verdict" = pass ]; then echo "  $prop: PASS to depth $depth$note"
       else
         formal_aig "$dir" "$name" "$dir/formal_$name.sv" "$dir/formal_${name}_$prop.aig" "$prop"
@@ -36,5 +40,5 @@ while read -r name depth bound; do
       fi
     done < "$dir/formal_$name.props"
   } | tee -a "$log"
-done < "$dir/cases.txt"
+done < "$dir/$list"
 exit $status

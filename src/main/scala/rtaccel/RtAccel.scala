@@ -83,6 +83,11 @@ class RtAccel[T <: Data](val cfg: AccelConfig, val dp: Datapath[T]) extends Modu
   assert(!init.io.broken, "no_overflow_init: a prepared ray found InitTraversal's queue full")
   assert(!leaf.io.broken, "no_overflow_leaf_exit: a ray's last answer found LeafIntersect's exit queue full")
   assert(!fetch.io.doubleFree, "id_freed_once: a hit returned an ID that was not in flight")
+  // Each ray in flight is in exactly one unit: the counts of what each holds
+  // sum to the free list's in-flight count (docs/formal.md: the invariant
+  // behind "no queue overflows", stated so that induction can use it).
+  private val held = fetch.io.held +& init.io.held +& trav.io.held +& leaf.io.held
+  assert(held === fetch.io.inFlight, "ray_conservation: the rays the units hold differ from the IDs in flight")
 
   // ---- Performance counters ----
   private def count(event: Bool): UInt = {

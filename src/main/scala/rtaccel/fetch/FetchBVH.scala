@@ -41,6 +41,8 @@ class FetchBVH[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
     val numberId = Input(UInt(cfg.rayIdBits.W))
     val number   = Output(UInt(32.W))
     val inFlight = Output(UInt(log2Ceil(cfg.numRayIds + 1).W))
+    /** Rays this unit holds now (RtAccel's ray_conservation assertion). */
+    val held     = Output(UInt(log2Ceil(cfg.numRayIds + 1).W))
     /** Sticky: an ID was freed twice (a lost-or-duplicated-ray bug). */
     val doubleFree = Output(Bool())
   })
@@ -99,6 +101,8 @@ class FetchBVH[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   carryIn.rayId  := id
   carryIn.shadow := io.rays.bits.shadow
   private val carry = Pipe(io.rays.fire, carryIn, prep.latency)
+  // The rays in RayPrep: one per valid stage of the carry pipe (the same registers).
+  io.held := PopCount(ShiftRegisters(io.rays.fire, prep.latency, false.B, true.B))
   io.prepared.valid       := prep.io.out.valid
   io.prepared.bits.rayId  := carry.bits.rayId
   io.prepared.bits.shadow := carry.bits.shadow

@@ -67,6 +67,8 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
     val tested  = Output(Bool())
     /** Sticky: an answer's exit found the exit queue full (a lost ray; cannot happen, see above). */
     val broken  = Output(Bool())
+    /** Rays this unit holds now (RtAccel's ray_conservation assertion). */
+    val held    = Output(UInt(log2Ceil(3 * cfg.numRayIds + 1).W))
   })
   override def desiredName = s"LeafIntersect_n${cfg.numRayIds}"
 
@@ -215,4 +217,8 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   }
   io.result.valid := hasHitReg(io.resultId)
   io.result.bits  := best.read(io.resultId)
+
+  // Waiting jobs, exits, and between them each ray issuing or owed answers.
+  private val working = (0 until n).map(i => outstandingReg(i) =/= 0.U || ((busyReg || stoppingReg) && issueIdReg === i.U))
+  io.held := jobs.io.count +& PopCount(working) +& exits.io.count
 }

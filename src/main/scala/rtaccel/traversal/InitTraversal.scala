@@ -29,6 +29,8 @@ class InitTraversal[T <: Data](cfg: AccelConfig, gen: T) extends Module {
     val out    = Decoupled(new EntryToken(cfg))
     /** Sticky: a prepared ray found the queue full (a lost ray; cannot happen). */
     val broken = Output(Bool())
+    /** Rays this unit holds now (RtAccel's ray_conservation assertion). */
+    val held   = Output(UInt(log2Ceil(cfg.numRayIds + 3).W))
   })
   override def desiredName = s"InitTraversal_k${cfg.boxLanes}_n${cfg.numRayIds}"
 
@@ -64,4 +66,5 @@ class InitTraversal[T <: Data](cfg: AccelConfig, gen: T) extends Module {
   io.out.bits.token     := written.io.deq.bits
   written.io.deq.ready  := io.out.ready
   io.out.bits.root := io.root
+  io.held := waiting.io.count +& written.io.count
 }

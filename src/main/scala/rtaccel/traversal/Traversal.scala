@@ -38,6 +38,8 @@ class Traversal[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
     /** Decisions of the box-result lane (0) and the leaf-return lane (1). */
     val control  = Output(Vec(2, Valid(TraversalState())))
     val fetchWaiting = Output(UInt(log2Ceil(cfg.numRayIds + 1).W))
+    /** Rays this unit holds now (RtAccel's ray_conservation assertion). */
+    val held     = Output(UInt(log2Ceil(9 * cfg.numRayIds + 8).W))
   })
   override def desiredName = s"Traversal_k${cfg.boxLanes}_n${cfg.numRayIds}_${dp.name}"
 
@@ -132,4 +134,10 @@ class Traversal[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   private val enqs = (fetchQs ++ leafQs ++ doneQs).map(_.io.enq)
   when(enqs.map(e => e.valid && !e.ready).reduce(_ || _)) { overflowReg := true.B }
   io.overflow := overflowReg
+
+  // Box stage (atNode, the box pipe), control, the lane queues, PrepFetch
+  // (its queue, memory, the answer register).
+  private val inBox = atNode.valid +& PopCount(ShiftRegisters(atNode.valid, box.latency, false.B, true.B))
+  private val queued = (fetchQs ++ leafQs ++ doneQs).map(_.io.count).reduce(_ +& _)
+  io.held := inBox +& control.io.held +& queued +& fetch.io.waiting +& fetch.io.out.valid
 }

@@ -78,6 +78,8 @@ class TraversalControl(cfg: AccelConfig) extends Module {
     /** The leaf-return lane: one ray back from a leaf per cycle, out the next cycle. */
     val ret    = Flipped(Valid(new ReturnIn(cfg)))
     val retOut = Valid(new ControlOut(cfg))
+    /** Rays in its pipeline registers (RtAccel's ray_conservation assertion). */
+    val held   = Output(UInt(2.W))
   })
   override def desiredName = s"TraversalControl_k${cfg.boxLanes}_n${cfg.numRayIds}_d${cfg.stackDepth}"
 
@@ -199,6 +201,9 @@ class TraversalControl(cfg: AccelConfig) extends Module {
   retNext.token     := r.token
   retNext.token.sp  := Mux(retDone, r.token.sp, r.token.sp - 1.U)
   io.retOut := resolve(io.ret.valid, retNext, stack.io.popValB)
+  // The nori layout has no rank register: its input is not held here.
+  private val ranked = if (cfg.layout == BvhLayout.Nori) false.B else valid
+  io.held := ranked +& io.out.valid +& io.retOut.valid
 
   /** A lane's output, a cycle after its decision: a popped entry is an inner
     * node to fetch (GOBACK) or a leaf to test (LEAF).

@@ -13,7 +13,7 @@ import rtaccel.{AccelConfig, Datapath}
   * with it holds whatever the arithmetic answers. Only the latencies are
   * real: the control path depends on them.
   */
-class FormalDatapath(prepLatency: Int, boxLatency: Int, primLatency: Int) extends Datapath[UInt] {
+class FormalDatapath(val prepLatency: Int, val boxLatency: Int, val primLatency: Int) extends Datapath[UInt] {
   require(Seq(prepLatency, boxLatency, primLatency).forall(_ >= 1), "FormalDatapath: latencies must be >= 1")
   val name = s"formal_p${prepLatency}b${boxLatency}t$primLatency"
   /** A ray's constants do not matter: one bit. */

@@ -6,14 +6,15 @@ import rtaccel.fetch.RayIn
 import rtaccel.{AccelConfig, BvhLayout, RtAccel}
 
 /** The environment of a proof: memory latency and stall bounds, how long the
-  * host may refuse a hit, and the bound every ray must leave within.
+  * host may refuse a hit, and the scenes memory may hold. The bound every ray
+  * must leave within is derived from these (ResponseBound), not chosen.
   *
   * @param memLatency  each memory answers 1..memLatency cycles after it took the request
   * @param memStall    a memory refuses a request at most this many cycles in a row
   * @param hitStall    the host refuses a hit at most this many cycles in a row
-  * @param responseBound every accepted ray's hit leaves within this many cycles (docs/formal.md derives it)
+  * @param scene       the rule node records obey (SceneRule)
   */
-case class FormalEnv(memLatency: Int, memStall: Int, hitStall: Int, responseBound: Int)
+case class FormalEnv(memLatency: Int, memStall: Int, hitStall: Int, scene: SceneRule = SceneRule.ChildrenFollow)
 
 /** RtAccel in a formal environment (docs/formal.md): rays with free data and
   * host numbers, memories that answer within a bound, a host that takes hits
@@ -26,15 +27,18 @@ case class FormalEnv(memLatency: Int, memStall: Int, hitStall: Int, responseBoun
   *  - bounded_response: a ray in flight has been in for at most `responseBound` cycles.
   *  - in_flight_bound: at most numRayIds rays inside.
   *
-  * Scene rule (an assumption): an inner child's index is greater than its
-  * parent's, as in every image nori-bridge writes (children follow their
-  * parent), so traversal ends; without it a node could name itself and a
-  * ray would rightly never finish.
+  * Scene rule (an assumption, SceneRule): an inner child's index
+  * is greater than its parent's, as in every image nori-bridge writes
+  * (children follow their parent), so traversal ends; without it a node
+  * could name itself and a ray would rightly never finish.
+  *
+  * @param responseBound ResponseBound(cfg, dp, env), or a probe's cut bound
+  * @param tag           the module name's suffix (the case name)
   */
-class FormalTop(cfg: AccelConfig, dp: FormalDatapath, env: FormalEnv) extends Module {
+class FormalTop(cfg: AccelConfig, dp: FormalDatapath, env: FormalEnv, responseBound: Int, tag: String) extends Module {
   require(cfg.layout.isInstanceOf[BvhLayout.Wide], "FormalTop: the scene rule is written for the wide layouts")
   val io = IO(new Bundle {})
-  override def desiredName = s"FormalTop_n${cfg.numRayIds}"
+  override def desiredName = s"FormalTop_$tag"
 
   private val accel = Module(new RtAccel(cfg, dp))
   accel.io.nodeBase := 0.U
@@ -62,7 +66,7 @@ class FormalTop(cfg: AccelConfig, dp: FormalDatapath, env: FormalEnv) extends Mo
   rays.bits        := FormalAnySeq(new RayIn)
   rays.bits.number := number
   private val inFlightReg = RegInit(VecInit(Seq.fill(slots)(false.B)))
-  private val ageReg      = RegInit(VecInit(Seq.fill(slots)(0.U(log2Ceil(env.responseBound + 2).W))))
+  private val ageReg      = RegInit(VecInit(Seq.fill(slots)(0.U(log2Ceil(responseBound + 2).W))))
   assume(!(rays.valid && inFlightReg(number)), "host_numbers_unique")
 
   // ---- Host: takes a hit after at most hitStall refusals in a row ----
@@ -80,8 +84,8 @@ class FormalTop(cfg: AccelConfig, dp: FormalDatapath, env: FormalEnv) extends Mo
     val out = hits.fire && hitNum === i.U
     when(in) { inFlightReg(i) := true.B; ageReg(i) := 0.U }
     when(out) { inFlightReg(i) := false.B }
-    when(inFlightReg(i) && !out && ageReg(i) <= env.responseBound.U) { ageReg(i) := ageReg(i) + 1.U }
-    assert(!inFlightReg(i) || ageReg(i) < env.responseBound.U, s"bounded_response: ray number $i in flight for ${env.responseBound} cycles")
+    when(inFlightReg(i) && !out && ageReg(i) <= responseBound.U) { ageReg(i) := ageReg(i) + 1.U }
+    assert(!inFlightReg(i) || ageReg(i) < responseBound.U, s"bounded_response: ray number $i in flight for ${responseBound} cycles")
   }
   assert(PopCount(inFlightReg) <= cfg.numRayIds.U, "in_flight_bound: more rays inside than IDs")
 }
