@@ -65,13 +65,15 @@ object BenchSystem {
     }.toMap)
   }
 
-  /** Where the system rows came from: the commit (`-dirty` if tracked files differed from it) and the time (UTC). */
+  /** Where the system rows came from: the commit (`-dirty` if a tracked file outside docs/ and README.md, which do
+    * not change what is measured, differed from it) and the time (UTC). */
   final case class Provenance(commit: String, at: String)
 
   def provenance(): Provenance = {
     def git(args: String*) = scala.util.Try(Process("git" +: args).!!.trim).toOption
     val head = git("rev-parse", "--short", "HEAD").getOrElse("unknown")
-    val dirty = scala.util.Try(Process(Seq("git", "diff", "--quiet", "HEAD")).! != 0).getOrElse(false)
+    val dirty = scala.util.Try(Process(Seq("git", "diff", "--quiet", "HEAD", "--", ".", ":(exclude)docs", ":(exclude)README.md")).! != 0)
+      .getOrElse(false)
     Provenance(head + (if (dirty) "-dirty" else ""), utcNow())
   }
 
