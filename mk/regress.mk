@@ -11,8 +11,17 @@ bench_list   = $(subst $(space),$(comma),$(strip $(1)))
 # under the C++ harness for 1, 2, 4 and the cores that fit, the ZC706 estimate
 # (cores that fit and the Fmax estimate read from build/verilog/resources.md,
 # so `make verilog` runs first, cached per unit) beside Embree on this machine.
+# BENCH_SYSTEM=cached redraws it from build/bench/system.json, re-reading
+# resources.md (a later `make verilog` updates the estimate, and the page says
+# which run each figure came from); BENCH_SYSTEM=embree (= make bench-embree)
+# re-measures only Embree first, with the load average. Both redraw the
+# per-core table from build/bench/bench.json too (BENCH_RENDER_ONLY=0 re-runs it).
 BENCH_SYSTEM ?= 1
+BENCH_RENDER_ONLY ?= $(if $(filter cached embree,$(BENCH_SYSTEM)),1,0)
 
-.PHONY: bench
-bench: setup $(if $(filter 1,$(BENCH_SYSTEM)),verilog) ## Speed side by side: BVH layouts x memory (onchip, ddr) x Cornell/dragon rays; the system top on a ZC706 (estimate) against Embree -> docs/performance.md [BVH_LAYOUTS="nori 2 4 8" MAX_RAYS=2048 BENCH_RUNS= BENCH_SYSTEM=1]
-	$(SBT) "Test/runMain rtaccel.regress.Bench --out $(BENCH_OUT) --layouts $(call bench_list,$(BVH_LAYOUTS)) --runs $(call bench_list,$(BENCH_RUNS)) --max-rays $(or $(MAX_RAYS),2048) --system $(BENCH_SYSTEM)"
+.PHONY: bench bench-embree
+bench: setup $(if $(filter 1,$(BENCH_SYSTEM)),verilog) ## Speed side by side: BVH layouts x memory (onchip, ddr) x Cornell/dragon rays; the system top on a ZC706 (estimate) against Embree -> docs/performance.md [BVH_LAYOUTS="nori 2 4 8" MAX_RAYS=2048 BENCH_RUNS= BENCH_SYSTEM=1|0|cached|embree BENCH_RENDER_ONLY=]
+	$(SBT) "Test/runMain rtaccel.regress.Bench --out $(BENCH_OUT) --layouts $(call bench_list,$(BVH_LAYOUTS)) --runs $(call bench_list,$(BENCH_RUNS)) --max-rays $(or $(MAX_RAYS),2048) --system $(BENCH_SYSTEM) --render-only $(BENCH_RENDER_ONLY)"
+
+bench-embree: setup ## Re-measure only Embree (with the 1-minute load average) and redraw docs/performance.md from the cached bench rows (after a make bench; for an idle machine)
+	$(MAKE) bench BENCH_SYSTEM=embree

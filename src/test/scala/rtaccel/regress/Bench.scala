@@ -35,17 +35,24 @@ object Bench {
   final case class Args(layouts: Seq[String] = Seq(DefaultLayout), runs: Seq[Run] = Runs, maxRays: Int = 2048,
       out: Path = Paths.get("docs/performance.md"), area: Path = Paths.get("build/bench/area.json"),
       bridge: Path = Paths.get("nori-bridge/target/release/nori-bridge"), threads: Int = 2,
-      /** Only redraw the table from build/bench/bench.json (after a run, e.g. with new area figures). */
+      /** Only redraw the table from `rows` (after a run, e.g. with new area figures). */
       renderOnly: Boolean = false,
+      /** The per-core rows of the last run (and beside it, `<name>-run.json`: its commit, time and seconds). A table
+        * of its own (make bench-quant) keeps its own, so that one target never redraws another's rows. */
+      rows: Path = Paths.get("build/bench/bench.json"),
       /** The system section (BenchSystem): the system top for 1, 2, 4 and the cores that fit, under the C++ harness:
-        * "1" measures it, "0" leaves it out, "cached" redraws it from build/bench/system.json. */
+        * "1" measures it, "0" leaves it out, "cached" redraws it from build/bench/system.json against what
+        * build/verilog/resources.md says now (cores that fit, Fmax estimate), "embree" does the same after
+        * re-measuring only Embree (with the load average). */
       system: String = "1",
       /** What `make verilog` wrote: the cores that fit and the Fmax estimate (VerilogFigures). */
       verilog: Path = Paths.get("build/verilog/resources.md"))
 
   val usage = "usage: Bench [--out docs/performance.md] [--layouts nori,2,4,8] [--runs cornell-box-primary,dragon-ao,...] " +
-    "[--max-rays 2048] [--area build/bench/area.json] [--threads 2] [--render-only 0|1] [--system 0|1|cached] " +
-    "[--verilog build/verilog/resources.md]"
+    "[--max-rays 2048] [--area build/bench/area.json] [--threads 2] [--render-only 0|1] [--system 0|1|cached|embree] " +
+    "[--verilog build/verilog/resources.md] [--rows build/bench/bench.json]"
+
+  val SystemModes: Seq[String] = Seq("0", "1", "cached", "embree")
 
   def parse(args: Seq[String]): Args = {
     def fail(why: String): Nothing = throw new IllegalArgumentException(s"$why\n$usage")
@@ -62,12 +69,16 @@ object Bench {
         case "--area"     => a.copy(area = Paths.get(v))
         case "--threads"  => a.copy(threads = int)
         case "--render-only" => a.copy(renderOnly = v == "1")
-        case "--system"   => if (Seq("0", "1", "cached").contains(v)) a.copy(system = v) else fail(s"--system: '$v' (0, 1 or cached)")
+        case "--system"   => if (SystemModes.contains(v)) a.copy(system = v) else fail(s"--system: '$v' (${SystemModes.mkString(", ")})")
         case "--verilog"  => a.copy(verilog = Paths.get(v))
+        case "--rows"     => if (v.endsWith(".json")) a.copy(rows = Paths.get(v)) else fail(s"--rows: '$v' is not a .json file")
         case other        => fail(s"unknown option '$other'")
       }
     }
   }
+
+  /** The hand-written reading kept beside a generated page: docs/performance.md's is docs/performance-notes.md. */
+  def notesFor(out: Path): Path = out.resolveSibling(out.getFileName.toString.stripSuffix(".md") + "-notes.md")
 
   /** The hardware that reads `layout`'s nodes: the ZC706 configuration with its box lanes. */
   def configFor(layout: String): AccelConfig =
@@ -84,27 +95,42 @@ object Bench {
     val golden = FloatGolden(dp)
     a.layouts.foreach(configFor) // refuse an unknown layout before any work
     // The system section first (the C++ harness is quick, and a missing make verilog shows at once):
-    // measured now, or redrawn from build/bench/system.json.
+    // measured now, or redrawn from build/bench/system.json (after re-measuring Embree alone with "embree").
     val systemJson = root.resolve("system.json")
+    def cached() = {
+      if (!Files.exists(systemJson)) throw new IllegalArgumentException(s"--system ${a.system}: $systemJson is missing (run with --system 1)")
+      BenchSystem.fromJson(ujson.read(Files.readString(systemJson)))
+    }
+    def save(r: BenchSystem.Result) = {
+      Files.createDirectories(root)
+      Files.writeString(systemJson, ujson.write(BenchSystem.toJson(r), indent = 2))
+      r
+    }
     val system = a.system match {
       case "0" => None
-      case "cached" =>
-        if (!Files.exists(systemJson)) throw new IllegalArgumentException(s"--system cached: $systemJson is missing (run with --system 1)")
-        Some(BenchSystem.fromJson(ujson.read(Files.readString(systemJson))))
-      case _ =>
-        val r = BenchSystem.run(a, dp, golden, root)
-        Files.createDirectories(root)
-        Files.writeString(systemJson, ujson.write(BenchSystem.toJson(r), indent = 2))
-        Some(r)
+      case "cached" => Some(BenchSystem.redraw(a, dp, cached()))
+      case "embree" => Some(BenchSystem.redraw(a, dp, save(BenchSystem.remeasureEmbree(a, cached(), root))))
+      case _ => Some(save(BenchSystem.run(a, dp, golden, root)))
     }
+    val benchJson = a.rows
+    // <rows>-run.json: the commit, time and wall seconds of the run that wrote the rows, for a redrawn table's header.
+    val runJson = Paths.get(a.rows.toString.stripSuffix(".json") + "-run.json")
     val rows =
-      if (a.renderOnly) ujson.read(Files.readString(root.resolve("bench.json"))).arr.map(_.obj).map(o => ujson.Obj.from(o)).toSeq
-      else {
+      if (a.renderOnly) {
+        if (!Files.exists(benchJson)) throw new IllegalArgumentException(s"--render-only 1: $benchJson is missing (run `make bench` with BENCH_RENDER_ONLY=0)")
+        ujson.read(Files.readString(benchJson)).arr.map(_.obj).map(o => ujson.Obj.from(o)).toSeq
+      } else {
+        val p = BenchSystem.provenance()
         val rs = for (layout <- a.layouts; row <- runLayout(a, layout, dp, golden)) yield row
-        Files.createDirectories(root)
-        Files.writeString(root.resolve("bench.json"), ujson.write(ujson.Arr(rs: _*), indent = 2))
+        Files.createDirectories(benchJson.toAbsolutePath.getParent)
+        Files.writeString(benchJson, ujson.write(ujson.Arr(rs: _*), indent = 2))
+        Files.writeString(runJson, ujson.write(ujson.Obj("commit" -> p.commit, "at" -> p.at, "seconds" -> (System.nanoTime() - t0) / 1e9), indent = 2))
         rs
       }
+    val earlier = Option.when(a.renderOnly && Files.exists(runJson)) {
+      val j = ujson.read(Files.readString(runJson))
+      f"the run at commit ${j("commit").str} (${j("at").str}, ${j("seconds").num}%.0f s)"
+    }
     // Box-lane LUTs per layout: K lanes of the datapath's box unit, each synthesised
     // alone by Yosys (cached in build/area-cache with make verilog's results).
     val area = rows.map(_("layout").str).distinct.map { layout =>
@@ -115,7 +141,7 @@ object Bench {
     Files.writeString(a.area, ujson.write(ujson.Obj.from(area.map { case (k, v) => k -> ujson.Num(v) }), indent = 2))
     Files.createDirectories(a.out.toAbsolutePath.getParent)
     Files.writeString(a.out, BenchMarkdown(rows, area, a.maxRays, if (a.renderOnly) -1 else (System.nanoTime() - t0) / 1e9,
-      system.fold("")(BenchSystemMarkdown(_, a.maxRays))))
+      system.fold("")(BenchSystemMarkdown(_, a.maxRays)), earlier.getOrElse("an earlier run"), notesFor(a.out)))
     println(s"bench: wrote ${a.out}")
   }
 

@@ -15,6 +15,13 @@ class BenchSpec extends AnyFlatSpec {
       assert(e.getMessage.contains(word), e.getMessage)
     }
     assert(Bench.configFor("4").boxLanes == 4 && Bench.configFor("nori").boxLanes == 1)
+    // make bench-quant keeps its own rows and notes: it never redraws make bench's, nor appends its reading.
+    val q = Bench.parse(Seq("--out", "docs/quant-performance.md", "--rows", "build/bench/quant.json", "--system", "0"))
+    assert(q.rows.toString == "build/bench/quant.json" && q.system == "0" && Bench.parse(Nil).system == "1")
+    assert(Bench.notesFor(q.out).toString == "docs/quant-performance-notes.md" &&
+      Bench.notesFor(Bench.parse(Nil).out).toString == "docs/performance-notes.md")
+    assert(Bench.parse(Seq("--system", "embree")).system == "embree")
+    assert(intercept[IllegalArgumentException](Bench.parse(Seq("--system", "2"))).getMessage.contains("'2'"))
     val bad = intercept[IllegalArgumentException](Bench.configFor("3"))
     assert(bad.getMessage.contains("'3'") && bad.getMessage.contains("--layouts"), bad.getMessage)
   }
@@ -55,6 +62,40 @@ class BenchSpec extends AnyFlatSpec {
     // Dragon: 0.1 x 40 = 4 Mrays/s against 5 x 1 Mrays/s of Embree: not met by x1.25, and the clock alone would do it.
     assert(md.contains("**not met**, 4.0 Mrays/s (×1.25 short)") && md.contains("raising it to its ceiling alone would meet the goal"), md)
     assert(md.contains("estimate, not run on a board") && md.contains("this machine"), md)
+  }
+
+  it should "redraw a cached system section against a newer resources.md, saying where each figure came from, with Embree's load average" in {
+    def row(run: String, cores: Int, rpc: Double) = ujson.Obj("run" -> run, "cores" -> cores, "rays" -> 100, "raySetSize" -> 4096,
+      "cycles" -> 100 / rpc, "raysPerCycle" -> rpc, "nodeStoreHitRate" -> 0.5, "dramBytesPerRay" -> 100.0, "readBytesPerRay" -> 100.0,
+      "readBeatsPerCycle" -> 0.5, "goldenMismatches" -> 0, "simCyclesPerSecond" -> 1.0, "simCyclesPerCpuSecond" -> 1.0)
+    val title = "RtAccel e8m23_wt_cons, 4-wide BVH nodes (4 box lanes), 64 ray IDs, stack 64"
+    val cached = BenchSystem.Result(Seq(row("cornell-box-primary", 1, 0.1), row("cornell-box-primary", 2, 0.2)),
+      Map("cornell-box-primary" -> BenchSystem.Embree(50, 40, 2, 1.75, "2026-01-01T00:00:00Z")),
+      VerilogFigures(title, 2, 1000.0 / 40, "MemoryFabric"), 40, BenchSystem.Provenance("abc1234", "2026-01-01T00:00:00Z"))
+    // Through the cache file and back: the load average, the time and the commit survive; an old cache reads as unknown.
+    val back = BenchSystem.fromJson(ujson.read(ujson.write(BenchSystem.toJson(cached))))
+    assert(back.embree("cornell-box-primary").load1 == 1.75 && back.sim == cached.sim && back.rows == cached.rows, back)
+    val old = BenchSystem.toJson(cached); old.obj.remove("commit"); old("embree")("cornell-box-primary").obj.remove("load1")
+    assert(BenchSystem.fromJson(old).sim.commit == "unknown" && BenchSystem.fromJson(old).embree("cornell-box-primary").load1.isNaN)
+    val dir = java.nio.file.Files.createTempDirectory("bench-spec")
+    val res = dir.resolve("resources.md")
+    def write(fit: Int, ns: Double) = java.nio.file.Files.writeString(res, Seq(s"# Resources: $title", "",
+      s"Instances that fit on the device (by its scarcest resource): **$fit**.", "",
+      f"Estimated system Fmax (slowest unit, **MemoryFabric**): **${1000 / ns}%.0f MHz** ($ns%.2f ns).").mkString("\n"))
+    val a = Bench.parse(Seq("--verilog", res.toString))
+    val dp = rtaccel.datapath.FloatDatapath(rtaccel.fp.FloatFormat.FP32, rtaccel.datapath.TriangleTest.Watertight,
+      rtaccel.datapath.BoxRounding.Conservative)
+    write(2, 25.0)
+    assert(BenchSystem.redraw(a, dp, cached).now.isEmpty, "the same figures: nothing redrawn")
+    write(2, 12.5) // a faster system: 80 MHz
+    val r = BenchSystem.redraw(a, dp, cached)
+    assert(r.estimateMhz == 80 && r.fabricMhz == 40)
+    val md = BenchSystemMarkdown(r, 2048)
+    assert(md.contains("**Redrawn from the cache**") && md.contains("simulated at commit abc1234") && md.contains("clocked at 40 MHz"), md)
+    assert(md.contains("| 16.0 (= 2 × 0.1000 rays/cycle per core × 80 MHz) | 50.0 | 1.75 | 2026-01-01T00:00:00Z | 0.32 |"), md)
+    write(3, 12.5) // three cores fit now, and the cache has no 3-core rows
+    val e = intercept[IllegalArgumentException](BenchSystem.redraw(a, dp, cached))
+    assert(e.getMessage.contains("3 cores fit") && e.getMessage.contains("make bench"), e.getMessage)
   }
 
   it should "put layouts (in the order asked for) and memories side by side per run, with box-lane LUTs where known" in {
