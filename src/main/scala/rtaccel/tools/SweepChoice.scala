@@ -16,7 +16,8 @@ object SweepChoice {
   def variant(test: TriangleTest, rounding: BoxRounding): String =
     s"${if (rounding == BoxRounding.Conservative) "conservative" else "rne"}/${if (test == TriangleTest.Watertight) "watertight" else "moller"}"
 
-  def smallestSafe(json: Path, test: TriangleTest, rounding: BoxRounding): FloatFormat = {
+  /** (box format, triangle format) of the smallest safe point for the variant. */
+  def smallestSafe(json: Path, test: TriangleTest, rounding: BoxRounding): (FloatFormat, FloatFormat) = {
     if (!Files.exists(json)) throw new IllegalArgumentException(s"$json: missing; FLOAT=auto needs the precision sweep (make speed-vs-error)")
     val js = ujson.read(Files.readString(json))
     val v = variant(test, rounding)
@@ -25,6 +26,9 @@ object SweepChoice {
     if (name.isNull) throw new IllegalArgumentException(s"$json: no format of the sweep is safe for $v; give FLOAT= explicitly")
     val point = js("points").arr.find(_("name").str == name.str)
       .getOrElse(throw new IllegalArgumentException(s"$json: smallest_safe names point ${name.str}, which is not among its points"))
-    FloatFormat.parse(point("config")("float").str)
+    val c = point("config")
+    // Points before the box/triangle split name one format for both.
+    def f(k: String) = FloatFormat.parse(c.obj.get(k).fold(c("float").str)(_.str))
+    (f("box_float"), f("tri_float"))
   }
 }

@@ -69,7 +69,7 @@ object BenchSystem {
   }
 
   def run(a: Bench.Args, dp: FloatDatapath, golden: rtaccel.datapath.FloatGolden, root: Path): Result = {
-    val cfg = Bench.configFor(Layout).copy(float = dp.fmt)
+    val cfg = Bench.configFor(Layout).copy(boxFloat = dp.boxFmt, triFloat = dp.triFmt)
     val v = VerilogFigures.read(a.verilog, expectTitle(dp, cfg))
     // The DDR model's clock is the accelerator's: ns -> cycles and 12.8 GB/s -> bytes per cycle at the estimated Fmax
     // (whole MHz, rounded down, so the latency in cycles is never understated by a fraction).
