@@ -37,9 +37,11 @@ object EmitVerilog {
     // this variant, box and triangle formats; BOX_FLOAT= / TRI_FLOAT= override one unit.
     val (autoBox, autoTri) = kv.getOrElse("--float", "e8m23") match {
       case "auto" =>
-        val (b, t) = SweepChoice.smallestSafe(SweepChoice.defaultJson, test, box)
+        val (b, t, measuredOn) = SweepChoice.smallestSafePoint(SweepChoice.defaultJson, test, box)
         println(s"verilog: FLOAT=auto: boxes ${b.name}, triangles ${t.name}, the smallest safe configuration for " +
-          s"${SweepChoice.variant(test, box)} in ${SweepChoice.defaultJson}")
+          s"${SweepChoice.variant(test, box)} in ${SweepChoice.defaultJson} (measured on $measuredOn nodes)")
+        if (measuredOn != layout.name)
+          println(s"verilog: note: BVH=${layout.name}, but the sweep found it safe on $measuredOn nodes (BVH=$measuredOn)")
         (b, t)
       case other => val f = FloatFormat.parse(other); (f, f)
     }

@@ -5,10 +5,11 @@ import rtaccel.fp.FloatFormat
 
 import java.nio.file.{Files, Path, Paths}
 
-/** `FLOAT=auto`: the number format the precision sweep found smallest and
-  * still safe (zero false misses, < 0.1% pixels differing from FP32) for a
-  * triangle test and box rounding, read from `docs/speed-vs-error.json`
-  * (`make speed-vs-error`).
+/** `FLOAT=auto`: the box and triangle formats of the configuration the
+  * precision sweep found smallest and still safe (no false miss, false hit or
+  * wrong primitive, no hard-case failure, no pixel different from FP32 on any
+  * image) for a triangle test and box rounding, read from
+  * `docs/speed-vs-error.json` (`make speed-vs-error`).
   */
 object SweepChoice {
   val defaultJson: Path = Paths.get("docs/speed-vs-error.json")
@@ -18,6 +19,12 @@ object SweepChoice {
 
   /** (box format, triangle format) of the smallest safe point for the variant. */
   def smallestSafe(json: Path, test: TriangleTest, rounding: BoxRounding): (FloatFormat, FloatFormat) = {
+    val (b, t, _) = smallestSafePoint(json, test, rounding)
+    (b, t)
+  }
+
+  /** Also the node layout the sweep measured that point on ("nori" in sweeps before the layout dimension). */
+  def smallestSafePoint(json: Path, test: TriangleTest, rounding: BoxRounding): (FloatFormat, FloatFormat, String) = {
     if (!Files.exists(json)) throw new IllegalArgumentException(s"$json: missing; FLOAT=auto needs the precision sweep (make speed-vs-error)")
     val js = ujson.read(Files.readString(json))
     val v = variant(test, rounding)
@@ -29,6 +36,6 @@ object SweepChoice {
     val c = point("config")
     // Points before the box/triangle split name one format for both.
     def f(k: String) = FloatFormat.parse(c.obj.get(k).fold(c("float").str)(_.str))
-    (f("box_float"), f("tri_float"))
+    (f("box_float"), f("tri_float"), c.obj.get("layout").fold("nori")(_.str))
   }
 }
