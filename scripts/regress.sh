@@ -4,6 +4,7 @@
 #   SCENE=scenes/x/x.xml | a compiled package directory
 #   RAYS=primary|shadow|ao|random|file.txt   SPP=1   WIDTH= HEIGHT=   SEED=1
 #   OUT=build/regress/<scene>   FLOAT=e8m23   TRIANGLE=watertight|moller
+#   BOX_FLOAT= TRI_FLOAT= (one unit's format, e.g. BOX_FLOAT=e8m10 TRI_FLOAT=e8m23; FLOAT= sets both)
 #   ROUNDING=conservative|rne   IDS=64   STACK=   MAX_RAYS=   WAVES=0   STRICT=0
 #   SIZE=1 (hardware sized to the scene)   BVH=4|2|8|nori|4q|8q (node layout; 4 if unset)
 #   MEMORY=ddr|onchip   MEM_LATENCY=100 (ns, or 80-300; ddr only)   FABRIC_MHZ=200
@@ -29,6 +30,7 @@ else
 fi
 start=$(date +%s)
 opts="--package $pkg --out $OUT --float ${FLOAT:-e8m23} --triangle ${TRIANGLE:-watertight}"
+opts+="${BOX_FLOAT:+ --box-float $BOX_FLOAT}${TRI_FLOAT:+ --tri-float $TRI_FLOAT}"
 opts+=" --rounding ${ROUNDING:-conservative} --memory ${MEMORY:-ddr} --fabric-mhz ${FABRIC_MHZ:-200}"
 opts+=" --outstanding ${OUTSTANDING:-64} --ids ${IDS:-64} --sim ${SIM:-chiseltest}"
 opts+=" --waves ${WAVES:-0} --strict ${STRICT:-0} --seed ${SEED:-1} --bridge $bridge"

@@ -27,12 +27,40 @@ pub struct PointConfig {
     pub rounding: String,
     /// moller | watertight
     pub triangle: String,
+    /// Node layout (nori-bridge compile --bvh): nori, 2, 4, 8, 4q, 8q. Points
+    /// before the layout dimension ran on nori nodes.
+    #[serde(default = "nori_layout")]
+    pub layout: String,
+    /// Box-lane and triangle formats; empty in points before the split: `float` for both.
+    #[serde(default)]
+    pub box_float: String,
+    #[serde(default)]
+    pub tri_float: String,
+}
+
+fn nori_layout() -> String {
+    "nori".into()
+}
+
+/// Exponent + mantissa bits of an `eXmY` name (0 if it is not one).
+pub fn format_bits(f: &str) -> u32 {
+    f.strip_prefix('e').and_then(|r| r.split_once('m')).and_then(|(e, m)| Some(e.parse::<u32>().ok()? + m.parse::<u32>().ok()?)).unwrap_or(0)
 }
 
 impl PointConfig {
-    /// Rounding and triangle test: points of one variant differ only in format.
+    /// Rounding and triangle test: points of one variant differ in layout and formats.
     pub fn variant(&self) -> String {
         format!("{}/{}", self.rounding, self.triangle)
+    }
+    pub fn box_fmt(&self) -> &str {
+        if self.box_float.is_empty() { &self.float } else { &self.box_float }
+    }
+    pub fn tri_fmt(&self) -> &str {
+        if self.tri_float.is_empty() { &self.float } else { &self.tri_float }
+    }
+    /// The unquantized layout of the same width: the FP32 layout a point is measured against ("4q" -> "4").
+    pub fn plain_layout(&self) -> &str {
+        self.layout.strip_suffix('q').unwrap_or(&self.layout)
     }
 }
 
@@ -93,6 +121,9 @@ pub struct RunIn {
     pub error_flagged: usize,
     pub node_tests_per_ray: f64,
     pub tri_tests_per_ray: f64,
+    /// Node bytes read per ray (node fetches x node record size), from the golden walk over every ray.
+    #[serde(default)]
+    pub node_bytes_per_ray: Option<f64>,
     #[serde(default)]
     pub accuracy: Option<AccuracyIn>,
     #[serde(default)]
@@ -126,6 +157,9 @@ pub struct Area {
     pub bram36: f64,
     pub instances_zc706: u64,
     pub units: BTreeMap<String, Cells>,
+    /// All box lanes together (K lanes of one BoxLane unit); absent in old files.
+    #[serde(default)]
+    pub box_lanes: Option<Cells>,
 }
 
 #[derive(Deserialize, Clone, Debug)]

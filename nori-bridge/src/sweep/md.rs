@@ -5,7 +5,6 @@
 use crate::sweep::metrics::PointOut;
 use crate::sweep::plot::Plot;
 use crate::sweep::report::{Report, ReportOpts};
-use crate::sweep::summary::MAX_PIXEL_SHARE;
 use anyhow::{Context, Result};
 use std::path::{Component, Path, PathBuf};
 
@@ -50,9 +49,12 @@ fn method(r: &Report) -> Vec<String> {
     [
         "## Method".to_string(),
         String::new(),
-        "Each point is one hardware configuration: number format `eXmY` (X exponent bits, Y stored mantissa bits), rounding of the box \
-         test (`rne` round-to-nearest-even, or `conservative`: bounds rounded outward so a box is never missed), and triangle test \
-         (`moller` Möller–Trumbore or `watertight`). Each point ran the regression's runs (scene x ray set) and the hard cases."
+        "Each point is one hardware configuration, named `<layout>-<box format>-<triangle format>-<rounding>-<test>`: node layout \
+         (`4`, `8`: FP32 child boxes, K wide; `4q`, `8q`: quantized child boxes), the box lanes' number format and the triangle \
+         test's (`eXmY`: X exponent bits, Y stored mantissa bits), rounding of the box test (`rne` round-to-nearest-even, or \
+         `conservative`: bounds rounded outward so a box is never missed; with a box format narrower than the triangle format the \
+         box constants bound the triangle unit's FP32 ray, docs/kernels.md \"Split formats\"), and triangle test (`moller` \
+         Möller–Trumbore or `watertight`). Each point ran the regression's runs (scene x ray set) and the hard cases."
             .into(),
         String::new(),
         "- **false miss / false hit / wrong prim / t err**: `nori-bridge compare` classes of the accelerator's hits against the \
@@ -80,25 +82,31 @@ fn method(r: &Report) -> Vec<String> {
         "- **latency**: pipeline depth in cycles of the ray-preparation, box and triangle units. **LUT / FF / DSP**: Yosys \
          `synth_xilinx -family xc7` of the whole accelerator; **ZC706**: how many instances fit on its XC7Z045."
             .into(),
-        format!("- **smallest safe format**: zero false misses and fewer than {}% of pixels differing; fewest exponent + mantissa bits, then fewest LUTs.", MAX_PIXEL_SHARE * 100.0),
+        "- **node B/ray**: node bytes read per ray (node fetches of the golden walk x the layout's node record size), ray-weighted mean over the non-hard runs. **box LUT**: Yosys LUTs of the K box lanes together.".into(),
+        "- **safe**: zero false misses, false hits and wrong prims (ties apart), zero leaks, false hits and wrong prims on every hard case, \
+         and zero pixels different from FP32 on every image (per image, `img diff` counts the images with any). **Smallest safe**: \
+         fewest box + triangle format bits, then fewest LUTs.".into(),
     ]
     .into()
 }
 
 fn main_table(points: &[PointOut]) -> Vec<String> {
     let mut out = vec![
-        "| point | format | rounding | test | false miss | false hit | wrong prim | t err | flagged | tie / edge / ref wrong | % px diff | mean / max rel t | rays/cyc | % of bound | node / tri per ray | latency prep/box/tri | LUT | FF | DSP | ZC706 |".to_string(),
-        "| --- | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |".to_string(),
+        "| point | layout | box | tri | rounding | test | false miss | false hit | wrong prim | t err | flagged | tie / edge / ref wrong | img diff | hard fail | % px diff | mean / max rel t | rays/cyc | % of bound | node / tri per ray | node B/ray | latency prep/box/tri | box LUT / FF / DSP | LUT | FF | DSP | ZC706 |".to_string(),
+        "| --- | --- | --- | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |".to_string(),
     ];
     for p in points {
         let e = &p.errors;
         let l = &p.latency;
         out.push(format!(
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} / {} / {} | {} | {} / {} | {} | {} | {:.2} / {:.2} | {}/{}/{} | {} | {} | {} | {} |",
-            p.name, p.config.float, p.config.rounding, p.config.triangle, e.false_miss, e.false_hit, e.wrong_prim, e.t_error, p.error_flagged,
-            e.tie, e.edge, e.reference_wrong, pct(p.pixel_share), sci(p.t_rel_mean), sci(Some(p.t_rel.max)),
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} / {} / {} | {} | {} | {} | {} / {} | {} | {} | {:.2} / {:.2} | {} | {}/{}/{} | {} | {} | {} | {} | {} |",
+            p.name, p.config.layout, p.config.box_fmt(), p.config.tri_fmt(), p.config.rounding, p.config.triangle, e.false_miss, e.false_hit,
+            e.wrong_prim, e.t_error, p.error_flagged, e.tie, e.edge, e.reference_wrong, p.images_differing,
+            p.hard.leaks + p.hard.false_hits + p.hard.wrong_prims, pct(p.pixel_share), sci(p.t_rel_mean), sci(Some(p.t_rel.max)),
             x2(p.speed.map(|s| s.rays_per_cycle)), pct1(p.speed.map(|s| s.share_of_bound)), p.node_tests_per_ray, p.tri_tests_per_ray,
-            l.ray_prep, l.box_test, l.triangle, p.area.lut, p.area.ff, p.area.dsp, p.area.instances_zc706
+            p.node_bytes_per_ray.map_or("n/a".into(), |b| format!("{b:.0}")),
+            l.ray_prep, l.box_test, l.triangle, p.area.box_lanes.map_or("n/a".into(), |b| format!("{} / {} / {}", b.lut, b.ff, b.dsp)),
+            p.area.lut, p.area.ff, p.area.dsp, p.area.instances_zc706
         ));
     }
     out
@@ -106,15 +114,16 @@ fn main_table(points: &[PointOut]) -> Vec<String> {
 
 fn ratio_table(points: &[PointOut]) -> Vec<String> {
     let mut out = vec![
-        "| point | against | LUT | FF | DSP | ZC706 instances | rays/cyc | Pareto (error vs LUT, vs rays/cyc) |".to_string(),
-        "| --- | --- | ---: | ---: | ---: | ---: | ---: | --- |".to_string(),
+        "| point | against | box-lane LUT | LUT | FF | DSP | ZC706 instances | node B/ray | rays/cyc | Pareto (error vs LUT, rays/cyc, node B/ray) |".to_string(),
+        "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- |".to_string(),
     ];
     for p in points {
         let r = &p.vs_baseline;
-        let front = [(p.pareto_error_lut, "LUT"), (p.pareto_error_speed, "rays/cyc")].iter().filter(|f| f.0).map(|f| f.1).collect::<Vec<_>>().join(", ");
+        let front = [(p.pareto_error_lut, "LUT"), (p.pareto_error_speed, "rays/cyc"), (p.pareto_error_bytes, "node B/ray")].iter().filter(|f| f.0).map(|f| f.1).collect::<Vec<_>>().join(", ");
         out.push(format!(
-            "| {} | {} | {} | {} | {} | {} | {} | {} |",
-            p.name, p.baseline, x2(r.lut), x2(r.ff), x2(r.dsp), x2(r.instances_zc706), x2(r.rays_per_cycle), front
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            p.name, p.baseline, x2(r.box_lane_lut), x2(r.lut), x2(r.ff), x2(r.dsp), x2(r.instances_zc706), x2(r.node_bytes_per_ray),
+            x2(r.rays_per_cycle), front
         ));
     }
     out
@@ -122,17 +131,18 @@ fn ratio_table(points: &[PointOut]) -> Vec<String> {
 
 fn run_table(points: &[PointOut]) -> Vec<String> {
     let mut out = vec![
-        "| point | run | rays | false miss / hit / wrong prim / t err | tie / edge / ref wrong | px diff | mean / max rel t | node / tri per ray | rays/cyc | % of bound | golden mismatches |".to_string(),
-        "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |".to_string(),
+        "| point | run | rays | false miss / hit / wrong prim / t err | tie / edge / ref wrong | px diff | mean / max rel t | node / tri per ray | node B/ray | rays/cyc | % of bound | golden mismatches |".to_string(),
+        "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |".to_string(),
     ];
     for p in points {
         for r in p.runs.iter().filter(|r| r.hard_case.is_none()) {
             let e = r.errors.unwrap_or_default();
             out.push(format!(
-                "| {} | {} | {} | {} / {} / {} / {} | {} / {} / {} | {} | {} / {} | {:.2} / {:.2} | {} | {} | {} |",
+                "| {} | {} | {} | {} / {} / {} / {} | {} / {} / {} | {} | {} / {} | {:.2} / {:.2} | {} | {} | {} | {} |",
                 p.name, r.run, r.rays_total, e.false_miss, e.false_hit, e.wrong_prim, e.t_error, e.tie, e.edge, e.reference_wrong,
                 r.pixels.map_or("n/a".into(), |d| format!("{} / {}", d.differing, d.total)),
                 sci(r.t_rel_mean), sci(r.t_rel.map(|t| t.max)), r.node_tests_per_ray, r.tri_tests_per_ray,
+                r.node_bytes_per_ray.map_or("n/a".into(), |b| format!("{b:.0}")),
                 x2(r.speed.map(|s| s.rays_per_cycle)), pct1(r.speed.map(|s| s.share_of_bound)),
                 r.speed.map_or("n/a".into(), |s| s.golden_mismatches.to_string())
             ));
@@ -158,6 +168,7 @@ fn fronts(r: &Report) -> Vec<String> {
         String::new(),
         format!("- error vs LUT: {}", describe(&r.pareto.error_lut, false)),
         format!("- error vs rays/cycle: {}", describe(&r.pareto.error_speed, true)),
+        format!("- error vs node bytes per ray: {}", r.pareto.error_bytes.join(", ")),
     ];
     if !r.pareto.without_speed.is_empty() {
         out.push(format!("- not timed, so not on the speed front or plot: {}", r.pareto.without_speed.join(", ")));
@@ -184,7 +195,7 @@ pub fn document(r: &Report, o: &ReportOpts, plots: &[Plot]) -> Result<String> {
             (r.job_seconds.points + r.job_seconds.area) / 60.0, (r.job_seconds.points + r.job_seconds.area) / 120.0
         ),
         String::new(),
-        "## Smallest safe format".into(),
+        "## Smallest safe configuration".into(),
         String::new(),
         r.summary.clone(),
         String::new(),
@@ -206,7 +217,7 @@ pub fn document(r: &Report, o: &ReportOpts, plots: &[Plot]) -> Result<String> {
     if !golden.is_empty() {
         l.extend([String::new(), format!("**Warning:** the timed simulation disagreed with its golden model on: {}.", golden.join(", "))]);
     }
-    l.extend([String::new(), format!("## Against {} (ratio point / baseline of the same variant)", r.baseline_format), String::new()]);
+    l.extend([String::new(), format!("## Against {} (ratio point / baseline: same rounding and test, the unquantized layout of the same width)", r.baseline_format), String::new()]);
     l.extend(ratio_table(&r.points));
     l.extend([String::new(), "## Plots".into(), String::new()]);
     for p in plots {

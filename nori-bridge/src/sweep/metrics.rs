@@ -61,6 +61,7 @@ pub struct RunOut {
     pub error_flagged: usize,
     pub node_tests_per_ray: f64,
     pub tri_tests_per_ray: f64,
+    pub node_bytes_per_ray: Option<f64>,
     /// Non-hard runs: compare's counts.
     pub errors: Option<ErrorCounts>,
     /// compare's largest relative t difference among `agree` rays.
@@ -87,6 +88,7 @@ impl RunOut {
             error_flagged: r.error_flagged,
             node_tests_per_ray: r.node_tests_per_ray,
             tri_tests_per_ray: r.tri_tests_per_ray,
+            node_bytes_per_ray: r.node_bytes_per_ray,
             errors: r.accuracy.as_ref().filter(|_| !r.is_hard()).map(ErrorCounts::of),
             max_t_rel_agree: r.accuracy.as_ref().filter(|_| !r.is_hard()).map(|a| a.max_t_rel_agree),
             t_rel_mean: t_rel.and_then(|t| t.mean()),
@@ -125,6 +127,8 @@ pub struct Ratios {
     pub dsp: Option<f64>,
     pub instances_zc706: Option<f64>,
     pub rays_per_cycle: Option<f64>,
+    pub node_bytes_per_ray: Option<f64>,
+    pub box_lane_lut: Option<f64>,
 }
 
 pub fn ratio(a: f64, b: f64) -> Option<f64> {
@@ -154,11 +158,16 @@ pub struct PointOut {
     /// Ray-weighted means over the non-hard runs.
     pub node_tests_per_ray: f64,
     pub tri_tests_per_ray: f64,
+    /// Ray-weighted mean over the non-hard runs; None if a run lacks it (old files).
+    pub node_bytes_per_ray: Option<f64>,
+    /// Image runs whose pixels differ from the baseline (any number > 0): "safe" needs none.
+    pub images_differing: usize,
     pub speed: Option<SpeedAgg>,
     pub hard: HardTotals,
     pub vs_baseline: Ratios,
     pub pareto_error_lut: bool,
     pub pareto_error_speed: bool,
+    pub pareto_error_bytes: bool,
     pub runs: Vec<RunOut>,
 }
 
@@ -168,6 +177,7 @@ impl PointOut {
         runs.sort_by(|a, b| a.run.cmp(&b.run));
         let (mut errors, mut t_rel, mut pixels, mut hard) = (ErrorCounts::default(), TRel::default(), PixelDiff::default(), HardTotals::default());
         let (mut rays, mut flagged, mut node, mut tri) = (0usize, 0usize, 0.0, 0.0);
+        let (mut bytes, mut images_differing) = (Some(0.0), 0usize);
         let mut speeds = Vec::new();
         for r in &runs {
             if let Some(e) = &r.errors {
@@ -176,12 +186,14 @@ impl PointOut {
                 flagged += r.error_flagged;
                 node += r.node_tests_per_ray * r.rays_total as f64;
                 tri += r.tri_tests_per_ray * r.rays_total as f64;
+                bytes = bytes.zip(r.node_bytes_per_ray).map(|(b, x)| b + x * r.rays_total as f64);
                 if let Some(s) = &r.speed {
                     speeds.push(*s);
                 }
             }
             t_rel.add(&r.t_rel.unwrap_or_default());
             pixels.add(&r.pixels.unwrap_or_default());
+            images_differing += r.pixels.is_some_and(|p| p.differing > 0) as usize;
             if let Some(h) = &r.hard {
                 hard.cases += 1;
                 hard.leaks += h.leaks;
@@ -215,11 +227,14 @@ impl PointOut {
             pixels,
             node_tests_per_ray: per_ray(node),
             tri_tests_per_ray: per_ray(tri),
+            node_bytes_per_ray: bytes.map(per_ray),
+            images_differing,
             speed,
             hard,
             vs_baseline: Ratios::default(),
             pareto_error_lut: false,
             pareto_error_speed: false,
+            pareto_error_bytes: false,
             runs,
         }
     }
@@ -233,6 +248,8 @@ impl PointOut {
             dsp: ratio(x[2], b[2]),
             instances_zc706: ratio(x[3], b[3]),
             rays_per_cycle: self.speed.zip(base.speed).and_then(|(s, t)| ratio(s.rays_per_cycle, t.rays_per_cycle)),
+            node_bytes_per_ray: self.node_bytes_per_ray.zip(base.node_bytes_per_ray).and_then(|(s, t)| ratio(s, t)),
+            box_lane_lut: self.area.box_lanes.zip(base.area.box_lanes).and_then(|(s, t)| ratio(s.lut as f64, t.lut as f64)),
         };
     }
 }

@@ -37,7 +37,7 @@ fn by_variant(points: &[&PointOut], joined: bool, xy: impl Fn(&PointOut) -> (f64
                 color: PALETTE[i % PALETTE.len()],
                 marker: if mine[0].config.triangle == "watertight" { Marker::Triangle } else { Marker::Circle },
                 joined,
-                points: mine.iter().map(|p| Point { x: xy(p).0, y: xy(p).1, label: p.config.float.clone() }).collect(),
+                points: mine.iter().map(|p| Point { x: xy(p).0, y: xy(p).1, label: format!("{} {}/{}", p.config.layout, p.config.box_fmt(), p.config.tri_fmt()) }).collect(),
             }
         })
         .collect()
@@ -87,6 +87,16 @@ pub fn write_all(r: &Report, dir: &Path) -> Result<Vec<Plot>> {
         series: by_variant(&timed, false, speed),
         front: front(r, &r.pareto.error_speed, speed),
     });
+    let with_bytes: Vec<&PointOut> = r.points.iter().filter(|p| p.node_bytes_per_ray.is_some()).collect();
+    let bytes = |p: &PointOut| (p.node_bytes_per_ray.unwrap_or(f64::NAN), p.errors_per_million_rays);
+    let e = (!with_bytes.is_empty()).then(|| Chart {
+        title: "Error against memory traffic (node bytes read per ray, golden walk over every ray)".into(),
+        x_desc: "node bytes / ray".into(),
+        y_desc: y_desc.into(),
+        x_integer: false,
+        series: by_variant(&with_bytes, false, bytes),
+        front: front(r, &r.pareto.error_bytes, bytes),
+    });
     let imaged: Vec<&PointOut> = r.points.iter().filter(|p| p.pixel_share.is_some()).collect();
     let px = |p: &PointOut| (p.config.man_bits as f64, p.pixel_share.unwrap_or(f64::NAN) * 100.0);
     let c = (!imaged.is_empty()).then(|| Chart {
@@ -112,6 +122,7 @@ pub fn write_all(r: &Report, dir: &Path) -> Result<Vec<Plot>> {
     Ok(vec![
         plot(dir, "error-vs-lut.png", "Error against LUTs", Some(a), "")?,
         plot(dir, "error-vs-speed.png", "Error against rays/cycle", b, "no point has a timed run (`speed` is null everywhere)")?,
+        plot(dir, "error-vs-node-bytes.png", "Error against node bytes per ray", e, "no point has node bytes per ray (old point files)")?,
         plot(dir, "pixels-vs-mantissa.png", "Pixels differing against mantissa bits", c, "no point has an image run (primary or ao rays)")?,
         plot(dir, "hard-vs-mantissa.png", "Hard-case failures against mantissa bits", d, "no point ran the hard cases")?,
     ])

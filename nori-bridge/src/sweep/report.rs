@@ -31,6 +31,8 @@ pub struct Fronts {
     pub error_lut: Vec<String>,
     /// Names along the (errors per Mray, rays/cycle) front, by error.
     pub error_speed: Vec<String>,
+    /// Names along the (errors per Mray, node bytes per ray) front, by error.
+    pub error_bytes: Vec<String>,
     /// Points that have no timed run and so are not on the speed plot.
     pub without_speed: Vec<String>,
 }
@@ -59,18 +61,25 @@ pub struct JobSeconds {
 }
 
 /// Resolves the baseline point of every point: same rounding and triangle
-/// test, float = baseline format.
+/// test, boxes and triangles in the baseline format, on the unquantized
+/// layout of the same width (4q is measured against FP32 on 4-wide nodes).
 fn baselines(s: &SweepIn, format: &str) -> Result<Vec<usize>> {
     s.points
         .iter()
         .map(|(p, _)| {
             let c = &p.config;
-            s.points.iter().position(|(q, _)| q.config.float == format && q.config.rounding == c.rounding && q.config.triangle == c.triangle).with_context(|| {
-                format!(
-                    "{}: no baseline for point '{}': need a point with float {format}, rounding {}, triangle {} (e.g. points/{format}-...json)",
-                    s.dir.join("points").display(), c.name, c.rounding, c.triangle
-                )
-            })
+            s.points
+                .iter()
+                .position(|(q, _)| {
+                    let d = &q.config;
+                    d.box_fmt() == format && d.tri_fmt() == format && d.rounding == c.rounding && d.triangle == c.triangle && d.layout == c.plain_layout()
+                })
+                .with_context(|| {
+                    format!(
+                        "{}: no baseline for point '{}': need a point with layout {}, box and triangle format {format}, rounding {}, triangle {}",
+                        s.dir.join("points").display(), c.name, c.plain_layout(), c.rounding, c.triangle
+                    )
+                })
         })
         .collect()
 }
@@ -112,8 +121,10 @@ fn point_runs(p: &PointIn, base: &PointIn, base_hits: &BTreeMap<String, Vec<Hit>
                     let b = base.runs.iter().find(|b| b.run == r.run).with_context(|| {
                         format!("baseline point '{}' has no run '{}' (point '{}' has)", base.config.name, r.run, p.config.name)
                     })?;
-                    if b.package != r.package {
-                        bail!("run '{}': package {} in point '{}' but {} in its baseline '{}'", r.run, r.package.display(), p.config.name, b.package.display(), base.config.name);
+                    // The baseline may run another node layout (4q against 4): another
+                    // package, but the same rays, which is what pixels compare.
+                    if b.rays_total != r.rays_total || b.rays != r.rays {
+                        bail!("run '{}': {} {} rays in point '{}' but {} {} rays in its baseline '{}'", r.run, r.rays_total, r.rays, p.config.name, b.rays_total, b.rays, base.config.name);
                     }
                     Some(PixelDiff::of(map, *total, &got, &base_hits[&r.run]))
                 }
@@ -182,6 +193,11 @@ fn mark_fronts(points: &mut [PointOut]) -> Fronts {
     let lut: Vec<(f64, f64)> = points.iter().map(|p| (err(p), p.area.lut as f64)).collect();
     let timed: Vec<usize> = (0..points.len()).filter(|&i| points[i].speed.is_some()).collect();
     let speed: Vec<(f64, f64)> = timed.iter().map(|&i| (err(&points[i]), -points[i].speed.unwrap().rays_per_cycle)).collect();
+    let bytes: Vec<(f64, f64)> = points.iter().map(|p| (err(p), p.node_bytes_per_ray.unwrap_or(f64::INFINITY))).collect();
+    let f_bytes = pareto::front(&bytes);
+    for &i in &f_bytes {
+        points[i].pareto_error_bytes = true;
+    }
     let f_lut = pareto::front(&lut);
     let f_speed: Vec<usize> = pareto::front(&speed).into_iter().map(|k| timed[k]).collect();
     for &i in &f_lut {
@@ -194,6 +210,7 @@ fn mark_fronts(points: &mut [PointOut]) -> Fronts {
     Fronts {
         error_lut: names(&f_lut),
         error_speed: names(&f_speed),
+        error_bytes: names(&f_bytes),
         without_speed: points.iter().filter(|p| p.speed.is_none()).map(|p| p.name.clone()).collect(),
     }
 }

@@ -12,7 +12,9 @@ import rtaccel.fp.FloatFormat
   * @param maxNodes    largest node count the node index must address
   * @param maxTriangles largest triangle count the triangle index must address
   * @param maxLeafSize largest triangle count in one leaf
-  * @param float       number format of the intersection datapaths
+  * @param boxFloat    number format of the box lanes (and of their ray constants and entry distances)
+  * @param triFloat    number format of the triangle test (its ray constants, t/u/v and the ray's tmax);
+  *                    `FLOAT=` sets both (`withFloat`), `BOX_FLOAT=` / `TRI_FLOAT=` one each
   * @param addrBits    byte-address width of the memory ports (32 on the ZC706)
   * @param layout      node layout of the BVH images it reads (BvhLayout), which sets the box lanes
   */
@@ -22,7 +24,8 @@ case class AccelConfig(
     maxNodes: Int = 1 << 21,
     maxTriangles: Int = 1 << 20,
     maxLeafSize: Int = 16,
-    float: FloatFormat = FloatFormat.FP32,
+    boxFloat: FloatFormat = FloatFormat.FP32,
+    triFloat: FloatFormat = FloatFormat.FP32,
     addrBits: Int = 32,
     layout: BvhLayout = BvhLayout.Wide(4)
 ) {
@@ -32,6 +35,11 @@ case class AccelConfig(
   require(maxTriangles >= 1, s"AccelConfig: maxTriangles must be >= 1, got $maxTriangles")
   require(maxLeafSize >= 1, s"AccelConfig: maxLeafSize must be >= 1, got $maxLeafSize")
   require(addrBits >= 8 && addrBits <= 48, s"AccelConfig: addrBits must be in 8..48, got $addrBits")
+
+  /** Both units in one format (the `FLOAT=` shorthand). */
+  def withFloat(f: FloatFormat): AccelConfig = copy(boxFloat = f, triFloat = f)
+  /** `e8m23`, or `e8m10+e8m23` (box + triangle) when they differ: for reports. */
+  def floatName: String = if (boxFloat == triFloat) boxFloat.name else s"${boxFloat.name}+${triFloat.name}"
 
   /** Width of a ray ID. At least 1 bit so that a 1-entry pool still has a wire. */
   val rayIdBits: Int = log2Ceil(numRayIds).max(1)

@@ -16,6 +16,6 @@ trait Datapath[T <: Data] {
   def rayPrep(cfg: AccelConfig): RayPrepUnit[T]
   def box(cfg: AccelConfig): BoxLane[T]
   def prim(cfg: AccelConfig): PrimIntersect[T]
-  /** A datapath-format value as FP32; exact, since formats are no wider than FP32. */
+  /** A triangle-format value (t, u, v) as FP32; exact, since formats are no wider than FP32. */
   def toFloat32(cfg: AccelConfig, x: UInt): UInt
 }

@@ -25,6 +25,14 @@ import rtaccel.fp.RoundingMode.{RDN, RNE, RUP}
   * any format, with no epsilon. This is the directed-rounding form of the
   * bound pbrt pads with (1 + 2 gamma(3)) (Ize, JCGT 2013): three roundings per
   * distance, each now one-sided.
+  *
+  * Split formats (box format narrower than the triangle format): the exact
+  * ray is then the FP32 ray, not its rounding, and the ray constants are
+  * bounds on it (RayKernel.outward): o <= o32 <= oHi, R- <= 1/|d32| <= R+.
+  * B1 takes RDN(bmin - oHi) <= bmin - o32 and B2 RUP(bmax - o) >= bmax - o32,
+  * and the argument above goes through unchanged, so the box test encloses
+  * the FP32 ray's exact slab test: no false miss against the triangle unit's
+  * ray. tmax comes from the triangle format rounded up ([[narrowTmax]]).
   * NaN cannot arise: R- is finite and nonzero (RTZ never overflows, and
   * 1/maxFinite >= minSubnormal when manBits >= 3), a zero difference picks R-,
   * and an infinite difference times a nonzero R is infinite.
@@ -35,6 +43,18 @@ import rtaccel.fp.RoundingMode.{RDN, RNE, RUP}
 object BoxKernel {
   final case class Out[F, B](hit: B, near: F)
 
+  /** The ray's tmax, kept in the triangle format `from` (the leaf unit writes
+    * it), as the box lanes read it. Narrowing it (a box format narrower than
+    * the triangle format) rounds UP in Conservative mode: a larger tmax only
+    * keeps more boxes (`near <= tmax` is the last test of B8), so a box the
+    * exact tmax would keep is never culled, and "no false misses" survives the
+    * hand-over from triangle to box format. Widening is exact. Nearest mode
+    * rounds to nearest, as it does every other input. Identity when the
+    * formats are equal.
+    */
+  def narrowTmax[F, B](ar: KernelArith[F, B], rounding: BoxRounding, tmax: F, from: rtaccel.fp.FloatFormat): F =
+    ar.convert(tmax, from, if (rounding == BoxRounding.Conservative) RUP else RNE)
+
   def apply[F, B](ar: KernelArith[F, B], rounding: BoxRounding, ray: RayK[F, B], tmax: F,
       bmin32: Seq[F], bmax32: Seq[F]): Out[F, B] = {
     import ar._
@@ -42,11 +62,12 @@ object BoxKernel {
     def dn: RoundingMode = if (cons) RDN else RNE
     def up: RoundingMode = if (cons) RUP else RNE
     val axes = (0 until 3).map { i =>
-      val (o, d) = (ray.o(i), ray.d(i))
+      // o <= oHi bound the origin (split Conservative, RayKernel.outward); one value otherwise.
+      val (o, oHi, d) = (ray.o(i), ray.oHi.fold(ray.o(i))(_(i)), ray.d(i))
       val bmin = fromF32(bmin32(i), dn)
       val bmax = fromF32(bmax32(i), up)
-      val a = sub(bmin, o, dn) // B1
-      val b = sub(bmax, o, up) // B2
+      val a = sub(bmin, oHi, dn) // B1: <= bmin - origin
+      val b = sub(bmax, o, up) // B2: >= bmax - origin
       val (rMin, rMax) =
         if (cons) (mux(ltZero(a), ray.rcpHi(i), ray.rcpLo(i)), mux(gtZero(b), ray.rcpHi(i), ray.rcpLo(i)))
         else (ray.rcpLo(i), ray.rcpLo(i))
@@ -56,7 +77,7 @@ object BoxKernel {
       val flat = isZero(d) // B6
       val lo = mux(flat, negInf, mux(dNeg, neg(pMax), pMin))
       val hi = mux(flat, posInf, mux(dNeg, neg(pMin), pMax))
-      val in = or(not(flat), and(ge(o, bmin), le(o, bmax)))
+      val in = or(not(flat), and(ge(oHi, bmin), le(o, bmax)))
       val valid = le(bmin, bmax) // B7
       (lo, hi, and(in, valid))
     }

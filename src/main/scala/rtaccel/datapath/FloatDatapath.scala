@@ -9,30 +9,48 @@ import rtaccel.traversal.{BoxAnswer, BoxLane}
 import rtaccel.{AccelConfig, Datapath, ErrorFlags}
 
 /** The floating-point datapath: per-ray setup, slab test and triangle test
-  * in `fmt` on the project's FP units, each unit an II = 1 pipeline whose
-  * latency is derived from its FP units' latencies (see [[HwArith]]). Inputs
+  * on the project's FP units, each unit an II = 1 pipeline whose latency is
+  * derived from its FP units' latencies (see [[HwArith]]). The box lanes work
+  * in `boxFmt`, the triangle test in `triFmt` (one format for both is the
+  * `FLOAT=` shorthand, `apply(fmt, test, rounding)`); the ray setup follows
+  * the unit it feeds ([[RayKernel.split]]), and the ray's tmax is kept in
+  * `triFmt` and narrowed by each box lane ([[BoxKernel.narrowTmax]]). Inputs
   * arrive as FP32 and are narrowed in the units (docs/kernels.md; the
   * narrowing rules are in [[RayKernel]], [[BoxKernel]], [[TriangleCommon]]).
-  * `cfg.float` must equal `fmt`. Its golden twin is [[FloatGolden]].
+  * The config's `boxFloat`/`triFloat` must equal them. Its golden twin is [[FloatGolden]].
   */
-final case class FloatDatapath(fmt: FloatFormat, test: TriangleTest, rounding: BoxRounding)
+final case class FloatDatapath(boxFmt: FloatFormat, triFmt: FloatFormat, test: TriangleTest, rounding: BoxRounding)
     extends Datapath[RayConsts] {
-  require(fmt.expBits <= 8 && fmt.manBits <= 23, s"FloatDatapath: $fmt is wider than FP32 in some field")
-  require(fmt.manBits >= 3, s"FloatDatapath: $fmt needs manBits >= 3 (the conservative box bound uses it)")
-  val name: String = s"${fmt.name}_${test.tag}_${rounding.tag}"
-  def gen: RayConsts = new RayConsts(fmt, test, rounding)
+  for (f <- Seq(boxFmt, triFmt)) {
+    require(f.expBits <= 8 && f.manBits <= 23, s"FloatDatapath: $f is wider than FP32 in some field")
+    require(f.manBits >= 3, s"FloatDatapath: $f needs manBits >= 3 (the conservative box bound uses it)")
+  }
+  /** `e8m23_wt_cons`; split formats name the box format first: `e8m10e8m23_wt_cons`. */
+  val name: String = s"${FloatDatapath.formatsName(boxFmt, triFmt)}_${test.tag}_${rounding.tag}"
+  /** The one format of a single-format datapath (tests and tools that build one). */
+  def fmt: FloatFormat = {
+    require(boxFmt == triFmt, s"FloatDatapath $name: box and triangle formats differ; ask for boxFmt or triFmt")
+    boxFmt
+  }
+  def split: Boolean = boxFmt != triFmt
+  def gen: RayConsts = new RayConsts(boxFmt, triFmt, test, rounding)
+  /** `cfg` with this datapath's formats. */
+  def configure(cfg: AccelConfig): AccelConfig = cfg.copy(boxFloat = boxFmt, triFloat = triFmt)
   private def check(cfg: AccelConfig): Unit =
-    require(cfg.float == fmt, s"FloatDatapath $name used with AccelConfig.float = ${cfg.float}")
+    require(cfg.boxFloat == boxFmt && cfg.triFloat == triFmt,
+      s"FloatDatapath $name used with AccelConfig formats box ${cfg.boxFloat}, triangle ${cfg.triFloat}")
 
   def rayPrep(cfg: AccelConfig): RayPrepUnit[RayConsts] = { check(cfg); new FloatRayPrep(cfg, this) }
   def box(cfg: AccelConfig): BoxLane[RayConsts] = { check(cfg); new FloatBox(cfg, this) }
   def prim(cfg: AccelConfig): PrimIntersect[RayConsts] = { check(cfg); new FloatPrim(cfg, this) }
 
-  /** Widening is exact, so the mode is irrelevant; a latency-0 converter is wires. */
+  /** A triangle-format value (t, u, v) as FP32. Widening is exact, so the mode
+    * is irrelevant; a latency-0 converter is wires.
+    */
   def toFloat32(cfg: AccelConfig, x: UInt): UInt =
-    if (fmt == FloatFormat.FP32) x
+    if (triFmt == FloatFormat.FP32) x
     else {
-      val c = Module(new FpConvert(fmt, FloatFormat.FP32, Some(RoundingMode.RNE), latency = 0))
+      val c = Module(new FpConvert(triFmt, FloatFormat.FP32, Some(RoundingMode.RNE), latency = 0))
       c.io.in.valid := true.B
       c.io.in.bits.a := x
       c.io.out.bits
@@ -40,10 +58,23 @@ final case class FloatDatapath(fmt: FloatFormat, test: TriangleTest, rounding: B
 }
 
 object FloatDatapath {
-  /** Parses names as produced by `name`, e.g. `e8m23_wt_cons`. */
+  /** One format for both units: the `FLOAT=` shorthand. */
+  def apply(fmt: FloatFormat, test: TriangleTest, rounding: BoxRounding): FloatDatapath = FloatDatapath(fmt, fmt, test, rounding)
+  /** The datapath of `cfg`'s formats. */
+  def of(cfg: AccelConfig, test: TriangleTest, rounding: BoxRounding): FloatDatapath =
+    FloatDatapath(cfg.boxFloat, cfg.triFloat, test, rounding)
+  def formatsName(box: FloatFormat, tri: FloatFormat): String = if (box == tri) box.name else s"${box.name}${tri.name}"
+
+  private val Name = """e(\d+)m(\d+)(?:e(\d+)m(\d+))?""".r
+  /** Parses names as produced by `name`, e.g. `e8m23_wt_cons` or `e8m10e8m23_wt_cons`. */
   def parse(s: String): FloatDatapath = s.split('_') match {
     case Array(f, t, r) =>
-      FloatDatapath(FloatFormat.parse(f),
+      val (box, tri) = f match {
+        case Name(e, m, null, null) => val x = FloatFormat(e.toInt, m.toInt); (x, x)
+        case Name(e, m, e2, m2)     => (FloatFormat(e.toInt, m.toInt), FloatFormat(e2.toInt, m2.toInt))
+        case _ => throw new IllegalArgumentException(s"datapath '$s': not a format '$f' (expected e8m23 or e8m10e8m23)")
+      }
+      FloatDatapath(box, tri,
         TriangleTest.all.find(_.tag == t).getOrElse(throw new IllegalArgumentException(s"datapath '$s': unknown test '$t'")),
         BoxRounding.all.find(_.tag == r).getOrElse(throw new IllegalArgumentException(s"datapath '$s': unknown rounding '$r'")))
     case _ => throw new IllegalArgumentException(s"not a datapath name: '$s' (expected e.g. e8m23_wt_cons)")
@@ -54,28 +85,31 @@ object FloatDatapath {
 
 class FloatRayPrep(cfg: AccelConfig, dp: FloatDatapath) extends RayPrepUnit[RayConsts](cfg, dp.gen) {
   override def desiredName: String = s"RayPrep_${dp.name}"
-  private val ar = new HwArith(dp.fmt)
+  private val boxAr = new HwArith(dp.boxFmt)
+  // One arithmetic for both when the formats agree: the setup is shared, built once.
+  private val triAr = if (dp.split) new HwArith(dp.triFmt) else boxAr
   private val r = io.in.bits
-  private val (k, tmax) = RayKernel(ar, r.origin.map(ar.input), r.dir.map(ar.input), ar.input(r.tmin),
-    ar.input(r.tmax), dp.rounding, dp.test)
-  private val kernelOuts: Seq[Timed[_ <: Data]] =
-    k.o ++ k.d ++ k.rcpLo ++ k.rcpHi ++ Seq(k.tmin, tmax, k.err) ++
-      k.shear.toSeq.flatMap(s => s.kx ++ s.ky ++ s.kz ++ Seq(s.sx, s.sy, s.sz))
-  private val lat = FloatDatapath.readyOf(kernelOuts)
+  private val (k, tmax, err) = RayKernel.split(boxAr, triAr, r.origin.map(boxAr.input), r.dir.map(boxAr.input),
+    boxAr.input(r.tmin), boxAr.input(r.tmax), dp.rounding, dp.test)
+  private def outs(x: RayK[Timed[UInt], Timed[Bool]]): Seq[Timed[_ <: Data]] =
+    x.o ++ x.oHi.toSeq.flatten ++ x.d ++ x.rcpLo ++ x.rcpHi ++ Seq(x.tmin, x.err) ++
+      x.shear.toSeq.flatMap(s => s.kx ++ s.ky ++ s.kz ++ Seq(s.sx, s.sy, s.sz))
+  private val lat = FloatDatapath.readyOf(outs(k.box) ++ outs(k.tri) ++ Seq(tmax, err))
   def latency: Int = lat
   RayConsts.drive(io.out.bits.statics, k, lat)
   io.out.bits.tmax := tmax.at(lat)
-  io.out.bits.dirNeg := VecInit(k.d.map(d => ar.signBit(d).at(lat)))
-  io.out.bits.errors := Mux(k.err.at(lat), ErrorFlags.bit(ErrorFlags.InvalidRay), 0.U)
+  // The traversal order follows the box lanes' direction (RNE-narrowed, so its sign is FP32's).
+  io.out.bits.dirNeg := VecInit(k.box.d.map(d => boxAr.signBit(d).at(lat)))
+  io.out.bits.errors := Mux(err.at(lat), ErrorFlags.bit(ErrorFlags.InvalidRay), 0.U)
   io.out.valid := ShiftRegister(io.in.valid, lat, false.B, true.B)
 }
 
 class FloatBox(cfg: AccelConfig, dp: FloatDatapath) extends BoxLane[RayConsts](cfg, dp.gen) {
   override def desiredName: String = s"BoxLane_${dp.name}"
-  private val ar = new HwArith(dp.fmt)
+  private val ar = new HwArith(dp.boxFmt)
   private val q = io.in.bits
-  private val out = BoxKernel(ar, dp.rounding, RayConsts.read(ar, q.ray), ar.input(q.tmax),
-    q.boxMin.map(ar.input), q.boxMax.map(ar.input))
+  private val out = BoxKernel(ar, dp.rounding, RayConsts.readBox(ar, q.ray),
+    BoxKernel.narrowTmax(ar, dp.rounding, ar.input(q.tmax), dp.triFmt), q.boxMin.map(ar.input), q.boxMax.map(ar.input))
   private val lat = FloatDatapath.readyOf(Seq(out.hit, out.near))
   def latency: Int = lat
   io.out.bits.hit := out.hit.at(lat)
@@ -85,9 +119,9 @@ class FloatBox(cfg: AccelConfig, dp: FloatDatapath) extends BoxLane[RayConsts](c
 
 class FloatPrim(cfg: AccelConfig, dp: FloatDatapath) extends PrimIntersect[RayConsts](cfg, dp.gen) {
   override def desiredName: String = s"PrimIntersect_${dp.name}"
-  private val ar = new HwArith(dp.fmt)
+  private val ar = new HwArith(dp.triFmt)
   private val q = io.in.bits
-  private val ray = RayConsts.read(ar, q.ray)
+  private val ray = RayConsts.readTri(ar, q.ray)
   private val verts = for (v <- 0 until 3; a <- 0 until 3) yield ar.input(TriangleRecord.vertexWord(q.triangle, v, a))
   private val out = dp.test match {
     case TriangleTest.Moller     => MollerKernel(ar, ray, ar.input(q.tmax), verts)

@@ -54,10 +54,11 @@ final class HwArith(val fmt: FloatFormat) extends KernelArith[Timed[UInt], Timed
     u.io.in.bits.a := a.at(a.ready)
     new Timed(u.io.out.bits, a.ready + u.latency)
   }
-  def fromF32(a: F, rm: RoundingMode): F =
-    if (fmt == f32) a
+  def fromF32(a: F, rm: RoundingMode): F = convert(a, f32, rm)
+  def convert(a: F, from: FloatFormat, rm: RoundingMode): F =
+    if (fmt == from) a
     else {
-      val u = Module(new FpConvert(f32, fmt, Some(rm)))
+      val u = Module(new FpConvert(from, fmt, Some(rm)))
       u.io.in.valid := true.B
       u.io.in.bits.a := a.at(a.ready)
       new Timed(u.io.out.bits, a.ready + u.latency)

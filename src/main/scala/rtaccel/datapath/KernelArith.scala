@@ -20,6 +20,8 @@ trait KernelArith[F, B] {
   def recip(a: F, rm: RoundingMode): F
   /** FP32 bits to `fmt`, rounded in `rm` (the identity when `fmt` is FP32). */
   def fromF32(a: F, rm: RoundingMode): F
+  /** A value of `from` to `fmt`, rounded in `rm` (the identity when they are equal). */
+  def convert(a: F, from: FloatFormat, rm: RoundingMode): F
   /** maximumNumber/minimumNumber (a NaN operand loses). */
   def min(a: F, b: F): F
   def max(a: F, b: F): F
@@ -64,6 +66,8 @@ final class GoldenArith(val fmt: FloatFormat) extends KernelArith[BigInt, Boolea
   def recip(a: BigInt, rm: RoundingMode): BigInt = FpModel.recip(fmt, rm, a)
   def fromF32(a: BigInt, rm: RoundingMode): BigInt =
     if (fmt == FloatFormat.FP32) a else FpModel.fromFloat32(fmt, rm, a)
+  def convert(a: BigInt, from: FloatFormat, rm: RoundingMode): BigInt =
+    if (fmt == from) a else FpModel.convert(from, fmt, rm, a)
   def min(a: BigInt, b: BigInt): BigInt = FpModel.min(fmt, a, b)
   def max(a: BigInt, b: BigInt): BigInt = FpModel.max(fmt, a, b)
   def lt(a: BigInt, b: BigInt): Boolean = FpModel.lt(fmt, a, b)

@@ -10,12 +10,47 @@ final case class Shear[F, B](kx: Seq[B], ky: Seq[B], kz: Seq[B], sx: F, sy: F, s
   * @param rcpLo |1/d[i]| rounded toward zero (Conservative) or to nearest (Nearest)
   * @param rcpHi |1/d[i]| rounded away from zero (Conservative); `rcpLo` in Nearest mode
   * @param err   the error bit R6, evaluated on the format's values
+  * @param oHi   the box lanes' upper origin bound when `o` is a lower one (split formats,
+  *              Conservative: the FP32 origin narrowed down and up); None: `o` is the origin
   */
 final case class RayK[F, B](o: Seq[F], d: Seq[F], tmin: F, err: B, rcpLo: Seq[F], rcpHi: Seq[F],
-    shear: Option[Shear[F, B]])
+    shear: Option[Shear[F, B]], oHi: Option[Seq[F]] = None)
+
+/** A ray's constants for both units: `box` in the box format, `tri` in the
+  * triangle format. With one format for both they are the same object (one
+  * setup, shared). Split, each side is set up in its own format from the FP32
+  * ray (docs/kernels.md section 2, "Split formats"): `box` carries no shear,
+  * `tri` no reciprocals (empty `rcpLo`/`rcpHi`).
+  */
+final case class SplitRay[F, B](box: RayK[F, B], tri: RayK[F, B]) {
+  def shared: Boolean = box eq tri
+}
 
 /** Per-ray setup (docs/kernels.md section 2), written once for every interpretation. */
 object RayKernel {
+  /** The constants of both units and the ray's tmax in the triangle format.
+    * With `boxAr.fmt == triAr.fmt` this is [[apply]], shared. Otherwise each
+    * side narrows the FP32 ray itself, with the same rules as [[apply]]: the
+    * ray the box lanes trace is the box format's rounding of the FP32 ray,
+    * the triangle unit's the triangle format's; neither is derived from the
+    * other, so each unit's guarantee (conservative boxes, watertight
+    * triangles) holds relative to the ray it is given. The error bit is either
+    * side's (a ray one unit cannot trace is flagged).
+    */
+  def split[F, B](boxAr: KernelArith[F, B], triAr: KernelArith[F, B], o32: Seq[F], d32: Seq[F], tmin32: F, tmax32: F,
+      rounding: BoxRounding, test: TriangleTest): (SplitRay[F, B], F, B) =
+    if (boxAr.fmt == triAr.fmt) {
+      val (k, tmax) = apply(triAr, o32, d32, tmin32, tmax32, rounding, test)
+      (SplitRay(k, k), tmax, k.err)
+    } else {
+      val box = if (rounding == BoxRounding.Conservative) outward(boxAr, o32, d32, tmin32, tmax32)
+        else narrowed(boxAr, o32, d32, tmin32, tmax32, rounding, withRcp = true)._1
+      val (tri, tmax) = narrowed(triAr, o32, d32, tmin32, tmax32, rounding, withRcp = false)
+      // R4 without the box's reciprocals: 1/d[kz] (RNE) on its own, the same bits as -(1/|d|) picked by sign.
+      val shear = Option.when(test == TriangleTest.Watertight)(shearOf(triAr, tri.d, tri.d.map(triAr.abs), None))
+      (SplitRay(box, tri.copy(shear = shear)), tmax, boxAr.or(box.err, tri.err))
+    }
+
   /** The ray's constants and its tmax, from FP32 inputs.
     *
     * Narrowing: o and d round to nearest (this is the ray the datapath traces;
@@ -26,6 +61,48 @@ object RayKernel {
     */
   def apply[F, B](ar: KernelArith[F, B], o32: Seq[F], d32: Seq[F], tmin32: F, tmax32: F,
       rounding: BoxRounding, test: TriangleTest): (RayK[F, B], F) = {
+    val (k, tmax) = narrowed(ar, o32, d32, tmin32, tmax32, rounding, withRcp = true)
+    val cons = rounding == BoxRounding.Conservative
+    val shear = Option.when(test == TriangleTest.Watertight)(shearOf(ar, k.d, k.d.map(ar.abs), if (cons) None else Some(k.rcpLo)))
+    (k.copy(shear = shear), tmax)
+  }
+
+  /** The box lanes' constants of a split, Conservative datapath: bounds on the
+    * FP32 ray itself, not a rounding of it, so that the box test is
+    * conservative for the ray the (wider) triangle unit traces:
+    *  - origin: `o` = RDN(o32) <= o32 <= RUP(o32) = `oHi` (BoxKernel subtracts
+    *    the bound that makes each difference a bound: bmin - oHi, bmax - o);
+    *  - direction: `d` is d32 rounded away from zero (RUP if positive, RDN if
+    *    negative), so it is zero exactly when d32 is (the flat-axis test B6 is
+    *    FP32's) and has d32's sign (dirNeg);
+    *  - rcpLo = RTZ(1/|d away|) <= 1/|d32| <= RUP(1/|RTZ(d32)|) = rcpHi (a
+    *    d32 that underflows to 0 gives rcpHi = inf, still an upper bound);
+    *  - tmin RDN, tmax RUP, as in [[apply]].
+    * The error bit is R6 on these values: an origin whose bounds leave the
+    * format, or a direction whose magnitude overflows it, is flagged.
+    */
+  private def outward[F, B](ar: KernelArith[F, B], o32: Seq[F], d32: Seq[F], tmin32: F, tmax32: F): RayK[F, B] = {
+    import ar._
+    val oLo = o32.map(fromF32(_, RDN))
+    val oHi = o32.map(fromF32(_, RUP))
+    // The sign is read from the narrowed RTZ value (a zero keeps its sign):
+    // `signBit` reads the format's sign position, not FP32's.
+    val dToward = d32.map(fromF32(_, RTZ))
+    val dAway = d32.zip(dToward).map { case (x, t) => mux(signBit(t), fromF32(x, RDN), fromF32(x, RUP)) }
+    val tmin = fromF32(tmin32, RDN)
+    val tmax = fromF32(tmax32, RUP)
+    val err = or(any(oLo.map(isNonFinite) ++ oHi.map(isNonFinite) ++ dAway.map(isNonFinite) ++ Seq(isNaN(tmin), isNaN(tmax))),
+      all(dAway.map(isZero)))
+    val rcpLo = dAway.map(x => recip(abs(x), RTZ))
+    val rcpHi = dToward.map(x => recip(abs(x), RUP))
+    RayK(oLo, dAway, tmin, err, rcpLo, rcpHi, None, Some(oHi))
+  }
+
+  /** The narrowing of [[apply]] for one unit: o, d, tmin, the error bit, tmax
+    * and (`withRcp`: for the box lanes) the reciprocals.
+    */
+  private def narrowed[F, B](ar: KernelArith[F, B], o32: Seq[F], d32: Seq[F], tmin32: F, tmax32: F,
+      rounding: BoxRounding, withRcp: Boolean): (RayK[F, B], F) = {
     import ar._
     val cons = rounding == BoxRounding.Conservative
     val o = o32.map(fromF32(_, RNE))
@@ -37,10 +114,9 @@ object RayKernel {
     // 1/|d| is positive, so RTZ = RDN. RTZ never overflows: for 0 < |d| <= 2^-(emax+1)
     // it gives maxFinite where RNE gives inf (the origin-on-plane 0 * inf case).
     // |d| = 0 gives inf in every mode; such an axis is flat (B6) and not used.
-    val rcpLo = mag.map(recip(_, if (cons) RTZ else RNE))
-    val rcpHi = if (cons) mag.map(recip(_, RUP)) else rcpLo
-    val shear = Option.when(test == TriangleTest.Watertight)(shearOf(ar, d, mag, if (cons) None else Some(rcpLo)))
-    (RayK(o, d, tmin, err, rcpLo, rcpHi, shear), tmax)
+    val rcpLo = if (withRcp) mag.map(recip(_, if (cons) RTZ else RNE)) else Nil
+    val rcpHi = if (cons) (if (withRcp) mag.map(recip(_, RUP)) else Nil) else rcpLo
+    (RayK(o, d, tmin, err, rcpLo, rcpHi, None), tmax)
   }
 
   /** R2-R5. `rcpMag` is |1/d| rounded to nearest when the box already has it. */

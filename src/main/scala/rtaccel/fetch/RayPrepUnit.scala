@@ -21,8 +21,8 @@ class RayIn extends Bundle {
 /** A ray's per-ray constants, computed once when it enters. */
 class PreparedRay[T <: Data](cfg: AccelConfig, gen: T) extends Bundle {
   val statics = gen.cloneType
-  /** tmax in the datapath format. */
-  val tmax    = UInt(cfg.float.width.W)
+  /** tmax in the triangle format (the leaf unit updates it; box lanes narrow it). */
+  val tmax    = UInt(cfg.triFloat.width.W)
   /** Direction sign per axis (true = negative), for near-child order. */
   val dirNeg  = Vec(3, Bool())
   /** InvalidRay when a component is NaN or infinite. */

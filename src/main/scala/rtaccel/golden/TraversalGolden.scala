@@ -17,11 +17,14 @@ final case class PreparedGolden[S](statics: S, tmax: BigInt, dirNeg: Seq[Boolean
 
 /** The golden model of a datapath's arithmetic, bit for bit with its units. */
 trait ArithGolden[S] {
-  def format: FloatFormat
+  /** Format of the box tests' entry distances. */
+  def boxFormat: FloatFormat
+  /** Format of t, u, v and of the ray's tmax. */
+  def triFormat: FloatFormat
   def prep(ray: RayRecord): PreparedGolden[S]
-  /** One box (a nori node's, or one child slot's): (hit, entry distance in the format). */
+  /** One box (a nori node's, or one child slot's), `tmax` in the triangle format: (hit, entry distance in the box format). */
   def box(s: S, tmax: BigInt, node: NodeRecord): (Boolean, BigInt)
-  /** (t, u, v) in the datapath format, or None. Includes tmin <= t <= tmax. */
+  /** (t, u, v) in the triangle format, or None. Includes tmin <= t <= tmax. */
   def prim(s: S, tmax: BigInt, tri: TriangleRecord): Option[(BigInt, BigInt, BigInt)]
   def toFloat32(x: BigInt): Long
 }
@@ -36,7 +39,7 @@ object TraversalGolden {
 
   /** `onNode` is told the index of every node the walk fetches, in order (the root first): the node reads the hardware makes. */
   def trace[S](cfg: AccelConfig, img: MemoryImage, arith: ArithGolden[S], ray: RayRecord, onNode: Long => Unit = _ => ()): Trace = {
-    val fmt = arith.format
+    val fmt = arith.triFormat
     val p = arith.prep(ray)
     val stack = mutable.ArrayBuffer.empty[ControlGolden.Ref]
     var tok = ControlGolden.Token(0, 0, 0, p.dirNeg, ray.shadow, p.errors)
@@ -109,7 +112,7 @@ object TraversalGolden {
     val d = nodeView(cfg, node)
     val hits = node.indices.map { i =>
       val (hit, near) = if (d.present(i)) arith.box(statics, tmax, node(i)) else (false, BigInt(0))
-      ControlGolden.SlotHit(d.present(i) && hit, FpOrder.keyOf(arith.format, near))
+      ControlGolden.SlotHit(d.present(i) && hit, FpOrder.keyOf(arith.boxFormat, near))
     }
     (hits, d.view)
   }

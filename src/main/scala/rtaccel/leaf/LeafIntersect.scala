@@ -25,9 +25,9 @@ class LeafExit(cfg: AccelConfig) extends Bundle {
 }
 
 class BestHit(cfg: AccelConfig) extends Bundle {
-  val t    = UInt(cfg.float.width.W)
-  val u    = UInt(cfg.float.width.W)
-  val v    = UInt(cfg.float.width.W)
+  val t    = UInt(cfg.triFloat.width.W)
+  val u    = UInt(cfg.triFloat.width.W)
+  val v    = UInt(cfg.triFloat.width.W)
   val prim = UInt(cfg.triIndexBits.W)
 }
 
@@ -149,7 +149,7 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   private val doneTok  = parked.read(doneId)
   private val issueTok = parked.read(issueIdReg)
   private val old = best.read(doneId)
-  private val (tKey, oldKey) = (FpOrder.key(cfg.float, ans.t), FpOrder.key(cfg.float, old.t))
+  private val (tKey, oldKey) = (FpOrder.key(cfg.triFloat, ans.t), FpOrder.key(cfg.triFloat, old.t))
   private val closer = !hasHitReg(doneId) || tKey < oldKey || (tKey === oldKey && primIdx < old.prim)
   private val reduce = prim.io.out.valid
   when(reduce && ans.hit && !primTooWide && closer) {

@@ -19,18 +19,18 @@ object TriangleRecord {
 
 class PrimQuery[T <: Data](cfg: AccelConfig, gen: T) extends Bundle {
   val ray      = gen.cloneType
-  val tmax     = UInt(cfg.float.width.W)
+  val tmax     = UInt(cfg.triFloat.width.W)
   val triangle = UInt((TriangleRecord.RecordBytes * 8).W)
 }
 
-/** Hit or not; t, u, v in the datapath format (u, v as in Embree:
+/** Hit or not; t, u, v in the triangle format (u, v as in Embree:
   * point = (1-u-v) v0 + u v1 + v v2). The test includes tmin <= t <= tmax.
   */
 class PrimAnswer(cfg: AccelConfig) extends Bundle {
   val hit = Bool()
-  val t   = UInt(cfg.float.width.W)
-  val u   = UInt(cfg.float.width.W)
-  val v   = UInt(cfg.float.width.W)
+  val t   = UInt(cfg.triFloat.width.W)
+  val u   = UInt(cfg.triFloat.width.W)
+  val v   = UInt(cfg.triFloat.width.W)
 }
 
 /** What LeafIntersect needs of a ray/triangle unit: one query per cycle in,

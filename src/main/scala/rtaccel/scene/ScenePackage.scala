@@ -27,14 +27,16 @@ final case class ScenePackage(dir: Path, image: MemoryImage, rays: IndexedSeq[Ra
     * against 52,553 for e8m23). Ray IDs, mantissa and address width stay as in `base`.
     */
   def sized(base: AccelConfig): AccelConfig = {
-    val expBits = if (base.float == rtaccel.fp.FloatFormat.FP32) 8 else range.expBits.min(8)
+    // Each unit's format is sized alone, by the same rule.
+    def size(f: rtaccel.fp.FloatFormat) =
+      rtaccel.fp.FloatFormat(if (f == rtaccel.fp.FloatFormat.FP32) 8 else range.expBits.min(8), f.manBits)
     base.copy(layout = image.layout, stackDepth = needs.bvhDepth.max(1), maxNodes = needs.nodes.toInt.max(1),
       maxTriangles = needs.triangles.toInt.max(1), maxLeafSize = needs.largestLeaf.max(1),
-      float = rtaccel.fp.FloatFormat(expBits, base.float.manBits))
+      boxFloat = size(base.boxFloat), triFloat = size(base.triFloat))
   }
 
   /** Why `cfg` cannot run this scene, one line per reason; empty if it can. */
-  def misfits(cfg: AccelConfig): Seq[String] = structuralMisfits(cfg) ++ range.misfit(cfg.float)
+  def misfits(cfg: AccelConfig): Seq[String] = structuralMisfits(cfg) ++ Seq(cfg.boxFloat, cfg.triFloat).distinct.flatMap(range.misfit)
 
   /** The misfits of stack, indices, leaf size and addresses (the numeric range apart). */
   def structuralMisfits(cfg: AccelConfig): Seq[String] = Seq(

@@ -57,5 +57,5 @@ class RtAccelSystem[T <: Data](sys: SystemConfig, dp: Datapath[T]) extends RawMo
 object RtAccelSystem {
   /** The system's default arithmetic: `make verilog`'s (FP of the config, watertight, conservative boxes). */
   def default(sys: SystemConfig): RtAccelSystem[_] =
-    new RtAccelSystem(sys, FloatDatapath(sys.core.float, TriangleTest.Watertight, BoxRounding.Conservative))
+    new RtAccelSystem(sys, FloatDatapath.of(sys.core, TriangleTest.Watertight, BoxRounding.Conservative))
 }

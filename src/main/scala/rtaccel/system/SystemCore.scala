@@ -108,7 +108,7 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   hw("CONFIG_LAYOUT") := cfg.layout.code.U
   hw("CONFIG_RAY_IDS") := cfg.numRayIds.U
   hw("CONFIG_STACK_DEPTH") := cfg.stackDepth.U
-  hw("CONFIG_FLOAT") := ((cfg.float.expBits << 8) | cfg.float.manBits).U
+  hw("CONFIG_FLOAT") := ((cfg.triFloat.expBits << 8) | cfg.triFloat.manBits).U
   hw("CONFIG_NODE_STORE_BYTES") := sys.nodeStoreBytes.U
   hw("CONFIG_AXI_DATA_BITS") := sys.axiDataBits.U
   hw("RAYS_DONE") := raysDone

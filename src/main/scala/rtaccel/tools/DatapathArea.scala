@@ -27,7 +27,7 @@ object DatapathArea {
 
   /** Every unit that differs: the box does not depend on the triangle test, nor the triangle on the box rounding. */
   def jobs(fmt: FloatFormat): Seq[Job] = {
-    val cfg = AccelConfig(float = fmt)
+    val cfg = AccelConfig().withFloat(fmt)
     def dp(t: TriangleTest, r: BoxRounding) = FloatDatapath(fmt, t, r)
     Seq(
       Job(fmt, "rne", "BoxLane", () => dp(TriangleTest.Moller, BoxRounding.Nearest).box(cfg)),

@@ -35,32 +35,38 @@ object EmitVerilog {
     // Conservative boxes by default: no box a ray touches is ever culled (docs/kernels.md).
     val box = BoxRounding.parse(kv.getOrElse("--rounding", "conservative"))
     val layout = BvhLayout.parse(kv.getOrElse("--bvh", "4"))
-    // FLOAT=auto: the smallest format the precision sweep found safe for this variant.
-    val fmt = kv.getOrElse("--float", "e8m23") match {
+    // FLOAT=auto: the smallest configuration the precision sweep found safe for
+    // this variant, box and triangle formats; BOX_FLOAT= / TRI_FLOAT= override one unit.
+    val (autoBox, autoTri) = kv.getOrElse("--float", "e8m23") match {
       case "auto" =>
-        val f = SweepChoice.smallestSafe(SweepChoice.defaultJson, test, box)
-        println(s"verilog: FLOAT=auto: ${f.name}, the smallest safe format for ${SweepChoice.variant(test, box)} in ${SweepChoice.defaultJson}")
-        f
-      case other => FloatFormat.parse(other)
+        val (b, t, measuredOn) = SweepChoice.smallestSafePoint(SweepChoice.defaultJson, test, box)
+        println(s"verilog: FLOAT=auto: boxes ${b.name}, triangles ${t.name}, the smallest safe configuration for " +
+          s"${SweepChoice.variant(test, box)} in ${SweepChoice.defaultJson} (measured on $measuredOn nodes)")
+        if (measuredOn != layout.name)
+          println(s"verilog: note: BVH=${layout.name}, but the sweep found it safe on $measuredOn nodes (BVH=$measuredOn)")
+        (b, t)
+      case other => val f = FloatFormat.parse(other); (f, f)
     }
+    def fmtArg(k: String, default: FloatFormat) = kv.get(k).filter(_.nonEmpty).fold(default)(FloatFormat.parse)
+    val (boxFmt, triFmt) = (fmtArg("--box-float", autoBox), fmtArg("--tri-float", autoTri))
     val synth = kv.getOrElse("--synth", "1") == "1"
     val jobs = kv.getOrElse("--jobs", "2").toInt
-    val generic = AccelConfig.zc706.copy(float = fmt, layout = layout)
+    val generic = AccelConfig.zc706.copy(boxFloat = boxFmt, triFloat = triFmt, layout = layout)
     // With a scene package, the hardware is sized to that scene's needs.
     val pkg = kv.get("--package").filter(_.nonEmpty).map(dir => ScenePackage.load(Paths.get(dir)))
     val cfg = pkg.fold(generic) { p =>
       val sized = p.sized(generic)
       println(s"verilog: sized to ${p.dir}: ${sized.layout.name} nodes (the image's), stack ${sized.stackDepth} (generic ${generic.stackDepth}), node index ${sized.nodeIndexBits} bits " +
         s"(${generic.nodeIndexBits}), triangle index ${sized.triIndexBits} bits (${generic.triIndexBits}), leaf ${sized.maxLeafSize} " +
-        s"(${generic.maxLeafSize}), ${sized.float.name} (${generic.float.name}: exponents ${p.range.neededEmin}..${p.range.neededEmax} needed)")
-      if (sized.float.manBits < p.range.neededManBits)
-        println(s"verilog: warning: ${sized.float.name} has ${sized.float.manBits} mantissa bits; edges of ${p.range.smallestEdge} at coordinates " +
+        s"(${generic.maxLeafSize}), ${sized.floatName} (${generic.floatName}: exponents ${p.range.neededEmin}..${p.range.neededEmax} needed)")
+      if (sized.triFloat.manBits < p.range.neededManBits)
+        println(s"verilog: warning: triangle format ${sized.triFloat.name} has ${sized.triFloat.manBits} mantissa bits; edges of ${p.range.smallestEdge} at coordinates " +
           s"up to ${p.range.maxAbs} need ${p.range.neededManBits} to keep every triangle intact after rounding")
       val why = p.misfits(sized)
-      require(why.isEmpty, s"${p.dir}: no ${generic.float.name}-based configuration holds this scene:\n  " + why.mkString("\n  "))
+      require(why.isEmpty, s"${p.dir}: no ${generic.floatName}-based configuration holds this scene:\n  " + why.mkString("\n  "))
       sized
     }
-    val dp = FloatDatapath(cfg.float, test, box)
+    val dp = FloatDatapath.of(cfg, test, box)
     val measured = run(cfg, dp, out, synth, jobs)
     val rows = measured.map(_._1)
     if (kv.getOrElse("--system", "1") == "1") {
@@ -88,7 +94,7 @@ object EmitVerilog {
     }
     // Sized hardware: report what it saves against the generic configuration of the same arithmetic.
     for (p <- pkg; sizedRows <- rows) {
-      val gdp = FloatDatapath(generic.float, test, box)
+      val gdp = FloatDatapath.of(generic, test, box)
       println(s"verilog: the generic ${gdp.name} configuration, for comparison")
       val gRows = area(Synth.emit(new RtAccel(generic, gdp)), gdp, jobs)
       val md = SizedSavings(p.dir.toString, cfg, generic, AccelArea.total(sizedRows), AccelArea.total(gRows), Zc706)
@@ -165,7 +171,7 @@ object SizedSavings {
       s"| node index bits | ${generic.nodeIndexBits} | ${sized.nodeIndexBits} |",
       s"| triangle index bits | ${generic.triIndexBits} | ${sized.triIndexBits} |",
       s"| largest leaf | ${generic.maxLeafSize} | ${sized.maxLeafSize} |",
-      s"| number format | ${generic.float.name} | ${sized.float.name} |", "",
+      s"| number format (box+triangle) | ${generic.floatName} | ${sized.floatName} |", "",
       "| resource | generic | sized | saved |", "| --- | ---: | ---: | ---: |",
       row("LUT", s.lut, g.lut), row("FF", s.ff, g.ff), row("DSP48", s.dsp, g.dsp), row("BRAM36", s.bram36, g.bram36), "",
       s"Instances on the ZC706: generic ${AccelArea.instances(g, device)}, sized ${AccelArea.instances(s, device)}.", "")).mkString("\n")

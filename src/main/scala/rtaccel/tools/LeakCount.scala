@@ -20,9 +20,9 @@ object LeakCount {
   final case class Result(vertexRays: Int, vertexLeaks: Int, edgeRays: Int, edgeLeaks: Int, zeroArea: Int)
 
   def apply(g: FloatGolden, mesh: ClosedMesh, origins: Int, radius: Double, offset: Double, rng: Random): Result = {
-    val fmt = g.format
+    val fmt = g.triFormat
     val verts = mesh.vertices.map(_.map(x => FpModel.f32Bits(x)))
-    val vFmt = verts.map(_.map(g.arith.fromF32(_, rtaccel.fp.RoundingMode.RNE)))
+    val vFmt = verts.map(_.map(g.triArith.fromF32(_, rtaccel.fp.RoundingMode.RNE)))
     val tri = mesh.faces.map(f => f.flatMap(verts))
     val zeroArea = mesh.faces.count { f => val Seq(a, b, c) = f.map(vFmt); a == b || b == c || a == c }
     val centre = mesh.faces.map(f => (0 until 3).map(k => f.map(mesh.vertices(_)(k).toDouble).sum / 3))

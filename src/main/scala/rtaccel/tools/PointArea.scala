@@ -11,20 +11,24 @@ import java.nio.file.{Files, Paths}
   * configuration, per unit and in total, and how many instances fit on the
   * ZC706. One command line per point:
   *
-  *   PointArea --float e8m12 --rounding rne --triangle watertight --out build/sweep/area/e8m12-rne-wt.json
-  *             [--cache build/area-cache] [--jobs 1]
+  *   PointArea --bvh 4q --box-float e8m10 --tri-float e8m23 --rounding conservative --triangle watertight
+  *             --out build/sweep/area/4q-e8m10-e8m23-cons-wt.json [--cache build/area-cache] [--jobs 1]
+  *
+  * (`--float` sets both formats.) `box_lanes` is the K box lanes together.
   */
 object PointArea {
   def main(args: Array[String]): Unit = {
     val kv = args.grouped(2).collect { case Array(k, v) => k -> v }.toMap
-    val usage = "usage: PointArea --float e8m12 --rounding rne|conservative --triangle moller|watertight --out FILE [--cache DIR] [--jobs N]"
+    val usage = "usage: PointArea [--bvh nori|2|4|8|4q|8q] --box-float e8m10 --tri-float e8m23 (or --float e8m12) --rounding rne|conservative --triangle moller|watertight --out FILE [--cache DIR] [--jobs N]"
     def req(k: String) = kv.getOrElse(k, { System.err.println(s"Error: $k is required\n$usage"); sys.exit(2) })
     val t0 = System.nanoTime()
-    val dp = try FloatDatapath(FloatFormat.parse(req("--float")), TriangleTest.parse(req("--triangle")), BoxRounding.parse(req("--rounding")))
+    def fmt(k: String) = FloatFormat.parse(kv.getOrElse(k, req("--float")))
+    val (dp, layout) = try (FloatDatapath(fmt("--box-float"), fmt("--tri-float"), TriangleTest.parse(req("--triangle")),
+      BoxRounding.parse(req("--rounding"))), rtaccel.BvhLayout.parse(kv.getOrElse("--bvh", "nori")))
     catch { case e: IllegalArgumentException => System.err.println(s"Error: ${e.getMessage}\n$usage"); sys.exit(2) }
     val out = Paths.get(req("--out"))
-    // The sweep's packages use nori-bridge's default layout (nori), so its area is that hardware's.
-    val cfg = AccelConfig.zc706.copy(float = dp.fmt, layout = rtaccel.BvhLayout.Nori)
+    // The point's node layout sets the box lanes (K) and the node decode.
+    val cfg = dp.configure(AccelConfig.zc706.copy(layout = layout))
     val sv = Synth.emit(new RtAccel(cfg, dp))
     val top = Synth.modules(sv).last
     val rows = AccelArea.measure(sv, top, dp.name, Paths.get(kv.getOrElse("--cache", "build/area-cache")), kv.getOrElse("--jobs", "1").toInt)
@@ -35,6 +39,9 @@ object PointArea {
     js("datapath") = dp.name
     js("instances_zc706") = AccelArea.instances(total, EmitVerilog.Zc706)
     js("units") = ujson.Obj.from(rows.map { case (u, a) => u -> obj(a) })
+    // measure's BoxLane row counts every instance: all K lanes.
+    rows.find(_._1 == "BoxLane").foreach { case (_, a) => js("box_lanes") = obj(a) }
+    js("layout") = layout.name
     js("seconds") = (System.nanoTime() - t0) / 1e9
     Files.createDirectories(out.toAbsolutePath.getParent)
     Files.writeString(out, ujson.write(js, indent = 2))

@@ -5,10 +5,11 @@ import rtaccel.fp.FloatFormat
 
 import java.nio.file.{Files, Path, Paths}
 
-/** `FLOAT=auto`: the number format the precision sweep found smallest and
-  * still safe (zero false misses, < 0.1% pixels differing from FP32) for a
-  * triangle test and box rounding, read from `docs/speed-vs-error.json`
-  * (`make speed-vs-error`).
+/** `FLOAT=auto`: the box and triangle formats of the configuration the
+  * precision sweep found smallest and still safe (no false miss, false hit or
+  * wrong primitive, no hard-case failure, no pixel different from FP32 on any
+  * image) for a triangle test and box rounding, read from
+  * `docs/speed-vs-error.json` (`make speed-vs-error`).
   */
 object SweepChoice {
   val defaultJson: Path = Paths.get("docs/speed-vs-error.json")
@@ -16,7 +17,14 @@ object SweepChoice {
   def variant(test: TriangleTest, rounding: BoxRounding): String =
     s"${if (rounding == BoxRounding.Conservative) "conservative" else "rne"}/${if (test == TriangleTest.Watertight) "watertight" else "moller"}"
 
-  def smallestSafe(json: Path, test: TriangleTest, rounding: BoxRounding): FloatFormat = {
+  /** (box format, triangle format) of the smallest safe point for the variant. */
+  def smallestSafe(json: Path, test: TriangleTest, rounding: BoxRounding): (FloatFormat, FloatFormat) = {
+    val (b, t, _) = smallestSafePoint(json, test, rounding)
+    (b, t)
+  }
+
+  /** Also the node layout the sweep measured that point on ("nori" in sweeps before the layout dimension). */
+  def smallestSafePoint(json: Path, test: TriangleTest, rounding: BoxRounding): (FloatFormat, FloatFormat, String) = {
     if (!Files.exists(json)) throw new IllegalArgumentException(s"$json: missing; FLOAT=auto needs the precision sweep (make speed-vs-error)")
     val js = ujson.read(Files.readString(json))
     val v = variant(test, rounding)
@@ -25,6 +33,9 @@ object SweepChoice {
     if (name.isNull) throw new IllegalArgumentException(s"$json: no format of the sweep is safe for $v; give FLOAT= explicitly")
     val point = js("points").arr.find(_("name").str == name.str)
       .getOrElse(throw new IllegalArgumentException(s"$json: smallest_safe names point ${name.str}, which is not among its points"))
-    FloatFormat.parse(point("config")("float").str)
+    val c = point("config")
+    // Points before the box/triangle split name one format for both.
+    def f(k: String) = FloatFormat.parse(c.obj.get(k).fold(c("float").str)(_.str))
+    (f("box_float"), f("tri_float"), c.obj.get("layout").fold("nori")(_.str))
   }
 }

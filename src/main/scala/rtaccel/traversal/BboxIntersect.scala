@@ -7,7 +7,8 @@ import rtaccel.{AccelConfig, Datapath}
 /** A ray against all `cfg.boxLanes` child boxes of one node. */
 class BboxQuery[T <: Data](cfg: AccelConfig, gen: T) extends Bundle {
   val ray     = gen.cloneType
-  val tmax    = UInt(cfg.float.width.W)
+  /** In the triangle format: the leaf unit writes it, each lane converts it (FloatBox). */
+  val tmax    = UInt(cfg.triFloat.width.W)
   val boxMin  = Vec(cfg.boxLanes, Vec(3, UInt(32.W)))
   val boxMax  = Vec(cfg.boxLanes, Vec(3, UInt(32.W)))
   /** Used slots; an empty slot never hits, whatever its box words hold. */
@@ -17,8 +18,8 @@ class BboxQuery[T <: Data](cfg: AccelConfig, gen: T) extends Bundle {
 class BboxAnswer(cfg: AccelConfig) extends Bundle {
   /** Slot i's box is hit (and the slot is used). */
   val hit  = Vec(cfg.boxLanes, Bool())
-  /** Slot i's entry distance, in the datapath format (meaningful where hit). */
-  val near = Vec(cfg.boxLanes, UInt(cfg.float.width.W))
+  /** Slot i's entry distance, in the box format (meaningful where hit). */
+  val near = Vec(cfg.boxLanes, UInt(cfg.boxFloat.width.W))
 }
 
 /** The box test of the traversal loop: one node per cycle, its K child boxes

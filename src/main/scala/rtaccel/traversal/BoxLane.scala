@@ -9,15 +9,16 @@ import rtaccel.AccelConfig
   */
 class BoxQuery[T <: Data](cfg: AccelConfig, gen: T) extends Bundle {
   val ray    = gen.cloneType
-  val tmax   = UInt(cfg.float.width.W)
+  /** The ray's tmax in the triangle format (the leaf unit writes it); the lane narrows it. */
+  val tmax   = UInt(cfg.triFloat.width.W)
   val boxMin = Vec(3, UInt(32.W))
   val boxMax = Vec(3, UInt(32.W))
 }
 
 class BoxAnswer(cfg: AccelConfig) extends Bundle {
   val hit  = Bool()
-  /** Entry distance, in the datapath format. */
-  val near = UInt(cfg.float.width.W)
+  /** Entry distance, in the box format. */
+  val near = UInt(cfg.boxFloat.width.W)
 }
 
 /** One lane of BboxIntersect: one box test per cycle in, the answer

@@ -8,13 +8,13 @@ import rtaccel.AccelConfig
 class RayEntry[T <: Data](cfg: AccelConfig, gen: T) extends Bundle {
   val rayId   = UInt(cfg.rayIdBits.W)
   val statics = gen.cloneType
-  val tmax    = UInt(cfg.float.width.W)
+  val tmax    = UInt(cfg.triFloat.width.W)
 }
 
 /** A new tmax for a ray (its best hit so far), written when it leaves a leaf. */
 class TmaxUpdate(cfg: AccelConfig) extends Bundle {
   val rayId = UInt(cfg.rayIdBits.W)
-  val tmax  = UInt(cfg.float.width.W)
+  val tmax  = UInt(cfg.triFloat.width.W)
 }
 
 /** One read port: ask with `en`/`rayId`, get the ray the next cycle. */
@@ -22,7 +22,7 @@ class RayBufferRead[T <: Data](cfg: AccelConfig, gen: T) extends Bundle {
   val en      = Input(Bool())
   val rayId   = Input(UInt(cfg.rayIdBits.W))
   val statics = Output(gen.cloneType)
-  val tmax    = Output(UInt(cfg.float.width.W))
+  val tmax    = Output(UInt(cfg.triFloat.width.W))
 }
 
 /** Every in-flight ray's data, indexed by ray ID.
@@ -43,7 +43,7 @@ class RayBuffer[T <: Data](cfg: AccelConfig, gen: T, readers: Int) extends Modul
   override def desiredName = s"RayBuffer_n${cfg.numRayIds}_r$readers"
 
   private val statics = SyncReadMem(cfg.numRayIds, gen.cloneType)
-  private val tmaxes  = SyncReadMem(cfg.numRayIds, UInt(cfg.float.width.W))
+  private val tmaxes  = SyncReadMem(cfg.numRayIds, UInt(cfg.triFloat.width.W))
 
   private val arb = Module(new RRArbiter(new TmaxUpdate(cfg), 2))
   arb.io.in(0).valid      := io.enter.valid

@@ -26,7 +26,7 @@ class ControlIn(cfg: AccelConfig) extends Bundle {
   val token    = new TraversalToken(cfg)
   /** BboxIntersect's answer for each slot of node `token.nodeIdx`. */
   val hit      = Vec(cfg.boxLanes, Bool())
-  val near     = Vec(cfg.boxLanes, UInt(cfg.float.width.W))
+  val near     = Vec(cfg.boxLanes, UInt(cfg.boxFloat.width.W))
   /** Where each slot leads (nori: the node itself). */
   val refs     = Vec(cfg.boxLanes, new ChildRef(cfg))
   /** Nori layout: the node's split axis. */
@@ -110,7 +110,7 @@ class TraversalControl(cfg: AccelConfig) extends Module {
   private def rank(in: ControlIn): Ranked = {
     val r = Wire(new Ranked)
     r.in := in
-    val keys = in.near.map(FpOrder.key(cfg.float, _))
+    val keys = in.near.map(FpOrder.key(cfg.boxFloat, _))
     for (i <- 0 until k) {
       val before = for (j <- 0 until k if j != i) yield
         in.hit(j) && (if (j < i) keys(j) <= keys(i) else keys(j) < keys(i))

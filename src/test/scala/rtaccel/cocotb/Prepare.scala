@@ -34,10 +34,10 @@ object Prepare {
     val Seq(primary, shadow) = pkgs
     require(primary.image.bytes.sameElements(shadow.image.bytes), s"Prepare: ${primary.dir} and ${shadow.dir} must share one image.bin")
     val ids = kv.getOrElse("--ids", "8").toInt
-    val core = primary.sized(AccelConfig(numRayIds = ids, float = FloatFormat.FP32))
+    val core = primary.sized(AccelConfig(numRayIds = ids))
     val misfits = primary.misfits(core)
     require(misfits.isEmpty, s"Prepare: ${primary.dir} does not fit: ${misfits.mkString("; ")}")
-    val dp = FloatDatapath(core.float, TriangleTest.Watertight, BoxRounding.Conservative)
+    val dp = FloatDatapath.of(core, TriangleTest.Watertight, BoxRounding.Conservative)
     val golden = FloatGolden(dp)
 
     val goldenFiles = Map(
@@ -67,7 +67,7 @@ object Prepare {
   private def config(sys: SystemConfig, dp: FloatDatapath, primary: ScenePackage, shadow: ScenePackage,
       golden: Map[String, Path]): ujson.Value = ujson.Obj(
     "cores" -> sys.cores, "ray_ids" -> sys.core.numRayIds, "stack_depth" -> sys.core.stackDepth,
-    "layout" -> sys.core.layout.code, "float_exp" -> sys.core.float.expBits, "float_man" -> sys.core.float.manBits,
+    "layout" -> sys.core.layout.code, "float_exp" -> sys.core.triFloat.expBits, "float_man" -> sys.core.triFloat.manBits,
     "node_store_bytes" -> sys.nodeStoreBytes, "datapath" -> dp.name,
     "error_bits" -> rtaccel.ErrorFlags.width,
     "error_names" -> ujson.Arr.from(RegisterMap.errorFlags.sortBy(_._1).map(_._2)),

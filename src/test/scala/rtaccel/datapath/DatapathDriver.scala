@@ -15,8 +15,8 @@ object DatapathDriver {
   private def pack(xs: Seq[BigInt]): BigInt = xs.zipWithIndex.map { case (x, i) => x << (32 * i) }.sum
 
   def run(dut: DatapathHarness, work: Work, maxReport: Int = 10): Seq[String] = {
-    val w = dut.dp.fmt.width
-    val mask = (BigInt(1) << w) - 1
+    val (bw, w) = (dut.dp.boxFmt.width, dut.dp.triFmt.width)
+    val (bmask, mask) = ((BigInt(1) << bw) - 1, (BigInt(1) << w) - 1)
     val n = work.boxes.size max work.prims.size
     val bad = scala.collection.mutable.ArrayBuffer.empty[String]
     val inFlight = scala.collection.mutable.Queue.empty[Int]
@@ -25,7 +25,7 @@ object DatapathDriver {
       if (i < work.boxes.size) {
         val (c, e) = work.boxes(i)
         val o = dut.io.boxOut.peek().litValue
-        val got = BoxExp(o.testBit(w + 1), o.testBit(w), o & mask)
+        val got = BoxExp(o.testBit(bw + 1), o.testBit(bw), o & bmask)
         if (got != e && bad.size < maxReport) bad += s"box ${c.where}: hw (err ${got.err}, hit ${got.hit}, near ${hex(got.near)}) " +
           s"want (err ${e.err}, hit ${e.hit}, near ${hex(e.near)})"
       }

@@ -13,8 +13,8 @@ import rtaccel.leaf.TriangleRecord
   * `latency` cycles after the inputs.
   */
 class DatapathHarness(val dp: FloatDatapath) extends Module {
-  val cfg = AccelConfig(float = dp.fmt)
-  private val w = dp.fmt.width
+  val cfg = AccelConfig(boxFloat = dp.boxFmt, triFloat = dp.triFmt)
+  private val (bw, tw) = (dp.boxFmt.width, dp.triFmt.width)
   val io = IO(new Bundle {
     val valid   = Input(Bool())
     val boxRay  = Input(UInt(256.W)) // o, d, tmin, tmax
@@ -22,10 +22,10 @@ class DatapathHarness(val dp: FloatDatapath) extends Module {
     val triRay  = Input(UInt(256.W))
     val tri     = Input(UInt(288.W)) // p0, p1, p2
     val outValid = Output(Bool())
-    /** err, hit, near (near in the low `w` bits). */
-    val boxOut  = Output(UInt((w + 2).W))
-    /** err, hit, t, u, v (v in the low `w` bits). */
-    val primOut = Output(UInt((3 * w + 2).W))
+    /** err, hit, near (near in the low box-format bits). */
+    val boxOut  = Output(UInt((bw + 2).W))
+    /** err, hit, t, u, v (v in the low triangle-format bits). */
+    val primOut = Output(UInt((3 * tw + 2).W))
   })
   private def words(x: UInt, n: Int) = VecInit((0 until n).map(i => x(32 * i + 31, 32 * i)))
   private def prep(ray: UInt) = RayPrepFromWords(dp, cfg, io.valid, words(ray, 8))

@@ -33,7 +33,7 @@ class DatapathPropertySpec extends AnyFlatSpec {
           if (fmt.isNaN(e.near)) fail(c, "NaN near")
           if (nonFiniteInput(c) && (!e.err || e.hit)) fail(c, s"NaN/inf ray: err ${e.err}, hit ${e.hit}")
           val (k, tmax) = g.setup(c.o, c.d, c.tmin, c.tmax)
-          if (!k.err && ExactBox.hit(fmt, k.o, k.d, k.tmin, tmax, c.bmin, c.bmax).contains(true)) {
+          if (!k.box.err && ExactBox.hit(fmt, k.box.o, k.box.d, k.box.tmin, tmax, c.bmin, c.bmax).contains(true)) {
             exactHits += 1
             if (!e.hit) {
               if (r == BoxRounding.Conservative) fail(c, "false miss: the exact slab test hits")
@@ -52,6 +52,29 @@ class DatapathPropertySpec extends AnyFlatSpec {
         assert(bad.isEmpty, bad.mkString("\n"))
         info(s"${boxes.size} box, ${tris.size} triangle cases; $exactHits exact box hits, missed by this variant: $nearestMisses")
       }
+  }
+
+  // Split formats (narrow conservative boxes, FP32 triangles): the box test must
+  // enclose the exact slab test of the FP32 ray itself, the ray the triangle unit traces.
+  for (box <- Seq(FloatFormat(8, 10), FloatFormat(6, 9), FloatFormat(5, 10))) {
+    val dp = FloatDatapath(box, FloatFormat.FP32, TriangleTest.Watertight, BoxRounding.Conservative)
+    dp.name should "never miss a box the FP32 ray's exact slab test hits" in Seeded(s"DatapathPropertySpec ${dp.name}") { rng =>
+      val g = FloatGolden(dp)
+      val f32 = FloatFormat.FP32
+      val bad = scala.collection.mutable.ArrayBuffer.empty[String]
+      var exactHits = 0
+      for (c <- KernelVectors.bboxHard ++ IndexedSeq.fill(sampleSize)(boxFile(rng.nextInt(boxFile.size)))) {
+        val e = GoldenRun.box(g, c)
+        if (box.isNaN(e.near) && bad.size < 10) bad += s"${c.where}: NaN near"
+        val err32 = nonFiniteInput(c) || c.d.forall(f32.isZero)
+        if (!err32 && ExactBox.hit(f32, c.o, c.d, c.tmin, c.tmax, c.bmin, c.bmax).contains(true)) {
+          exactHits += 1
+          if (!e.hit && !e.err && bad.size < 10) bad += s"${c.where}: false miss: the FP32 ray's exact slab test hits"
+        }
+      }
+      assert(bad.isEmpty, bad.mkString("\n"))
+      info(s"$exactHits exact FP32 box hits, none missed")
+    }
   }
 
   /** Groups of consecutive hard-case lines with one family and one ray (docs/kernels.md section 7). */

@@ -25,7 +25,7 @@ class FloatGoldenSpec extends AnyFlatSpec {
     assert(bad.isEmpty, bad.mkString("\n"))
     val rcpBad = mismatches(cases.filter(c => !GoldenRun.boxOf(c).err)) ({ c =>
       val (k, _) = g.setup(c.o, c.d, c.tmin, c.tmax)
-      k.rcpLo.indices.map(i => hex(if (f32.sign(k.d(i))) f32.negate(k.rcpLo(i)) else k.rcpLo(i)))
+      k.box.rcpLo.indices.map(i => hex(if (f32.sign(k.box.d(i))) f32.negate(k.box.rcpLo(i)) else k.box.rcpLo(i)))
     }, c => c.in.slice(14, 17).map(hex))
     assert(rcpBad.isEmpty, rcpBad.mkString("\n"))
     info(s"${cases.size} cases")
@@ -48,7 +48,7 @@ class FloatGoldenSpec extends AnyFlatSpec {
       val bad = mismatches(cases)(GoldenRun.prim(g, _), GoldenRun.primOf)
       assert(bad.isEmpty, bad.mkString("\n"))
       val shearBad = mismatches(cases.filter(c => !GoldenRun.primOf(c).err)) ({ c =>
-        val s = g.setup(c.o, c.d, c.tmin, c.tmax)._1.shear.get
+        val s = g.setup(c.o, c.d, c.tmin, c.tmax)._1.tri.shear.get
         def axis(oh: Seq[Boolean]) = BigInt(oh.indexOf(true))
         Seq(axis(s.kx), axis(s.ky), axis(s.kz), s.sx, s.sy, s.sz).map(hex)
       }, c => c.in.slice(17, 23).map(hex))

@@ -10,15 +10,16 @@ object GoldenRun {
   final case class PrimExp(err: Boolean, hit: Boolean, t: BigInt, u: BigInt, v: BigInt)
 
   def box(g: FloatGolden, c: KernelCase): BoxExp = {
-    val (ray, tmax) = g.setup(c.o, c.d, c.tmin, c.tmax)
+    // err: the ray prep's InvalidRay flag, either unit's (RayKernel.split).
+    val (ray, tmax, err) = g.setupErr(c.o, c.d, c.tmin, c.tmax)
     val (hit, near) = g.boxTest(ray, tmax, c.bmin, c.bmax)
-    BoxExp(ray.err, hit, near)
+    BoxExp(err, hit, near)
   }
 
   def prim(g: FloatGolden, c: KernelCase): PrimExp = {
-    val (ray, tmax) = g.setup(c.o, c.d, c.tmin, c.tmax)
+    val (ray, tmax, err) = g.setupErr(c.o, c.d, c.tmin, c.tmax)
     val o = g.primTest(ray, tmax, c.verts)
-    PrimExp(ray.err, o.hit, o.t, o.u, o.v)
+    PrimExp(err, o.hit, o.t, o.u, o.v)
   }
 
   /** The formats every narrow-format check runs in (FP32 is checked against the HLS .out files). */

@@ -11,7 +11,7 @@ class RtAccelPlugSpec extends AnyFlatSpec {
   for (dp <- Seq(FloatDatapath(FloatFormat.FP32, TriangleTest.Moller, BoxRounding.Nearest),
       FloatDatapath(FloatFormat(8, 10), TriangleTest.Watertight, BoxRounding.Conservative))) {
     s"RtAccel with ${dp.name}" should "elaborate" in {
-      val cfg = AccelConfig(numRayIds = 4, stackDepth = 4, float = dp.fmt)
+      val cfg = AccelConfig(numRayIds = 4, stackDepth = 4, boxFloat = dp.boxFmt, triFloat = dp.triFmt)
       val chirrtl = _root_.circt.stage.ChiselStage.emitCHIRRTL(new RtAccel(cfg, dp))
       assert(chirrtl.contains(s"PrimIntersect_${dp.name}") && chirrtl.contains(s"BoxLane_${dp.name}"))
       assert(FloatDatapath.parse(dp.name) == dp)

@@ -13,7 +13,7 @@ class ToFloat32Harness(val dp: FloatDatapath) extends Module {
     val in = Input(UInt(dp.fmt.width.W))
     val out = Output(UInt(32.W))
   })
-  io.out := dp.toFloat32(AccelConfig(float = dp.fmt), io.in)
+  io.out := dp.toFloat32(AccelConfig(boxFloat = dp.boxFmt, triFloat = dp.triFmt), io.in)
 }
 
 class ToFloat32Spec extends AnyFlatSpec with ChiselScalatestTester {

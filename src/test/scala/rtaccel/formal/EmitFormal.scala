@@ -18,7 +18,7 @@ object FormalCase {
   /** Narrow everything the properties do not depend on: 2 nodes, 2 triangle
     * slots, leaves of up to 2 triangles, a 6-bit float, 8-bit addresses. */
   private def small(ids: Int): AccelConfig = AccelConfig(numRayIds = ids, stackDepth = 2, maxNodes = 2, maxTriangles = 2,
-    maxLeafSize = 2, float = FloatFormat(3, 2), addrBits = 8, layout = BvhLayout.Wide(2))
+    maxLeafSize = 2, boxFloat = FloatFormat(3, 2), triFloat = FloatFormat(3, 2), addrBits = 8, layout = BvhLayout.Wide(2))
   private val dp = new FormalDatapath(prepLatency = 1, boxLatency = 2, primLatency = 2)
   private val env = FormalEnv(memLatency = 3, memStall = 1, hitStall = 2)
 

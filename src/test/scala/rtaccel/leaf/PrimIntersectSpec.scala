@@ -40,7 +40,7 @@ class PrimIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "PrimIntersect"
 
   private val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.Watertight, BoxRounding.Conservative)
-  private val cfg = AccelConfig(numRayIds = 4, stackDepth = 4, float = dp.fmt)
+  private val cfg = AccelConfig(numRayIds = 4, stackDepth = 4, boxFloat = dp.boxFmt, triFloat = dp.triFmt)
 
   it should s"answer one triangle per cycle, bit-exact with the golden kernel at a fixed latency (${dp.name})" in
     Seeded("PrimIntersect.fp32wt") { rnd =>
@@ -71,7 +71,7 @@ class PrimIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
             val c = cases(from)
             val (ray, tmax) = g.setup(c.o, c.d, c.tmin, c.tmax)
             val e = g.primTest(ray, tmax, c.verts)
-            val hit = e.hit && !ray.err
+            val hit = e.hit && !ray.tri.err
             dut.io.out.bits.hit.expect(hit.B, s"${c.where}: hit")
             if (hit) {
               dut.io.out.bits.t.expect(e.t.U, s"${c.where}: t")

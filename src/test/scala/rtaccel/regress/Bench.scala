@@ -134,7 +134,7 @@ object Bench {
     // Box-lane LUTs per layout: K lanes of the datapath's box unit, each synthesised
     // alone by Yosys (cached in build/area-cache with make verilog's results).
     val area = rows.map(_("layout").str).distinct.map { layout =>
-      val cfg = configFor(layout).copy(float = dp.fmt)
+      val cfg = configFor(layout).copy(boxFloat = dp.boxFmt, triFloat = dp.triFmt)
       layout -> cfg.boxLanes * rtaccel.tools.AccelArea.boxLane(dp, cfg, rtaccel.tools.EmitVerilog.areaCache).lut.toDouble
     }.toMap
     Files.createDirectories(a.area.toAbsolutePath.getParent)

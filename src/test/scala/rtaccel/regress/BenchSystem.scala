@@ -129,7 +129,7 @@ object BenchSystem {
 
   /** A cached result redrawn against what resources.md says now (make verilog may have run since). */
   def redraw(a: Bench.Args, dp: FloatDatapath, r: Result): Result = {
-    val v = VerilogFigures.read(a.verilog, expectTitle(dp, Bench.configFor(Layout).copy(float = dp.fmt)))
+    val v = VerilogFigures.read(a.verilog, expectTitle(dp, Bench.configFor(Layout).copy(boxFloat = dp.boxFmt, triFloat = dp.triFmt)))
     val cores = r.rows.map(_("cores").num.toInt).distinct.sorted
     if (!cores.contains(v.coresFit))
       throw new IllegalArgumentException(s"${a.verilog}: ${v.coresFit} cores fit now, but build/bench/system.json " +
@@ -143,7 +143,7 @@ object BenchSystem {
   }
 
   def run(a: Bench.Args, dp: FloatDatapath, golden: rtaccel.datapath.FloatGolden, root: Path): Result = {
-    val cfg = Bench.configFor(Layout).copy(float = dp.fmt)
+    val cfg = Bench.configFor(Layout).copy(boxFloat = dp.boxFmt, triFloat = dp.triFmt)
     val v = VerilogFigures.read(a.verilog, expectTitle(dp, cfg))
     // The DDR model's clock is the accelerator's: ns -> cycles and 12.8 GB/s -> bytes per cycle at the estimated Fmax
     // (whole MHz, rounded down, so the latency in cycles is never understated by a fraction).

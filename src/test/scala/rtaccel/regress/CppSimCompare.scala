@@ -39,7 +39,7 @@ object CppSimCompare {
     val rays = kv.get("--rays").fold(pkg.rays)(n => pkg.rays.take(n.toInt))
     val cfg = Regress.config(a, pkg)
     Files.createDirectories(a.out)
-    DatapathChoice.resolve(a.float, a.triangle, a.rounding) match {
+    DatapathChoice.resolve(RegressArgs.formats(a)._1, RegressArgs.formats(a)._2, a.triangle, a.rounding) match {
       case c: Chosen[t, s] =>
         val dp = c.asInstanceOf[Chosen[Data, s]].dp
         val dir = CppSim.build(cfg, dp)

@@ -31,7 +31,7 @@ object CppSimTest {
     val pkg = ScenePackage.load(pkgDir)
     val rays = pkg.rays.take(n)
     val cfg = Regress.config(a, pkg)
-    val chosen = DatapathChoice.resolve(a.float, a.triangle, a.rounding)
+    val chosen = DatapathChoice.resolve(RegressArgs.formats(a)._1, RegressArgs.formats(a)._2, a.triangle, a.rounding)
     Files.createDirectories(a.out)
     chosen match {
       case c: Chosen[t, s] =>

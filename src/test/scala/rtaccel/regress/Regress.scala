@@ -25,9 +25,10 @@ object Regress {
 
   /** The configuration this run generates: the scene decides only what the user left open. */
   def config(a: RegressArgs, pkg: ScenePackage): AccelConfig = {
-    val fmt = if (a.float == "field") rtaccel.fp.FloatFormat.FP32 else rtaccel.fp.FloatFormat.parse(a.float)
+    def fmt(f: String) = if (f == "field") rtaccel.fp.FloatFormat.FP32 else rtaccel.fp.FloatFormat.parse(f)
+    val (boxFmt, triFmt) = (fmt(RegressArgs.formats(a)._1), fmt(RegressArgs.formats(a)._2))
     // The node layout is the image's: nori-bridge chose it (make regress BVH=).
-    val generic = AccelConfig.zc706.copy(numRayIds = a.numRayIds, float = fmt, layout = pkg.image.layout)
+    val generic = AccelConfig.zc706.copy(numRayIds = a.numRayIds, boxFloat = boxFmt, triFloat = triFmt, layout = pkg.image.layout)
     val base = if (a.sized) pkg.sized(generic) else generic
     a.stackDepth.fold(base)(d => base.copy(stackDepth = d))
   }
@@ -83,10 +84,12 @@ object Regress {
       throw new IllegalArgumentException(s"${a.pkg}: the scene does not fit the generated hardware:\n  " + misfits.mkString("\n  ") +
         "\n(raise the limits, e.g. STACK=<n>, or size the hardware to the scene)")
     // Sized hardware may have fewer exponent bits than asked for: build the datapath in the sized format.
-    val chosen = DatapathChoice.resolve(if (a.sized && a.float != "field") cfg.float.name else a.float, a.triangle, a.rounding)
+    val (box, tri) = RegressArgs.formats(a)
+    val chosen = if (a.sized && a.float != "field") DatapathChoice.resolve(cfg.boxFloat.name, cfg.triFloat.name, a.triangle, a.rounding)
+      else DatapathChoice.resolve(box, tri, a.triangle, a.rounding)
     Files.createDirectories(a.out)
     println(s"regress: ${rays.size} rays, ${pkg.needs.triangles} triangles, ${pkg.needs.nodes} nodes; " +
-      s"${cfg.numRayIds} ray IDs, stack ${cfg.stackDepth}, ${cfg.float.name}; memory ${a.describeMemory}")
+      s"${cfg.numRayIds} ray IDs, stack ${cfg.stackDepth}, ${cfg.floatName}; memory ${a.describeMemory}")
     chosen match { case c: Chosen[t, s] => runWith(a, pkg, rays, cfg, c.asInstanceOf[Chosen[Data, s]]) }
   }
 
@@ -111,7 +114,7 @@ object Regress {
 
     val whole = rays.size == pkg.rays.size
     val judged = if (whole) a.pkg else Bridge.firstRays(a.pkg, rays.size, a.out.resolve(s"package-first-${rays.size}"))
-    val accuracy = Bridge.compare(a.bridge, judged, a.out, cfg.float.manBits + 1)
+    val accuracy = Bridge.compare(a.bridge, judged, a.out, cfg.triFloat.manBits + 1)
     if (whole) Bridge.render(a.bridge, a.pkg, a.out)
     else println(s"regress: no images for part of a ray set (${rays.size} of ${pkg.rays.size} rays)")
     val report = Report.combine(stats, accuracy)

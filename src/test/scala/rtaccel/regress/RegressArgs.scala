@@ -12,6 +12,9 @@ final case class RegressArgs(
     pkg: Path,
     out: Path,
     float: String = "e8m23",
+    /** BOX_FLOAT= / TRI_FLOAT=: one unit's format; "" means FLOAT's. */
+    boxFloat: String = "",
+    triFloat: String = "",
     triangle: String = "watertight",
     /** Conservative (outward-rounded) boxes: no false miss from box rounding (see docs/speed-vs-error.md). */
     rounding: String = "conservative",
@@ -56,8 +59,12 @@ final case class RegressArgs(
 }
 
 object RegressArgs {
+  /** The box and triangle formats `a` asks for: BOX_FLOAT= / TRI_FLOAT= where given, FLOAT= otherwise. */
+  def formats(a: RegressArgs): (String, String) =
+    (if (a.boxFloat.nonEmpty) a.boxFloat else a.float, if (a.triFloat.nonEmpty) a.triFloat else a.float)
+
   val usage: String =
-    """usage: Regress --package DIR --out DIR [--float e8m23] [--triangle moller|watertight] [--rounding conservative|rne]
+    """usage: Regress --package DIR --out DIR [--float e8m23] [--box-float eXmY] [--tri-float eXmY] [--triangle moller|watertight] [--rounding conservative|rne]
       |       [--memory ddr|onchip] [--mem-latency NS|LO-HI (ddr only; default 100)] [--fabric-mhz 200]
       |       [--outstanding 64] [--cache KiB (ddr only)] [--ids 64]
       |       [--stack N] [--rays N] [--bridge PATH] [--waves 0|1] [--strict 0|1] [--size 0|1] [--seed N]
@@ -76,6 +83,8 @@ object RegressArgs {
     for ((k, v) <- kv) k match {
       case "--package" | "--out" => ()
       case "--float"           => a = a.copy(float = v)
+      case "--box-float"       => a = a.copy(boxFloat = v)
+      case "--tri-float"       => a = a.copy(triFloat = v)
       case "--triangle"        => a = a.copy(triangle = v)
       case "--rounding"        => a = a.copy(rounding = v)
       case "--memory"          => a = a.copy(memory = wrap(k)(MemoryKind.parse(v)).name)

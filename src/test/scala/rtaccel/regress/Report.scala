@@ -64,7 +64,7 @@ object Report {
       "counters" -> ujson.Obj.from(p.toSeq.sortBy(_._1).map { case (k, v) => k -> ujson.Num(v) }),
       "simulation" -> ujson.Obj("seconds" -> simSeconds, "cyclesPerSecond" -> r.cycles / simSeconds.max(1e-9), "wallSeconds" -> wallSeconds),
       "configuration" -> ujson.Obj(
-        "datapath" -> datapath, "float" -> cfg.float.name, "triangle" -> a.triangle, "rounding" -> a.rounding,
+        "datapath" -> datapath, "float" -> cfg.floatName, "triangle" -> a.triangle, "rounding" -> a.rounding,
         "numRayIds" -> cfg.numRayIds, "stackDepth" -> cfg.stackDepth, "nodeIndexBits" -> cfg.nodeIndexBits,
         "triIndexBits" -> cfg.triIndexBits, "maxLeafSize" -> cfg.maxLeafSize,
         "memory" -> a.describeMemory, "fabricMhz" -> a.fabricMhz, "seed" -> a.seed.toDouble)

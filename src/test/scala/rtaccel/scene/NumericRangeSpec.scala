@@ -56,15 +56,15 @@ class NumericRangeSpec extends AnyFlatSpec {
     val p = ScenePackage.load(dir)
     val needs = p.needs
     assert(needs.extentAbs == 559.2 && needs.smallestEdge > 100, needs) // scene.json prints the f32 extent shortest
-    val s = p.sized(AccelConfig.zc706.copy(float = FloatFormat(8, 12)))
-    assert(s.float == FloatFormat(7, 12))
+    val s = p.sized(AccelConfig.zc706.withFloat(FloatFormat(8, 12)))
+    assert(s.triFloat == FloatFormat(7, 12))
     assert(s.stackDepth == 7 && s.maxLeafSize == 2)
     // FP32 keeps its 8 exponent bits: its records then need no converters.
-    assert(p.sized(AccelConfig.zc706).float == FloatFormat.FP32)
+    assert(p.sized(AccelConfig.zc706).triFloat == FloatFormat.FP32)
     // A too-narrow exponent is widened to what the range needs.
-    assert(p.sized(AccelConfig.zc706.copy(float = FloatFormat(6, 9))).float == FloatFormat(7, 9))
+    assert(p.sized(AccelConfig.zc706.withFloat(FloatFormat(6, 9))).triFloat == FloatFormat(7, 9))
     val far = p.copy(needs = needs.copy(extentAbs = 1e13))
-    assert(far.sized(AccelConfig.zc706).float.expBits == 8)
+    assert(far.sized(AccelConfig.zc706).triFloat.expBits == 8)
     assert(far.misfits(far.sized(AccelConfig.zc706)).exists(_.contains("exponent bits")))
   }
 }

@@ -2,15 +2,19 @@ package rtaccel.sweep
 
 import rtaccel.datapath.{BoxRounding, FloatDatapath, TriangleTest}
 import rtaccel.fp.FloatFormat
+import rtaccel.BvhLayout
 
 import java.nio.file.{Path, Paths}
 
-/** One point of `make speed-vs-error`: a hardware configuration (number
-  * format, box rounding, triangle test) and the compiled runs it is measured
-  * on. Every value is checked here, with a message naming it.
+/** One point of `make speed-vs-error`: a hardware configuration (node
+  * layout, box format, triangle format, box rounding, triangle test) and the
+  * compiled runs it is measured on. Every value is checked here, with a
+  * message naming it.
   */
 final case class SweepArgs(
-    fmt: FloatFormat,
+    layout: BvhLayout,
+    boxFmt: FloatFormat,
+    triFmt: FloatFormat,
     rounding: BoxRounding,
     test: TriangleTest,
     sweep: Path,
@@ -26,25 +30,27 @@ final case class SweepArgs(
     /** Which group of runs this job measures; "" writes `<name>.json`, else `<name>.<group>.json`. */
     group: String
 ) {
-  def dp: FloatDatapath = FloatDatapath(fmt, test, rounding)
-  /** `e8m12-rne-wt`: the point's name in file names and reports. */
-  def name: String = SweepArgs.pointName(fmt, rounding, test)
-  def packageDir(run: String): Path = sweep.resolve("packages").resolve(run)
+  def dp: FloatDatapath = FloatDatapath(boxFmt, triFmt, test, rounding)
+  /** `4q-e8m10-e8m23-cons-wt`: the point's name in file names and reports. */
+  def name: String = SweepArgs.pointName(layout, boxFmt, triFmt, rounding, test)
+  /** Packages are compiled once per layout: `<sweep>/packages/<layout>/<run>`. */
+  def packageDir(run: String): Path = sweep.resolve("packages").resolve(layout.name).resolve(run)
   def hitsFile(run: String): Path = sweep.resolve("hits").resolve(name).resolve(s"$run.csv")
   def pointFile: Path = sweep.resolve("points").resolve(if (group.isEmpty) s"$name.json" else s"$name.$group.json")
 }
 
 object SweepArgs {
-  def pointName(fmt: FloatFormat, r: BoxRounding, t: TriangleTest): String = s"${fmt.name}-${r.tag}-${t.tag}"
+  def pointName(layout: BvhLayout, box: FloatFormat, tri: FloatFormat, r: BoxRounding, t: TriangleTest): String =
+    s"${layout.name}-${box.name}-${tri.name}-${r.tag}-${t.tag}"
 
   val usage: String =
-    "usage: SweepPoint --float e8m12 --rounding rne|conservative --triangle moller|watertight --sweep DIR " +
+    "usage: SweepPoint --bvh 4|8|4q|8q|nori --box-float e8m10 --tri-float e8m23 (or --float for both) --rounding rne|conservative --triangle moller|watertight --sweep DIR " +
       "--runs a,b,... [--speed-runs a,b] [--speed-rays 1024] [--hard-dir scenes/hard] [--bridge PATH] [--threads 1] [--seed 1] [--group NAME]"
 
   def parse(args: Seq[String]): SweepArgs = {
     if (args.size % 2 != 0) fail(s"options come in pairs: ${args.mkString(" ")}")
     val kv = args.grouped(2).map(p => p(0) -> p(1)).toMap
-    val known = Set("--float", "--rounding", "--triangle", "--sweep", "--runs", "--speed-runs", "--speed-rays",
+    val known = Set("--bvh", "--float", "--box-float", "--tri-float", "--rounding", "--triangle", "--sweep", "--runs", "--speed-runs", "--speed-rays",
       "--hard-dir", "--bridge", "--threads", "--seed", "--group")
     kv.keys.filterNot(known).foreach(k => fail(s"unknown option '$k'"))
     def req(k: String) = kv.getOrElse(k, fail(s"$k is required"))
@@ -56,8 +62,11 @@ object SweepArgs {
     if (runs.isEmpty) fail("--runs: give at least one package name")
     val speed = list("--speed-runs")
     speed.filterNot(runs.contains).foreach(r => fail(s"--speed-runs: '$r' is not among --runs"))
+    def fmt(k: String) = wrap(k)(FloatFormat.parse(kv.getOrElse(k, req("--float"))))
     SweepArgs(
-      fmt = wrap("--float")(FloatFormat.parse(req("--float"))),
+      layout = wrap("--bvh")(BvhLayout.parse(kv.getOrElse("--bvh", "nori"))),
+      boxFmt = fmt("--box-float"),
+      triFmt = fmt("--tri-float"),
       rounding = wrap("--rounding")(BoxRounding.parse(req("--rounding"))),
       test = wrap("--triangle")(TriangleTest.parse(req("--triangle"))),
       sweep = Paths.get(req("--sweep")),

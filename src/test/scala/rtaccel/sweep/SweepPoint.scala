@@ -1,7 +1,7 @@
 package rtaccel.sweep
 
 import chisel3._
-import rtaccel.datapath.FloatGolden
+import rtaccel.datapath.{FloatDatapath, FloatGolden}
 import rtaccel.tools.DatapathArea
 import rtaccel.golden.HitRecord
 import rtaccel.regress.Bridge
@@ -25,8 +25,10 @@ object SweepPoint {
     val t0 = System.nanoTime()
     val golden = FloatGolden(a.dp)
     val packages = a.runs.map(r => r -> ScenePackage.load(a.packageDir(r))).toMap
-    // The packages' node layout (nori-bridge compile --bvh); structuralMisfits catches a mixed set.
-    val cfg = AccelConfig.zc706.copy(float = a.fmt, layout = packages.values.head.image.layout)
+    // The packages' node layout (nori-bridge compile --bvh) must be the point's.
+    for ((r, p) <- packages if p.image.layout != a.layout)
+      throw new IllegalArgumentException(s"${p.dir}: compiled with ${p.image.layout.name} nodes, but the point is ${a.layout.name}")
+    val cfg = a.dp.configure(AccelConfig.zc706.copy(layout = a.layout))
     // The numeric range is not checked here: where a narrow format cannot hold a
     // scene's range is exactly what the sweep measures (`in_range` per run).
     for ((r, p) <- packages; why <- p.structuralMisfits(cfg).headOption)
@@ -55,14 +57,18 @@ object SweepPoint {
         "hard_case" -> hardCase(run).fold[ujson.Value](ujson.Null)(ujson.Str(_)),
         "package" -> p.dir.toString, "hits" -> a.hitsFile(run).toString,
         "rays_total" -> p.rays.size,
-        "in_range" -> p.range.misfit(a.fmt).isEmpty, "exp_bits_needed" -> p.range.expBits, "error_flagged" -> g.hits.count(_.errors != 0),
+        "in_range" -> Seq(a.boxFmt, a.triFmt).forall(f => p.range.misfit(f).isEmpty), "exp_bits_needed" -> p.range.expBits, "error_flagged" -> g.hits.count(_.errors != 0),
         "node_tests_per_ray" -> g.perRay(g.boxTests), "tri_tests_per_ray" -> g.perRay(g.triTests),
+        // Every box test is one node fetch (TraversalGolden: a node's K slots in one test).
+        "node_bytes_per_ray" -> g.perRay(g.boxTests) * p.image.nodeBytes.toDouble,
         "speed" -> speed.getOrElse(run, ujson.Null))
       o(if (hardCase(run).isDefined) "hard" else "accuracy") = judged
       o
     }
     val point = ujson.Obj(
-      "config" -> ujson.Obj("name" -> a.name, "float" -> a.fmt.name, "exp_bits" -> a.fmt.expBits, "man_bits" -> a.fmt.manBits,
+      "config" -> ujson.Obj("name" -> a.name, "float" -> FloatDatapath.formatsName(a.boxFmt, a.triFmt),
+        "exp_bits" -> a.boxFmt.expBits, "man_bits" -> a.boxFmt.manBits, "layout" -> a.layout.name,
+        "box_float" -> a.boxFmt.name, "tri_float" -> a.triFmt.name,
         "rounding" -> (if (a.rounding.tag == "rne") "rne" else "conservative"),
         "triangle" -> (if (a.test.tag == "wt") "watertight" else "moller")),
       "latency" -> latencies(cfg, a),

@@ -62,7 +62,8 @@ object FieldDatapath extends Datapath[UInt] {
 
   /** The bit-exact Scala twin. */
   object Golden extends ArithGolden[Int] {
-    def format: FloatFormat = FloatFormat.FP32
+    def boxFormat: FloatFormat = FloatFormat.FP32
+    def triFormat: FloatFormat = FloatFormat.FP32
     private def mix(key: Int, w: Long): Int = (((key ^ (w & 0xffff) ^ ((w >> 16) & 0xffff)) * 0x9e37) & 0xffff).toInt
     def prep(r: RayRecord): PreparedGolden[Int] =
       PreparedGolden((r.origin(0) & 0xffff).toInt, BigInt(r.tmax), r.dir.map(d => ((d >> 31) & 1) == 1),

@@ -66,7 +66,7 @@ class BboxIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   for (k <- Seq(4)) {
     val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.Watertight, BoxRounding.Conservative)
-    val cfg = AccelConfig(numRayIds = 4, stackDepth = 4, layout = BvhLayout.Wide(k), float = dp.fmt)
+    val cfg = AccelConfig(numRayIds = 4, stackDepth = 4, layout = BvhLayout.Wide(k), boxFloat = dp.boxFmt, triFloat = dp.triFmt)
     it should s"test a ray against $k child boxes per cycle, every lane bit-exact with the golden model (${dp.name})" in
       Seeded(s"BboxIntersect.k$k") { rnd =>
         val g = FloatGolden(dp)
@@ -99,7 +99,7 @@ class BboxIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
               for ((u, s) <- used.zipWithIndex) {
                 val (hit, near) = u.fold((false, BigInt(0)))(b => g.boxTest(ray, tmax, b.bmin, b.bmax))
                 val hitHw = dut.io.out.bits.hit(s).peek().litToBoolean
-                assert(hitHw == (hit && !ray.err), s"cycle $cycle: ray ${r.where}, slot $s (${u.fold("empty")(_.where)}): hit $hitHw, golden ${hit && !ray.err}")
+                assert(hitHw == (hit && !ray.box.err), s"cycle $cycle: ray ${r.where}, slot $s (${u.fold("empty")(_.where)}): hit $hitHw, golden ${hit && !ray.box.err}")
                 if (hitHw) {
                   dut.io.out.bits.near(s).expect(near.U, s"ray ${r.where}, slot $s: entry distance")
                   hits += 1
@@ -118,7 +118,7 @@ class BboxIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
   {
     val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.Watertight, BoxRounding.Conservative)
     val layout = BvhLayout.Wide(4, quantized = true)
-    val cfg = AccelConfig(numRayIds = 4, stackDepth = 4, layout = layout, float = dp.fmt)
+    val cfg = AccelConfig(numRayIds = 4, stackDepth = 4, layout = layout, boxFloat = dp.boxFmt, triFloat = dp.triFmt)
     it should s"decode quantized child boxes and test them bit-exact with the golden model, never missing a box the exact ray enters (4q, ${dp.name})" in
       Seeded("BboxIntersect.4q") { rnd =>
         val g = FloatGolden(dp)
@@ -153,10 +153,10 @@ class BboxIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
               for ((u, s) <- used.zipWithIndex) {
                 val (hit, near) = u.fold((false, BigInt(0)))(_ => g.boxTest(ray, tmax, decoded(s).boxMin.map(BigInt(_)), decoded(s).boxMax.map(BigInt(_))))
                 val hitHw = dut.io.out.bits.hit(s).peek().litToBoolean
-                assert(hitHw == (hit && !ray.err), s"cycle $cycle: ray ${r.where}, slot $s: hit $hitHw, golden ${hit && !ray.err}")
+                assert(hitHw == (hit && !ray.box.err), s"cycle $cycle: ray ${r.where}, slot $s: hit $hitHw, golden ${hit && !ray.box.err}")
                 if (hitHw) { dut.io.out.bits.near(s).expect(near.U, s"ray ${r.where}, slot $s: entry distance"); hits += 1 }
                 // Conservative: the exact ray entering the exact (unquantized) box is a hit.
-                for (c <- u if !ray.err && ExactBox.hit(dp.fmt, r.o, r.d, r.tmin, r.tmax, c.bmin, c.bmax).contains(true)) {
+                for (c <- u if !ray.box.err && ExactBox.hit(dp.fmt, r.o, r.d, r.tmin, r.tmax, c.bmin, c.bmax).contains(true)) {
                   assert(hitHw, s"ray ${r.where}, slot $s (${c.where}): the exact ray enters the exact box, the quantized test misses it")
                   exactHits += 1
                 }

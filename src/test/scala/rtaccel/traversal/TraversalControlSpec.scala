@@ -59,7 +59,7 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   private def golden(cfg: AccelConfig, stack: mutable.ArrayBuffer[Ref], in: In): Out =
     ControlGolden.step(cfg.layout, cfg.stackDepth, stack, in.tok, in.fromLeaf, in.occluded,
-      in.hits.map { case (h, near) => SlotHit(h, FpOrder.keyOf(cfg.float, BigInt(near))) }, in.node)
+      in.hits.map { case (h, near) => SlotHit(h, FpOrder.keyOf(cfg.boxFloat, BigInt(near))) }, in.node)
 
   private def lane(dut: TraversalControl, fromLeaf: Boolean): Valid[ControlOut] = if (fromLeaf) dut.io.retOut else dut.io.out
   private def latencyOf(dut: TraversalControl, fromLeaf: Boolean): Int = if (fromLeaf) 1 else dut.latency
