@@ -42,6 +42,12 @@ class BenchSpec extends AnyFlatSpec {
     val noFmax = intercept[IllegalArgumentException](VerilogFigures.read(f, want))
     assert(noFmax.getMessage.contains("Fmax") && noFmax.getMessage.contains(f.toString), noFmax.getMessage)
     assert(intercept[IllegalArgumentException](VerilogFigures.read(dir.resolve("none.md"), want)).getMessage.contains("missing"))
+    // With the system top's lines (make verilog's system section), those count: its cores fit beside the
+    // system's own units, and its Fmax is the slowest of core and system units.
+    java.nio.file.Files.writeString(f, (text +: Seq("", "Cores that fit beside the system's own units (by the scarcest resource): **2**.", "",
+      "**Estimated Fmax of the system** (its slowest unit, core or system, **MemoryFabric**): **50 MHz** (20.00 ns). An ESTIMATE.")).mkString("\n"))
+    val sys = VerilogFigures.read(f, want)
+    assert(sys.coresFit == 2 && sys.fmaxNs == 20.0 && sys.slowestUnit == "MemoryFabric", sys)
   }
 
   it should "state each issue-13 goal as met or not and name the term that holds it back" in {
