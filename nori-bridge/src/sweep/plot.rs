@@ -47,6 +47,19 @@ fn front(r: &Report, names: &[String], xy: impl Fn(&PointOut) -> (f64, f64)) -> 
     names.iter().filter_map(|n| r.points.iter().find(|p| &p.name == n)).map(xy).collect()
 }
 
+/// Errors per million rays against one measure `xy` of `points`, one series per variant, with its Pareto front.
+fn error_chart(r: &Report, title: &str, x_desc: &str, x_integer: bool, points: &[&PointOut], front_names: &[String],
+    xy: impl Fn(&PointOut) -> (f64, f64) + Copy) -> Chart {
+    Chart {
+        title: title.into(),
+        x_desc: x_desc.into(),
+        y_desc: "false misses + false hits + wrong prims per million rays".into(),
+        x_integer,
+        series: by_variant(points, false, xy),
+        front: front(r, front_names, xy),
+    }
+}
+
 fn plot(dir: &Path, file: &str, title: &str, chart: Option<Chart>, why_not: &str) -> Result<Plot> {
     let path = dir.join(file);
     match chart {
@@ -66,36 +79,18 @@ fn plot(dir: &Path, file: &str, title: &str, chart: Option<Chart>, why_not: &str
 
 pub fn write_all(r: &Report, dir: &Path) -> Result<Vec<Plot>> {
     std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create", dir.display()))?;
-    let y_desc = "false misses + false hits + wrong prims per million rays";
     let all: Vec<&PointOut> = r.points.iter().collect();
     let lut = |p: &PointOut| (p.area.lut as f64, p.errors_per_million_rays);
-    let a = Chart {
-        title: "Error against area (Yosys xc7 LUTs, whole accelerator)".into(),
-        x_desc: "LUT".into(),
-        y_desc: y_desc.into(),
-        x_integer: true,
-        series: by_variant(&all, false, lut),
-        front: front(r, &r.pareto.error_lut, lut),
-    };
+    let a = error_chart(r, "Error against area (Yosys xc7 LUTs, whole accelerator)", "LUT", true, &all, &r.pareto.error_lut, lut);
     let timed: Vec<&PointOut> = r.points.iter().filter(|p| p.speed.is_some()).collect();
     let speed = |p: &PointOut| (p.speed.map_or(f64::NAN, |s| s.rays_per_cycle), p.errors_per_million_rays);
-    let b = (!timed.is_empty()).then(|| Chart {
-        title: "Error against speed (rays per cycle, mean over timed runs)".into(),
-        x_desc: "rays / cycle".into(),
-        y_desc: y_desc.into(),
-        x_integer: false,
-        series: by_variant(&timed, false, speed),
-        front: front(r, &r.pareto.error_speed, speed),
-    });
+    let b = (!timed.is_empty())
+        .then(|| error_chart(r, "Error against speed (rays per cycle, mean over timed runs)", "rays / cycle", false, &timed, &r.pareto.error_speed, speed));
     let with_bytes: Vec<&PointOut> = r.points.iter().filter(|p| p.node_bytes_per_ray.is_some()).collect();
     let bytes = |p: &PointOut| (p.node_bytes_per_ray.unwrap_or(f64::NAN), p.errors_per_million_rays);
-    let e = (!with_bytes.is_empty()).then(|| Chart {
-        title: "Error against memory traffic (node bytes read per ray, golden walk over every ray)".into(),
-        x_desc: "node bytes / ray".into(),
-        y_desc: y_desc.into(),
-        x_integer: false,
-        series: by_variant(&with_bytes, false, bytes),
-        front: front(r, &r.pareto.error_bytes, bytes),
+    let e = (!with_bytes.is_empty()).then(|| {
+        error_chart(r, "Error against memory traffic (node bytes read per ray, golden walk over every ray)", "node bytes / ray", false,
+            &with_bytes, &r.pareto.error_bytes, bytes)
     });
     let imaged: Vec<&PointOut> = r.points.iter().filter(|p| p.pixel_share.is_some()).collect();
     let px = |p: &PointOut| (p.config.man_bits as f64, p.pixel_share.unwrap_or(f64::NAN) * 100.0);
