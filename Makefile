@@ -72,5 +72,12 @@ clean: ## Remove build outputs (keeps downloaded toolchains and caches)
 	$(MAKE) -C hls clean
 	$(CARGO) clean --manifest-path $(BRIDGE_MANIFEST)
 
+# Secondary expansion ($$ in prerequisites, expanded again per target) is a
+# global switch that holds from where it appears to the end of the makefiles:
+# set here, before the includes, so that it holds for every mk file alike
+# rather than for those that sort after whichever one set it (mk/sweep.mk
+# uses it for prerequisites that depend on the stem).
+.SECONDEXPANSION:
+
 # Area-specific targets (floating point, scenes, benchmarks) live in mk/*.mk.
 -include mk/*.mk

@@ -18,3 +18,24 @@ slurm-up: setup-slurm ## Start a one-node Slurm cluster on this machine (build/s
 
 slurm-down: ## Stop the one-node Slurm cluster
 	@scripts/slurm/local-cluster.sh down
+
+# The issue-15 check, outside `make test` (it needs root and starts services):
+# start the one-node cluster, run SWEEP_CHECK_POINTS through
+# `make speed-vs-error SWEEP_ENGINE=slurm` into a fresh $(SWEEP_CHECK) (its own
+# Yosys cache, so every area is recomputed; its report goes to
+# $(SWEEP_CHECK)/report, not docs/), stop the cluster even on failure, then
+# compare every result file with the make -j sweep $(SWEEP_CHECK_REF) made with
+# the same settings (scripts/slurm/compare-sweeps.py: exit 1 on any difference).
+# The wall time and the comparison land in $(SWEEP_CHECK)/check.txt.
+SWEEP_CHECK        ?= $(BUILD)/sweep-slurm
+SWEEP_CHECK_REF    ?= $(BUILD)/sweep6
+SWEEP_CHECK_POINTS ?= 4-e8m23-e8m23-cons-wt 4q-e8m10-e8m23-cons-wt
+SWEEP_CHECK_VARS   ?= SWEEP_CORNELL_PX=48 SWEEP_DRAGON_PX=64 SPEED_RAYS=256
+.PHONY: sweep-slurm-check sweep-compare
+
+sweep-slurm-check: setup setup-slurm ## Slurm sweep == make -j sweep: one-node cluster up, SWEEP_CHECK_POINTS as a job array, compare with SWEEP_CHECK_REF, cluster down
+	scripts/slurm/sweep-check.sh $(SWEEP_CHECK) $(SWEEP_CHECK_REF) "$(SWEEP_CHECK_POINTS)" $(SWEEP_CHECK_VARS)
+
+sweep-compare: ## Compare two sweep directories' results field by field: make sweep-compare A=build/sweep6 B=build/sweep-slurm [POINTS="..."]
+	@[ -n "$(A)" ] && [ -n "$(B)" ] || { echo "usage: make sweep-compare A=<sweep dir> B=<sweep dir> [POINTS=\"<point> ...\"]"; exit 2; }
+	scripts/slurm/compare-sweeps.py $(A) $(B) $(POINTS)

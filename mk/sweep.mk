@@ -38,6 +38,11 @@ SPEED_RAYS     ?= 1024
 # local: make -j$(SWEEP_JOBS) on this machine; slurm: one Slurm job array
 # (scripts/slurm/sweep-array.sh); `make slurm-up` starts a one-node cluster.
 SWEEP_ENGINE   ?= local
+# Where PointArea caches its Yosys runs (shared by every sweep and make verilog;
+# sweep-slurm-check points it into its own sweep so every area is recomputed).
+SWEEP_AREA_CACHE ?= build/area-cache
+# Where the report goes: $(SWEEP_DOC).{md,json} and the plots in $(SWEEP_DOC)/.
+SWEEP_DOC      ?= docs/speed-vs-error
 SWEEP_JAVA     := java -Xss8m -Xmx3g -cp "$$(cat $(SWEEP)/classpath)"
 comma := ,
 empty :=
@@ -45,12 +50,15 @@ space := $(empty) $(empty)
 
 .PHONY: speed-vs-error sweep-jobs sweep-packages sweep-clean
 
+# The report has a recipe line of its own: make runs a line that names $(MAKE)
+# even under -n, and `make -n speed-vs-error` must not rewrite the report.
 speed-vs-error: setup ## Precision sweep (layout x box format x triangle format x rounding x test x scenes): docs/speed-vs-error.{md,json} + plots [SWEEP_JOBS=2 SWEEP_GRID=reduced|full SWEEP_POINTS=... SWEEP_LAYOUTS= SWEEP_BOX_FORMATS= SWEEP_TRI_FORMATS= SWEEP_ENGINE=local|slurm]
-	@start=$$(date +%s); \
-	rm -f $(SWEEP)/classpath && $(MAKE) --no-print-directory $(SWEEP)/classpath && \
-	$(MAKE) --no-print-directory sweep-run-$(SWEEP_ENGINE) && \
-	end=$$(date +%s); \
-	$(BRIDGE) sweep-report --sweep $(SWEEP) --json docs/speed-vs-error.json --md docs/speed-vs-error.md --plots docs/speed-vs-error \
+	@mkdir -p $(SWEEP) && date +%s > $(SWEEP)/started
+	rm -f $(SWEEP)/classpath
+	$(MAKE) --no-print-directory $(SWEEP)/classpath
+	$(MAKE) --no-print-directory sweep-run-$(SWEEP_ENGINE)
+	@start=$$(cat $(SWEEP)/started); end=$$(date +%s); \
+	$(BRIDGE) sweep-report --sweep $(SWEEP) --json $(SWEEP_DOC).json --md $(SWEEP_DOC).md --plots $(SWEEP_DOC) \
 	  --runtime-note "$(words $(SWEEP_POINTS)) points ($(if $(filter full,$(SWEEP_GRID)),the full grid,SWEEP_GRID=$(SWEEP_GRID))), image runs $(IMAGE_RUNS) (Cornell $(SWEEP_CORNELL_PX)x$(SWEEP_CORNELL_PX), dragon $(SWEEP_DRAGON_PX)x$(SWEEP_DRAGON_PX) pixels), $(SPEED_RAYS) timed rays per run; the last make speed-vs-error took $$(( (end - start + 30) / 60 )) min wall with $(if $(filter slurm,$(SWEEP_ENGINE)),a Slurm job array,make -j$(SWEEP_JOBS)) on $$(nproc) cores on $$(date -u +%Y-%m-%d) (jobs already done are not rerun)"
 
 # The point jobs: what `make -j` runs here, or what a Slurm array runs.
@@ -69,7 +77,7 @@ sweep-run-local:
 sweep-run-slurm:
 	$(MAKE) --no-print-directory -j$(SWEEP_JOBS) $(SWEEP_SHARED)
 	scripts/slurm/sweep-array.sh $(SWEEP) SWEEP=$(SWEEP) SPEED_RAYS=$(SPEED_RAYS) "IMAGE_RUNS=$(IMAGE_RUNS)" \
-	  SWEEP_CORNELL_PX=$(SWEEP_CORNELL_PX) SWEEP_DRAGON_PX=$(SWEEP_DRAGON_PX) -- $(SWEEP_POINT_JOBS)
+	  SWEEP_CORNELL_PX=$(SWEEP_CORNELL_PX) SWEEP_DRAGON_PX=$(SWEEP_DRAGON_PX) SWEEP_AREA_CACHE=$(SWEEP_AREA_CACHE) -- $(SWEEP_POINT_JOBS)
 
 sweep-jobs: $(addprefix $(SWEEP)/points/,$(addsuffix .json,$(SWEEP_POINTS))) \
             $(if $(HARD_CASES),$(addprefix $(SWEEP)/points/,$(addsuffix .hard.json,$(SWEEP_POINTS)))) \
@@ -134,7 +142,7 @@ $(SWEEP)/hard-ref/%-trace.json: $(SWEEP)/packages/$(SWEEP_REF_LAYOUT)/hard-%/pac
 # only); sweep-report merges `<point>.hard.json` into `<point>.json`.
 sweep_point_args = --bvh $(call sweep_field,1,$(1)) --box-float $(call sweep_field,2,$(1)) --tri-float $(call sweep_field,3,$(1)) \
   --rounding $(call sweep_field,4,$(1)) --triangle $(call sweep_field,5,$(1))
-.SECONDEXPANSION:
+# The $$(...) prerequisites below use .SECONDEXPANSION (set in the Makefile).
 $(SWEEP)/points/%.hard.json: | $$(foreach c,$(HARD_CASES),$(SWEEP)/packages/$$(call sweep_field,1,$$*)/hard-$$(c)/package.json) $(SWEEP)/classpath
 	@mkdir -p $(SWEEP)/logs
 	$(SWEEP_JAVA) rtaccel.sweep.SweepPoint $(call sweep_point_args,$*) --sweep $(SWEEP) --group hard \
@@ -149,7 +157,7 @@ $(SWEEP)/points/%.json: | $$(foreach r,$(IMAGE_RUNS),$(SWEEP)/packages/$$(call s
 	@tail -1 $(SWEEP)/logs/point-$*.log
 $(SWEEP)/area/%.json: | $(SWEEP)/classpath
 	@mkdir -p $(SWEEP)/logs
-	$(SWEEP_JAVA) rtaccel.tools.PointArea $(call sweep_point_args,$*) --out $@ > $(SWEEP)/logs/area-$*.log 2>&1 || { tail -30 $(SWEEP)/logs/area-$*.log; exit 1; }
+	$(SWEEP_JAVA) rtaccel.tools.PointArea $(call sweep_point_args,$*) --cache $(SWEEP_AREA_CACHE) --out $@ > $(SWEEP)/logs/area-$*.log 2>&1 || { tail -30 $(SWEEP)/logs/area-$*.log; exit 1; }
 	@tail -1 $(SWEEP)/logs/area-$*.log
 
 sweep-clean: ## Remove the sweep's outputs (not the shared Yosys cache build/area-cache)

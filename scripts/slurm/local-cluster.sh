@@ -16,7 +16,10 @@ die() { echo "slurm: $*" >&2; exit 1; }
 write_conf() {
   mkdir -p "$SLURM_DIR"/{state,spool,log}
   local cpus mem_mb
-  cpus=$(nproc)
+  # SLURM_NODE_CPUS (default: the machine's cores, at most 2) caps how many
+  # 1-CPU sweep tasks run at once, so the cluster never takes a shared
+  # machine's every core.
+  cpus=${SLURM_NODE_CPUS:-$(( $(nproc) < 2 ? $(nproc) : 2 ))}
   # Leave 1 GiB to the system; Slurm refuses a node that reports less than RealMemory.
   mem_mb=$(( $(awk '/MemTotal/ {print int($2/1024)}' /proc/meminfo) - 1024 ))
   cat > "$CONF" <<CONF
@@ -66,10 +69,13 @@ up() {
   if ! scontrol ping 2>/dev/null | grep -q UP; then
     slurmctld -f "$CONF"
   fi
-  pgrep -f "slurmd -f $CONF" >/dev/null || slurmd -f "$CONF"
+  # Under nice: the tasks (children of slurmd's slurmstepd) inherit it and
+  # yield to interactive work on a shared machine.
+  pgrep -f "slurmd -f $CONF" >/dev/null || nice -n "${SLURM_NICE:-5}" slurmd -f "$CONF"
+  local cpus; cpus=$(sed -n 's/^NodeName=.* CPUs=\([0-9]*\).*/\1/p' "$CONF")
   for _ in $(seq 1 60); do
     state=$(sinfo -h -N -o '%t' 2>/dev/null | head -1 || true)
-    case "$state" in idle|mix|alloc) echo "slurm: one-node cluster up ($NODE, $(nproc) CPUs); SLURM_CONF=$CONF"; return;; esac
+    case "$state" in idle|mix|alloc) echo "slurm: one-node cluster up ($NODE, $cpus of $(nproc) CPUs); SLURM_CONF=$CONF"; return;; esac
     scontrol update nodename="$NODE" state=resume >/dev/null 2>&1 || true
     sleep 1
   done

@@ -26,12 +26,14 @@ if [ "${#todo[@]}" -eq 0 ]; then echo "sweep-array: all $# jobs already done"; e
 list=$sweep/slurm/targets.txt
 printf '%s\n' "${todo[@]}" > "$list"
 repo=$(pwd)
+# Each assignment quoted for the task's shell (IMAGE_RUNS holds spaces).
+quoted=$(printf '%q ' "${vars[@]}")
 n=${#todo[@]}
 echo "sweep-array: submitting $n jobs as one Slurm array (list: $list)"
 # -c 1 and 4 GB per task: each job is one single-threaded java (-Xmx3g) or Yosys run.
 sbatch --wait --job-name=rtaccel-sweep --array=0-$((n - 1)) -c 1 --mem=4G \
   --output="$sweep/slurm/%A_%a.log" ${SWEEP_SLURM_ARGS:-} \
-  --wrap "cd '$repo' && t=\$(sed -n \"\$((SLURM_ARRAY_TASK_ID + 1))p\" '$list') && echo \"task \$SLURM_ARRAY_TASK_ID: \$t\" && make --no-print-directory ${vars[*]} SWEEP_ENGINE=local \"\$t\"" \
+  --wrap "cd '$repo' && t=\$(sed -n \"\$((SLURM_ARRAY_TASK_ID + 1))p\" '$list') && echo \"task \$SLURM_ARRAY_TASK_ID: \$t\" && make --no-print-directory $quoted SWEEP_ENGINE=local \"\$t\"" \
   || true
 missing=0
 for t in "${todo[@]}"; do
