@@ -4,7 +4,7 @@
 # Everything it writes lives under $SLURM_DIR (build/slurm); the only system
 # state it touches is the munge daemon, which Slurm needs for authentication.
 #   local-cluster.sh up    start munged, slurmctld and slurmd; wait until the node is idle
-#   local-cluster.sh down  stop slurmd and slurmctld (munged is left running)
+#   local-cluster.sh down  stop slurmd and slurmctld, and munged if `up` started it
 #   local-cluster.sh env   print the SLURM_CONF line to use the cluster from a shell
 set -euo pipefail
 SLURM_DIR=$(realpath -m "${SLURM_DIR:-build/slurm}")
@@ -51,13 +51,16 @@ CONF
 }
 
 start_munge() {
-  if pgrep -x munged >/dev/null; then return; fi
+  # A working munged (not just a process name: a dying one lingers as a zombie).
+  if munge -n 2>/dev/null | unmunge >/dev/null 2>&1; then return; fi
   [ -f /etc/munge/munge.key ] || { mkdir -p /etc/munge; dd if=/dev/urandom bs=1 count=1024 of=/etc/munge/munge.key 2>/dev/null; }
   chown -R munge:munge /etc/munge /var/lib/munge /var/log/munge 2>/dev/null || true
   chmod 0400 /etc/munge/munge.key
   mkdir -p /run/munge && chown munge:munge /run/munge
   if id munge >/dev/null 2>&1; then su -s /bin/sh munge -c "munged" || munged --force
   else munged --force; fi
+  # Ours to stop in `down` (a munged that was already running is left alone).
+  touch "$SLURM_DIR/munged.ours"
   munge -n | unmunge >/dev/null || die "munge does not work (see /var/log/munge/munged.log)"
 }
 
@@ -83,8 +86,23 @@ up() {
 }
 
 down() {
-  [ -f "$SLURM_DIR/slurmd.pid" ] && kill "$(cat "$SLURM_DIR/slurmd.pid")" 2>/dev/null || true
-  [ -f "$SLURM_DIR/slurmctld.pid" ] && kill "$(cat "$SLURM_DIR/slurmctld.pid")" 2>/dev/null || true
+  local pids=()
+  for f in slurmd slurmctld; do
+    [ -f "$SLURM_DIR/$f.pid" ] && pids+=("$(cat "$SLURM_DIR/$f.pid")")
+  done
+  if [ -f "$SLURM_DIR/munged.ours" ] && [ -f /run/munge/munged.pid ]; then
+    pids+=("$(cat /run/munge/munged.pid)")
+  fi
+  rm -f "$SLURM_DIR/munged.ours"
+  [ "${#pids[@]}" -gt 0 ] && kill "${pids[@]}" 2>/dev/null || true
+  # slurmd can ignore TERM while it retries a registration: KILL after 10 s.
+  local alive=()
+  for _ in $(seq 1 10); do
+    alive=(); for p in "${pids[@]}"; do kill -0 "$p" 2>/dev/null && alive+=("$p"); done
+    [ "${#alive[@]}" -eq 0 ] && break
+    sleep 1
+  done
+  if [ "${#alive[@]}" -gt 0 ]; then kill -9 "${alive[@]}" 2>/dev/null || true; fi
   echo "slurm: stopped"
 }
 
