@@ -35,3 +35,23 @@ CPPSIM_COMPARE_PKG = $(BUILD)/cppsim/compare-pkg/$(basename $(notdir $(CPPSIM_CO
 cppsim-compare: setup ## The chiseltest and C++ system harnesses on the same rays: same hits and cycles, and their speed [CPPSIM_COMPARE_SCENE= CPPSIM_COMPARE_RAYS_KIND=primary|shadow|ao MAX_RAYS= REORDER=0|1]
 	$(BRIDGE) compile $(CPPSIM_COMPARE_SCENE) --out $(CPPSIM_COMPARE_PKG) --rays $(CPPSIM_COMPARE_RAYS_KIND) --bvh 4 >/dev/null
 	$(SBT) "Test/runMain rtaccel.regress.CppSimCompare --package $(CPPSIM_COMPARE_PKG) --out $(CPPSIM_COMPARE_PKG)-r$(or $(REORDER),0)$(if $(MAX_RAYS), --rays $(MAX_RAYS)) --reorder $(or $(REORDER),0)"
+
+# The C++ harness's speed, measured to be trusted on a shared machine (issue 13,
+# docs/cppsim.md "Speed"): rtaccel-sim on the Cornell regression's rays (the
+# 4,096 camera rays of `make regress SCENE=scenes/cornell-box/cornell-box.xml`,
+# about 25k cycles) and on the dragon's 4,096 camera rays (about 62k cycles),
+# CPPSIM_SPEED_RUNS times each, the builds alternating; every run's cycles per
+# wall second and per CPU second and the load average, with medians, into
+# build/cppsim/speed.json. A benchmark, not a test: nothing fails on speed.
+# Uses the simulators that make regress SIM=cpp (profile-guided) and make
+# cppsim-test (plain) built; CPPSIM_SPEED_BUILDS= to choose (comma-separated).
+CPPSIM_SPEED_RUNS ?= 5
+CPPSIM_SYS1 := $(BUILD)/cppsim/system_e8m23_wt_cons_c1_n64_d64_k4
+CPPSIM_SPEED_BUILDS ?= $(CPPSIM_SYS1)_pgo,$(CPPSIM_SYS1)
+CPPSIM_SPEED_PKGS := $(BUILD)/cppsim/speed/cornell-box-primary $(BUILD)/cppsim/speed/dragon-primary
+
+.PHONY: cppsim-speed
+cppsim-speed: setup ## Benchmark: the C++ harness's simulated cycles per wall and per CPU second, Cornell and dragon, several alternating runs [CPPSIM_SPEED_RUNS=5 CPPSIM_SPEED_BUILDS=]
+	$(BRIDGE) compile scenes/cornell-box/cornell-box.xml --out $(BUILD)/cppsim/speed/cornell-box-primary --rays primary --bvh 4 >/dev/null
+	$(BRIDGE) compile scenes/dragon/dragon.xml --out $(BUILD)/cppsim/speed/dragon-primary --rays primary --bvh 4 >/dev/null
+	python3 sw/speed.py $(BUILD)/cppsim/speed.json $(CPPSIM_SPEED_RUNS) $(CPPSIM_SPEED_BUILDS) $(CPPSIM_SPEED_PKGS)
