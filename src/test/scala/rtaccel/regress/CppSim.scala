@@ -52,11 +52,19 @@ object CppSim {
     if (!Files.exists(svPath) || Files.readString(svPath) != sv) Files.writeString(svPath, sv)
     val pgo = pgoTrain.fold(Seq.empty[String])(p => Seq("PGO=1", s"PGO_TRAIN=${p.toAbsolutePath}"))
     println(s"cppsim: building the simulator in $dir (Verilator; a few minutes the first time" +
-      (if (pgo.nonEmpty) ", twice that profile-guided)" else ")"))
+      (if (pgo.nonEmpty) ", about four times that profile-guided; CPPSIM_PGO=0 for the plain build)" else ")"))
     val rc = (Seq("make", "-s", "-C", "sw", "sim", s"SIMDIR=$dir", s"VSRC=$svPath") ++ pgo).!
     if (rc != 0) throw new IllegalStateException(s"cppsim: building the simulator in $dir failed (make -C sw sim, exit $rc)")
     dir
   }
+
+  /** The profile-guided build for `make regress SIM=cpp` and `make cppsim-compare` unless CPPSIM_PGO=0 (make
+    * passes a command-line variable on in the environment): it makes the model about 6% fewer instructions
+    * per cycle, but its first build takes about 4 times a plain one (docs/cppsim.md "Speed"); with
+    * CPPSIM_PGO=0 they use the plain build `make cppsim-test` made.
+    */
+  def pgoTraining(bridge: Path, pkg: Path): Option[Path] =
+    if (sys.env.get("CPPSIM_PGO").contains("0")) None else Some(pgoTrainingPackage(bridge, pkg))
 
   /** The scene the profile-guided build trains on: not the one a regression times (the Cornell box's camera
     * rays in issue 13's figure), so the profile cannot fit the measured run. The icosphere's 32x32 camera

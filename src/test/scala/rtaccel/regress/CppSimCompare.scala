@@ -43,7 +43,7 @@ object CppSimCompare {
       case c: Chosen[t, s] =>
         val dp = c.asInstanceOf[Chosen[Data, s]].dp
         // The build `make regress SIM=cpp` uses (profile-guided), so the speeds compared are the regression's.
-        val dir = CppSim.build(cfg, dp, pgoTrain = Some(CppSim.pgoTrainingPackage(a.bridge, a.pkg)))
+        val dir = CppSim.build(cfg, dp, pgoTrain = CppSim.pgoTraining(a.bridge, a.pkg))
         // C++ first (quick), then chiseltest.
         val cmd = Seq(dir.resolve("rtaccel-sim").toString, "--package", a.pkg.toAbsolutePath.toString, "--out",
           a.out.toAbsolutePath.toString, "--rays", rays.size.toString, "--reorder", if (reorder) "1" else "0")
