@@ -32,6 +32,48 @@ CPPSIM_COMPARE_RAYS_KIND ?= primary
 CPPSIM_COMPARE_PKG = $(BUILD)/cppsim/compare-pkg/$(basename $(notdir $(CPPSIM_COMPARE_SCENE)))-$(CPPSIM_COMPARE_RAYS_KIND)
 
 .PHONY: cppsim-compare
-cppsim-compare: setup ## The chiseltest and C++ system harnesses on the same rays: same hits and cycles, and their speed [CPPSIM_COMPARE_SCENE= CPPSIM_COMPARE_RAYS_KIND=primary|shadow|ao MAX_RAYS= REORDER=0|1]
+cppsim-compare: setup ## The chiseltest and C++ system harnesses on the same rays: same hits and cycles, and their speed [CPPSIM_COMPARE_SCENE= CPPSIM_COMPARE_RAYS_KIND=primary|shadow|ao MAX_RAYS= REORDER=0|1 CPPSIM_PGO=1|0]
 	$(BRIDGE) compile $(CPPSIM_COMPARE_SCENE) --out $(CPPSIM_COMPARE_PKG) --rays $(CPPSIM_COMPARE_RAYS_KIND) --bvh 4 >/dev/null
 	$(SBT) "Test/runMain rtaccel.regress.CppSimCompare --package $(CPPSIM_COMPARE_PKG) --out $(CPPSIM_COMPARE_PKG)-r$(or $(REORDER),0)$(if $(MAX_RAYS), --rays $(MAX_RAYS)) --reorder $(or $(REORDER),0)"
+
+# The C++ harness's speed, measured to be trusted on a shared machine (issue 13,
+# docs/cppsim.md "Speed"): rtaccel-sim on the Cornell regression's rays (the
+# 4,096 camera rays of `make regress SCENE=scenes/cornell-box/cornell-box.xml`,
+# about 25k cycles) and on the dragon's 4,096 camera rays (about 62k cycles),
+# CPPSIM_SPEED_RUNS times each, the builds alternating; every run's cycles per
+# wall second and per CPU second and the load average, with medians, into
+# build/cppsim/speed.json. A benchmark, not a test: nothing fails on speed.
+# Uses the simulators that make regress SIM=cpp (profile-guided; CPPSIM_PGO=0
+# for the plain one) and make cppsim-test (plain) built; CPPSIM_SPEED_BUILDS=
+# to choose (comma-separated).
+CPPSIM_SPEED_RUNS ?= 5
+CPPSIM_SYS1 := $(BUILD)/cppsim/system_e8m23_wt_cons_c1_n64_d64_k4
+CPPSIM_SPEED_BUILDS ?= $(CPPSIM_SYS1)_pgo,$(CPPSIM_SYS1)
+CPPSIM_SPEED_PKGS := $(BUILD)/cppsim/speed/cornell-box-primary $(BUILD)/cppsim/speed/dragon-primary
+
+.PHONY: cppsim-speed
+cppsim-speed: setup $(BRIDGE_CACHE)/dragon_res2.obj ## Benchmark: the C++ harness's simulated cycles per wall and per CPU second, Cornell and dragon, several alternating runs [CPPSIM_SPEED_RUNS=5 CPPSIM_SPEED_BUILDS=]
+	$(BRIDGE) compile scenes/cornell-box/cornell-box.xml --out $(BUILD)/cppsim/speed/cornell-box-primary --rays primary --bvh 4 >/dev/null
+	$(BRIDGE) compile scenes/dragon/dragon.xml --out $(BUILD)/cppsim/speed/dragon-primary --rays primary --bvh 4 >/dev/null
+	python3 sw/speed.py $(BUILD)/cppsim/speed.json $(CPPSIM_SPEED_RUNS) $(CPPSIM_SPEED_BUILDS) $(CPPSIM_SPEED_PKGS)
+
+# The same builds' work per simulated cycle, independent of the machine's load
+# (on this shared virtual machine even CPU seconds vary by +-30% from run to run;
+# it has no hardware counters for perf stat): valgrind's cachegrind counts the
+# instructions and simulates the branch predictor over the Cornell regression's
+# rays (about 100 s per build under valgrind). A benchmark, prints only.
+.PHONY: cppsim-instructions
+cppsim-instructions: setup ## Benchmark: instructions and branch mispredictions per simulated cycle of the C++ harness builds (valgrind cachegrind), Cornell [CPPSIM_SPEED_BUILDS=]
+	@command -v valgrind >/dev/null || { SUDO=""; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
+	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq valgrind >/dev/null; }
+	$(BRIDGE) compile scenes/cornell-box/cornell-box.xml --out $(BUILD)/cppsim/speed/cornell-box-primary --rays primary --bvh 4 >/dev/null
+	@for b in $$(echo $(CPPSIM_SPEED_BUILDS) | tr , ' '); do \
+	  o=$(BUILD)/cppsim/speed/cachegrind-$$(basename $$b); mkdir -p $$o; \
+	  valgrind --tool=cachegrind --cache-sim=no --branch-sim=yes --cachegrind-out-file=$$o/cachegrind.out \
+	    $$b/rtaccel-sim --package $(BUILD)/cppsim/speed/cornell-box-primary --out $$o \
+	    --mem-latency 100-100 --fabric-mhz 200 --outstanding 64 --seed 1 >$$o/log.txt 2>&1 || { cat $$o/log.txt; exit 1; }; \
+	  cyc=$$(python3 -c "import json;print(json.load(open('$$o/sim.json'))['simulatedCycles'])"); \
+	  ir=$$(sed -n 's/.*I *refs: *\([0-9,]*\).*/\1/p' $$o/log.txt | tr -d ,); \
+	  mp=$$(sed -n 's/.*Mispredicts: *\([0-9,]*\).*/\1/p' $$o/log.txt | tr -d ,); \
+	  echo "cppsim-instructions: $$(basename $$b): $$cyc cycles, $$ir instructions ($$((ir / cyc)) per cycle), $$mp branch mispredictions ($$((mp / cyc)) per cycle)"; \
+	done

@@ -92,9 +92,19 @@ int AxiMemory::pick(const std::vector<Burst>& v, bool readSide) {
   if (readSide && !p_.interleave && streaming >= 0) {
     if (moved(v[streaming])) eligible_.push_back(streaming);
   } else {
+    // Heads of their IDs in one pass: a bit per ID seen so far (AXI IDs here are < 256;
+    // a wider one falls back to the scan of the bursts before it).
+    uint64_t seen[4] = {0, 0, 0, 0};
     for (size_t i = 0; i < v.size(); ++i) {
+      uint32_t id = v[i].id;
       bool head = true;
-      for (size_t j = 0; j < i && head; ++j) head = v[j].id != v[i].id;
+      if (id < 256) {
+        uint64_t bit = 1ULL << (id & 63);
+        head = !(seen[id >> 6] & bit);
+        seen[id >> 6] |= bit;
+      } else {
+        for (size_t j = 0; j < i && head; ++j) head = v[j].id != id;
+      }
       if (head && moved(v[i])) {
         eligible_.push_back(int(i));
         if (!p_.reorder) break;  // heads.take(1)

@@ -3,7 +3,9 @@
 // space costs only what a run touches.
 #pragma once
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
+#include <new>
 #include <memory>
 #include <vector>
 
@@ -43,12 +45,18 @@ class SparseMemory {
   }
 
  private:
+  // calloc, not new + memset: a page this large comes zeroed from the kernel, which
+  // then maps only the 4 KiB pieces a run touches (memset touched all 256 of them).
+  struct Free { void operator()(uint8_t* p) const { std::free(p); } };
   uint8_t* page(uint64_t addr) {
     auto& p = pages_[addr >> kPageBits];
-    if (!p) { p.reset(new uint8_t[kPage]); std::memset(p.get(), 0, kPage); }
+    if (!p) {
+      p.reset(static_cast<uint8_t*>(std::calloc(kPage, 1)));
+      if (!p) throw std::bad_alloc();
+    }
     return p.get();
   }
-  std::vector<std::unique_ptr<uint8_t[]>> pages_;
+  std::vector<std::unique_ptr<uint8_t[], Free>> pages_;
 };
 
 }  // namespace rtaccel::sim

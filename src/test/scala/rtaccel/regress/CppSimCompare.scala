@@ -42,7 +42,8 @@ object CppSimCompare {
     DatapathChoice.resolve(RegressArgs.formats(a)._1, RegressArgs.formats(a)._2, a.triangle, a.rounding) match {
       case c: Chosen[t, s] =>
         val dp = c.asInstanceOf[Chosen[Data, s]].dp
-        val dir = CppSim.build(cfg, dp)
+        // The build `make regress SIM=cpp` uses (profile-guided), so the speeds compared are the regression's.
+        val dir = CppSim.build(cfg, dp, pgoTrain = CppSim.pgoTraining(a.bridge, a.pkg))
         // C++ first (quick), then chiseltest.
         val cmd = Seq(dir.resolve("rtaccel-sim").toString, "--package", a.pkg.toAbsolutePath.toString, "--out",
           a.out.toAbsolutePath.toString, "--rays", rays.size.toString, "--reorder", if (reorder) "1" else "0")
@@ -54,7 +55,7 @@ object CppSimCompare {
         val rayBase = base + up(pkg.image.bytes.length.toLong)
         val lay = SystemHarness.Layout(base, rayBase, up(rayBase + SystemConfig.RayBytes.toLong * rays.size))
         val annos = Seq(VerilatorBackendAnnotation, chiseltest.internal.CachingAnnotation,
-          TargetDirAnnotation(Paths.get("").toAbsolutePath.relativize(dir.resolve("chiseltest")).toString))
+          TargetDirAnnotation(Paths.get("").toAbsolutePath.relativize(CppSim.simDir(dp.name, cfg, 1).resolve("chiseltest")).toString))
         var line = ""
         var ok = false
         RawTester.test(new SystemSimTop(SystemConfig(core = cfg, cores = 1), dp), annos) { dut =>
