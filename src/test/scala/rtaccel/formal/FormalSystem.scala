@@ -10,7 +10,7 @@ import rtaccel.mem.{MemPort, MemPortParams}
 import rtaccel.scene.MemoryImage
 import rtaccel.system.{RegisterMap, SystemConfig, SystemCore}
 import rtaccel.traversal.PrepFetch
-import rtaccel.{AccelConfig, BvhLayout, HitOut, PerfCounters}
+import rtaccel.{AccelConfig, BvhLayout, HitOut, PerfCounters, RtAccel}
 
 /** The system's formal environment (docs/formal.md, "System level").
   *
@@ -126,12 +126,12 @@ class FormalCoreStub(cfg: AccelConfig, name: String, stall: Int) extends Module 
   *    hits written + rays in flight, with none in flight at DONE);
   *    `batch_bounded_response` DONE comes within `bound(RAY_COUNT)` cycles of START (SystemBound).
   */
-class FormalSystemTop(c: SystemCase, bound: Int => Int) extends Module {
+class FormalSystemTop(c: SystemCase, bound: Int => Int, dp: FormalDatapath) extends Module {
   override def desiredName = s"FormalTop_${c.name}"
   val io = IO(new Bundle {})
   private val sys = c.sys
   private val env = c.env
-  private val dut = Module(new SystemCore(sys, new FormalDatapath(prepLatency = 1, boxLatency = 2, primLatency = 2)))
+  private val dut = Module(new SystemCore(sys, dp))
   private val a = dut.io.axi
   private val h = dut.io.ctl
   private val addrBits = sys.axiAddrBits
@@ -277,6 +277,9 @@ class FormalSystemTop(c: SystemCase, bound: Int => Int) extends Module {
 }
 
 object FormalSystemTop {
+  /** The core's datapath in the system's SystemVerilog (replaced by the stub in the model; it names the core's module). */
+  val datapath = new FormalDatapath(prepLatency = 1, boxLatency = 2, primLatency = 2)
+
   /** A valid image header (docs/memory-format.md) for `sys`: nodes at 64, triangles at `triOffset`
     * (128: one node, which the store holds; 64: none, the store stays empty). */
   def header(sys: SystemConfig, triOffset: Int): UInt = {
@@ -306,15 +309,18 @@ object EmitFormalSystem {
       .getOrElse(throw new IllegalArgumentException("EmitFormalSystem: usage: --out <dir>"))
     java.nio.file.Files.createDirectories(out)
     java.nio.file.Files.writeString(out.resolve("FormalAnySeq.v"), FormalAnySeq.verilog)
+    val dp = FormalSystemTop.datapath
     val lines = for (c <- SystemCase.all) yield {
       val b = (r: Int) => SystemBound(c, r).map(_.cycles).sum
-      val sv = ForYosys(rtaccel.tools.Synth.emit(new FormalSystemTop(c, b)))
+      val sv = ForYosys(rtaccel.tools.Synth.emit(new FormalSystemTop(c, b, dp)))
       val core = "module (RtAccel_[A-Za-z0-9_]+)\\(".r.findFirstMatchIn(sv).map(_.group(1))
         .getOrElse(throw new IllegalStateException("EmitFormalSystem: no RtAccel module in the system's SystemVerilog"))
       val stub = ForYosys(rtaccel.tools.Synth.emit(new FormalCoreStub(c.sys.core, core, c.env.stall)))
       java.nio.file.Files.writeString(out.resolve(s"formal_${c.name}.sv"), sv)
       java.nio.file.Files.writeString(out.resolve(s"stub_${c.name}.sv"), stub)
-      val props = (ForYosys.names(sv) ++ ForYosys.names(stub)).distinct
+      // The real core's assertions are in the system's SystemVerilog but not in the model (the stub replaces it).
+      val coreOnly = ForYosys.names(ForYosys(rtaccel.tools.Synth.emit(new RtAccel(c.sys.core, dp)))).toSet
+      val props = (ForYosys.names(sv).filterNot(coreOnly) ++ ForYosys.names(stub)).distinct
       java.nio.file.Files.writeString(out.resolve(s"formal_${c.name}.props"), props.mkString("", "\n", "\n"))
       for (r <- 1 to c.env.maxRays)
         println(s"EmitFormalSystem: ${c.name} RAY_COUNT $r: bound ${b(r)} = " + SystemBound(c, r).map(t => s"${t.name} ${t.cycles}").mkString(" + "))
