@@ -20,3 +20,15 @@ formal-deep: setup formal-emit ## Not in make test: per-unit bounded response by
 
 formal-induction: setup formal-emit ## Unbounded proofs, not in make test: by pdr RayIdFreeList's properties and PrepFetch's and LeafIntersect's bounded response; the n2 core's safety by k-induction and pdr, time-limited -> build/formal/formal-induction.log [FORMAL_IND_SECS=300]
 	scripts/formal-induction.sh $(FORMAL_DIR) $(or $(FORMAL_IND_SECS),300)
+
+# The system top (docs/formal.md, "System level"): not in make test (Scala emission and Yosys alone take
+# over a minute here). The core inside SystemCore is replaced by FormalCoreStub (read over RtAccel).
+.PHONY: formal-system formal-system-emit formal-system-mutants
+formal-system-emit: setup-sbt
+	$(SBT) "Test/runMain rtaccel.formal.EmitFormalSystem --out $(FORMAL_DIR)"
+
+formal-system: setup formal-system-emit ## Not in make test: bounded model check of SystemCore (1 core as an abstract stub, AXI slave and host as assumptions): no overflow, each ray read once, each hit written once inside the hit buffer, DONE after all -> build/formal/formal-system-cases.log [FORMAL_DEPTH=]
+	scripts/formal.sh $(FORMAL_DIR) "$(FORMAL_DEPTH)" system-cases.txt
+
+formal-system-mutants: setup formal-system-emit ## Not in make test: break the system design on purpose (each break must be caught) and probes of what the depth reaches -> build/formal/system-mutants.log [FORMAL_MUTANT_DEPTH=40]
+	scripts/formal-system-mutants.sh $(FORMAL_DIR) $(or $(FORMAL_MUTANT_DEPTH),40)

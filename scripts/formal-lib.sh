@@ -19,16 +19,19 @@ WRAP
 # aig <dir> <case> <sv> <out.aig> [property]: the AIGER model of <sv> (wrapped
 # by wrap_<case>.sv); with [property], every other assertion is removed first.
 # FormalAnySeq's free wires are undriven here and become primary inputs
-# (setundef -expose), which is what `anyseq` means.
+# (setundef -expose), which is what `anyseq` means. If <dir>/stub_<case>.sv
+# exists, its modules replace the design's modules of the same name (the
+# system proofs read FormalCoreStub over RtAccel this way).
 formal_aig() {
   local dir=$1 name=$2 sv=$3 out=$4 prop=${5:-}
-  local keep=""
+  local keep="" over=""
+  [ -f "$dir/stub_$name.sv" ] && over="read_verilog -formal -sv -overwrite $dir/stub_$name.sv;"
   [ -n "$prop" ] && keep="chformal -assert -remove t:\$assert c:*$prop %d;"
   sed 's/(\* anyseq \*) //' "$dir/FormalAnySeq.v" > "$dir/FormalAnySeq_aig.v"
-  yosys -q -l "${out%.aig}.yosys.log" -p "read_verilog -formal -sv $dir/FormalAnySeq_aig.v $sv $dir/wrap_$name.sv;
+  yosys -q -l "${out%.aig}.yosys.log" -p "read_verilog -formal -sv $dir/FormalAnySeq_aig.v $sv $dir/wrap_$name.sv; $over
       prep -flatten -top formal_$name; $keep memory_map; opt -fast; async2sync;
       setundef -undriven -expose; opt_clean; techmap; opt -fast; dffunmap; abc -g AND -fast; opt_clean; dffunmap;
-      write_aiger -zinit $out" >/dev/null 2>&1
+      write_aiger -zinit -map ${out%.aig}.map $out" >/dev/null 2>&1
 }
 
 # bmc <aig> <depth> <log>: prints "pass" if no assertion fails in steps
@@ -40,4 +43,28 @@ formal_bmc() {
     local f; f=$(grep -oE "was asserted in frame [0-9]+" "$3" | grep -oE "[0-9]+$" | head -1)
     [ -n "$f" ] && echo $((f + 1)) || echo error
   fi
+}
+
+# mutant <name> <what> <sed expression> <text the edit must find> <properties...>:
+# a sed edit of a scratch copy of $dir/formal_$case_.sv, checked to depth
+# $cdepth with each expected property alone (the others removed); appends to
+# $log and sets status=1 if a property does not catch it (globals: dir, log,
+# status, case_, cdepth).
+mutant() { # name, what it breaks, sed expression, a text the edit must find, expected properties... (case: $case_)
+  local name=$1 what=$2 expr=$3 must=$4; shift 4
+  local sv=$dir/mutant_$name.sv orig=$dir/formal_$case_.sv
+  grep -qF -- "$must" "$orig" || { echo "mutant $name: '$must' not in formal_$case_.sv (update the mutant)" | tee -a "$log"; status=1; return; }
+  sed -e "$expr" "$orig" > "$sv"
+  if cmp -s "$sv" "$orig"; then echo "mutant $name: sed changed nothing" | tee -a "$log"; status=1; return; fi
+  echo "mutant $name ($case_): $what" | tee -a "$log"
+  for prop in "$@"; do
+    local start=$(date +%s) step
+    formal_aig "$dir" "$case_" "$sv" "$dir/mutant_${name}_$prop.aig" "$prop"
+    step=$(formal_bmc "$dir/mutant_${name}_$prop.aig" "$cdepth" "$dir/mutant_${name}_$prop.log")
+    if [ "$step" != pass ] && [ "$step" != error ]; then
+      echo "  $prop: CAUGHT, shortest counterexample $step steps (step 1 is reset), $(( $(date +%s) - start )) s" | tee -a "$log"
+    else
+      echo "  $prop: NOT CAUGHT within $cdepth steps ($step)" | tee -a "$log"; status=1
+    fi
+  done
 }

@@ -15,24 +15,6 @@ log=$dir/mutants.log
 : > "$log"
 status=0
 case_=n2; cdepth=$depth
-mutant() { # name, what it breaks, sed expression, a text the edit must find, expected properties... (case: $case_)
-  local name=$1 what=$2 expr=$3 must=$4; shift 4
-  local sv=$dir/mutant_$name.sv orig=$dir/formal_$case_.sv
-  grep -qF -- "$must" "$orig" || { echo "mutant $name: '$must' not in formal_$case_.sv (update the mutant)" | tee -a "$log"; status=1; return; }
-  sed -e "$expr" "$orig" > "$sv"
-  if cmp -s "$sv" "$orig"; then echo "mutant $name: sed changed nothing" | tee -a "$log"; status=1; return; fi
-  echo "mutant $name ($case_): $what" | tee -a "$log"
-  for prop in "$@"; do
-    local start=$(date +%s) step
-    formal_aig "$dir" "$case_" "$sv" "$dir/mutant_${name}_$prop.aig" "$prop"
-    step=$(formal_bmc "$dir/mutant_${name}_$prop.aig" "$cdepth" "$dir/mutant_${name}_$prop.log")
-    if [ "$step" != pass ] && [ "$step" != error ]; then
-      echo "  $prop: CAUGHT, shortest counterexample $step steps (step 1 is reset), $(( $(date +%s) - start )) s" | tee -a "$log"
-    else
-      echo "  $prop: NOT CAUGHT within $cdepth steps ($step)" | tee -a "$log"; status=1
-    fi
-  done
-}
 mutant fresh_forever "the free list hands out fresh IDs forever, so an ID in flight is issued again" \
   "s/wire       haveFresh = freshReg != 2'h2;/wire       haveFresh = 1'b1;/" "wire       haveFresh = freshReg != 2'h2;" \
   id_allocated_once_1 exactly_once_1

@@ -36,6 +36,7 @@ class HitDma(sys: SystemConfig) extends Module {
   q.io.enq.bits.data := HitDma.record(h)
   when(arb.io.out.fire) {
     when(!inBatch) { brokenReg := true.B }
+    assert(inBatch, "hit_in_batch: a hit whose number is not in the batch")
     for (k <- 0 until ErrorFlags.width) when(inBatch && h.errors(k)) { errReg(k) := errReg(k) + 1.U }
   }
   io.write <> q.io.deq

@@ -65,6 +65,8 @@ class RayDma(sys: SystemConfig) extends Module {
   q.io.enq.bits.data := io.mem.resp.bits.data
   q.io.enq.bits.tag := io.mem.resp.bits.tag
   when(io.mem.resp.valid && (!q.io.enq.ready || freeReg(io.mem.resp.bits.tag))) { brokenReg := true.B }
+  assert(!(io.mem.resp.valid && (!q.io.enq.ready || freeReg(io.mem.resp.bits.tag))),
+    "ray_block_once: a ray block came back for a tag not in flight, or found the block queue full")
 
   // ---- unpack: ray `subReg` of the head block ----
   private val subReg = RegInit(0.U(log2Ceil(rpb).max(1).W))

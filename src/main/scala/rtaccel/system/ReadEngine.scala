@@ -169,6 +169,7 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
     q.io.enq.valid := wValidReg && wFinalReg && wClientReg === c.U
     q.io.enq.bits  := wSlotReg
     when(q.io.enq.valid && !q.io.enq.ready) { errorReg := true.B } // impossible (above); checked
+    assert(!(q.io.enq.valid && !q.io.enq.ready), "no_overflow_read_completion: a finished record found its completion queue full")
   }
 
   // ---- Pick a finished record (select, then read), queue it for its client ----
@@ -212,6 +213,9 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
   // earliest next cycle, and its new record's beats come after a new AR.
   private val freeOH = Mux(selValidReg, UIntToOH(selSlotReg, slots), 0.U)
   busyReg := (busyReg | allocOH) & ~freeOH
+  // Each slot (AXI ID) holds one record per use: taken only when free, freed only when taken.
+  assert((busyReg & allocOH) === 0.U, "read_slot_taken_once: a request took a slot that holds a record")
+  assert(!selValidReg || busyReg(selSlotReg), "read_slot_freed_once: a slot was freed that holds no record")
   doneReg := (doneReg | completeOH) & ~freeOH
 
   for (c <- 0 until n) {
@@ -221,6 +225,7 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
     q.enq.bits.tag  := pickTagReg
     // Impossible by the credit above; checked all the same.
     when(q.enq.valid && !q.enq.ready) { errorReg := true.B }
+    assert(!(q.enq.valid && !q.enq.ready), "no_overflow_read_out: a picked record found its client's output queue full")
     io.resp(c) <> q.deq
   }
   io.error := errorReg

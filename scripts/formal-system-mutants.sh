@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# Breaks the emitted system design (formal_s1.sv, the core replaced by
+# FormalCoreStub) on purpose, one way at a time, and checks that the bounded
+# model check catches each break with the property meant to catch it; then
+# probes (added assertions that must fail) show what the depth reaches
+# (docs/formal.md, "System level"). Log: system-mutants.log.
+# Usage: scripts/formal-system-mutants.sh <dir> <depth> [all|probes|mutants|<mutant name>]
+set -euo pipefail
+dir=$1; depth=$2; which=${3:-all}
+. "$(dirname "$0")/formal-lib.sh"
+
+case_=s1; cdepth=$depth; formal_wrap "$dir" s1
+log=$dir/system-mutants.log
+[ "$which" = all ] || [ "$which" = probes ] || [ "$which" = mutants ] && : > "$log" || true
+status=0
+want() { [ "$which" = all ] || [ "$which" = mutants ] || [ "$which" = "$1" ]; }
+# Probes: assertions that an event never happens, all in one model; bmc3 -a
+# finds each one's shortest counterexample, the first step the event can
+# happen (names from Yosys's AIGER map), so the log shows what the depth reaches.
+if [ "$which" = all ] || [ "$which" = probes ]; then
+  at='      if (~reset \& ~(~isBlock | ~blockReadRegs_0)) begin'
+  must='      if (~reset & ~(~isBlock | ~blockReadRegs_0)) begin'
+  grep -qF -- "$must" "$dir/formal_s1.sv" || { echo "probes: '$must' not in formal_s1.sv (update the probes)" | tee -a "$log"; exit 1; }
+  p() { echo "      if (~reset \\& ($2)) begin $1_1: assert(1'b0); end\\n"; }
+  sed -e "s/^$at/$(p reach_start '\&stepReg')$(p reach_block_read isBlock)$(p reach_hit_written _pendingReg_T)$(p reach_done done)&/" \
+    "$dir/formal_s1.sv" > "$dir/probes_s1.sv"
+  start=$(date +%s)
+  formal_aig "$dir" s1 "$dir/probes_s1.sv" "$dir/probes_s1.aig" 'reach_*'
+  yosys-abc -c "read_aiger $dir/probes_s1.aig; fold; strash; bmc3 -a -F $depth -v" > "$dir/probes_s1.log" 2>&1 || true
+  echo "probes (s1, $(( $(date +%s) - start )) s): the first step (step 1 is reset) at which" | tee -a "$log"
+  # Yosys writes the assertions' bad-state outputs in the order of their
+  # names (its AIGER map names none of them): reach_block_read, reach_done,
+  # reach_hit_written, reach_start are outputs 0..3.
+  o=0
+  for what in "reach_block_read:a ray block has been read from DDR" "reach_done:DONE (the batch ends)" \
+      "reach_hit_written:a hit record is written" "reach_start:the host script has ended (START taken, IRQ_ENABLE = DONE)"; do
+    name=${what%%:*}
+    f=$(grep -oE "Output $o was asserted in frame [0-9]+" "$dir/probes_s1.log" | grep -oE "[0-9]+$" | head -1 || true)
+    if [ -n "$f" ]; then echo "  $name: step $((f + 1)): ${what#*:}" | tee -a "$log"
+    else echo "  $name: not within $depth steps: ${what#*:}" | tee -a "$log"; fi
+    o=$((o + 1))
+  done
+fi
+if [ "$which" != probes ]; then
+  # With a mutant's name as the third argument, only that one runs.
+  want done_early && mutant done_early "SystemCore finishes one B response early: DONE before the last hit is written" \
+    "/^module SystemCore(/,/^endmodule/s/wire          finish = activeReg \& _fabric_io_writesDone - writesBaseReg == countReg;/wire          finish = activeReg \& _fabric_io_writesDone - writesBaseReg + 32'h1 == countReg;/" \
+    "wire          finish = activeReg & _fabric_io_writesDone - writesBaseReg == countReg;" batch_conservation_1
+  want slot_freed_twice && mutant slot_freed_twice "ReadEngine never pops client 0's completion queue: the same slot is picked and freed again" \
+    "/^module ReadEngine(/,/^endmodule/s/\.io_deq_ready (_arb_io_in_0_ready \& credit),/.io_deq_ready (1'b0),/" \
+    ".io_deq_ready (_arb_io_in_0_ready & credit)," read_slot_freed_once_1
+  want slot_taken_busy && mutant slot_taken_busy "ReadEngine's free-slot search ignores the busy slots: a request takes a slot in use" \
+    "/^module ReadEngine(/,/^endmodule/s/wire \[2:0\]   _GEN_1 = ~busyReg;/wire [2:0]   _GEN_1 = 3'h7;/" \
+    "wire [2:0]   _GEN_1 = ~busyReg;" read_slot_taken_once_1
+  want tag_kept && mutant tag_kept "RayDma never marks a block tag busy: a second block goes out with the tag in flight" \
+    "/^module RayDma(/,/^endmodule/s/& ~(_taken_T ? 2'h1 << ~(freeReg\[0\]) : 2'h0);/;/" \
+    "& ~(_taken_T ? 2'h1 << ~(freeReg[0]) : 2'h0);" ray_block_once_1
+  want misroute && mutant misroute "ReadEngine also delivers every other client's record to the node client: an answer for no waiting read" \
+    "/^module ReadEngine(/,/^endmodule/s/    \.io_enq_valid     (_outQs_0_io_enq_valid_T_1),/    .io_enq_valid     (pickValidReg),/" \
+    "    .io_enq_valid     (_outQs_0_io_enq_valid_T_1)," core_read_answer_once_1
+  want block_same_addr && mutant block_same_addr "RayDma reads every block at RAY_BASE: block 0 is read twice" \
+    "/^module RayDma(/,/^endmodule/s/addrReg <= addrReg + 12'hC0;/addrReg <= addrReg;/" \
+    "addrReg <= addrReg + 12'hC0;" ray_block_read_once_1
+  want hit_twice && mutant hit_twice "HitDma never pops its queue: the same hit record is written again and again" \
+    "/^module HitDma(/,/^endmodule/s/\.io_deq_ready     (io_write_ready),/.io_deq_ready     (1'b0),/" \
+    ".io_deq_ready     (io_write_ready)," hit_written_once_1
+  want hit_stride && mutant hit_stride "HitDma writes hit i at HIT_BASE + 64 i (the record size doubled): outside the buffer" \
+    "/^module HitDma(/,/^endmodule/s/{_arb_io_out_bits_number\[6:0\], 5'h0}/{_arb_io_out_bits_number[5:0], 6'h0}/" \
+    "{_arb_io_out_bits_number[6:0], 5'h0}" hit_in_buffer_1
+  want rays_early && mutant rays_early "RayDma hands out rays without waiting for their block: a hit for a ray not read" \
+    "/^module RayDma(/,/^endmodule/s/assign io_rays_valid = _q_io_deq_valid \& present;/assign io_rays_valid = present;/" \
+    "assign io_rays_valid = _q_io_deq_valid & present;" hit_after_fetch_1
+fi
+exit $status
