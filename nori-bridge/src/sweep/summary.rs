@@ -61,11 +61,23 @@ fn saving(r: Option<f64>) -> String {
     r.map_or("n/a".into(), |r| format!("{:.1}%", (1.0 - r) * 100.0))
 }
 
+/// A ratio against FP32 as a change: "33.1% fewer", "17.1% more" (a point
+/// can cost more than FP32 in one resource while saving in another).
+fn change(r: Option<f64>) -> String {
+    match r {
+        None => "n/a".into(),
+        // Within the 0.1% the sentence prints.
+        Some(r) if (r - 1.0).abs() < 5e-4 => "unchanged".into(),
+        Some(r) if r > 1.0 => format!("{:.1}% more", (r - 1.0) * 100.0),
+        Some(r) => format!("{:.1}% fewer", (1.0 - r) * 100.0),
+    }
+}
+
 fn savings(p: &PointOut) -> String {
     let r = &p.vs_baseline;
     format!(
-        "saving {} of the box lanes' LUTs, {} of the core's LUTs ({} FF, {} DSP) and {} of the node bytes per ray against FP32 ({})",
-        saving(r.box_lane_lut), saving(r.lut), saving(r.ff), saving(r.dsp), saving(r.node_bytes_per_ray), p.baseline
+        "against FP32 ({}): box-lane LUTs {}, core LUTs {} (FF {}, DSP {}), node bytes per ray {}",
+        p.baseline, change(r.box_lane_lut), change(r.lut), change(r.ff), change(r.dsp), change(r.node_bytes_per_ray)
     )
 }
 
