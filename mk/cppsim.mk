@@ -5,6 +5,8 @@
 # model, and the library's error paths. Budget: under 4 minutes on 2 cores,
 # the Verilator build of the one-core system included.
 CPPSIM_PKG := $(BUILD)/cppsim/cornell-16x16
+# The link cppsim-test points at its simulator build (rtaccel.regress.CppSim.TestSystemLink).
+CPPSIM_TEST_SYSTEM := $(BUILD)/cppsim/test-system
 CPPSIM_RAYS ?= 256
 
 .PHONY: cppsim-test cppsim-lib
@@ -47,14 +49,18 @@ cppsim-compare: setup ## The chiseltest and C++ system harnesses on the same ray
 # for the plain one) and make cppsim-test (plain) built; CPPSIM_SPEED_BUILDS=
 # to choose (comma-separated).
 CPPSIM_SPEED_RUNS ?= 5
-CPPSIM_SYS1 := $(BUILD)/cppsim/system_e8m23_wt_cons_c1_n64_d64_k4
+# The one-core FP32 system: the build make cppsim-test links as test-system, and its profile-guided twin.
+CPPSIM_SYS1 = $(realpath $(CPPSIM_TEST_SYSTEM))
 CPPSIM_SPEED_BUILDS ?= $(CPPSIM_SYS1)_pgo,$(CPPSIM_SYS1)
 CPPSIM_SPEED_PKGS := $(BUILD)/cppsim/speed/cornell-box-primary $(BUILD)/cppsim/speed/dragon-primary
 
+# The timed packages, compiled once each (camera rays, 4-wide nodes).
+$(BUILD)/cppsim/speed/%-primary/rays.csv: | setup
+	$(BRIDGE) compile scenes/$*/$*.xml --out $(@D) --rays primary --bvh 4 >/dev/null
+$(BUILD)/cppsim/speed/dragon-primary/rays.csv: $(BRIDGE_CACHE)/dragon_res2.obj
+
 .PHONY: cppsim-speed
-cppsim-speed: setup $(BRIDGE_CACHE)/dragon_res2.obj ## Benchmark: the C++ harness's simulated cycles per wall and per CPU second, Cornell and dragon, several alternating runs [CPPSIM_SPEED_RUNS=5 CPPSIM_SPEED_BUILDS=]
-	$(BRIDGE) compile scenes/cornell-box/cornell-box.xml --out $(BUILD)/cppsim/speed/cornell-box-primary --rays primary --bvh 4 >/dev/null
-	$(BRIDGE) compile scenes/dragon/dragon.xml --out $(BUILD)/cppsim/speed/dragon-primary --rays primary --bvh 4 >/dev/null
+cppsim-speed: setup $(addsuffix /rays.csv,$(CPPSIM_SPEED_PKGS)) ## Benchmark: the C++ harness's simulated cycles per wall and per CPU second, Cornell and dragon, several alternating runs [CPPSIM_SPEED_RUNS=5 CPPSIM_SPEED_BUILDS=]
 	python3 sw/speed.py $(BUILD)/cppsim/speed.json $(CPPSIM_SPEED_RUNS) $(CPPSIM_SPEED_BUILDS) $(CPPSIM_SPEED_PKGS)
 
 # The same builds' work per simulated cycle, independent of the machine's load
@@ -63,10 +69,9 @@ cppsim-speed: setup $(BRIDGE_CACHE)/dragon_res2.obj ## Benchmark: the C++ harnes
 # instructions and simulates the branch predictor over the Cornell regression's
 # rays (about 100 s per build under valgrind). A benchmark, prints only.
 .PHONY: cppsim-instructions
-cppsim-instructions: setup ## Benchmark: instructions and branch mispredictions per simulated cycle of the C++ harness builds (valgrind cachegrind), Cornell [CPPSIM_SPEED_BUILDS=]
+cppsim-instructions: setup $(BUILD)/cppsim/speed/cornell-box-primary/rays.csv ## Benchmark: instructions and branch mispredictions per simulated cycle of the C++ harness builds (valgrind cachegrind), Cornell [CPPSIM_SPEED_BUILDS=]
 	@command -v valgrind >/dev/null || { SUDO=""; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
 	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq valgrind >/dev/null; }
-	$(BRIDGE) compile scenes/cornell-box/cornell-box.xml --out $(BUILD)/cppsim/speed/cornell-box-primary --rays primary --bvh 4 >/dev/null
 	@for b in $$(echo $(CPPSIM_SPEED_BUILDS) | tr , ' '); do \
 	  o=$(BUILD)/cppsim/speed/cachegrind-$$(basename $$b); mkdir -p $$o; \
 	  valgrind --tool=cachegrind --cache-sim=no --branch-sim=yes --cachegrind-out-file=$$o/cachegrind.out \

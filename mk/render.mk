@@ -8,7 +8,7 @@ BRIDGE_BIN := nori-bridge/target/release/nori-bridge
 # cppsim-test builds it: a link that cppsim-test points at its build
 # (rtaccel.regress.CppSim.TestSystemLink). Rebuilt through cppsim-test when
 # missing or older than the Chisel sources or sw/'s driver and harness.
-NORI_SIMDIR := $(BUILD)/cppsim/test-system
+NORI_SIMDIR := $(CPPSIM_TEST_SYSTEM)
 $(NORI_SIMDIR)/rtaccel-sim: $(shell find src/main/scala -name '*.scala') $(wildcard sw/include/* sw/lib/* sw/sim/*)
 	$(MAKE) cppsim-test
 	touch $@

@@ -14,6 +14,8 @@ log=$dir/system-mutants.log
 [ "$which" = all ] || [ "$which" = probes ] || [ "$which" = mutants ] && : > "$log" || true
 status=0
 want() { [ "$which" = all ] || [ "$which" = mutants ] || [ "$which" = "$1" ]; }
+# A mutant runs when `which` selects it (all, mutants, or its name).
+maybe_mutant() { want "$1" || return 0; mutant "$@"; }
 # Probes: assertions that an event never happens, all in one model; bmc3 -a
 # finds each one's shortest counterexample, the first step the event can
 # happen (names from Yosys's AIGER map), so the log shows what the depth reaches.
@@ -43,31 +45,31 @@ if [ "$which" = all ] || [ "$which" = probes ]; then
 fi
 if [ "$which" != probes ]; then
   # With a mutant's name as the third argument, only that one runs.
-  want done_early && mutant done_early "SystemCore finishes one B response early: DONE before the last hit is written" \
+  maybe_mutant done_early "SystemCore finishes one B response early: DONE before the last hit is written" \
     "/^module SystemCore(/,/^endmodule/s/wire          finish = activeReg \& _fabric_io_writesDone - writesBaseReg == countReg;/wire          finish = activeReg \& _fabric_io_writesDone - writesBaseReg + 32'h1 == countReg;/" \
     "wire          finish = activeReg & _fabric_io_writesDone - writesBaseReg == countReg;" batch_conservation_1
-  want slot_freed_twice && mutant slot_freed_twice "ReadEngine never pops client 0's completion queue: the same slot is picked and freed again" \
+  maybe_mutant slot_freed_twice "ReadEngine never pops client 0's completion queue: the same slot is picked and freed again" \
     "/^module ReadEngine(/,/^endmodule/s/\.io_deq_ready (_arb_io_in_0_ready \& credit),/.io_deq_ready (1'b0),/" \
     ".io_deq_ready (_arb_io_in_0_ready & credit)," read_slot_freed_once_1
-  want slot_taken_busy && mutant slot_taken_busy "ReadEngine's free-slot search ignores the busy slots: a request takes a slot in use" \
+  maybe_mutant slot_taken_busy "ReadEngine's free-slot search ignores the busy slots: a request takes a slot in use" \
     "/^module ReadEngine(/,/^endmodule/s/wire \[2:0\]   _GEN_1 = ~busyReg;/wire [2:0]   _GEN_1 = 3'h7;/" \
     "wire [2:0]   _GEN_1 = ~busyReg;" read_slot_taken_once_1
-  want tag_kept && mutant tag_kept "RayDma never marks a block tag busy: a second block goes out with the tag in flight" \
+  maybe_mutant tag_kept "RayDma never marks a block tag busy: a second block goes out with the tag in flight" \
     "/^module RayDma(/,/^endmodule/s/& ~(_taken_T ? 2'h1 << ~(freeReg\[0\]) : 2'h0);/;/" \
     "& ~(_taken_T ? 2'h1 << ~(freeReg[0]) : 2'h0);" ray_block_once_1
-  want misroute && mutant misroute "ReadEngine also delivers every other client's record to the node client: an answer for no waiting read" \
+  maybe_mutant misroute "ReadEngine also delivers every other client's record to the node client: an answer for no waiting read" \
     "/^module ReadEngine(/,/^endmodule/s/    \.io_enq_valid     (_outQs_0_io_enq_valid_T_1),/    .io_enq_valid     (pickValidReg),/" \
     "    .io_enq_valid     (_outQs_0_io_enq_valid_T_1)," core_read_answer_once_1
-  want block_same_addr && mutant block_same_addr "RayDma reads every block at RAY_BASE: block 0 is read twice" \
+  maybe_mutant block_same_addr "RayDma reads every block at RAY_BASE: block 0 is read twice" \
     "/^module RayDma(/,/^endmodule/s/addrReg <= addrReg + 12'hC0;/addrReg <= addrReg;/" \
     "addrReg <= addrReg + 12'hC0;" ray_block_read_once_1
-  want hit_twice && mutant hit_twice "HitDma never pops its queue: the same hit record is written again and again" \
+  maybe_mutant hit_twice "HitDma never pops its queue: the same hit record is written again and again" \
     "/^module HitDma(/,/^endmodule/s/\.io_deq_ready     (io_write_ready),/.io_deq_ready     (1'b0),/" \
     ".io_deq_ready     (io_write_ready)," hit_written_once_1
-  want hit_stride && mutant hit_stride "HitDma writes hit i at HIT_BASE + 64 i (the record size doubled): outside the buffer" \
+  maybe_mutant hit_stride "HitDma writes hit i at HIT_BASE + 64 i (the record size doubled): outside the buffer" \
     "/^module HitDma(/,/^endmodule/s/{_arb_io_out_bits_number\[6:0\], 5'h0}/{_arb_io_out_bits_number[5:0], 6'h0}/" \
     "{_arb_io_out_bits_number[6:0], 5'h0}" hit_in_buffer_1
-  want rays_early && mutant rays_early "RayDma hands out rays without waiting for their block: a hit for a ray not read" \
+  maybe_mutant rays_early "RayDma hands out rays without waiting for their block: a hit for a ray not read" \
     "/^module RayDma(/,/^endmodule/s/assign io_rays_valid = _q_io_deq_valid \& present;/assign io_rays_valid = present;/" \
     "assign io_rays_valid = _q_io_deq_valid & present;" hit_after_fetch_1
 fi
