@@ -60,9 +60,9 @@ demo: setup ## The main job on the default shipped scene
 # SCENE= (or an already compiled PACKAGE=) sizes the hardware to that scene and
 # its rays (RAYS=primary by default) and reports the area saved (sized.md).
 VERILOG_PACKAGE = $(or $(PACKAGE),$(if $(SCENE),$(BUILD)/verilog/scene))
-verilog: setup ## SystemVerilog for the ZC706 into build/verilog/, lint, Yosys resource table [BVH=4|2|8|nori|4q|8q FLOAT=eXmY|auto BOX_FLOAT= TRI_FLOAT= TRIANGLE= ROUNDING=conservative|rne SYNTH=0 SYSTEM=0|1 CORES=<n> SCENE=<scene.xml> or PACKAGE=<compiled dir>]
+verilog: setup ## SystemVerilog for the ZC706 into build/verilog/, lint, Yosys resource table [BVH=4|2|8|nori|4q|8q FLOAT=eXmY|auto BOX_FLOAT= TRI_FLOAT= TRIANGLE= ROUNDING=conservative|rne IDS=<ray IDs per core> SYNTH=0 SYSTEM=0|1 CORES=<n> SCENE=<scene.xml> or PACKAGE=<compiled dir>]
 	$(if $(SCENE),$(BRIDGE) compile $(SCENE) --out $(BUILD)/verilog/scene --rays $(or $(RAYS),primary) --bvh $(or $(BVH),4))
-	$(SBT) "runMain rtaccel.tools.EmitVerilog --out $(BUILD)/verilog --bvh $(or $(BVH),4) --float $(or $(FLOAT),e8m23)$(if $(BOX_FLOAT), --box-float $(BOX_FLOAT))$(if $(TRI_FLOAT), --tri-float $(TRI_FLOAT)) --triangle $(or $(TRIANGLE),watertight) --rounding $(or $(ROUNDING),conservative) --synth $(or $(SYNTH),1) --system $(or $(SYSTEM),1)$(if $(CORES), --cores $(CORES))$(if $(VERILOG_PACKAGE), --package $(VERILOG_PACKAGE))"
+	$(SBT) "runMain rtaccel.tools.EmitVerilog --out $(BUILD)/verilog --bvh $(or $(BVH),4) --float $(or $(FLOAT),e8m23)$(if $(BOX_FLOAT), --box-float $(BOX_FLOAT))$(if $(TRI_FLOAT), --tri-float $(TRI_FLOAT)) --triangle $(or $(TRIANGLE),watertight) --rounding $(or $(ROUNDING),conservative)$(if $(IDS), --ids $(IDS)) --synth $(or $(SYNTH),1) --system $(or $(SYSTEM),1)$(if $(CORES), --cores $(CORES))$(if $(VERILOG_PACKAGE), --package $(VERILOG_PACKAGE))"
 
 regress: setup ## Scene regression: make regress SCENE=scenes/x/x.xml [RAYS= FLOAT= BOX_FLOAT= TRI_FLOAT= TRIANGLE= ROUNDING=conservative|rne MEMORY=ddr|onchip MEM_LATENCY=<ns> FABRIC_MHZ=200 IDS= STACK= OUT= WAVES=1 SIM=chiseltest|cpp]
 	@scripts/regress.sh

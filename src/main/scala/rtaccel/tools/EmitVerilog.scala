@@ -51,7 +51,9 @@ object EmitVerilog {
     val (boxFmt, triFmt) = (fmtArg("--box-float", autoBox), fmtArg("--tri-float", autoTri))
     val synth = kv.getOrElse("--synth", "1") == "1"
     val jobs = kv.getOrElse("--jobs", "2").toInt
-    val generic = AccelConfig.zc706.copy(boxFloat = boxFmt, triFloat = triFmt, layout = layout)
+    // IDS=: rays in flight per core (the RayBuffer, traversal stacks and free list scale with it).
+    val ids = kv.get("--ids").filter(_.nonEmpty).fold(AccelConfig.zc706.numRayIds)(_.toInt)
+    val generic = AccelConfig.zc706.copy(boxFloat = boxFmt, triFloat = triFmt, layout = layout, numRayIds = ids)
     // With a scene package, the hardware is sized to that scene's needs.
     val pkg = kv.get("--package").filter(_.nonEmpty).map(dir => ScenePackage.load(Paths.get(dir)))
     val cfg = pkg.fold(generic) { p =>
