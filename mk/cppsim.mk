@@ -34,7 +34,7 @@ CPPSIM_COMPARE_RAYS_KIND ?= primary
 CPPSIM_COMPARE_PKG = $(BUILD)/cppsim/compare-pkg/$(basename $(notdir $(CPPSIM_COMPARE_SCENE)))-$(CPPSIM_COMPARE_RAYS_KIND)
 
 .PHONY: cppsim-compare
-cppsim-compare: setup ## The chiseltest and C++ system harnesses on the same rays: same hits and cycles, and their speed [CPPSIM_COMPARE_SCENE= CPPSIM_COMPARE_RAYS_KIND=primary|shadow|ao MAX_RAYS= REORDER=0|1 CPPSIM_PGO=1|0]
+cppsim-compare: setup ## The chiseltest and C++ system harnesses on the same rays: same hits and cycles, and their speed [CPPSIM_COMPARE_SCENE= CPPSIM_COMPARE_RAYS_KIND=primary|shadow|ao MAX_RAYS= REORDER=0|1 CPPSIM_CLANG=1|0]
 	$(BRIDGE) compile $(CPPSIM_COMPARE_SCENE) --out $(CPPSIM_COMPARE_PKG) --rays $(CPPSIM_COMPARE_RAYS_KIND) --bvh 4 >/dev/null
 	$(SBT) "Test/runMain rtaccel.regress.CppSimCompare --package $(CPPSIM_COMPARE_PKG) --out $(CPPSIM_COMPARE_PKG)-r$(or $(REORDER),0)$(if $(MAX_RAYS), --rays $(MAX_RAYS)) --reorder $(or $(REORDER),0)"
 
@@ -45,13 +45,13 @@ cppsim-compare: setup ## The chiseltest and C++ system harnesses on the same ray
 # CPPSIM_SPEED_RUNS times each, the builds alternating; every run's cycles per
 # wall second and per CPU second and the load average, with medians, into
 # build/cppsim/speed.json. A benchmark, not a test: nothing fails on speed.
-# Uses the simulators that make regress SIM=cpp (profile-guided; CPPSIM_PGO=0
-# for the plain one) and make cppsim-test (plain) built; CPPSIM_SPEED_BUILDS=
-# to choose (comma-separated).
+# Uses the simulators that make regress SIM=cpp (clang; CPPSIM_CLANG=0 for the
+# gcc one) and make cppsim-test (gcc) built; CPPSIM_SPEED_BUILDS= to choose
+# (comma-separated).
 CPPSIM_SPEED_RUNS ?= 5
-# The one-core FP32 system: the build make cppsim-test links as test-system, and its profile-guided twin.
+# The one-core FP32 system: the build make cppsim-test links as test-system, and its clang twin.
 CPPSIM_SYS1 = $(realpath $(CPPSIM_TEST_SYSTEM))
-CPPSIM_SPEED_BUILDS ?= $(CPPSIM_SYS1)_pgo,$(CPPSIM_SYS1)
+CPPSIM_SPEED_BUILDS ?= $(CPPSIM_SYS1)_clang,$(CPPSIM_SYS1)
 CPPSIM_SPEED_PKGS := $(BUILD)/cppsim/speed/cornell-box-primary $(BUILD)/cppsim/speed/dragon-primary
 
 # The timed packages, compiled once each (camera rays, 4-wide nodes).

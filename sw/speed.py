@@ -44,7 +44,7 @@ def main():
     for b in builds:
         if not os.access(os.path.join(b, "rtaccel-sim"), os.X_OK):
             sys.exit(f"cppsim-speed: {b}/rtaccel-sim: not built (make regress SCENE=scenes/cornell-box/cornell-box.xml "
-                     "SIM=cpp builds the profile-guided one; make cppsim-test the plain one)")
+                     "SIM=cpp builds the clang one; make cppsim-test the gcc one)")
     for p in pkgs:
         if not os.path.exists(os.path.join(p, "rays.csv")):
             sys.exit(f"cppsim-speed: {p}/rays.csv: no package")

@@ -50,7 +50,7 @@ class SystemSim {
   void awaitLite(bool& done, const char* access, const char* respName, uint32_t offset);
   std::unique_ptr<VerilatedContext> ctx_;
   std::unique_ptr<Vrtaccel_system> top_;
-  VerilatedVcdC* vcd_ = nullptr;  // owned; complete type only with VM_TRACE
+  [[maybe_unused]] VerilatedVcdC* vcd_ = nullptr;  // owned; complete type only with VM_TRACE (unused without)
   AxiMemory mem_;
   AxiMasterSignals in_;
   uint64_t cycles_ = 0;

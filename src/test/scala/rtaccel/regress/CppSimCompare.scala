@@ -42,8 +42,8 @@ object CppSimCompare {
     DatapathChoice.resolve(RegressArgs.formats(a)._1, RegressArgs.formats(a)._2, a.triangle, a.rounding) match {
       case c: Chosen[t, s] =>
         val dp = c.asInstanceOf[Chosen[Data, s]].dp
-        // The build `make regress SIM=cpp` uses (profile-guided), so the speeds compared are the regression's.
-        val dir = CppSim.build(cfg, dp, pgoTrain = CppSim.pgoTraining(a.bridge, a.pkg))
+        // The build `make regress SIM=cpp` uses (clang), so the speeds compared are the regression's.
+        val dir = CppSim.build(cfg, dp, clang = CppSim.useClang)
         // C++ first (quick), then chiseltest.
         val cmd = Seq(dir.resolve("rtaccel-sim").toString, "--package", a.pkg.toAbsolutePath.toString, "--out",
           a.out.toAbsolutePath.toString, "--rays", rays.size.toString, "--reorder", if (reorder) "1" else "0")

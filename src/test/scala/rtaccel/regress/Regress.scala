@@ -97,7 +97,7 @@ object Regress {
       c: Chosen[Data, S]): Boolean = {
     val t0 = System.nanoTime()
     val (result, simulation) = if (a.sim == "cpp") {
-      val dir = CppSim.build(cfg, c.dp, pgoTrain = CppSim.pgoTraining(a.bridge, a.pkg))
+      val dir = CppSim.build(cfg, c.dp, clang = CppSim.useClang)
       val (r, speed) = CppSim.run(a, dir, pkg.image.nodeBytes.toInt, rtaccel.scene.MemoryImage.TriBytes.toInt, rays.size)
       speed("wallSeconds") = (System.nanoTime() - t0) / 1e9
       (r, speed)
