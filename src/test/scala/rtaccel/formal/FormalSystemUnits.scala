@@ -167,8 +167,8 @@ class FormalHitDmaTop(sys: SystemConfig, e: UnitEnv, maxRays: Int, name: String)
 
 /** ReadEngine alone, with SystemCore's read clients (the core's node and triangle ports, the scene loader, RayDma:
   * their record sizes and tag widths) and the formal AXI slave (FormalAxiReadSlave, its AR straight to the engine's):
-  * each client asks for any record (any address, no record crossing a 4 KB page, as the fabric's clients' records
-  * don't) with any tag of its width not already waiting; the core's clients refuse a record at most H cycles in a
+  * each client asks for any record (any address, but no record crossing a 4 KB page: one burst per record; a
+  * crossing record's two bursts are not covered, docs/formal.md) with any tag of its width not already waiting; the core's clients refuse a record at most H cycles in a
   * row, the loader and RayDma always take it. Asserted: the engine's own assertions; each record answered to its
   * client with its tag, once (`read_answer_once`), within SystemUnitBound.readEngine (`read_bounded_response`);
   * the engine never flags an error (`read_no_error`: no beat for no record, every rlast where it belongs).
