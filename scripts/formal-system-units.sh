@@ -15,5 +15,7 @@ log=$dir/formal-system-units.log
 while read -r name depth bound; do
   echo "case $name: pdr (unbounded), every property above: $(tr '\n' ' ' < "$dir/formal_$name.props")" | tee -a "$log"
   engine "$dir/formal_$name.aig" pdr "pdr -T $secs"
+  # A counterexample fails the target; "no verdict" (the time limit) is reported, not failed (ReadEngine: docs/formal.md).
+  if tail -1 "$log" | grep -q counterexample; then status=1; fi
 done < "$dir/system-units.txt"
 exit $status
