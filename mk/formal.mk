@@ -23,12 +23,15 @@ formal-induction: setup formal-emit ## Unbounded proofs, not in make test: by pd
 
 # The system top (docs/formal.md, "System level"): not in make test (Scala emission and Yosys alone take
 # over a minute here). The core inside SystemCore is replaced by FormalCoreStub (read over RtAccel).
-.PHONY: formal-system formal-system-emit formal-system-mutants
+.PHONY: formal-system formal-system-emit formal-system-mutants formal-system-units
 formal-system-emit: setup-sbt
 	$(SBT) "Test/runMain rtaccel.formal.EmitFormalSystem --out $(FORMAL_DIR)"
 
 formal-system: setup formal-system-emit ## Not in make test: bounded model check of SystemCore (1 core as an abstract stub, AXI slave and host as assumptions): no overflow, each ray read once, each hit written once inside the hit buffer, DONE after all -> build/formal/formal-system-cases.log [FORMAL_DEPTH=]
 	scripts/formal.sh $(FORMAL_DIR) "$(FORMAL_DEPTH)" system-cases.txt
 
-formal-system-mutants: setup formal-system-emit ## Not in make test: break the system design on purpose (each break must be caught) and probes of what the depth reaches -> build/formal/system-mutants.log [FORMAL_MUTANT_DEPTH=40]
+formal-system-mutants: setup formal-system-emit ## Not in make test: break the system design and its units on purpose (each break must be caught) and probes of what the depth reaches -> build/formal/system-mutants.log [FORMAL_MUTANT_DEPTH=40]
 	scripts/formal-system-mutants.sh $(FORMAL_DIR) $(or $(FORMAL_MUTANT_DEPTH),40)
+
+formal-system-units: setup formal-system-emit ## Not in make test: RayDma, HitDma and ReadEngine alone (BMC past each derived bound where it reaches, then pdr) -> build/formal/formal-system-units.log [FORMAL_IND_SECS=120]
+	scripts/formal-system-units.sh $(FORMAL_DIR) $(or $(FORMAL_IND_SECS),120)

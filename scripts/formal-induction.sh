@@ -19,19 +19,6 @@ log=$dir/formal-induction.log
 : > "$log"
 status=0
 
-# verdict <abc log>: proved / cex at <step> / no verdict
-verdict() {
-  if grep -qiE "Property proved|Networks are equivalent" "$1"; then echo proved
-  elif f=$(grep -oE "asserted in frame [0-9]+" "$1" | grep -oE "[0-9]+$" | head -1) && [ -n "$f" ]; then echo "counterexample at step $((f + 1))"
-  else echo "no verdict"; fi
-}
-engine() { # aig, label, abc commands
-  local aig=$1 label=$2 cmd=$3 out start v
-  out=${aig%.aig}_$label.log; start=$(date +%s)
-  yosys-abc -c "read_aiger $aig; fold; strash; $cmd" > "$out" 2>&1 || true
-  v=$(verdict "$out")
-  echo "  $label ($cmd): $v, $(( $(date +%s) - start )) s" | tee -a "$log"
-}
 
 # Units, each alone with every input free or in RtAccel's environment
 # (FormalUnits): pdr proves every assertion of the harness for all time,

@@ -68,3 +68,18 @@ mutant() { # name, what it breaks, sed expression, a text the edit must find, ex
     fi
   done
 }
+
+# verdict <abc log>: proved / counterexample at <step> / no verdict (pdr, ind).
+verdict() {
+  if grep -qiE "Property proved|Networks are equivalent" "$1"; then echo proved
+  elif f=$(grep -oE "asserted in frame [0-9]+" "$1" | grep -oE "[0-9]+$" | head -1) && [ -n "$f" ]; then echo "counterexample at step $((f + 1))"
+  else echo "no verdict"; fi
+}
+# engine <aig> <label> <abc commands>: runs an unbounded engine, appends its verdict and time to $log.
+engine() {
+  local aig=$1 label=$2 cmd=$3 out start v
+  out=${aig%.aig}_$label.log; start=$(date +%s)
+  yosys-abc -c "read_aiger $aig; fold; strash; $cmd" > "$out" 2>&1 || true
+  v=$(verdict "$out")
+  echo "  $label ($cmd): $v, $(( $(date +%s) - start )) s" | tee -a "$log"
+}

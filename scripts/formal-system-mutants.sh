@@ -4,6 +4,8 @@
 # model check catches each break with the property meant to catch it; then
 # probes (added assertions that must fail) show what the depth reaches
 # (docs/formal.md, "System level"). Log: system-mutants.log.
+# The system units' mutants (after the system's) break RayDma, HitDma and ReadEngine alone, each checked to
+# its unit's depth (system-units.txt).
 # Usage: scripts/formal-system-mutants.sh <dir> <depth> [all|probes|mutants|<mutant name>]
 set -euo pipefail
 dir=$1; depth=$2; which=${3:-all}
@@ -72,5 +74,43 @@ if [ "$which" != probes ]; then
   maybe_mutant rays_early "RayDma hands out rays without waiting for their block: a hit for a ray not read" \
     "/^module RayDma(/,/^endmodule/s/assign io_rays_valid = _q_io_deq_valid \& present;/assign io_rays_valid = present;/" \
     "assign io_rays_valid = _q_io_deq_valid & present;" hit_after_fetch_1
+  maybe_mutant ray_skip "RayDma ends a block after its third ray: the fourth ray of a full block is never handed out (lost)" \
+    "/^module RayDma(/,/^endmodule/s/wire          last = (\&subReg) | ~present/wire          last = subReg == 2'h2 | ~present/" \
+    "wire          last = (&subReg) | ~present" system_ray_conservation_1
+  maybe_mutant hit_drop "HitDma takes ray 0's hit from the core but never queues it: the hit is lost" \
+    "/^module HitDma(/,/^endmodule/s/\.io_enq_valid     (_arb_io_out_valid \& inBatch),/.io_enq_valid     (_arb_io_out_valid \& inBatch \& (|_arb_io_out_bits_number)),/" \
+    ".io_enq_valid     (_arb_io_out_valid & inBatch)," system_ray_conservation_1
+fi
+# The system's units alone (make formal-system-units; FormalSystemUnits.scala), each to its own depth
+# (system-units.txt): the four properties no system mutant reaches within 40 steps are shown able to fail here.
+unit_depth() { awk -v u="$1" '$1==u{print $2}' "$dir/system-units.txt"; }
+if [ "$which" != probes ]; then
+  case_=raydma; cdepth=$(unit_depth raydma); formal_wrap "$dir" raydma
+  maybe_mutant ray_past_count "RayDma hands out every ray of the last block, past RAY_COUNT (present always, no stop at the count)" \
+    "/^module RayDma(/,/^endmodule/{s/wire \( *\)present = {\(_GEN_[0-9]*\), subReg} < _GEN_[0-9]*;/wire \1present = 1'h1;/;s/ | {_GEN_[0-9]*, subReg} + 34'h1 == _GEN_[0-9]*;/;/}" \
+    ", subReg} + 34'h1 == _GEN_" raydma_in_batch_1
+  maybe_mutant ray_renumber "RayDma numbers each block as the next one (block 0's rays as block 1's)" \
+    "/^module RayDma(/,/^endmodule/s/blockOfTag_0 <= issuedReg;/blockOfTag_0 <= issuedReg + 32'h1;/" \
+    "blockOfTag_0 <= issuedReg;" raydma_after_block_1 raydma_bounded_response_1
+  maybe_mutant ray_skip_unit "RayDma ends a block after its third ray: the fourth ray of a full block is lost" \
+    "/^module RayDma(/,/^endmodule/s/wire \( *\)last = (\&subReg) | ~present/wire \1last = subReg == 2'h2 | ~present/" \
+    "last = (&subReg) | ~present" raydma_bounded_response_1
+  case_=hitdma; cdepth=$(unit_depth hitdma); formal_wrap "$dir" hitdma
+  maybe_mutant hit_count_short "HitDma latches RAY_COUNT - 1: the batch's last hit is out of its batch" \
+    "/^module HitDma(/,/^endmodule/s/countReg <= io_rayCount;/countReg <= io_rayCount - 32'h1;/" \
+    "countReg <= io_rayCount;" hit_in_batch_1
+  maybe_mutant hit_drop_unit "HitDma takes ray 0's hit but never queues it: the hit is lost" \
+    "/^module HitDma(/,/^endmodule/s/\.io_enq_valid     (_arb_io_out_valid \& inBatch),/.io_enq_valid     (_arb_io_out_valid \& inBatch \& (|_arb_io_out_bits_number)),/" \
+    ".io_enq_valid     (_arb_io_out_valid & inBatch)," hitdma_bounded_response_1
+  case_=readeng; cdepth=$(unit_depth readeng); formal_wrap "$dir" readeng
+  maybe_mutant wrong_tag "ReadEngine answers every record with tag 0" \
+    "/^module ReadEngine(/,/^endmodule/s/pickTagReg <= _meta_ext_R1_data\[[0-9]*:[0-9]*\];/pickTagReg <= 2'h0;/" \
+    "pickTagReg <= _meta_ext_R1_data[" read_answer_once_1
+  maybe_mutant out_queue_one "the node client's output queue (and the loader's, the same module) holds one record, not OutDepth" \
+    "/^module Queue3_ReadResp(/,/^endmodule/s/wire \( *\)full = ptr_match \& maybe_full;/wire \1full = ~empty;/" \
+    "module Queue3_ReadResp(" no_overflow_read_out_1
+  maybe_mutant completion_queue_one "ReadEngine's completion queues hold one slot, not slots" \
+    "/^module Queue3_UInt2(/,/^endmodule/s/wire \( *\)full = ptr_match \& maybe_full;/wire \1full = ~empty;/" \
+    "module Queue3_UInt2(" no_overflow_read_completion_1
 fi
 exit $status

@@ -52,7 +52,7 @@ object FormalCase {
 }
 
 /** A per-unit bounded-response proof: its harness, derived bound and depth. */
-final case class UnitCase(name: String, top: () => chisel3.RawModule, bound: Int, depth: Int, deep: Boolean = false)
+final case class UnitCase(name: String, top: () => chisel3.RawModule, bound: Int, depth: Int, deep: Boolean = false, terms: String = "")
 
 /** Writes each proof's SystemVerilog (formal_<name>.sv), FormalAnySeq.v and
   * cases.txt (name, depth per line) for mk/formal.mk.

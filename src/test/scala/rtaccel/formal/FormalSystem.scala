@@ -36,6 +36,29 @@ object SystemCase {
   }
   val env: SystemEnv = SystemEnv(readLatency = 3, stall = 1, bLatency = 2, maxRays = 8, bursts = 4)
   val all: Seq[SystemCase] = Seq(SystemCase("s1", sys2, env, depth = 42))
+
+  /** The units' environment, from s1's: memory and AXI slave as env (L = 3, S = 1, 4 bursts), the core and
+    * the read clients refusing at most env.stall = 1 cycle in a row. */
+  val unitEnv: UnitEnv = UnitEnv(memLatency = env.readLatency, stall = env.stall, takeStall = env.stall,
+    readLatency = env.readLatency, bursts = env.bursts)
+  /** Each system unit alone (FormalSystemUnits), in s1's configuration, checked by BMC 8 steps past its bound. */
+  val units: Seq[UnitCase] = {
+    val e = unitEnv
+    val rays = env.maxRays
+    val rd = SystemUnitBound.rayDma(sys2, e, rays)
+    val hd = SystemUnitBound.hitDma(sys2, e)
+    val beats = FormalReadEngineTop.maxBeats(sys2)
+    val re = SystemUnitBound.readEngine(beats, FormalReadEngineTop.slots(sys2), e)
+    Seq(
+      UnitCase("raydma", () => new FormalRayDmaTop(sys2, e, rays, "raydma"), rd, rd + 8, deep = true,
+        terms = (1 to rays).map(r => s"$r rays: ${SystemUnitBound.rayDma(sys2, e, r)}").mkString(", ")),
+      UnitCase("hitdma", () => new FormalHitDmaTop(sys2, e, rays, "hitdma"), hd, hd + 8, deep = true,
+        terms = s"hit queue ${sys2.hitQueue} x (writer refusals ${SystemUnitBound.writeStall(e)} + 1) + 2"),
+      // bmc3's frames on this harness double from frame 15 (frame 18: 130 s of CPU), so BMC stops at 18, short of
+      // the bound (its bounded response is VACUOUS there, the log says so); the safety properties hold to 18.
+      UnitCase("readeng", () => new FormalReadEngineTop(sys2, e, "readeng"), re, 18, deep = true,
+        terms = s"slots ${FormalReadEngineTop.slots(sys2)}, max beats $beats, L ${e.readLatency}, S ${e.stall}, H ${e.takeStall}"))
+  }
 }
 
 /** The abstract core that stands in for RtAccel in the system proofs: the
@@ -124,6 +147,7 @@ class FormalCoreStub(cfg: AccelConfig, name: String, stall: Int) extends Module 
   *    `hit_after_fetch` a hit is written only for a ray read from DDR (none made up);
   *    `batch_conservation` at DONE every ray 0..RAY_COUNT-1 was read and its hit written (rays read =
   *    hits written + rays in flight, with none in flight at DONE);
+  *    `system_ray_conservation` in every cycle, rays fetched = hits written + rays held unit by unit (SystemConservation);
   *    `batch_bounded_response` DONE comes within `bound(RAY_COUNT)` cycles of START (SystemBound).
   */
 class FormalSystemTop(c: SystemCase, bound: Int => Int, dp: FormalDatapath) extends Module {
@@ -179,56 +203,20 @@ class FormalSystemTop(c: SystemCase, bound: Int => Int, dp: FormalDatapath) exte
   when(h.w.fire) { wSentReg := true.B }
   when(h.b.fire) { stepReg := stepReg + 1.U; awSentReg := false.B; wSentReg := false.B }
 
-  // ---- m_axi reads: the burst table ----
-  private val K = env.bursts
-  require(isPow2(K), "FormalSystemTop: bursts must be a power of two")
-  private val L = env.readLatency
-  private val bValidRegs = RegInit(VecInit(Seq.fill(K)(false.B)))
-  private val bIdRegs = Reg(Vec(K, UInt(sys.axi.idBits.W)))
-  private val bAddrRegs = Reg(Vec(K, UInt(addrBits.W)))
-  private val bLenRegs = Reg(Vec(K, UInt(8.W)))
-  private val bCntRegs = Reg(Vec(K, UInt(8.W)))
-  private val bAgeRegs = Reg(Vec(K, UInt(7.W)))
-  private def stalled(valid: Bool, ready: Bool): Bool = {
-    // A refusal allowed unless `stall` refusals in a row came before.
-    val stallReg = RegInit(0.U(log2Ceil(env.stall + 1).max(1).W))
-    when(valid && !ready) { stallReg := stallReg + 1.U }.otherwise { stallReg := 0.U }
-    if (env.stall == 0) false.B else FormalAnySeq(Bool()) && stallReg =/= env.stall.U
-  }
-  private val full = bValidRegs.asUInt.andR
-  a.ar.ready := !full && !stalled(a.ar.valid, a.ar.ready)
-  private val slot = PriorityEncoder(bValidRegs.map(!_))
-  for (e <- 0 until K) when(bValidRegs(e) && bAgeRegs(e) =/= 127.U) { bAgeRegs(e) := bAgeRegs(e) + 1.U }
-  when(a.ar.fire) {
-    bValidRegs(slot) := true.B; bIdRegs(slot) := a.ar.bits.id; bAddrRegs(slot) := a.ar.bits.addr
-    bLenRegs(slot) := a.ar.bits.len; bCntRegs(slot) := 0.U; bAgeRegs(slot) := 0.U
-  }
-  // The head of its ID: no older burst of the same ID waits (one AR a cycle, so ages differ).
-  private val head = VecInit((0 until K).map(e => bValidRegs(e) && (0 until K).filter(_ != e).map(f =>
-    !(bValidRegs(f) && bIdRegs(f) === bIdRegs(e) && bAgeRegs(f) > bAgeRegs(e))).foldLeft(true.B)(_ && _)))
-  private val sel = FormalAnySeq(UInt(log2Ceil(K).max(1).W))
-  private val rValid = FormalAnySeq(Bool()) && head(sel)
-  private val overdue = VecInit((0 until K).map(e => bValidRegs(e) && bAgeRegs(e) >= L.U))
-  assume(!overdue.asUInt.orR || (rValid && overdue(sel)), "axi_read_deadline: an overdue burst takes the R channel")
-  private val beatAddr = bAddrRegs(sel) + (bCntRegs(sel) << beatBits)
-  private val last = bCntRegs(sel) === bLenRegs(sel)
-  a.r.valid := rValid
-  a.r.bits.id := bIdRegs(sel)
-  a.r.bits.last := last
-  a.r.bits.resp := Axi4.RespOkay.U
+  // ---- m_axi reads: the burst table (FormalAxiReadSlave) ----
+  private def stalled(valid: Bool, ready: Bool): Bool = FormalAxiReadSlave.stalled(valid, ready, env.stall)
+  private val slave = Module(new FormalAxiReadSlave(sys.axi, env.readLatency, env.stall, env.bursts))
+  slave.io.ar <> a.ar
+  a.r <> slave.io.r
+  private val last = slave.io.r.bits.last
   private val header = Mux(FormalAnySeq(Bool()), FormalSystemTop.header(sys, 128), FormalSystemTop.header(sys, 64))
-  a.r.bits.data := Mux(beatAddr === 0.U, header, FormalAnySeq(UInt(sys.axiDataBits.W)))
-  assert(!a.r.valid || a.r.ready, "axi_r_taken: the fabric refused an R beat")
-  when(a.r.fire) {
-    bCntRegs(sel) := bCntRegs(sel) + 1.U
-    when(last) { bValidRegs(sel) := false.B }
-  }
+  slave.io.data := Mux(slave.io.beatAddr === 0.U, header, FormalAnySeq(UInt(sys.axiDataBits.W)))
 
   // ---- Rays read from DDR: a ray block is the only 3-beat burst (node 64 B, triangle 48 B, header 64 B take <= 2) ----
   require(sys.rayBlockBytes == 3 * sys.axiDataBytes, "FormalSystemTop: ray blocks are told apart as 3-beat bursts")
   private val blockReadRegs = RegInit(VecInit(Seq.fill(maxBlocks)(false.B)))
   for (k <- 0 until maxBlocks) {
-    val isBlock = a.r.fire && last && bLenRegs(sel) === 2.U && bAddrRegs(sel) === rbReg + (k * sys.rayBlockBytes).U && k.U < blocks
+    val isBlock = a.r.fire && last && slave.io.burstLen === 2.U && slave.io.burstAddr === rbReg + (k * sys.rayBlockBytes).U && k.U < blocks
     assert(!isBlock || !blockReadRegs(k), s"ray_block_read_once: ray block $k read twice")
     when(isBlock) { blockReadRegs(k) := true.B }
   }
@@ -255,6 +243,7 @@ class FormalSystemTop(c: SystemCase, bound: Int => Int, dp: FormalDatapath) exte
   assert(!(a.w.fire && inBuffer) || !writtenRegs(idx), "hit_written_once: a hit record written twice")
   assert(!(a.w.fire && inBuffer) || fetched(idx), "hit_after_fetch: a hit written for a ray not read from DDR")
   when(a.w.fire && inBuffer) { writtenRegs(idx) := true.B }
+  SystemConservation(dut, countReg, rbReg, a.w.fire, maxBlocks)
   private val pendingReg = RegInit(0.U(5.W))
   private val bStallReg = RegInit(0.U(log2Ceil(env.bLatency + 1).max(1).W))
   a.b.valid := pendingReg =/= 0.U && (FormalAnySeq(Bool()) || bStallReg === env.bLatency.U)
@@ -327,6 +316,15 @@ object EmitFormalSystem {
       s"${c.name} ${c.depth} ${b(1)}\n"
     }
     java.nio.file.Files.writeString(out.resolve("system-cases.txt"), lines.mkString)
+    // The system's units alone (FormalSystemUnits), each checked past its derived bound: make formal-system-units.
+    val units = for (u <- SystemCase.units) yield {
+      val sv = ForYosys(rtaccel.tools.Synth.emit(u.top()))
+      java.nio.file.Files.writeString(out.resolve(s"formal_${u.name}.sv"), sv)
+      java.nio.file.Files.writeString(out.resolve(s"formal_${u.name}.props"), ForYosys.names(sv).mkString("", "\n", "\n"))
+      println(s"EmitFormalSystem: unit ${u.name} bound ${u.bound} (${u.terms}), depth ${u.depth}")
+      s"${u.name} ${u.depth} ${u.bound}\n"
+    }
+    java.nio.file.Files.writeString(out.resolve("system-units.txt"), units.mkString)
   }
 }
 
