@@ -22,8 +22,9 @@ import scala.sys.process._
   */
 object CppSim {
   /** Where the simulator of a configuration is built (make reuses an unchanged build). */
-  def simDir(dp: String, cfg: AccelConfig, cores: Int): Path =
-    Paths.get("build", "cppsim", s"system_${dp}_c${cores}_n${cfg.numRayIds}_d${cfg.stackDepth}_k${cfg.boxLanes}").toAbsolutePath
+  def simDir(dp: String, cfg: AccelConfig, cores: Int, axiDataBits: Int = SystemConfig.defaultAxiDataBits): Path =
+    Paths.get("build", "cppsim", s"system_${dp}_c${cores}_n${cfg.numRayIds}_d${cfg.stackDepth}_k${cfg.boxLanes}" +
+      (if (axiDataBits == 512) "" else s"_w$axiDataBits")).toAbsolutePath
 
   /** make cppsim-test's build, under a name that does not spell its configuration: `make render RTL=1` and
     * the Nori drop-in's rtl mode (mk/render.mk, scripts/render.sh) link against it, so the configuration
@@ -42,11 +43,12 @@ object CppSim {
     * build runs that package's rays once, then the model is rebuilt with the profile), in its own directory
     * (`simDir` + `_pgo`), so the plain build that `make cppsim-test` makes stays as it is.
     */
-  def build[T <: Data](cfg: AccelConfig, dp: Datapath[T], cores: Int = 1, pgoTrain: Option[Path] = None): Path = {
-    val plain = simDir(dp.name, cfg, cores)
+  def build[T <: Data](cfg: AccelConfig, dp: Datapath[T], cores: Int = 1, pgoTrain: Option[Path] = None,
+      axiDataBits: Int = SystemConfig.defaultAxiDataBits): Path = {
+    val plain = simDir(dp.name, cfg, cores, axiDataBits)
     val dir = if (pgoTrain.isDefined) plain.resolveSibling(plain.getFileName.toString + "_pgo") else plain
     Files.createDirectories(dir)
-    val sv = Synth.emit(new RtAccelSystem(SystemConfig(core = cfg, cores = cores), dp))
+    val sv = Synth.emit(new RtAccelSystem(SystemConfig(core = cfg, cores = cores, axiDataBits = axiDataBits), dp))
     val svPath = dir.resolve("rtaccel_system.sv")
     // Rewritten only when it changed, so make keeps a build of the same hardware.
     if (!Files.exists(svPath) || Files.readString(svPath) != sv) Files.writeString(svPath, sv)
