@@ -22,6 +22,8 @@ AxiMemoryParams withDutBeat(AxiMemoryParams p) {
 }
 }  // namespace
 
+int dutAxiDataBits() { return 8 * kDutBeatBytes; }
+
 SystemSim::SystemSim(const AxiMemoryParams& mem, const char* vcdPath)
     : ctx_(new VerilatedContext), mem_(withDutBeat(mem)) {
   ctx_->randReset(0);  // registers without a reset start at 0 (with --x-initial fast as well)
