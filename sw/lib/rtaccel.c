@@ -190,8 +190,11 @@ static rtaccel_status load_locked(rtaccel_dev* d, const void* image, size_t byte
   /* The node array (header bytes 20..23: nodeOffset, 64-byte aligned) starts on an m_axi beat: with a beat wider
      than the contract's 64-byte alignment (a 1024-bit system) a node then never straddles two beats, which would
      cost a second beat and two more DDR lines per node read (docs/system-wide.md). 0 for a 512-bit system. */
+  /* The simulation gives the width without an s_axi access, so its cycles before START (and its DDR model's
+     random draws) stay as they were; the board reads the register. */
   uint32_t axi_bits;
-  TRY(rd(d, RTACCEL_CONFIG_AXI_DATA_BITS_OFFSET, &axi_bits));
+  if (d->be->sim_axi_data_bits) axi_bits = d->be->sim_axi_data_bits(d->ctx);
+  else TRY(rd(d, RTACCEL_CONFIG_AXI_DATA_BITS_OFFSET, &axi_bits));
   const uint8_t* hdr = image;
   uint32_t beat = axi_bits / 8, first_node = hdr[20] | hdr[21] << 8 | hdr[22] << 16 | (uint32_t)hdr[23] << 24;
   uint64_t skew = beat > ALIGN ? (beat - first_node % beat) % beat : 0;

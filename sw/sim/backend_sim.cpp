@@ -136,7 +136,9 @@ void region(void* c, const char* name, uint64_t lo, uint64_t hi) {
 void batchStart(void* c) { static_cast<SimCtx*>(c)->sim.memory().batchStart(); }
 void closeCtx(void* c) { delete static_cast<SimCtx*>(c); }
 
-const rtaccel_backend kSimBackend = {"sim", regRead, regWrite, memWrite, memRead, waitIrq, simCycles, memoryJson, region, batchStart, closeCtx};
+uint32_t axiDataBits(void*) { return uint32_t(rtaccel::sim::dutAxiDataBits()); }
+const rtaccel_backend kSimBackend = {"sim", regRead, regWrite, memWrite, memRead, waitIrq, simCycles, memoryJson, region, batchStart, closeCtx,
+                                     axiDataBits};
 
 }  // namespace
 
