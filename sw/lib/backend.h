@@ -28,6 +28,8 @@ typedef struct rtaccel_backend {
   /* A batch starts now: the memory statistics of the batch count from here. */
   void (*sim_batch_start)(void* ctx);
   void (*close)(void* ctx);
+  /* Optional (sim only): CONFIG_AXI_DATA_BITS of the simulated system, known without an s_axi access. */
+  uint32_t (*sim_axi_data_bits)(void* ctx);
 } rtaccel_backend;
 
 /* Called by a backend's open function once it holds its context; takes ownership. */

@@ -23,7 +23,8 @@ struct rtaccel_dev {
   void* ctx;
   pthread_mutex_t mu;
   uint64_t buf_base, buf_size;
-  uint64_t scene_bytes;   /* the loaded image's size (rays go after it) */
+  uint64_t scene_base;    /* where the image starts: buf_base, or after a skew that puts its nodes on a beat */
+  uint64_t scene_bytes;   /* the skew and the loaded image's size (rays go after them) */
   int scene_ready;
   uint32_t scene_error;
   uint64_t ray_base, hit_base;
@@ -186,8 +187,21 @@ static rtaccel_status load_locked(rtaccel_dev* d, const void* image, size_t byte
   d->scene_ready = 0;
   d->scene_error = 0;
   d->scene_bytes = 0;
-  TRY(d->be->mem_write(d->ctx, d->buf_base, image, bytes, d->err, sizeof d->err));
-  TRY(wr(d, RTACCEL_SCENE_BASE_OFFSET, (uint32_t)d->buf_base));
+  /* The node array (header bytes 20..23: nodeOffset, 64-byte aligned) starts on an m_axi beat: with a beat wider
+     than the contract's 64-byte alignment (a 1024-bit system) a node then never straddles two beats, which would
+     cost a second beat and two more DDR lines per node read (docs/system-wide.md). 0 for a 512-bit system. */
+  /* The simulation gives the width without an s_axi access, so its cycles before START (and its DDR model's
+     random draws) stay as they were; the board reads the register. */
+  uint32_t axi_bits;
+  if (d->be->sim_axi_data_bits) axi_bits = d->be->sim_axi_data_bits(d->ctx);
+  else TRY(rd(d, RTACCEL_CONFIG_AXI_DATA_BITS_OFFSET, &axi_bits));
+  const uint8_t* hdr = image;
+  uint32_t beat = axi_bits / 8, first_node = hdr[20] | hdr[21] << 8 | hdr[22] << 16 | (uint32_t)hdr[23] << 24;
+  uint64_t skew = beat > ALIGN ? (beat - first_node % beat) % beat : 0;
+  if (skew % ALIGN != 0 || bytes + skew > d->buf_size) skew = 0; /* keep the contract's alignment; never past the buffer */
+  d->scene_base = d->buf_base + skew;
+  TRY(d->be->mem_write(d->ctx, d->scene_base, image, bytes, d->err, sizeof d->err));
+  TRY(wr(d, RTACCEL_SCENE_BASE_OFFSET, (uint32_t)d->scene_base));
   TRY(wr(d, RTACCEL_IRQ_STATUS_OFFSET, RTACCEL_IRQ_STATUS_SCENE_MASK | RTACCEL_IRQ_STATUS_DONE_MASK));
   TRY(wr(d, RTACCEL_IRQ_ENABLE_OFFSET, RTACCEL_IRQ_ENABLE_SCENE_MASK));
   TRY(wr(d, RTACCEL_CTRL_OFFSET, RTACCEL_CTRL_LOAD_SCENE_MASK));
@@ -207,16 +221,16 @@ static rtaccel_status load_locked(rtaccel_dev* d, const void* image, size_t byte
     return fail(d, RTACCEL_ERR_DEVICE, "rtaccel: SCENE interrupt but STATUS 0x%08x has neither SCENE_READY nor SCENE_ERROR",
                 status);
   d->scene_ready = 1;
-  d->scene_bytes = bytes;
+  d->scene_bytes = skew + bytes;
   if (d->be->sim_region) {
     /* header words 20..23 nodeOffset, 24..27 triOffset (docs/memory-format.md), little-endian */
     const uint8_t* h = image;
     uint32_t node_off = h[20] | h[21] << 8 | h[22] << 16 | (uint32_t)h[23] << 24;
     uint32_t tri_off = h[24] | h[25] << 8 | h[26] << 16 | (uint32_t)h[27] << 24;
     if (node_off <= tri_off && tri_off <= bytes) {
-      d->be->sim_region(d->ctx, "header", d->buf_base, d->buf_base + node_off);
-      d->be->sim_region(d->ctx, "nodes", d->buf_base + node_off, d->buf_base + tri_off);
-      d->be->sim_region(d->ctx, "triangles", d->buf_base + tri_off, d->buf_base + bytes);
+      d->be->sim_region(d->ctx, "header", d->scene_base, d->scene_base + node_off);
+      d->be->sim_region(d->ctx, "nodes", d->scene_base + node_off, d->scene_base + tri_off);
+      d->be->sim_region(d->ctx, "triangles", d->scene_base + tri_off, d->scene_base + bytes);
     }
   }
   return RTACCEL_OK;

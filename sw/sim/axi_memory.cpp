@@ -2,16 +2,20 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <stdexcept>
 
 namespace rtaccel::sim {
 
 namespace {
 constexpr uint32_t kOkay = 0, kSlvErr = 2;
-constexpr uint32_t kIncr = 1, kFullSize = 6;  // log2(64-byte beats)
+constexpr uint32_t kIncr = 1;
 constexpr size_t kMaxViolations = 32;         // the first few say what is wrong; the count says how often
 }  // namespace
 
 AxiMemory::AxiMemory(const AxiMemoryParams& p) : p_(p), dram_(p.bytesPerCycle, p.burstBytes), rnd_(p.seed) {
+  if (p.beatBytes != 64 && p.beatBytes != 128)
+    throw std::invalid_argument("AxiMemory: beatBytes must be 64 or 128 (a 512- or 1024-bit bus), got " +
+                                std::to_string(p.beatBytes));
   reads_.reserve(p.maxReads + 1);
   writes_.reserve(p.maxWrites + 1);
   eligible_.reserve(p.maxReads + p.maxWrites + 2);
@@ -59,10 +63,10 @@ uint32_t AxiMemory::checkAddr(const char* ch, uint32_t id, uint32_t addr, uint32
   char buf[220];
   const char* why = nullptr;
   if (burst != kIncr) why = "burst type is not INCR";
-  else if (size != kFullSize) why = "beats are not full width (size 6)";
+  else if ((1u << size) != uint32_t(p_.beatBytes)) why = "beats are not full width";
   else if (len > 255) why = "len > 255";
-  else if (addr % kAxiBeatBytes) why = "address not aligned to the 64-byte beat";
-  else if ((addr % 4096) + uint64_t(len + 1) * kAxiBeatBytes > 4096) why = "burst crosses a 4 KB boundary";
+  else if (addr % p_.beatBytes) why = "address not aligned to the beat";
+  else if ((addr % 4096) + uint64_t(len + 1) * p_.beatBytes > 4096) why = "burst crosses a 4 KB boundary";
   if (!why) return kOkay;
   std::snprintf(buf, sizeof buf, "%s id %u addr 0x%x len %u size %u burst %u: %s", ch, id, addr, len, size, burst, why);
   violation(buf);
@@ -138,7 +142,7 @@ const AxiSlaveSignals& AxiMemory::drive() {
     out_.rid = b.id;
     out_.rresp = b.resp;
     out_.rlast = b.done + 1 == b.beats;
-    mem_.read(b.addr + uint64_t(b.done) * kAxiBeatBytes, out_.rdata, kAxiBeatBytes);
+    mem_.read(b.addr + uint64_t(b.done) * p_.beatBytes, out_.rdata, p_.beatBytes);
   }
   out_.bvalid = offerB_ >= 0;
   if (out_.bvalid) {
@@ -159,7 +163,7 @@ void AxiMemory::commit(const AxiMasterSignals& in) {
   checkHeld("AW", heldAw_, in.awvalid, in.awid, in.awaddr, in.awlen, in.awsize, in.awburst, out_.awready);
   if (in.arvalid && out_.arready) {
     Burst b{seq_++, in.arid, in.araddr, in.arlen + 1, checkAddr("AR", in.arid, in.araddr, in.arlen, in.arsize, in.arburst)};
-    uint64_t bytes = uint64_t(b.beats) * kAxiBeatBytes;
+    uint64_t bytes = uint64_t(b.beats) * p_.beatBytes;
     b.handle = dram_.issue(b.addr, uint32_t(bytes), drawLatency(), now_);
     charge(b.addr, bytes, false);
     reads_.push_back(b);
@@ -172,8 +176,8 @@ void AxiMemory::commit(const AxiMasterSignals& in) {
   }
   if (in.wvalid && out_.wready) {
     WBeat w;
-    std::copy(in.wdata, in.wdata + kAxiBeatBytes, w.data);
-    w.strb = in.wstrb;
+    std::copy(in.wdata, in.wdata + p_.beatBytes, w.data);
+    std::copy(in.wstrb, in.wstrb + p_.beatBytes / 64, w.strb);
     w.last = in.wlast;
     wEarly_.push_back(w);
     stats_.writeBeats++;
@@ -181,7 +185,9 @@ void AxiMemory::commit(const AxiMasterSignals& in) {
   while (!awWait_.empty() && !wEarly_.empty()) {
     Burst& b = awWait_.front();
     const WBeat& w = wEarly_.front();
-    if (b.resp == kOkay) mem_.writeLine(b.addr + uint64_t(b.done) * kAxiBeatBytes, w.data, w.strb);
+    if (b.resp == kOkay)
+      for (int k = 0; k < p_.beatBytes / 64; ++k)  // the beat's 64-byte lines, each under its 64 strobes
+        mem_.writeLine(b.addr + uint64_t(b.done) * p_.beatBytes + 64 * k, w.data + 64 * k, w.strb[k]);
     b.done++;
     bool last = b.done == b.beats;
     if (w.last != last) {
@@ -191,7 +197,7 @@ void AxiMemory::commit(const AxiMasterSignals& in) {
     }
     wEarly_.pop_front();
     if (last) {
-      uint64_t bytes = uint64_t(b.beats) * kAxiBeatBytes;
+      uint64_t bytes = uint64_t(b.beats) * p_.beatBytes;
       b.handle = dram_.issue(b.addr, uint32_t(bytes), drawLatency(), now_);
       charge(b.addr, bytes, true);
       writes_.push_back(b);

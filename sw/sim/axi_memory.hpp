@@ -1,5 +1,8 @@
-// An AXI4 slave (512-bit data, 32-bit address) in front of the DDR channel
-// model: what the ZC706's MIG looks like to rtaccel_system's m_axi port.
+// An AXI4 slave (512- or 1024-bit data, 32-bit address) in front of the DDR
+// channel model: what the ZC706's MIG (behind the AXI SmartConnect, which
+// converts a 1024-bit port to the MIG's 512 bits) looks like to
+// rtaccel_system's m_axi port. The DDR is charged the same either way: whole
+// 64-byte bursts of every beat on one 12.8 GB/s channel.
 //
 // It is the C++ twin of the chiseltest harness's slave, sysmem's
 // rtaccel.axi.AxiMemoryModel (src/test/scala/rtaccel/axi/), call for call,
@@ -38,11 +41,12 @@
 
 namespace rtaccel::sim {
 
-constexpr int kAxiBeatBytes = 64;  // 512-bit data bus
+constexpr int kAxiMaxBeatBytes = 128;  // the widest m_axi data bus modelled: 1024 bits
 
 struct AxiMemoryParams {
   double bytesPerCycle = 64.0;   // 12.8 GB/s at 200 MHz
   int burstBytes = 64;           // DDR3 x64 BL8
+  int beatBytes = 64;            // m_axi data bytes: 64 (512-bit) or 128 (1024-bit); SystemSim sets the DUT's
   uint32_t latencyLo = 20;       // cycles (100 ns at 200 MHz)
   uint32_t latencyHi = 20;
   double readyProb = 1.0;
@@ -59,7 +63,7 @@ struct AxiMasterSignals {
   bool arvalid = false; uint32_t arid = 0; uint32_t araddr = 0; uint32_t arlen = 0, arsize = 0, arburst = 0;
   bool rready = false;
   bool awvalid = false; uint32_t awid = 0; uint32_t awaddr = 0; uint32_t awlen = 0, awsize = 0, awburst = 0;
-  bool wvalid = false; const uint8_t* wdata = nullptr; uint64_t wstrb = 0; bool wlast = false;
+  bool wvalid = false; const uint8_t* wdata = nullptr; uint64_t wstrb[kAxiMaxBeatBytes / 64] = {}; bool wlast = false;
   bool bready = false;
 };
 
@@ -67,7 +71,7 @@ struct AxiMasterSignals {
 struct AxiSlaveSignals {
   bool arready = false, awready = false, wready = false;
   bool rvalid = false; uint32_t rid = 0; uint32_t rresp = 0; bool rlast = false;
-  alignas(8) uint8_t rdata[kAxiBeatBytes] = {};
+  alignas(8) uint8_t rdata[kAxiMaxBeatBytes] = {};
   bool bvalid = false; uint32_t bid = 0; uint32_t bresp = 0;
 };
 
@@ -89,6 +93,7 @@ class AxiMemory {
   // Protocol violations seen (the first few, each naming the cycle and the burst).
   const std::vector<std::string>& violations() const { return violations_; }
   int64_t now() const { return now_; }
+  int beatBytes() const { return p_.beatBytes; }
 
   const AxiSlaveSignals& drive();
   void commit(const AxiMasterSignals& in);
@@ -111,7 +116,7 @@ class AxiMemory {
     int handle = -1;       // DRAM transfer
     uint32_t done = 0;     // R beats sent, or W beats taken
   };
-  struct WBeat { uint8_t data[kAxiBeatBytes]; uint64_t strb; bool last; };
+  struct WBeat { uint8_t data[kAxiMaxBeatBytes]; uint64_t strb[kAxiMaxBeatBytes / 64]; bool last; };
   struct Held { bool valid = false; uint32_t id, addr, len, size, burst; };
   uint32_t drawLatency();
   bool moved(const Burst& b) const { return b.handle >= 0 && dram_.done(b.handle); }

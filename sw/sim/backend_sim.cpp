@@ -69,7 +69,7 @@ bool runShowingProgress(SimCtx& x) {
   const std::vector<rtaccel::sim::AxiMemory::Region>& regions = x.sim.memory().regions();
   const rtaccel::sim::AxiMemory::Region* hits = nullptr;
   for (const auto& r : regions) if (r.name == "hits") hits = &r;
-  const auto written = [&] { return uint64_t(hits->writeBytes) / rtaccel::sim::kAxiBeatBytes; };
+  const auto written = [&] { return uint64_t(hits->writeBytes) / uint64_t(x.sim.memory().beatBytes()); };
   rtaccel::Progress bar("rtaccel sim:", hits ? (hits->hi - hits->lo) / 32 : 0);
   const uint64_t start = x.sim.cycles(), slice = 1 << 16;
   for (;;) {
@@ -110,9 +110,9 @@ rtaccel_status memoryJson(void* c, const char* path, char* err, size_t errn) {
   std::fprintf(f, "  \"dram\": {\"bytes\": %lld, \"bytesPerCycle\": %.6f, \"burstBytes\": %d, \"busyCycles\": %lld, "
                "\"totalBytes\": %lld},\n", (long long)b.dramBytes, d.bytesPerCycle(), d.burstBytes(),
                (long long)b.dramBusyCycles, (long long)d.bytes());
-  std::fprintf(f, "  \"axi\": {\"readBursts\": %lld, \"readBeats\": %lld, \"writeBursts\": %lld, \"writeBeats\": %lld, "
+  std::fprintf(f, "  \"axi\": {\"beatBytes\": %d, \"readBursts\": %lld, \"readBeats\": %lld, \"writeBursts\": %lld, \"writeBeats\": %lld, "
                "\"readStallCycles\": %lld, \"readOutstandingSum\": %lld, \"nonOkayResponses\": %lld},\n",
-               (long long)s.readBursts, (long long)s.readBeats, (long long)s.writeBursts, (long long)s.writeBeats,
+               m.beatBytes(), (long long)s.readBursts, (long long)s.readBeats, (long long)s.writeBursts, (long long)s.writeBeats,
                (long long)s.readStallCycles, (long long)s.readOutstandingSum, (long long)s.nonOkayResponses);
   std::fprintf(f, "  \"regions\": {");
   const auto& rs = m.regions();
@@ -136,7 +136,9 @@ void region(void* c, const char* name, uint64_t lo, uint64_t hi) {
 void batchStart(void* c) { static_cast<SimCtx*>(c)->sim.memory().batchStart(); }
 void closeCtx(void* c) { delete static_cast<SimCtx*>(c); }
 
-const rtaccel_backend kSimBackend = {"sim", regRead, regWrite, memWrite, memRead, waitIrq, simCycles, memoryJson, region, batchStart, closeCtx};
+uint32_t axiDataBits(void*) { return uint32_t(rtaccel::sim::dutAxiDataBits()); }
+const rtaccel_backend kSimBackend = {"sim", regRead, regWrite, memWrite, memRead, waitIrq, simCycles, memoryJson, region, batchStart, closeCtx,
+                                     axiDataBits};
 
 }  // namespace
 

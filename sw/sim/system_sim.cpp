@@ -1,6 +1,7 @@
 #include "system_sim.hpp"
 
 #include <cstring>
+#include <utility>
 
 #include "Vrtaccel_system.h"
 #include "verilated.h"
@@ -10,8 +11,21 @@
 
 namespace rtaccel::sim {
 
+namespace {
+// The m_axi data width of the Verilated design (SystemConfig.axiDataBits): the byte size of its rdata port.
+constexpr int kDutBeatBytes = int(sizeof(std::declval<Vrtaccel_system&>().m_axi_rdata));
+static_assert(kDutBeatBytes == 64 || kDutBeatBytes == 128, "rtaccel_system's m_axi is neither 512 nor 1024 bits wide");
+static_assert(sizeof(std::declval<Vrtaccel_system&>().m_axi_wstrb) == kDutBeatBytes / 8, "m_axi_wstrb: one bit per byte");
+AxiMemoryParams withDutBeat(AxiMemoryParams p) {
+  p.beatBytes = kDutBeatBytes;
+  return p;
+}
+}  // namespace
+
+int dutAxiDataBits() { return 8 * kDutBeatBytes; }
+
 SystemSim::SystemSim(const AxiMemoryParams& mem, const char* vcdPath)
-    : ctx_(new VerilatedContext), mem_(mem) {
+    : ctx_(new VerilatedContext), mem_(withDutBeat(mem)) {
   ctx_->randReset(0);  // registers without a reset start at 0 (with --x-initial fast as well)
   top_.reset(new Vrtaccel_system(ctx_.get(), "rtaccel_system"));
 #if VM_TRACE
@@ -63,7 +77,7 @@ void SystemSim::step() {
   t.m_axi_rid = m.rid;
   t.m_axi_rresp = m.rresp;
   t.m_axi_rlast = m.rlast;
-  std::memcpy(&t.m_axi_rdata[0], m.rdata, kAxiBeatBytes);
+  std::memcpy(&t.m_axi_rdata[0], m.rdata, kDutBeatBytes);
   t.m_axi_bvalid = m.bvalid;
   t.m_axi_bid = m.bid;
   t.m_axi_bresp = m.bresp;
@@ -88,7 +102,8 @@ void SystemSim::step() {
   in_.awvalid = t.m_axi_awvalid; in_.awid = t.m_axi_awid; in_.awaddr = t.m_axi_awaddr;
   in_.awlen = t.m_axi_awlen; in_.awsize = t.m_axi_awsize; in_.awburst = t.m_axi_awburst;
   in_.wvalid = t.m_axi_wvalid; in_.wdata = reinterpret_cast<const uint8_t*>(&t.m_axi_wdata[0]);
-  in_.wstrb = t.m_axi_wstrb; in_.wlast = t.m_axi_wlast;
+  std::memcpy(in_.wstrb, &t.m_axi_wstrb, kDutBeatBytes / 8);  // a QData (512-bit bus) or a VlWide's words, little-endian
+  in_.wlast = t.m_axi_wlast;
   in_.bready = t.m_axi_bready;
   if (t.aresetn) mem_.commit(in_);
   if (arPending_ && t.s_axi_arready) arPending_ = false;

@@ -21,6 +21,9 @@ class VerilatedVcdC;
 
 namespace rtaccel::sim {
 
+// m_axi's data width in bits of the Verilated rtaccel_system linked in (SystemConfig.axiDataBits).
+int dutAxiDataBits();
+
 struct SimError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };

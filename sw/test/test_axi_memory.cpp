@@ -27,7 +27,7 @@ static int failures = 0;
     }                                                                      \
   } while (0)
 
-struct Beat { int64_t cycle; uint32_t id, resp; bool last; uint8_t data[64]; };
+struct Beat { int64_t cycle; uint32_t id, resp; bool last; uint8_t data[kAxiMaxBeatBytes]; };
 
 // A scripted master: ARs issued at given cycles (as soon as ready after), R always ready.
 struct Ar { int64_t at; uint32_t id, addr, len, size = 6, burst = 1; };
@@ -46,7 +46,7 @@ static std::vector<Beat> runReads(AxiMemory& m, std::vector<Ar> ars, int64_t cyc
     }
     if (o.rvalid) {
       Beat b{c, o.rid, o.rresp, o.rlast, {}};
-      std::memcpy(b.data, o.rdata, 64);
+      std::memcpy(b.data, o.rdata, m.beatBytes());
       beats.push_back(b);
     }
     m.commit(in);
@@ -175,7 +175,7 @@ static void writes() {
     AxiMasterSignals in;
     in.bready = true;
     if (aw) { in.awvalid = true; in.awid = 5; in.awaddr = 0x3000; in.awlen = 1; in.awsize = 6; in.awburst = 1; }
-    if (!aw && w < 2) { in.wvalid = true; in.wdata = beat[w]; in.wstrb = w == 0 ? 0xffffffffULL : ~0ULL; in.wlast = w == 1; }
+    if (!aw && w < 2) { in.wvalid = true; in.wdata = beat[w]; in.wstrb[0] = w == 0 ? 0xffffffffULL : ~0ULL; in.wlast = w == 1; }
     if (o.bvalid) { CHECK(o.bid == 5 && o.bresp == 0, "B id %u resp %u", o.bid, o.bresp); bAt = c; }
     bool awFire = in.awvalid && o.awready, wFire = in.wvalid && o.wready;
     m.commit(in);
@@ -193,6 +193,54 @@ static void writes() {
   CHECK(m.stats().writeBeats == 2 && m.dram().bytes() == 128, "write stats");
 }
 
+// A 1024-bit bus (beatBytes 128): beats of 128 bytes, the DDR still charged in 64-byte bursts of its bytes;
+// a 64-byte (narrow) burst is refused; a write's strobes cover both 64-byte halves of its beat.
+static void wideBeats() {
+  AxiMemoryParams p = fixed(10);
+  p.beatBytes = 128;
+  AxiMemory m(p);
+  std::vector<uint8_t> img(512);
+  for (size_t i = 0; i < img.size(); ++i) img[i] = uint8_t(i * 7 + 3);
+  m.memory().write(0x1000, img.data(), img.size());
+  auto r = runReads(m, {{0, 3, 0x1080, 1, 7}, {0, 4, 0x1000, 0, 6}}, 40);
+  CHECK(r.size() == 3, "beats %zu", r.size());
+  if (r.size() == 3) {
+    CHECK(r[0].id == 3 && r[1].id == 3 && !r[0].last && r[1].last && r[0].resp == 0, "2-beat burst of ID 3");
+    CHECK(std::memcmp(r[0].data, img.data() + 0x80, 128) == 0 && std::memcmp(r[1].data, img.data() + 0x100, 128) == 0,
+          "128-byte beats carry memory");
+    // 256 bytes at 64 B/cycle: 4 cycles of channel after latency 10 (seen from cycle 10 + 3).
+    CHECK(r[0].cycle == 13, "first beat at %lld", (long long)r[0].cycle);
+    CHECK(r[2].id == 4 && r[2].resp == 2, "a 64-byte beat on the 1024-bit bus answered SLVERR");
+  }
+  CHECK(m.violations().size() == 1, "violations %zu", m.violations().size());
+  CHECK(m.dram().bytes() == 256 + 128, "DDR bytes %lld", (long long)m.dram().bytes());
+  // One write beat at 0x2000, strobes on bytes 96..127 only (a 32-byte record in the last quarter).
+  AxiMemory w(p);
+  std::vector<uint8_t> before(128, 0xee);
+  w.memory().write(0x2000, before.data(), before.size());
+  uint8_t beat[128];
+  for (int i = 0; i < 128; ++i) beat[i] = uint8_t(200 + i);
+  bool aw = true, wd = true, b = false;
+  for (int64_t c = 0; c < 40; ++c) {
+    const AxiSlaveSignals& o = w.drive();
+    AxiMasterSignals in;
+    in.bready = true;
+    if (aw) { in.awvalid = true; in.awid = 0; in.awaddr = 0x2000; in.awlen = 0; in.awsize = 7; in.awburst = 1; }
+    if (wd) { in.wvalid = true; in.wdata = beat; in.wstrb[0] = 0; in.wstrb[1] = 0xffffffff00000000ULL; in.wlast = true; }
+    b = b || o.bvalid;
+    bool awFire = in.awvalid && o.awready, wFire = in.wvalid && o.wready;
+    w.commit(in);
+    w.tick();
+    if (awFire) aw = false;
+    if (wFire) wd = false;
+  }
+  uint8_t got[128];
+  w.memory().read(0x2000, got, 128);
+  CHECK(b && std::memcmp(got, before.data(), 96) == 0 && std::memcmp(got + 96, beat + 96, 32) == 0, "wide write under wstrb");
+  CHECK(w.violations().empty() && w.dram().bytes() == 128, "wide write: %zu violations, %lld DDR bytes",
+        w.violations().size(), (long long)w.dram().bytes());
+}
+
 static void protocolErrors() {
   AxiMemory m(fixed(2));
   auto r = runReads(m, {{0, 1, 0x0fc0, 1}, {0, 2, 0x2000, 0, 6, 2 /*WRAP*/}}, 20);
@@ -208,6 +256,7 @@ int main(int argc, char** argv) {
   latencyAndBandwidth();
   idsAndData(seed);
   writes();
+  wideBeats();
   protocolErrors();
   if (failures) { std::printf("test_axi_memory: %d failures\n", failures); return 1; }
   std::printf("test_axi_memory: all passed\n");

@@ -2,7 +2,7 @@ package rtaccel.system
 
 import chisel3._
 import chisel3.util._
-import rtaccel.axi.{Axi4Addr, Axi4Params, Axi4R, BurstMath}
+import rtaccel.axi.{Axi4Addr, Axi4Params, Axi4R, BurstMath, ByteRotate}
 import rtaccel.mem.{MemPortParams, MemRequest, MemResponse}
 
 /** The on-chip node store: the first `capacityBytes` bytes of the node array
@@ -21,6 +21,15 @@ import rtaccel.mem.{MemPortParams, MemRequest, MemResponse}
   * cannot flood the slave's queues; 8 x 16 beats cover DRAM latency). Beats
   * of one ID arrive in order, so a line counter places them.
   *
+  * A beat wider than the base's 64-byte alignment (a 1024-bit m_axi: the
+  * image's node array starts at offset 64) is read from the beat-aligned
+  * address below `base`: with `off` = base mod beat, line j (store bytes
+  * j*B ..) is beat j's bytes from `off` on, then beat j+1's first `off`
+  * bytes, so each beat, rotated right by `off`, completes the line before
+  * it, one extra beat at the end. Every write is still one whole line, so
+  * the storage maps to block RAM as before. A base that is not 64-byte
+  * aligned sets `error` (the contract's alignment).
+  *
   * A request hits when the store is loaded, its address is record-aligned
   * relative to `base`, and lies below base + storedBytes. Latency: request
   * accepted in cycle t, response offered from t + `NodeStore.Latency` = 2
@@ -37,7 +46,10 @@ class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes:
   require(capacityBytes > 0 && capacityBytes % wordBytes == 0, s"NodeStore: capacity $capacityBytes is not a positive multiple of $wordBytes bytes")
   private val words     = capacityBytes / wordBytes
   private val lines     = capacityBytes / B
-  private val lineBits  = log2Ceil(lines + 1)
+  /** The beat is wider than the base's alignment: the fill reads one beat more and realigns (above). */
+  private val realign   = B > NodeStore.BaseAlign
+  /** Counts of beats: the lines, and the realigning fill's extra beat. */
+  private val lineBits  = log2Ceil(lines + (if (realign) 2 else 1))
 
   val io = IO(new Bundle {
     val load  = new NodeStoreLoad(p.addrBits)
@@ -63,12 +75,20 @@ class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes:
   private val errorReg    = RegInit(false.B)
   // A start while a fill runs is ignored: beats of its bursts are still on the way.
   private val startNow = io.load.start && !busyReg
+  // The base's offset in its beat, in whole 64-byte lines (0 unless `realign`).
+  private val alignBits = log2Ceil(NodeStore.BaseAlign)
+  private val offReg = Option.when(realign)(RegInit(0.U((beatBits - alignBits).W)))
+  private val storedLinesReg = Option.when(realign)(RegInit(0.U(lineBits.W)))
   when(startNow) {
     // Whole words (a node never straddles the end), at most the capacity.
     val wanted = (io.load.bytes +& (wordBytes - 1).U) >> log2Ceil(wordBytes)
     val ws     = Mux(wanted > words.U, words.U, wanted)
     baseReg     := io.load.base
-    totalReg    := ws << log2Ceil(lanes)
+    val off     = offReg.map(_ => io.load.base(beatBits - 1, alignBits))
+    totalReg    := off.fold(ws << log2Ceil(lanes))(o => (ws << log2Ceil(lanes)) +& (o =/= 0.U).asUInt)
+    offReg.zip(off).foreach { case (r, o) => r := o }
+    storedLinesReg.foreach(_ := ws << log2Ceil(lanes))
+    if (realign) when(io.load.base(alignBits - 1, 0) =/= 0.U) { errorReg := true.B }
     issuedReg   := 0.U
     receivedReg := 0.U
     busyReg     := true.B
@@ -99,7 +119,7 @@ class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes:
     fillAddrReg := fillAddrReg + (arBeatsReg << beatBits)
   }
   when(startNow) {
-    fillAddrReg := io.load.base
+    fillAddrReg := (if (realign) Cat(io.load.base(p.addrBits - 1, beatBits), 0.U(beatBits.W)) else io.load.base)
     arPendReg   := false.B
   }
   private val beatOk = busyReg && receivedReg =/= issuedReg && io.r.bits.resp === 0.U
@@ -117,11 +137,12 @@ class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes:
   private val wDataReg  = RegEnable(io.r.bits.data, fillWrite)
   io.load.busy        := busyReg
   io.load.done        := loadedReg
-  io.load.storedBytes := Mux(loadedReg, totalReg << beatBits, 0.U)
+  // Lines held: the beats read, but the realigning fill's extra one.
+  private val storedBytes = storedLinesReg.getOrElse(totalReg) << beatBits
+  io.load.storedBytes := Mux(loadedReg, storedBytes, 0.U)
   io.error            := errorReg
 
   // ---- Serve ----
-  private val storedBytes = totalReg << beatBits
   // The end of the stored bytes, registered: it follows baseReg and totalReg a
   // cycle late, and a hit needs loadedReg, set only when the fill is done, many
   // cycles after both were loaded. So the hit test is two compares side by
@@ -135,9 +156,21 @@ class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes:
   }
   private val copies  = (clients + 1) / 2
   private val mems    = Seq.fill(copies)(SyncReadMem(words, Vec(lanes, UInt((8 * B).W))))
-  private val wWord   = if (lanes == 1) wLineReg else wLineReg >> log2Ceil(lanes)
-  private val wMask   = VecInit((0 until lanes).map(l => if (lanes == 1) true.B else wLineReg(log2Ceil(lanes) - 1, 0) === l.U))
-  private val wData   = VecInit(Seq.fill(lanes)(wDataReg))
+  // The line a staged beat writes and its bytes: the beat itself, or (realigning) the line before it, completed.
+  private val (wEnable, wLine, wLineData) = offReg match {
+    case None => (wValidReg, wLineReg, wDataReg)
+    case Some(off) =>
+      val rot     = ByteRotate.right(wDataReg, Cat(off, 0.U(alignBits.W)))
+      val prevReg = RegEnable(rot, wValidReg)
+      // Bytes below B - off of the line come from the beat before (rotated), the rest from this one.
+      val keep    = (0 until B).map(j => Cat(off, 0.U(alignBits.W)) +& j.U < B.U)
+      val merged  = Cat((0 until B).reverse.map(j => Mux(keep(j), prevReg(8 * j + 7, 8 * j), rot(8 * j + 7, 8 * j))))
+      val shifted = off =/= 0.U
+      (wValidReg && !(shifted && wLineReg === 0.U), Mux(shifted, wLineReg - 1.U, wLineReg), Mux(shifted, merged, wDataReg))
+  }
+  private val wWord   = if (lanes == 1) wLine else wLine >> log2Ceil(lanes)
+  private val wMask   = VecInit((0 until lanes).map(l => if (lanes == 1) true.B else wLine(log2Ceil(lanes) - 1, 0) === l.U))
+  private val wData   = VecInit(Seq.fill(lanes)(wLineData))
 
   for (c <- 0 until clients) {
     val mem    = mems(c / 2)
@@ -149,10 +182,10 @@ class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes:
     val fire = io.req(c).fire
     val rel  = io.req(c).bits.addr - baseReg
     val word = rel >> log2Ceil(wordBytes)
-    val rdata = if (c % 2 == 0) mem.readWrite(Mux(wValidReg, wWord, word), wData, wMask, wValidReg || fire, wValidReg)
+    val rdata = if (c % 2 == 0) mem.readWrite(Mux(wEnable, wWord, word), wData, wMask, wEnable || fire, wEnable)
                 else mem.read(word, fire)
     // A hit is only accepted when loaded, and the fill writes only while not loaded.
-    when(fire && wValidReg) { errorReg := true.B }
+    when(fire && wEnable) { errorReg := true.B }
     s1ValidReg := fire
     val s1TagReg = RegEnable(io.req(c).bits.tag, fire)
     val s1SubReg = RegEnable(rel(log2Ceil(wordBytes) - 1, 0), fire)
@@ -176,6 +209,8 @@ object NodeStore {
   val Latency = 2
   val FillBurstBeats = 16
   val FillBursts = 8
+  /** The node array's alignment in DDR (NodeStoreLoad: `base` is 64-byte aligned). */
+  val BaseAlign = 64
   /** Output queue per client: the read in the pipeline + 1 more than it takes to see a dequeue, so a client that always takes keeps one per cycle. */
   val OutDepth: Int = Latency + 1
 }

@@ -11,7 +11,11 @@ import rtaccel.axi.Axi4Params
   *
   * @param core           the accelerator core's configuration, replicated `cores` times
   * @param cores          accelerator cores sharing the memory side
-  * @param axiDataBits    m_axi data width: 512, the MIG 7-series user interface of the PL DDR3 (4:1, 64-bit SODIMM)
+  * @param axiDataBits    m_axi data width, by default [[SystemConfig.defaultAxiDataBits]]: 512 bits, the MIG
+  *                       7-series user interface of the PL DDR3 (4:1, 64-bit SODIMM), one 64-byte beat per cycle;
+  *                       or 1024, one 128-byte beat per cycle, what the PL DDR3's 12.8 GB/s carries at 100 MHz
+  *                       (the AXI SmartConnect converts width and clock to the MIG's 512 bits at 200 MHz;
+  *                       docs/system-wide.md)
   * @param axiAddrBits    m_axi address width (the PL DDR3's 1 GB needs 30; 32 as the MIG presents it)
   * @param axiIdBits      m_axi ID width; read IDs name outstanding records (MemoryFabric)
   * @param nodeStoreBytes on-chip node store (top of the tree, preloaded): see docs/node-store.md
@@ -23,7 +27,7 @@ import rtaccel.axi.Axi4Params
 case class SystemConfig(
     core: AccelConfig = AccelConfig.zc706,
     cores: Int = 2,
-    axiDataBits: Int = 512,
+    axiDataBits: Int = SystemConfig.defaultAxiDataBits,
     axiAddrBits: Int = 32,
     axiIdBits: Int = 6,
     nodeStoreBytes: Int = 1024 * 1024,
@@ -32,6 +36,8 @@ case class SystemConfig(
     hitQueue: Int = 4
 ) {
   require(cores >= 1, s"SystemConfig: cores must be >= 1, got $cores")
+  require(SystemConfig.AxiDataBitsChoices.contains(axiDataBits),
+    s"SystemConfig: axiDataBits must be one of ${SystemConfig.AxiDataBitsChoices.mkString(", ")}, got $axiDataBits")
   require(nodeStoreBytes >= 0, s"SystemConfig: nodeStoreBytes must be >= 0, got $nodeStoreBytes")
   require(core.addrBits == axiAddrBits, s"SystemConfig: core.addrBits (${core.addrBits}) must equal axiAddrBits ($axiAddrBits)")
   require(raysPerBlock * SystemConfig.RayBytes % 64 == 0, s"SystemConfig: a ray block must be whole 64-byte lines, got $raysPerBlock rays")
@@ -44,6 +50,18 @@ case class SystemConfig(
 }
 
 object SystemConfig {
+  /** m_axi widths the system is built and tested for: the MIG's user interface (512) and twice it (1024). */
+  val AxiDataBitsChoices: Seq[Int] = Seq(512, 1024)
+  /** The m_axi width of every SystemConfig that names none: `AXI_DATA_BITS` from the environment (make passes a
+    * command-line variable on to sbt, so `make verilog AXI_DATA_BITS=1024`, `make cppsim-test AXI_DATA_BITS=1024`
+    * and a spec run under it all build the wide system), else 512. Read once per JVM.
+    */
+  lazy val defaultAxiDataBits: Int = axiDataBitsOf(sys.env.get("AXI_DATA_BITS"))
+  def axiDataBitsOf(setting: Option[String]): Int = setting.map(_.trim).filter(_.nonEmpty) match {
+    case None => 512
+    case Some(v) => v.toIntOption.filter(AxiDataBitsChoices.contains).getOrElse(throw new IllegalArgumentException(
+      s"AXI_DATA_BITS=$v: the m_axi data width must be one of ${AxiDataBitsChoices.mkString(", ")}"))
+  }
   /** Ray and hit records in DDR (docs/register-map.md). */
   val RayBytes = 48
   val HitBytes = 32

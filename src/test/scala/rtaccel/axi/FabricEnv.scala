@@ -14,7 +14,8 @@ import scala.util.Random
   */
 final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
   import MemoryFabricSpec._
-  val mem = new AxiMemoryHarness(dut.io.axi, new AxiMemoryModel(params))
+  /** The slave's beat is the fabric's m_axi width (MemoryFabricSpec.sys). */
+  val mem = new AxiMemoryHarness(dut.io.axi, new AxiMemoryModel(params.copy(beatBytes = sys.axiDataBytes)))
   private val image = Array.fill(ReadSpan)(rnd.nextInt(256).toByte)
   mem.model.mem.write(0, image)
   private def expected(addr: Long, n: Int): BigInt = SparseMemory.toLE(image.slice(addr.toInt, addr.toInt + n))

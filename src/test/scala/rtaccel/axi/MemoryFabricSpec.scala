@@ -81,8 +81,9 @@ object MemoryFabricSpec {
     MemPortParams(32, 5, NodeBytes), MemPortParams(32, 5, NodeBytes), MemPortParams(32, 4, 48),
     MemPortParams(32, 3, 64), MemPortParams(32, 4, 200), MemPortParams(32, 3, 32))
   val nodeFlags: Seq[Boolean] = Seq(true, true, false, false, false, false)
-  /** The node array starts 256 bytes below a 4 KB boundary, so the fill's bursts must split there. */
-  val NodeBase: Long = 0x2f00
+  /** The node array starts 320 bytes below a 4 KB boundary, so the fill's bursts must split there, and 64 bytes
+    * into a 128-byte beat, so a 1024-bit m_axi's fill (AXI_DATA_BITS=1024) must realign (NodeStore). */
+  val NodeBase: Long = 0x2ec0
   val NodeCount = 64
   val TriBase: Long = 0x6000
   val StoreLoadBytes: Int = NodeCount * NodeBytes

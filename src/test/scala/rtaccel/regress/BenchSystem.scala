@@ -153,39 +153,57 @@ object BenchSystem {
     println(s"bench: system: ${v.coresFit} cores fit, Fmax estimate ${"%.1f".format(v.fmaxMhz)} MHz (${v.slowestUnit}); " +
       s"simulating ${cores.mkString(", ")} cores at $mhz MHz")
     val packages = a.runs.map { run =>
-      val dir = packageDir(root, run)
-      Bridge.compile(a.bridge, Paths.get(run.xml), dir, run.rays, bvh = Some(Layout))
-      val p = ScenePackage.load(dir)
-      require(p.misfits(cfg).isEmpty, s"${run.name} ($Layout): ${p.misfits(cfg).mkString("; ")}")
-      val rays = SpeedRuns.sample(p.rays, a.maxRays)
-      val g = GoldenHits.run(cfg, p.image, golden, rays, a.threads).hits.map(h => h.number -> h).toMap
-      val sub = subsetPackage(p, rays, root.resolve("system").resolve(s"${run.name}-${rays.size}"))
-      val e = embree(a.bridge, dir)
+      val x = prepare(a, cfg, golden, root, run)
+      val e = embree(a.bridge, packageDir(root, run))
       println(f"bench: ${run.name}: Embree ${e.packetsMrays}%.2f Mrays/s (packets of 8, ${e.threads} threads, load ${e.load1}%.2f)")
-      (run, p, rays, g, sub, e)
+      (x, e)
     }
-    val rows = for (n <- cores; dir = CppSim.build(cfg, dp, n); (run, p, rays, g, sub, _) <- packages) yield {
-      val out = root.resolve("system").resolve(s"${run.name}-c$n")
-      Files.createDirectories(out)
-      val args = RegressArgs(sub, out, fabricMhz = mhz.toDouble)
-      val (r, speed) = CppSim.run(args, dir, p.image.nodeBytes.toInt, MemoryImage.TriBytes.toInt, rays.size)
-      // Hit i answers the subset's ray i: give it the set's number back before the golden check.
-      val hits: Seq[HitRecord] = r.hits.zipWithIndex.map { case (h, i) => h.copy(number = rays(i).number) }
-      val bad = SweepPoint.sameAnswers(rays.map(x => x.number -> x).toMap, hits, g)
-      require(bad == 0, s"${run.name}, $n cores: $bad of ${rays.size} rays differ from the golden model")
-      def perf(k: String) = r.perf.getOrElse(k, BigInt(0)).toDouble
-      val storeReads = perf("nodeStoreHits") + perf("nodeStoreMisses")
-      // m_axi's R beats in the batch (the DDR model's count): 64 bytes each, at most one per cycle.
-      val readBeats = ujson.read(Files.readString(out.resolve("sim-memory.json")))("axi")("readBeats").num
-      val row = ujson.Obj("run" -> run.name, "cores" -> n, "rays" -> rays.size, "raySetSize" -> p.rays.size,
-        "cycles" -> r.cycles.toDouble, "raysPerCycle" -> rays.size.toDouble / r.cycles,
-        "nodeStoreHitRate" -> (if (storeReads > 0) perf("nodeStoreHits") / storeReads else 0.0),
-        "dramBytesPerRay" -> r.dram.fold(0.0)(_.bytes.toDouble / rays.size), "readBytesPerRay" -> 64 * readBeats / rays.size,
-        "readBeatsPerCycle" -> readBeats / r.cycles, "goldenMismatches" -> bad,
-        "simCyclesPerSecond" -> speed("cyclesPerSecond").num, "simCyclesPerCpuSecond" -> speed("cyclesPerCpuSecond").num)
-      println(f"bench: system ${run.name}%-20s $n cores ${rays.size}%5d rays ${r.cycles}%,9d cycles ${rays.size.toDouble / r.cycles}%.4f r/c")
-      row
-    }
-    Result(rows, packages.map { case (run, _, _, _, _, e) => run.name -> e }.toMap, v, mhz, sim)
+    val rows = for (n <- cores; dir = CppSim.build(cfg, dp, n); (x, _) <- packages)
+      yield simulate(x, n, dir, mhz, root.resolve("system").resolve(s"${x.run.name}-c$n"))
+    Result(rows, packages.map { case (x, e) => x.run.name -> e }.toMap, v, mhz, sim)
+  }
+
+  /** A ray set ready to simulate: its package, the sample simulated, the golden model's hits for it (by ray number)
+    * and the subset package rtaccel-sim reads. */
+  final case class Prepared(run: Bench.Run, p: ScenePackage, rays: IndexedSeq[RayRecord], golden: Map[Long, HitRecord], sub: Path)
+
+  def prepare(a: Bench.Args, cfg: AccelConfig, golden: rtaccel.datapath.FloatGolden, root: Path, run: Bench.Run): Prepared = {
+    val dir = packageDir(root, run)
+    Bridge.compile(a.bridge, Paths.get(run.xml), dir, run.rays, bvh = Some(Layout))
+    val p = ScenePackage.load(dir)
+    require(p.misfits(cfg).isEmpty, s"${run.name} ($Layout): ${p.misfits(cfg).mkString("; ")}")
+    val rays = SpeedRuns.sample(p.rays, a.maxRays)
+    val g = GoldenHits.run(cfg, p.image, golden, rays, a.threads).hits.map(h => h.number -> h).toMap
+    Prepared(run, p, rays, g, subsetPackage(p, rays, root.resolve("system").resolve(s"${run.name}-${rays.size}")))
+  }
+
+  /** One row: `x` through the simulator built in `dir` (`cores` cores) with the DDR model at `mhz`, every hit
+    * checked against the golden model (a mismatch fails). */
+  def simulate(x: Prepared, cores: Int, dir: Path, mhz: Int, out: Path): ujson.Obj = {
+    val Prepared(run, p, rays, g, sub) = x
+    val n = cores
+    Files.createDirectories(out)
+    val args = RegressArgs(sub, out, fabricMhz = mhz.toDouble)
+    val (r, speed) = CppSim.run(args, dir, p.image.nodeBytes.toInt, MemoryImage.TriBytes.toInt, rays.size)
+    // Hit i answers the subset's ray i: give it the set's number back before the golden check.
+    val hits: Seq[HitRecord] = r.hits.zipWithIndex.map { case (h, i) => h.copy(number = rays(i).number) }
+    val bad = SweepPoint.sameAnswers(rays.map(x => x.number -> x).toMap, hits, g)
+    require(bad == 0, s"${run.name}, $n cores: $bad of ${rays.size} rays differ from the golden model")
+    def perf(k: String) = r.perf.getOrElse(k, BigInt(0)).toDouble
+    val storeReads = perf("nodeStoreHits") + perf("nodeStoreMisses")
+    // m_axi's R beats in the batch (the DDR model's count), of the m_axi width each, at most one per cycle.
+    val axi = ujson.read(Files.readString(out.resolve("sim-memory.json")))("axi")
+    val readBeats = axi("readBeats").num
+    val beatBytes = axi("beatBytes").num
+    val row = ujson.Obj("run" -> run.name, "cores" -> n, "rays" -> rays.size, "raySetSize" -> p.rays.size,
+      "cycles" -> r.cycles.toDouble, "raysPerCycle" -> rays.size.toDouble / r.cycles,
+      "nodeStoreHitRate" -> (if (storeReads > 0) perf("nodeStoreHits") / storeReads else 0.0),
+      "dramBytesPerRay" -> r.dram.fold(0.0)(_.bytes.toDouble / rays.size), "readBytesPerRay" -> beatBytes * readBeats / rays.size,
+      "readBeatsPerCycle" -> readBeats / r.cycles, "axiDataBits" -> 8 * beatBytes,
+      "dramBusy" -> r.dram.fold(0.0)(_.busyCycles.toDouble / r.cycles), "goldenMismatches" -> bad,
+      "simCyclesPerSecond" -> speed("cyclesPerSecond").num, "simCyclesPerCpuSecond" -> speed("cyclesPerCpuSecond").num)
+    println(f"bench: system ${run.name}%-20s $n cores ${8 * beatBytes}%.0f-bit m_axi ${rays.size}%5d rays ${r.cycles}%,9d cycles " +
+      f"${rays.size.toDouble / r.cycles}%.4f r/c")
+    row
   }
 }

@@ -13,8 +13,9 @@ object BenchSystemMarkdown {
   /** The clock the per-core table's DDR model and the MIG's AXI side assume (FABRIC_MHZ's default):
     * the ceiling the clock term is measured against. An assumption, not a timing result. */
   val ClockCeilingMhz = 200.0
-  /** m_axi moves one 64-byte beat per cycle: the DRAM can never give the system more per cycle. */
-  val BeatBytes = 64.0
+  /** m_axi moves one beat per cycle, of its width (a row's `axiDataBits`; rows cached before it was recorded: 512 bits,
+    * 64 bytes): the DRAM can never give the system more per cycle. */
+  def beatBytes(row: ujson.Value): Double = row.obj.get("axiDataBits").fold(64.0)(_.num / 8)
   val DdrBytesPerSecond = 12.8e9
 
   private def f(x: Double, d: Int) = s"%.${d}f".format(x)
@@ -35,7 +36,7 @@ object BenchSystemMarkdown {
       "store, ray and hit DMA through DDR, registers), 4-wide FP32 watertight cores (conservative boxes, 64 ray IDs each),",
       "under the C++ harness (`sw/sim/`, driven by librtaccel as on the board) with the ZC706 DDR model behind `m_axi`:",
       "12.8 GB/s, 64-byte bursts, 100 ns latency, 64 outstanding, out of order, clocked at the accelerator's estimated",
-      s"clock, ${f(simMhz, 0)} MHz (${f(DdrBytesPerSecond / (simMhz * 1e6), 0)} B/cycle, at most one 64-byte beat per cycle on `m_axi`).",
+      s"clock, ${f(simMhz, 0)} MHz (${f(DdrBytesPerSecond / (simMhz * 1e6), 0)} B/cycle, at most one ${r.rows.map(beatBytes).distinct.map(f(_, 0)).mkString("/")}-byte beat per cycle on `m_axi`).",
       s"Cycles are the CYCLES register (START to DONE). Each run simulates at most $maxRays rays, strided over the set,",
       "every one checked bit for bit against the golden model.", "",
       s"From `make verilog` (`build/verilog/resources.md`, ${v.title}): **$fit cores fit** on the xc7z045, and the",
@@ -91,10 +92,10 @@ object BenchSystemMarkdown {
     if (est >= target) return s"- $what: **met**, ${f(est, 1)} Mrays/s."
     val need = target / est
     // Ceilings: the clock at ClockCeilingMhz; cores at what fits (area); rays/cycle at the memory bound of the fitting
-    // system at this clock: the least of m_axi's R channel (one 64-byte beat per cycle over its read bytes per ray)
+    // system at this clock: the least of m_axi's R channel (one beat of its width per cycle over its read bytes per ray)
     // and the DDR (12.8 GB/s in bytes per cycle over its DRAM bytes per ray, reads and writes in whole bursts).
     def over(bytesPerCycle: Double, perRay: Double) = if (perRay > 0) bytesPerCycle / perRay else Double.PositiveInfinity
-    val dramBound = math.min(over(BeatBytes, x("readBytesPerRay").num), over(DdrBytesPerSecond / (mhz * 1e6), x("dramBytesPerRay").num))
+    val dramBound = math.min(over(beatBytes(x), x("readBytesPerRay").num), over(DdrBytesPerSecond / (mhz * 1e6), x("dramBytesPerRay").num))
     val terms = Seq(
       ("clock", ClockCeilingMhz / mhz, s"${f(mhz, 0)} MHz now; the goal needs ${f(mhz * need, 0)} MHz at these cores and rays/cycle (ceiling taken as ${f(ClockCeilingMhz, 0)} MHz, the fabric clock the DDR model and the MIG's AXI side assume)"),
       ("rays/cycle", dramBound / sysRpc, s"${f(sysRpc, 4)} per system now (${f(sysRpc / fit, 4)} per core); the goal needs ${f(sysRpc * need, 4)}; the memory bound at this clock is ${if (dramBound.isInfinite) "none (no DRAM traffic)" else f(dramBound, 4)} (m_axi R: ${f(x("readBytesPerRay").num, 0)} bytes/ray at ${f(x("readBeatsPerCycle").num, 2)} beats/cycle now; DDR: ${f(x("dramBytesPerRay").num, 0)} bytes/ray)"),

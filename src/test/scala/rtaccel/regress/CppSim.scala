@@ -22,8 +22,9 @@ import scala.sys.process._
   */
 object CppSim {
   /** Where the simulator of a configuration is built (make reuses an unchanged build). */
-  def simDir(dp: String, cfg: AccelConfig, cores: Int): Path =
-    Paths.get("build", "cppsim", s"system_${dp}_c${cores}_n${cfg.numRayIds}_d${cfg.stackDepth}_k${cfg.boxLanes}").toAbsolutePath
+  def simDir(dp: String, cfg: AccelConfig, cores: Int, axiDataBits: Int = SystemConfig.defaultAxiDataBits): Path =
+    Paths.get("build", "cppsim", s"system_${dp}_c${cores}_n${cfg.numRayIds}_d${cfg.stackDepth}_k${cfg.boxLanes}" +
+      (if (axiDataBits == 512) "" else s"_w$axiDataBits")).toAbsolutePath
 
   /** make cppsim-test's build, under a name that does not spell its configuration: `make render RTL=1` and
     * the Nori drop-in's rtl mode (mk/render.mk, scripts/render.sh) link against it, so the configuration
@@ -44,11 +45,12 @@ object CppSim {
     * clang's model executes 10.6% fewer instructions per simulated cycle than gcc's build and 5.3% fewer than
     * session 7's gcc profile-guided one, and builds in less time (docs/cppsim.md "Speed").
     */
-  def build[T <: Data](cfg: AccelConfig, dp: Datapath[T], cores: Int = 1, clang: Boolean = false): Path = {
-    val plain = simDir(dp.name, cfg, cores)
+  def build[T <: Data](cfg: AccelConfig, dp: Datapath[T], cores: Int = 1, clang: Boolean = false,
+      axiDataBits: Int = SystemConfig.defaultAxiDataBits): Path = {
+    val plain = simDir(dp.name, cfg, cores, axiDataBits)
     val dir = if (clang) plain.resolveSibling(plain.getFileName.toString + "_clang") else plain
     Files.createDirectories(dir)
-    def gen = new RtAccelSystem(SystemConfig(core = cfg, cores = cores), dp)  // by name: elaborated inside the emitter
+    def gen = new RtAccelSystem(SystemConfig(core = cfg, cores = cores, axiDataBits = axiDataBits), dp)  // by name: elaborated inside the emitter
     val sv = if (clang) circt.stage.ChiselStage.emitSystemVerilog(gen, firtoolOpts = ClangModelFirtoolOpts) else Synth.emit(gen)
     val svPath = dir.resolve("rtaccel_system.sv")
     // Rewritten only when it changed, so make keeps a build of the same hardware.

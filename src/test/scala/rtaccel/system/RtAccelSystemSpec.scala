@@ -85,7 +85,7 @@ class RtAccelSystemSpec extends AnyFlatSpec with ChiselScalatestTester {
         // Identity, configuration, access rules.
         assert(h.read("ID") == RegisterMap.Id && h.read("VERSION") == RegisterMap.Version)
         assert(h.read("CONFIG_CORES") == 2 && h.read("CONFIG_LAYOUT") == 4 && h.read("CONFIG_RAY_IDS") == 8)
-        assert(h.read("CONFIG_STACK_DEPTH") == cfg.stackDepth && h.read("CONFIG_FLOAT") == (8 << 8 | 23) && h.read("CONFIG_AXI_DATA_BITS") == 512)
+        assert(h.read("CONFIG_STACK_DEPTH") == cfg.stackDepth && h.read("CONFIG_FLOAT") == (8 << 8 | 23) && h.read("CONFIG_AXI_DATA_BITS") == sys.axiDataBits)
         assert(h.readResp(0xffc)._2 == 2 && h.write(0xffc, 1) == 2, "unmapped address: SLVERR")
         assert(h.write(RegisterMap("ID").offset, 0) == 0 && h.read("ID") == RegisterMap.Id, "a write to ro is ignored (OKAY)")
         h.write("RAY_BASE", 0x11223344L)

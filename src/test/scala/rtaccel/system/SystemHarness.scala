@@ -13,7 +13,8 @@ import java.nio.{ByteBuffer, ByteOrder}
   * reads and writes step the clock (so the memory keeps serving meanwhile).
   */
 final class SystemHarness[T <: Data](dut: SystemSimTop[T], p: AxiMemoryParams) {
-  val model = new AxiMemoryModel(p)
+  /** The slave's beat is the system's m_axi width (SystemConfig.axiDataBits). */
+  val model = new AxiMemoryModel(p.copy(beatBytes = dut.sys.axiDataBytes))
   val mem: SparseMemory = model.mem
   private val sys = dut.sys
   private val io = dut.io
