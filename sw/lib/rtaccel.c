@@ -178,6 +178,9 @@ static rtaccel_status check_sticky(rtaccel_dev* d, uint32_t status) {
   return RTACCEL_OK;
 }
 
+/* A little-endian 32-bit word of the scene image. */
+static uint32_t le32(const uint8_t* p) { return p[0] | p[1] << 8 | p[2] << 16 | (uint32_t)p[3] << 24; }
+
 static rtaccel_status load_locked(rtaccel_dev* d, const void* image, size_t bytes) {
   if (d->busy) return fail(d, RTACCEL_ERR_BUSY, "rtaccel: a batch is in flight; wait for it before loading a scene");
   if (bytes < 64) return fail(d, RTACCEL_ERR_ARG, "rtaccel: a %zu-byte image is shorter than its 64-byte header", bytes);
@@ -195,9 +198,11 @@ static rtaccel_status load_locked(rtaccel_dev* d, const void* image, size_t byte
   uint32_t axi_bits;
   if (d->be->sim_axi_data_bits) axi_bits = d->be->sim_axi_data_bits(d->ctx);
   else TRY(rd(d, RTACCEL_CONFIG_AXI_DATA_BITS_OFFSET, &axi_bits));
+  /* header words 20..23 nodeOffset, 24..27 triOffset (docs/memory-format.md), little-endian */
   const uint8_t* hdr = image;
-  uint32_t beat = axi_bits / 8, first_node = hdr[20] | hdr[21] << 8 | hdr[22] << 16 | (uint32_t)hdr[23] << 24;
-  uint64_t skew = beat > ALIGN ? (beat - first_node % beat) % beat : 0;
+  const uint32_t node_off = le32(hdr + 20), tri_off = le32(hdr + 24);
+  uint32_t beat = axi_bits / 8;
+  uint64_t skew = beat > ALIGN ? (beat - node_off % beat) % beat : 0;
   if (skew % ALIGN != 0 || bytes + skew > d->buf_size) skew = 0; /* keep the contract's alignment; never past the buffer */
   d->scene_base = d->buf_base + skew;
   TRY(d->be->mem_write(d->ctx, d->scene_base, image, bytes, d->err, sizeof d->err));
@@ -223,10 +228,6 @@ static rtaccel_status load_locked(rtaccel_dev* d, const void* image, size_t byte
   d->scene_ready = 1;
   d->scene_bytes = skew + bytes;
   if (d->be->sim_region) {
-    /* header words 20..23 nodeOffset, 24..27 triOffset (docs/memory-format.md), little-endian */
-    const uint8_t* h = image;
-    uint32_t node_off = h[20] | h[21] << 8 | h[22] << 16 | (uint32_t)h[23] << 24;
-    uint32_t tri_off = h[24] | h[25] << 8 | h[26] << 16 | (uint32_t)h[27] << 24;
     if (node_off <= tri_off && tri_off <= bytes) {
       d->be->sim_region(d->ctx, "header", d->scene_base, d->scene_base + node_off);
       d->be->sim_region(d->ctx, "nodes", d->scene_base + node_off, d->scene_base + tri_off);
