@@ -32,7 +32,10 @@ class RayIdFreeList(numIds: Int) extends Module {
   // IDs below freshReg have been issued at least once.
   private val freshReg      = RegInit(0.U(log2Ceil(numIds + 1).W))
   private val returned      = Module(new Queue(UInt(idBits.W), numIds))
-  private val inUseReg      = RegInit(VecInit(Seq.fill(numIds)(false.B)))
+  // One bit per ID, a UInt rather than a Vec of Bools: the same flip-flops,
+  // updated by two one-hot masks instead of one write port per bit (cheaper
+  // for the C++ model to evaluate every cycle).
+  private val inUseReg      = RegInit(0.U(numIds.W))
   private val inFlightReg   = RegInit(0.U(log2Ceil(numIds + 1).W))
   private val doubleFreeReg = RegInit(false.B)
 
@@ -50,10 +53,12 @@ class RayIdFreeList(numIds: Int) extends Module {
   private val allocFire = io.alloc.fire
   private val freeFire  = io.free.valid && freeLegal
   when(allocFire && haveFresh) { freshReg := freshReg + 1.U }
-  // Order matters when the same ID is freed and re-allocated in one cycle:
-  // it cannot be, because a freed ID enters the FIFO and leaves it a cycle later.
-  when(freeFire) { inUseReg(io.free.bits) := false.B }
-  when(allocFire) { inUseReg(io.alloc.bits) := true.B }
+  // Were the same ID freed and re-allocated in one cycle, the allocation would
+  // win (its mask is applied last); it cannot be, because a freed ID enters the
+  // FIFO and leaves it a cycle later.
+  private val freeMask  = Mux(freeFire, UIntToOH(io.free.bits, numIds), 0.U)
+  private val allocMask = Mux(allocFire, UIntToOH(io.alloc.bits, numIds), 0.U)
+  inUseReg := (inUseReg & ~freeMask) | allocMask
   when(io.free.valid && !freeLegal) { doubleFreeReg := true.B }
   inFlightReg := inFlightReg + allocFire.asUInt - freeFire.asUInt
 

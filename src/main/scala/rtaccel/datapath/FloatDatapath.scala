@@ -85,9 +85,11 @@ object FloatDatapath {
 
 class FloatRayPrep(cfg: AccelConfig, dp: FloatDatapath) extends RayPrepUnit[RayConsts](cfg, dp.gen) {
   override def desiredName: String = s"RayPrep_${dp.name}"
-  private val boxAr = new HwArith(dp.boxFmt)
+  // One pipeline: both arithmetics' units and delays follow the one valid chain.
+  private val valid = new ValidChain(io.in.valid)
+  private val boxAr = new HwArith(dp.boxFmt, valid)
   // One arithmetic for both when the formats agree: the setup is shared, built once.
-  private val triAr = if (dp.split) new HwArith(dp.triFmt) else boxAr
+  private val triAr = if (dp.split) new HwArith(dp.triFmt, valid) else boxAr
   private val r = io.in.bits
   private val (k, tmax, err) = RayKernel.split(boxAr, triAr, r.origin.map(boxAr.input), r.dir.map(boxAr.input),
     boxAr.input(r.tmin), boxAr.input(r.tmax), dp.rounding, dp.test)
@@ -101,12 +103,12 @@ class FloatRayPrep(cfg: AccelConfig, dp: FloatDatapath) extends RayPrepUnit[RayC
   // The traversal order follows the box lanes' direction (RNE-narrowed, so its sign is FP32's).
   io.out.bits.dirNeg := VecInit(k.box.d.map(d => boxAr.signBit(d).at(lat)))
   io.out.bits.errors := Mux(err.at(lat), ErrorFlags.bit(ErrorFlags.InvalidRay), 0.U)
-  io.out.valid := ShiftRegister(io.in.valid, lat, false.B, true.B)
+  io.out.valid := valid.at(lat)
 }
 
 class FloatBox(cfg: AccelConfig, dp: FloatDatapath) extends BoxLane[RayConsts](cfg, dp.gen) {
   override def desiredName: String = s"BoxLane_${dp.name}"
-  private val ar = new HwArith(dp.boxFmt)
+  private val ar = new HwArith(dp.boxFmt, new ValidChain(io.in.valid))
   private val q = io.in.bits
   private val out = BoxKernel(ar, dp.rounding, RayConsts.readBox(ar, q.ray),
     BoxKernel.narrowTmax(ar, dp.rounding, ar.input(q.tmax), dp.triFmt), q.boxMin.map(ar.input), q.boxMax.map(ar.input))
@@ -114,12 +116,12 @@ class FloatBox(cfg: AccelConfig, dp: FloatDatapath) extends BoxLane[RayConsts](c
   def latency: Int = lat
   io.out.bits.hit := out.hit.at(lat)
   io.out.bits.near := out.near.at(lat)
-  io.out.valid := ShiftRegister(io.in.valid, lat, false.B, true.B)
+  io.out.valid := ar.valid.at(lat)
 }
 
 class FloatPrim(cfg: AccelConfig, dp: FloatDatapath) extends PrimIntersect[RayConsts](cfg, dp.gen) {
   override def desiredName: String = s"PrimIntersect_${dp.name}"
-  private val ar = new HwArith(dp.triFmt)
+  private val ar = new HwArith(dp.triFmt, new ValidChain(io.in.valid))
   private val q = io.in.bits
   private val ray = RayConsts.readTri(ar, q.ray)
   private val verts = for (v <- 0 until 3; a <- 0 until 3) yield ar.input(TriangleRecord.vertexWord(q.triangle, v, a))
@@ -133,5 +135,5 @@ class FloatPrim(cfg: AccelConfig, dp: FloatDatapath) extends PrimIntersect[RayCo
   io.out.bits.t := out.t.at(lat)
   io.out.bits.u := out.u.at(lat)
   io.out.bits.v := out.v.at(lat)
-  io.out.valid := ShiftRegister(io.in.valid, lat, false.B, true.B)
+  io.out.valid := ar.valid.at(lat)
 }

@@ -1,23 +1,45 @@
 package rtaccel.datapath
 
 import chisel3._
+import chisel3.util.RegEnable
 import rtaccel.fp._
 
 import scala.collection.mutable
 
+/** The valid bit of an II = 1 pipeline at each of its cycles: `at(c)` is the
+  * input's valid delayed by `c` (reset to false), one shared register chain.
+  * It enables every data register of the pipeline ([[Timed]], the FP units'
+  * `in.valid`), so a slot that carries no operation loads nothing: the
+  * result of a valid operation is the same bits (each stage loads exactly when
+  * that operation is at it), an idle unit holds its registers still (the
+  * FPGA's clock enables; an idle unit costs no toggling), and the C++ model
+  * skips the unit's logic on idle cycles (docs/cppsim.md, session 9).
+  */
+final class ValidChain(valid: Bool) {
+  private val taps = mutable.ArrayBuffer[Bool](valid)
+  def at(cycle: Int): Bool = {
+    require(cycle >= 0, s"ValidChain: cycle $cycle < 0")
+    while (taps.size <= cycle) taps += RegNext(taps.last, false.B)
+    taps(cycle)
+  }
+}
+
 /** A hardware value with the pipeline cycle at which it is valid. `at(c)`
   * gives it delayed to cycle `c`; delays share one register chain per value
   * (every consumer taps the same chain), so aligning an operand for several
-  * later operations costs the longest delay once, not once per use.
-  * Constants are valid at every cycle and cost no registers.
+  * later operations costs the longest delay once, not once per use. Each
+  * delay register loads only when the pipeline's slot at its input is valid
+  * (`valid`), so a valid operation's value arrives unchanged; between
+  * operations the chain holds. Constants are valid at every cycle and cost no
+  * registers.
   */
-final class Timed[T <: Data](val value: T, val ready: Int, val constant: Boolean = false) {
+final class Timed[T <: Data](val value: T, val ready: Int, val valid: ValidChain, val constant: Boolean = false) {
   private val taps = mutable.ArrayBuffer[T](value)
   def at(cycle: Int): T = {
     require(constant || cycle >= ready, s"Timed: value ready at $ready used at $cycle")
     if (constant) value
     else {
-      while (taps.size <= cycle - ready) taps += RegNext(taps.last)
+      while (taps.size <= cycle - ready) taps += RegEnable(taps.last, valid.at(ready + taps.size - 1))
       taps(cycle - ready)
     }
   }
@@ -28,9 +50,11 @@ final class Timed[T <: Data](val value: T, val ready: Int, val constant: Boolean
   * fed by operands aligned to the later one's cycle. The result is an II = 1
   * pipeline whose latency is the `ready` of its outputs: derived from the unit
   * latencies, never typed. Bit tests, sign flips and muxes are wires.
+  * Every unit and delay register is enabled by `valid`, the pipeline's
+  * [[ValidChain]] (units that share one pipeline share it).
   * Must be used inside a Module (it instantiates units there).
   */
-final class HwArith(val fmt: FloatFormat) extends KernelArith[Timed[UInt], Timed[Bool]] {
+final class HwArith(val fmt: FloatFormat, val valid: ValidChain) extends KernelArith[Timed[UInt], Timed[Bool]] {
   type F = Timed[UInt]
   type B = Timed[Bool]
   private val f32 = FloatFormat.FP32
@@ -38,10 +62,10 @@ final class HwArith(val fmt: FloatFormat) extends KernelArith[Timed[UInt], Timed
 
   private def binary(unit: FpUnitIO[FpBinaryIn, UInt], latency: Int, a: F, b: F): F = {
     val c = when2(a, b)
-    unit.in.valid := true.B
+    unit.in.valid := valid.at(c)
     unit.in.bits.a := a.at(c)
     unit.in.bits.b := b.at(c)
-    new Timed(unit.out.bits, c + latency)
+    new Timed(unit.out.bits, c + latency, valid)
   }
   def add(a: F, b: F, rm: RoundingMode): F = { val u = Module(new FpAdd(fmt, Some(rm))); binary(u.io, u.latency, a, b) }
   def sub(a: F, b: F, rm: RoundingMode): F = {
@@ -50,18 +74,18 @@ final class HwArith(val fmt: FloatFormat) extends KernelArith[Timed[UInt], Timed
   def mul(a: F, b: F, rm: RoundingMode): F = { val u = Module(new FpMul(fmt, Some(rm))); binary(u.io, u.latency, a, b) }
   def recip(a: F, rm: RoundingMode): F = {
     val u = Module(new FpRecip(fmt, Some(rm)))
-    u.io.in.valid := true.B
+    u.io.in.valid := valid.at(a.ready)
     u.io.in.bits.a := a.at(a.ready)
-    new Timed(u.io.out.bits, a.ready + u.latency)
+    new Timed(u.io.out.bits, a.ready + u.latency, valid)
   }
   def fromF32(a: F, rm: RoundingMode): F = convert(a, f32, rm)
   def convert(a: F, from: FloatFormat, rm: RoundingMode): F =
     if (fmt == from) a
     else {
       val u = Module(new FpConvert(from, fmt, Some(rm)))
-      u.io.in.valid := true.B
+      u.io.in.valid := valid.at(a.ready)
       u.io.in.bits.a := a.at(a.ready)
-      new Timed(u.io.out.bits, a.ready + u.latency)
+      new Timed(u.io.out.bits, a.ready + u.latency, valid)
     }
 
   /** One comparator per operand pair, shared by every min/max/lt/le/eq on it. */
@@ -69,19 +93,19 @@ final class HwArith(val fmt: FloatFormat) extends KernelArith[Timed[UInt], Timed
   private def compare(a: F, b: F): Timed[FpCompareOut] = compares.getOrElseUpdate((a, b), {
     val u = Module(new FpCompare(fmt))
     val c = when2(a, b)
-    u.io.in.valid := true.B
+    u.io.in.valid := valid.at(c)
     u.io.in.bits.a := a.at(c)
     u.io.in.bits.b := b.at(c)
-    new Timed(u.io.out.bits, c + u.latency)
+    new Timed(u.io.out.bits, c + u.latency, valid)
   })
-  private def field[T <: Data](t: Timed[FpCompareOut], f: FpCompareOut => T): Timed[T] = new Timed(f(t.value), t.ready)
+  private def field[T <: Data](t: Timed[FpCompareOut], f: FpCompareOut => T): Timed[T] = new Timed(f(t.value), t.ready, valid)
   def min(a: F, b: F): F = field(compare(a, b), _.min)
   def max(a: F, b: F): F = field(compare(a, b), _.max)
   def lt(a: F, b: F): B = field(compare(a, b), _.lt)
   def le(a: F, b: F): B = field(compare(a, b), o => o.lt || o.eq)
   def eq(a: F, b: F): B = field(compare(a, b), _.eq)
 
-  private def wire1[T <: Data](a: F, f: UInt => T): Timed[T] = new Timed(f(a.value), a.ready, a.constant)
+  private def wire1[T <: Data](a: F, f: UInt => T): Timed[T] = new Timed(f(a.value), a.ready, valid, a.constant)
   private def exp(x: UInt): UInt = x(fmt.width - 2, fmt.manBits)
   private def man(x: UInt): UInt = x(fmt.manBits - 1, 0)
   def isNaN(a: F): B = wire1(a, x => exp(x).andR && man(x).orR)
@@ -93,21 +117,21 @@ final class HwArith(val fmt: FloatFormat) extends KernelArith[Timed[UInt], Timed
 
   private def comb2[S <: Data, T <: Data](a: Timed[S], b: Timed[S], f: (S, S) => T): Timed[T] = {
     val c = when2(a, b)
-    new Timed(f(a.at(c), b.at(c)), c, a.constant && b.constant)
+    new Timed(f(a.at(c), b.at(c)), c, valid, a.constant && b.constant)
   }
   private def comb3[S <: Data](c: B, t: Timed[S], e: Timed[S]): Timed[S] = {
     val r = c.ready max t.ready max e.ready
-    new Timed(Mux(c.at(r), t.at(r), e.at(r)), r, c.constant && t.constant && e.constant)
+    new Timed(Mux(c.at(r), t.at(r), e.at(r)), r, valid, c.constant && t.constant && e.constant)
   }
   def mux(c: B, t: F, f: F): F = comb3(c, t, f)
   def muxB(c: B, t: B, f: B): B = comb3(c, t, f)
   def and(a: B, b: B): B = comb2[Bool, Bool](a, b, _ && _)
   def or(a: B, b: B): B = comb2[Bool, Bool](a, b, _ || _)
-  def not(a: B): B = new Timed(!a.value, a.ready, a.constant)
-  def const(bits: BigInt): F = new Timed(fmt.checkBits(bits).U(fmt.width.W), 0, constant = true)
-  def bool(b: Boolean): B = new Timed(b.B, 0, constant = true)
+  def not(a: B): B = new Timed(!a.value, a.ready, valid, a.constant)
+  def const(bits: BigInt): F = new Timed(fmt.checkBits(bits).U(fmt.width.W), 0, valid, constant = true)
+  def bool(b: Boolean): B = new Timed(b.B, 0, valid, constant = true)
 
   /** An input valid at cycle 0. */
-  def input(x: UInt): F = new Timed(x, 0)
-  def inputB(x: Bool): B = new Timed(x, 0)
+  def input(x: UInt): F = new Timed(x, 0, valid)
+  def inputB(x: Bool): B = new Timed(x, 0, valid)
 }
