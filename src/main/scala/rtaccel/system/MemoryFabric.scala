@@ -63,7 +63,7 @@ class MemoryFabric(sys: SystemConfig, readers: Seq[MemPortParams], nodeClients: 
     val axiError   = Output(Bool())
   })
   override def desiredName = s"MemoryFabric_r${readers.size}_id${p.idBits}_ns${sys.nodeStoreBytes / 1024}k" +
-    (if (triIdx.nonEmpty) s"_ts${sys.triStoreBytes / 1024}k" else "")
+    (if (triIdx.nonEmpty && sys.triStoreBytes > 0) s"_ts${sys.triStoreBytes / 1024}k" else "")
 
   private val tagBits = readers.map(_.tagBits).max
   private val engine  = Module(new ReadEngine(p, readers.map(_.recordBytes), tagBits, readSlots))
