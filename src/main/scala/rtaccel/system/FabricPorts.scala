@@ -14,7 +14,7 @@ object WriteRecord {
   val Bytes = 32
 }
 
-/** Loading the on-chip node store (MemoryFabric's side): a `start` pulse
+/** Loading an on-chip store, the node store or the triangle store (MemoryFabric's side): a `start` pulse
   * copies `bytes` bytes at `base` (64-byte aligned: the node array's start)
   * from DRAM into the store, clamped to its capacity. Until `done`, every
   * node read goes to DRAM; `done` stays high until the next `start`. A
@@ -46,4 +46,6 @@ class FabricStats extends Bundle {
   val nodeStoreHits   = UInt(64.W)
   /** Node-client requests sent to DRAM. */
   val nodeStoreMisses = UInt(64.W)
+  /** Triangle-client requests served by the triangle store. */
+  val triStoreHits    = UInt(64.W)
 }

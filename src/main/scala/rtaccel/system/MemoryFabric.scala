@@ -7,14 +7,20 @@ import rtaccel.mem.{MemPort, MemPortParams}
 
 /** The memory side of the system: N read clients and one write client onto
   * one AXI4 master, with the on-chip node store in front of DRAM for the node
-  * clients (docs/node-store.md).
+  * clients (docs/node-store.md) and the on-chip triangle store in front of
+  * it for the triangle clients (docs/scene-store.md).
   *
-  * Reads: a node client's request that the store holds is served on chip
-  * (NodeStore); every other request goes, round-robin over the clients, to
+  * Reads: a node client's request that the node store holds is served on
+  * chip (NodeStore), a triangle client's that the triangle store holds too
+  * (TriStore); every other request goes, round-robin over the clients, to
   * the ReadEngine, which reads the record's bytes in INCR bursts of full beats
   * split at 4 KB, one AXI ID per outstanding record (at most `readSlots`
   * records outstanding, IDs 0 .. readSlots-1), and returns it reassembled
-  * with the client's tag, in any order. ID 2^idBits - 1 is the store's fill.
+  * with the client's tag, in any order. ID 2^idBits - 1 is the stores' fill:
+  * the scene loader fills the node store, then the triangle store, never
+  * both at once, so its R beats go to the node store while that one is
+  * busy and to the triangle store otherwise (which flags a beat it did not
+  * ask for).
   * A client that holds off `resp.ready` stalls only its own responses.
   *
   * Writes: 32-byte records, one single-beat burst each with strobes on the
@@ -26,14 +32,20 @@ import rtaccel.mem.{MemPort, MemPortParams}
   *
   * @param readers     each read client's port (records of any size up to 4 KB, any alignment)
   * @param nodeClients which readers are node readers (served by the node store); all of one record size
+  * @param triClients  which readers are triangle readers (served by the triangle store); all of one record size;
+  *                    empty: none
   */
-class MemoryFabric(sys: SystemConfig, readers: Seq[MemPortParams], nodeClients: Seq[Boolean]) extends Module {
+class MemoryFabric(sys: SystemConfig, readers: Seq[MemPortParams], nodeClients: Seq[Boolean], triClients: Seq[Boolean] = Nil) extends Module {
   require(readers.nonEmpty, "MemoryFabric: needs at least one read client")
   require(readers.size == nodeClients.size, s"MemoryFabric: ${readers.size} readers but ${nodeClients.size} nodeClients flags")
   require(readers.forall(_.addrBits <= sys.axiAddrBits), s"MemoryFabric: a reader's address is wider than ${sys.axiAddrBits} bits")
   private val p = sys.axi
+  require(triClients.isEmpty || triClients.size == readers.size, s"MemoryFabric: ${readers.size} readers but ${triClients.size} triClients flags")
   private val nodeIdx = nodeClients.zipWithIndex.collect { case (true, i) => i }
+  private val triIdx  = triClients.zipWithIndex.collect { case (true, i) => i }
   require(nodeIdx.map(readers(_).recordBytes).distinct.size <= 1, "MemoryFabric: node clients of different record sizes")
+  require(triIdx.map(readers(_).recordBytes).distinct.size <= 1, "MemoryFabric: triangle clients of different record sizes")
+  require(nodeIdx.intersect(triIdx).isEmpty, "MemoryFabric: a client is both a node and a triangle client")
   private val fillId = (1 << p.idBits) - 1
   /** Records outstanding at once: every AXI ID but the fill's. */
   val readSlots: Int = fillId
@@ -45,46 +57,56 @@ class MemoryFabric(sys: SystemConfig, readers: Seq[MemPortParams], nodeClients: 
     val write      = Flipped(Decoupled(new WriteRecord(sys)))
     val writesDone = Output(UInt(32.W))
     val store      = new NodeStoreLoad(sys)
+    val triStore   = new NodeStoreLoad(sys)
     val axi        = new Axi4Master(p)
     val stats      = Output(new FabricStats)
     val axiError   = Output(Bool())
   })
-  override def desiredName = s"MemoryFabric_r${readers.size}_id${p.idBits}_ns${sys.nodeStoreBytes / 1024}k"
+  override def desiredName = s"MemoryFabric_r${readers.size}_id${p.idBits}_ns${sys.nodeStoreBytes / 1024}k" +
+    (if (triIdx.nonEmpty && sys.triStoreBytes > 0) s"_ts${sys.triStoreBytes / 1024}k" else "")
 
   private val tagBits = readers.map(_.tagBits).max
   private val engine  = Module(new ReadEngine(p, readers.map(_.recordBytes), tagBits, readSlots))
   private val store   = Option.when(nodeIdx.nonEmpty && sys.nodeStoreBytes > 0)(
     Module(new NodeStore(p, readers(nodeIdx.head).copy(addrBits = p.addrBits), nodeIdx.size, sys.nodeStoreBytes, fillId)))
+  private val triStore = Option.when(triIdx.nonEmpty && sys.triStoreBytes > 0)(
+    Module(new TriStore(p, readers(triIdx.head).copy(addrBits = p.addrBits), triIdx.size, sys.triStoreBytes, fillId)))
   private val writer  = Module(new WriteEngine(p))
+  /** An on-chip store's client side: probe, hit, request and response of client k. */
+  private class Served(val probe: Vec[UInt], val hit: Vec[Bool], val req: Vec[DecoupledIO[rtaccel.mem.MemRequest]],
+      val resp: Vec[DecoupledIO[rtaccel.mem.MemResponse]])
+  private val served: Seq[Option[(Served, Int)]] = readers.indices.map { i =>
+    store.filter(_ => nodeIdx.contains(i)).map(s => (new Served(s.io.probe, s.io.hit, s.io.req, s.io.resp), nodeIdx.indexOf(i)))
+      .orElse(triStore.filter(_ => triIdx.contains(i)).map(s => (new Served(s.io.probe, s.io.hit, s.io.req, s.io.resp), triIdx.indexOf(i))))
+  }
 
-  // ---- Requests: node-store hits aside, the rest round-robin to the engine ----
+  // ---- Requests: store hits aside, the rest round-robin to the engine ----
   private val arb = Module(new RRArbiter(new ReadReq(p.addrBits, log2Ceil(readers.size).max(1), tagBits), readers.size))
   private val toStore = Wire(Vec(readers.size, Bool()))
   for ((r, i) <- io.readers.zipWithIndex) {
-    val k   = nodeIdx.indexOf(i)
-    val hit = store.filter(_ => k >= 0).map { s =>
-      s.io.probe(k) := r.req.bits.addr
-      s.io.req(k).valid     := r.req.valid && s.io.hit(k)
-      s.io.req(k).bits.addr := r.req.bits.addr
-      s.io.req(k).bits.tag  := r.req.bits.tag
-      s.io.hit(k)
+    val hit = served(i).map { case (s, k) =>
+      s.probe(k) := r.req.bits.addr
+      s.req(k).valid     := r.req.valid && s.hit(k)
+      s.req(k).bits.addr := r.req.bits.addr
+      s.req(k).bits.tag  := r.req.bits.tag
+      s.hit(k)
     }.getOrElse(false.B)
     toStore(i) := hit
     arb.io.in(i).valid       := r.req.valid && !hit
     arb.io.in(i).bits.addr   := r.req.bits.addr
     arb.io.in(i).bits.client := i.U
     arb.io.in(i).bits.tag    := r.req.bits.tag
-    r.req.ready := Mux(hit, store.map(_.io.req(k.max(0)).ready).getOrElse(false.B), arb.io.in(i).ready)
+    r.req.ready := Mux(hit, served(i).map { case (s, k) => s.req(k).ready }.getOrElse(false.B), arb.io.in(i).ready)
 
     // Responses: the engine's and the store's, round-robin.
-    store.filter(_ => k >= 0) match {
-      case Some(s) =>
+    served(i) match {
+      case Some((s, k)) =>
         val merge = Module(new RRArbiter(chiselTypeOf(r.resp.bits), 2))
         merge.io.in(0).valid := engine.io.resp(i).valid
         merge.io.in(0).bits.data := engine.io.resp(i).bits.data
         merge.io.in(0).bits.tag  := engine.io.resp(i).bits.tag
         engine.io.resp(i).ready  := merge.io.in(0).ready
-        merge.io.in(1) <> s.io.resp(k)
+        merge.io.in(1) <> s.resp(k)
         r.resp <> merge.io.out
       case None =>
         r.resp.valid     := engine.io.resp(i).valid
@@ -95,34 +117,40 @@ class MemoryFabric(sys: SystemConfig, readers: Seq[MemPortParams], nodeClients: 
   }
   engine.io.req <> arb.io.out
 
-  // ---- AR: the engine's bursts and the store's fill, through a queue so the payload holds while arvalid waits ----
-  private val arArb = Module(new RRArbiter(new Axi4Addr(p), 2))
+  // ---- AR: the engine's bursts and the stores' fills, through a queue so the payload holds while arvalid waits ----
+  private val fills = store.map(_.io.ar).toSeq ++ triStore.map(_.io.ar)
+  private val arArb = Module(new RRArbiter(new Axi4Addr(p), 1 + fills.size))
   arArb.io.in(0) <> engine.io.ar
-  store match {
-    case Some(s) => arArb.io.in(1) <> s.io.ar
-    case None    => arArb.io.in(1).valid := false.B; arArb.io.in(1).bits := DontCare
-  }
+  for ((f, j) <- fills.zipWithIndex) arArb.io.in(1 + j) <> f
   io.axi.ar <> Queue(arArb.io.out, 2)
 
-  // ---- R: always taken; the fill's ID goes to the store ----
+  // ---- R: always taken; the fill's ID goes to the node store while it fills, else to the triangle store ----
   io.axi.r.ready := true.B
   private val isFill = io.axi.r.bits.id === fillId.U
   engine.io.r.valid := io.axi.r.valid && !isFill
   engine.io.r.bits  := io.axi.r.bits
-  store match {
-    case Some(s) =>
-      s.io.r.valid := io.axi.r.valid && isFill
-      s.io.r.bits  := io.axi.r.bits
-      s.io.load <> io.store
+  private val nodeFilling = store.map(_.io.load.busy).getOrElse(false.B)
+  /** A store's load side; with no store, a load is done at once and holds nothing. */
+  private def connectLoad(load: NodeStoreLoad, s: Option[NodeStoreLoad]): Unit = s match {
+    case Some(l) => l <> load
     case None =>
-      // No store: a load is done at once and holds nothing.
       val doneReg = RegInit(false.B)
-      when(io.store.start) { doneReg := true.B }
-      io.store.busy        := false.B
-      io.store.done        := doneReg
-      io.store.storedBytes := 0.U
+      when(load.start) { doneReg := true.B }
+      load.busy        := false.B
+      load.done        := doneReg
+      load.storedBytes := 0.U
   }
-  private val strayFill = store.isEmpty.B && io.axi.r.valid && isFill
+  connectLoad(io.store, store.map(_.io.load))
+  connectLoad(io.triStore, triStore.map(_.io.load))
+  store.foreach { s =>
+    s.io.r.valid := io.axi.r.valid && isFill && (nodeFilling || triStore.isEmpty.B)
+    s.io.r.bits  := io.axi.r.bits
+  }
+  triStore.foreach { s =>
+    s.io.r.valid := io.axi.r.valid && isFill && !nodeFilling
+    s.io.r.bits  := io.axi.r.bits
+  }
+  private val strayFill = (store.isEmpty && triStore.isEmpty).B && io.axi.r.valid && isFill
 
   // ---- Writes ----
   writer.io.write.valid     := io.write.valid
@@ -145,6 +173,7 @@ class MemoryFabric(sys: SystemConfig, readers: Seq[MemPortParams], nodeClients: 
   io.stats.arStallCycles   := counter(io.axi.ar.valid && !io.axi.ar.ready)
   io.stats.nodeStoreHits   := countBy(PopCount(nodeIdx.map(i => io.readers(i).req.fire && toStore(i))))
   io.stats.nodeStoreMisses := countBy(PopCount(nodeIdx.map(i => io.readers(i).req.fire && !toStore(i))))
+  io.stats.triStoreHits    := countBy(PopCount(triIdx.map(i => io.readers(i).req.fire && toStore(i))))
   private def countBy(n: UInt): UInt = {
     val c = RegInit(0.U(64.W))
     c := c + n
@@ -152,5 +181,6 @@ class MemoryFabric(sys: SystemConfig, readers: Seq[MemPortParams], nodeClients: 
   }
   private val strayReg = RegInit(false.B)
   when(strayFill) { strayReg := true.B }
-  io.axiError := engine.io.error || writer.io.error || store.map(_.io.error).getOrElse(false.B) || strayReg
+  io.axiError := engine.io.error || writer.io.error || store.map(_.io.error).getOrElse(false.B) ||
+    triStore.map(_.io.error).getOrElse(false.B) || strayReg
 }

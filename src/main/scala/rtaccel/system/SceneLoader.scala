@@ -8,7 +8,8 @@ import rtaccel.scene.MemoryImage
 /** LOAD_SCENE: reads the 64-byte image header at `sceneBase`, checks it against
   * the hardware (docs/memory-format.md; codes in RegisterMap.sceneErrors),
   * derives the node and triangle bases, then has the fabric preload its node
-  * store and waits for it before `ready`. `finished` pulses when the load ends
+  * store, then its triangle store (one after the other: they share the fill's
+  * AXI ID, MemoryFabric), and waits for both before `ready`. `finished` pulses when the load ends
   * either way (IRQ SCENE).
   */
 class SceneLoader(sys: SystemConfig) extends Module {
@@ -17,6 +18,7 @@ class SceneLoader(sys: SystemConfig) extends Module {
     val sceneBase = Input(UInt(sys.axiAddrBits.W))
     val mem       = new MemPort(SceneLoader.port(sys))
     val store     = Flipped(new NodeStoreLoad(sys))
+    val triStore  = Flipped(new NodeStoreLoad(sys))
     val busy      = Output(Bool())
     val ready     = Output(Bool())
     val error     = Output(Bool())
@@ -25,7 +27,7 @@ class SceneLoader(sys: SystemConfig) extends Module {
     val nodeBase  = Output(UInt(sys.axiAddrBits.W))
     val triBase   = Output(UInt(sys.axiAddrBits.W))
   })
-  private val sIdle :: sReq :: sResp :: sStore :: sWait :: Nil = Enum(5)
+  private val sIdle :: sReq :: sResp :: sStore :: sWait :: sTriStore :: sTriWait :: Nil = Enum(7)
   private val stateReg    = RegInit(sIdle)
   private val readyReg    = RegInit(false.B)
   private val errorReg    = RegInit(false.B)
@@ -34,6 +36,7 @@ class SceneLoader(sys: SystemConfig) extends Module {
   private val nodeBaseReg = RegInit(0.U(sys.axiAddrBits.W))
   private val triBaseReg  = RegInit(0.U(sys.axiAddrBits.W))
   private val bytesReg    = RegInit(0.U(32.W))
+  private val triBytesReg = RegInit(0.U(32.W))
   private val finished    = WireDefault(false.B)
 
   private def fail(code: Int): Unit = { errorReg := true.B; codeReg := code.U; stateReg := sIdle; finished := true.B }
@@ -51,7 +54,9 @@ class SceneLoader(sys: SystemConfig) extends Module {
   private val w = VecInit.tabulate(16)(k => io.mem.resp.bits.data(32 * k + 31, 32 * k))
   private val magic = java.nio.ByteBuffer.wrap(MemoryImage.Magic).order(java.nio.ByteOrder.LITTLE_ENDIAN)
   private val (magic0, magic1) = (magic.getInt(0).toLong & 0xffffffffL, magic.getInt(4).toLong & 0xffffffffL)
-  private val (nodeOffset, triOffset, nodeBytes, triBytes, bvhDepth, layout) = (w(5), w(6), w(7), w(8), w(10), w(11))
+  private val (triCount, nodeOffset, triOffset, nodeBytes, triBytes, bvhDepth, layout) = (w(4), w(5), w(6), w(7), w(8), w(10), w(11))
+  // The triangle array's bytes, triCount * 48, saturated at 2^32 - 1 (the store takes at most its capacity anyway).
+  private val triArrayBytes = (triCount << 5) +& (triCount << 4)
   when(io.mem.resp.fire) {
     when(w(0) =/= magic0.U || w(1) =/= magic1.U) { fail(1) }
       .elsewhen(w(2) =/= MemoryImage.Version.U) { fail(2) }
@@ -64,6 +69,7 @@ class SceneLoader(sys: SystemConfig) extends Module {
         triBaseReg  := baseReg + triOffset
         // The node array's bytes (nodeCount * nodeBytes, at most triOffset - nodeOffset).
         bytesReg    := triOffset - nodeOffset
+        triBytesReg := Mux(triArrayBytes(triArrayBytes.getWidth - 1, 32).orR, "hffffffff".U, triArrayBytes(31, 0))
         stateReg    := sStore
       }
   }
@@ -71,7 +77,17 @@ class SceneLoader(sys: SystemConfig) extends Module {
   io.store.base  := nodeBaseReg
   io.store.bytes := bytesReg
   when(stateReg === sStore) { stateReg := sWait }
-  when(stateReg === sWait && io.store.done) { stateReg := sIdle; readyReg := true.B; finished := true.B }
+  // With no triangle store (triStoreBytes = 0) the load ends with the node store's, as before it existed.
+  private val afterNodes = if (sys.triStoreBytes > 0) sTriStore else sIdle
+  when(stateReg === sWait && io.store.done) {
+    stateReg := afterNodes
+    if (sys.triStoreBytes == 0) { readyReg := true.B; finished := true.B }
+  }
+  io.triStore.start := stateReg === sTriStore
+  io.triStore.base  := triBaseReg
+  io.triStore.bytes := triBytesReg
+  when(stateReg === sTriStore) { stateReg := sTriWait }
+  when(stateReg === sTriWait && io.triStore.done) { stateReg := sIdle; readyReg := true.B; finished := true.B }
 
   io.busy      := stateReg =/= sIdle
   io.ready     := readyReg

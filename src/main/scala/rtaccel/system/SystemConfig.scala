@@ -19,6 +19,8 @@ import rtaccel.axi.Axi4Params
   * @param axiAddrBits    m_axi address width (the PL DDR3's 1 GB needs 30; 32 as the MIG presents it)
   * @param axiIdBits      m_axi ID width; read IDs name outstanding records (MemoryFabric)
   * @param nodeStoreBytes on-chip node store (top of the tree, preloaded): see docs/node-store.md
+  * @param triStoreBytes  on-chip triangle store (the triangle array's first bytes, preloaded), 0 or a power of two:
+  *                       see docs/scene-store.md
   * @param raysPerBlock   rays fetched per ray-DMA read: 4 x 48 B = 192 B = 3 whole 64-byte lines,
   *                       so every block of a 64-aligned RAY_BASE starts on a line
   * @param rayBlockTags   ray-DMA reads in flight (each holds one block buffer, so the buffers never overflow)
@@ -31,6 +33,7 @@ case class SystemConfig(
     axiAddrBits: Int = 32,
     axiIdBits: Int = 6,
     nodeStoreBytes: Int = 1024 * 1024,
+    triStoreBytes: Int = 256 * 1024,
     raysPerBlock: Int = 4,
     rayBlockTags: Int = 4,
     hitQueue: Int = 4
@@ -39,6 +42,8 @@ case class SystemConfig(
   require(SystemConfig.AxiDataBitsChoices.contains(axiDataBits),
     s"SystemConfig: axiDataBits must be one of ${SystemConfig.AxiDataBitsChoices.mkString(", ")}, got $axiDataBits")
   require(nodeStoreBytes >= 0, s"SystemConfig: nodeStoreBytes must be >= 0, got $nodeStoreBytes")
+  require(triStoreBytes == 0 || Integer.bitCount(triStoreBytes) == 1 && triStoreBytes >= 2 * axiDataBits / 8,
+    s"SystemConfig: triStoreBytes must be 0 or a power of two of at least two beats, got $triStoreBytes")
   require(core.addrBits == axiAddrBits, s"SystemConfig: core.addrBits (${core.addrBits}) must equal axiAddrBits ($axiAddrBits)")
   require(raysPerBlock * SystemConfig.RayBytes % 64 == 0, s"SystemConfig: a ray block must be whole 64-byte lines, got $raysPerBlock rays")
   require(rayBlockTags >= 1 && hitQueue >= 1, s"SystemConfig: rayBlockTags and hitQueue must be >= 1")

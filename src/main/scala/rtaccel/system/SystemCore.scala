@@ -28,7 +28,8 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   private val rayDma = Module(new RayDma(sys))
   private val hitDma = Module(new HitDma(sys))
   private val readers = cores.flatMap(c => Seq(c.io.nodeMem.p, c.io.triMem.p)) ++ Seq(SceneLoader.port(sys), RayDma.port(sys))
-  private val fabric = Module(new MemoryFabric(sys, readers, cores.flatMap(_ => Seq(true, false)) ++ Seq(false, false)))
+  private val fabric = Module(new MemoryFabric(sys, readers, cores.flatMap(_ => Seq(true, false)) ++ Seq(false, false),
+    cores.flatMap(_ => Seq(false, true)) ++ Seq(false, false)))
   for ((c, i) <- cores.zipWithIndex) {
     fabric.io.readers(2 * i) <> c.io.nodeMem
     fabric.io.readers(2 * i + 1) <> c.io.triMem
@@ -36,6 +37,7 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   fabric.io.readers(2 * sys.cores) <> loader.io.mem
   fabric.io.readers(2 * sys.cores + 1) <> rayDma.io.mem
   fabric.io.store <> loader.io.store
+  fabric.io.triStore <> loader.io.triStore
   fabric.io.write <> hitDma.io.write
   io.axi <> fabric.io.axi
 

@@ -85,7 +85,7 @@ object RegMapGen {
       "1. Copy `image.bin` (docs/memory-format.md) to a 64-byte aligned `SCENE_BASE`; write `SCENE_BASE`, `IRQ_ENABLE.SCENE`, then " +
       "`CTRL.LOAD_SCENE`. Wait for `interrupt` (or poll `STATUS.SCENE_READY | STATUS.SCENE_ERROR`); write 1 to `IRQ_STATUS.SCENE`. " +
       "On `SCENE_ERROR`, `SCENE_ERROR_CODE` says why. The load reads the 64-byte header, checks it against the hardware, derives " +
-      "the node and triangle bases and fills the on-chip node store.\n" +
+      "the node and triangle bases and fills the on-chip node store, then the triangle store (docs/scene-store.md).\n" +
       "2. Write the rays (48-byte records below) at a 64-byte aligned `RAY_BASE`; write `RAY_BASE`, `RAY_COUNT`, `HIT_BASE` " +
       "(64-byte aligned), `IRQ_ENABLE.DONE`, then `CTRL.START`. START is ignored while `STATUS.BUSY`, without `SCENE_READY`, or " +
       "with `RAY_BASE` or `HIT_BASE` not 64-byte aligned (no DONE follows; nothing changes). LOAD_SCENE is ignored while BUSY.\n" +

@@ -8,15 +8,15 @@ import scala.concurrent.{Await, ExecutionContext, Future}
   * SystemCore holds besides its cores, each synthesised alone from the
   * emitted `rtaccel_system.sv` in one cached Yosys run ([[FmaxEstimate.run]]:
   * the same script gives the cell counts and the longest path), never the
-  * whole design flattened. MemoryFabric is measured with the NodeStore
-  * black-boxed (the node store has its own row: its BRAM), SystemCore with
+  * whole design flattened. MemoryFabric is measured with the NodeStore and
+  * TriStore black-boxed (each store has its own row: its BRAM), SystemCore with
   * every unit and core black-boxed (its own glue: the batch registers, the
   * ray distribution and the counters). Flattened before memory mapping
   * ([[FmaxEstimate.script]]), so the node store's memory is block RAM.
   */
 object SystemArea {
   /** The units, by module-name prefix, in the table's order. */
-  val units: Seq[String] = Seq("MemoryFabric", "NodeStore", "AxiLiteRegs", "RayDma", "HitDma", "SceneLoader", "SystemCore")
+  val units: Seq[String] = Seq("MemoryFabric", "NodeStore", "TriStore", "AxiLiteRegs", "RayDma", "HitDma", "SceneLoader", "SystemCore")
   /** The core, black-boxed in SystemCore's row (its area is the core table's). */
   val corePrefix = "RtAccel"
 
@@ -45,7 +45,7 @@ object SystemArea {
     try {
       val futures = present.map { case (u, m) =>
         val bb = u match {
-          case "MemoryFabric" => present.collect { case ("NodeStore", n) => n }
+          case "MemoryFabric" => present.collect { case (s, n) if s == "NodeStore" || s == "TriStore" => n }
           case "SystemCore"   => present.collect { case (o, n) if o != u => n } ++ core
           case _              => Nil
         }
@@ -76,7 +76,8 @@ object SystemArea {
   }
 
   /** The section appended to resources.md. */
-  def markdown(rows: Seq[FmaxEstimate.Row], cores: Int, core: Synth.Area, device: Synth.Area, nodeStoreBytes: Int): String = {
+  def markdown(rows: Seq[FmaxEstimate.Row], cores: Int, core: Synth.Area, device: Synth.Area, nodeStoreBytes: Int,
+      triStoreBytes: Int = rtaccel.system.SystemConfig().triStoreBytes): String = {
     val own = rows.map(_.area).foldLeft(Synth.zero)(_ + _)
     val coresArea = Seq.fill(cores)(core).foldLeft(Synth.zero)(_ + _)
     val total = own + coresArea
@@ -85,9 +86,9 @@ object SystemArea {
     val fit = coresThatFit(core, own, device)
     val worst = rows.maxBy(_.ns)
     (Seq(s"## The system's own units (rtaccel_system, $cores ${if (cores == 1) "core" else "cores"})", "",
-      s"Each unit synthesised alone from `rtaccel_system.sv` (the Fmax estimate's Yosys run, flattened first so that memories map to block RAM; MemoryFabric with the NodeStore black-boxed, " +
+      s"Each unit synthesised alone from `rtaccel_system.sv` (the Fmax estimate's Yosys run, flattened first so that memories map to block RAM; MemoryFabric with the NodeStore and TriStore black-boxed, " +
         s"SystemCore with its units and cores black-boxed). Node store: ${nodeStoreBytes / 1024} KiB, " +
-        s"one copy per two node clients (cores). ESTIMATE, as above.", "",
+        s"triangle store: ${triStoreBytes / 1024} KiB, each one copy per two clients (cores). ESTIMATE, as above.", "",
       "| unit | LUT | FF | DSP48 | BRAM36 | LUTRAM cells | path cells | ns | MHz |",
       "| --- | ---: | ---: | ---: | ---: | ---: | --- | ---: | ---: |") ++
       rows.map(r => f"| ${r.unit} | ${cells(r.area)} | ${r.path.summary} | ${r.ns}%.2f | ${r.mhz}%.0f |") ++

@@ -25,10 +25,13 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
   private val written = mutable.HashMap.empty[Long, BigInt] // 32-byte record address -> data
   var cycle = 0L
   var nodeRequests, otherRequests, storeRequests, straddles, writesSent = 0L
+  /** Triangle-client reads, and those the triangle store was loaded to serve. */
+  var triRequests, triStoreRequests = 0L
 
   for (r <- dut.io.readers) { r.req.valid.poke(false.B); r.resp.ready.poke(false.B) }
   dut.io.write.valid.poke(false.B)
   dut.io.store.start.poke(false.B)
+  dut.io.triStore.start.poke(false.B)
 
   private def fail(msg: String): Nothing = throw new AssertionError(s"cycle $cycle: $msg")
 
@@ -37,6 +40,8 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
       onResp: (Int, Pending) => Unit = (_, _) => ()): Unit = {
     val storeDone = dut.io.store.done.peek().litToBoolean
     val stored    = dut.io.store.storedBytes.peek().litValue.toLong
+    val triDone   = dut.io.triStore.done.peek().litToBoolean
+    val triStored = dut.io.triStore.storedBytes.peek().litValue.toLong
     val offers = readers.indices.map(offer)
     for ((r, c) <- dut.io.readers.zipWithIndex) {
       offers(c) match {
@@ -67,6 +72,10 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
           if (nodeFlags(c)) {
             nodeRequests += 1
             if (storeDone && addr >= NodeBase && addr < NodeBase + stored && (addr - NodeBase) % n == 0) storeRequests += 1
+          } else if (triFlags(c)) {
+            triRequests += 1
+            // Served on chip: the whole record stored, 16-byte aligned in the array (TriStore).
+            if (triDone && addr >= TriBase && addr + n <= TriBase + triStored && (addr - TriBase) % 16 == 0) triStoreRequests += 1
           } else otherRequests += 1
         }
       }
@@ -86,18 +95,21 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
   private def randomAddr(c: Int): Long = {
     val n = readers(c).recordBytes
     if (nodeFlags(c)) NodeBase + NodeBytes.toLong * rnd.nextInt(NodeCount)
+    // A tenth of the triangle clients' reads at any byte of the array's start: 16-byte aligned ones may hit, the rest go to DRAM.
+    else if (triFlags(c) && rnd.nextDouble() < 0.1) TriBase + rnd.nextInt(4096)
     else if (n == 48) TriBase + 48L * rnd.nextInt(120)
     else if (rnd.nextDouble() < 0.3) 4096L * (1 + rnd.nextInt(ReadSpan / 4096 - 1)) - 1 - rnd.nextInt(n - 1)
     else rnd.nextInt(ReadSpan - n).toLong
   }
 
-  /** Pulses store.start; the load proceeds while other traffic runs. */
-  def startLoad(base: Long, bytes: Int): Unit = {
-    dut.io.store.base.poke(base.U)
-    dut.io.store.bytes.poke(bytes.U)
-    dut.io.store.start.poke(true.B)
+  /** Pulses store.start (triStore.start with `tri`); the load proceeds while other traffic runs. */
+  def startLoad(base: Long, bytes: Int, tri: Boolean = false): Unit = {
+    val l = if (tri) dut.io.triStore else dut.io.store
+    l.base.poke(base.U)
+    l.bytes.poke(bytes.U)
+    l.start.poke(true.B)
     cycleWith(_ => None, _ => true)
-    dut.io.store.start.poke(false.B)
+    l.start.poke(false.B)
   }
 
   /** Loads the node store and waits for `done`. */
@@ -138,13 +150,14 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
   /** `cycles` cycles with no requests, every client ready: a response now would answer nothing. */
   def quiet(cycles: Int): Unit = for (_ <- 0 until cycles) cycleWith(_ => None, _ => true)
 
-  /** Reads nodes 0 .. nodes-1 of the store, client 0 and 1 in turn, always ready; returns each read's latency. */
-  def storeOnly(nodes: Int): Seq[Long] = {
+  /** Reads records 0 .. records-1 (`stride` bytes apart from `base`), clients `pair` in turn, always ready; returns
+    * each read's latency. */
+  def storeOnly(records: Int, pair: (Int, Int) = (0, 1), base: Long = NodeBase, stride: Int = NodeBytes): Seq[Long] = {
     val lat = mutable.ArrayBuffer.empty[Long]
     var next = 0
-    while (next < nodes || outstanding.exists(_.nonEmpty)) {
-      val c = next % 2
-      val o = Option.when(next < nodes)((NodeBase + NodeBytes.toLong * next, next % 32))
+    while (next < records || outstanding.exists(_.nonEmpty)) {
+      val c = if (next % 2 == 0) pair._1 else pair._2
+      val o = Option.when(next < records)((base + stride.toLong * next, next % (1 << readers(c).tagBits)))
       // Taken when its tag is outstanding afterwards (it was not before): a
       // count would miss it when an earlier answer of the same client leaves
       // in the same cycle (store latency 2, the client asking every other cycle).

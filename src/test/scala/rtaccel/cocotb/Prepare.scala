@@ -23,6 +23,8 @@ object Prepare {
     * the bench covers both the store and the miss path.
     */
   val NodeStoreBytes = 512
+  /** Triangle store likewise: 21 of the Cornell box's 32 triangles (1,536 bytes) on chip, the rest from DDR. */
+  val TriStoreBytes = 1024
 
   def main(args: Array[String]): Unit = Cli.orExit {
     val kv = args.grouped(2).collect { case Array(k, v) => k -> v }.toMap
@@ -52,7 +54,7 @@ object Prepare {
     }
 
     for (n <- cores) {
-      val sys = SystemConfig(core = core, cores = n, nodeStoreBytes = NodeStoreBytes)
+      val sys = SystemConfig(core = core, cores = n, nodeStoreBytes = NodeStoreBytes, triStoreBytes = TriStoreBytes)
       val dir = out.resolve(s"n$n")
       Files.createDirectories(dir)
       val sv = Synth.emit(new RtAccelSystem(sys, dp))
@@ -68,7 +70,7 @@ object Prepare {
       golden: Map[String, Path]): ujson.Value = ujson.Obj(
     "cores" -> sys.cores, "ray_ids" -> sys.core.numRayIds, "stack_depth" -> sys.core.stackDepth,
     "layout" -> sys.core.layout.code, "float_exp" -> sys.core.triFloat.expBits, "float_man" -> sys.core.triFloat.manBits,
-    "node_store_bytes" -> sys.nodeStoreBytes, "datapath" -> dp.name,
+    "node_store_bytes" -> sys.nodeStoreBytes, "tri_store_bytes" -> sys.triStoreBytes, "datapath" -> dp.name,
     "error_bits" -> rtaccel.ErrorFlags.width,
     "error_names" -> ujson.Arr.from(RegisterMap.errorFlags.sortBy(_._1).map(_._2)),
     "scene_errors" -> ujson.Arr.from(RegisterMap.sceneErrors.map { case (c, n, _) => ujson.Arr(c, n) }),

@@ -27,11 +27,11 @@ final case class SystemCase(name: String, sys: SystemConfig, env: SystemEnv, dep
 
 object SystemCase {
   /** 1 core of 2 ray IDs, 12-bit addresses (the AXI minimum), 2 AXI ID bits (3 read slots + the store's fill),
-    * a 64-byte node store (one node), 2 ray blocks in flight, a 2-deep hit queue. */
+    * a 64-byte node store (one node), no triangle store, 2 ray blocks in flight, a 2-deep hit queue. */
   val sys2: SystemConfig = {
     val core = AccelConfig(numRayIds = 2, stackDepth = 2, maxNodes = 2, maxTriangles = 2, maxLeafSize = 2,
       boxFloat = FloatFormat(3, 2), triFloat = FloatFormat(3, 2), addrBits = 12, layout = BvhLayout.Wide(2))
-    SystemConfig(core = core, cores = 1, axiDataBits = 512, axiAddrBits = 12, axiIdBits = 2, nodeStoreBytes = 64,
+    SystemConfig(core = core, cores = 1, axiDataBits = 512, axiAddrBits = 12, axiIdBits = 2, nodeStoreBytes = 64, triStoreBytes = 0,
       raysPerBlock = 4, rayBlockTags = 2, hitQueue = 2)
   }
   val env: SystemEnv = SystemEnv(readLatency = 3, stall = 1, bLatency = 2, maxRays = 8, bursts = 4)

@@ -192,7 +192,11 @@ object BenchSystem {
     def perf(k: String) = r.perf.getOrElse(k, BigInt(0)).toDouble
     val storeReads = perf("nodeStoreHits") + perf("nodeStoreMisses")
     // m_axi's R beats in the batch (the DDR model's count), of the m_axi width each, at most one per cycle.
-    val axi = ujson.read(Files.readString(out.resolve("sim-memory.json")))("axi")
+    val simMem = ujson.read(Files.readString(out.resolve("sim-memory.json")))
+    val axi = simMem("axi")
+    // DRAM bytes per ray by the image region they touched (whole 64-byte bursts, the DDR model's charge).
+    val regions = ujson.Obj.from(simMem.obj.get("regions").toSeq.flatMap(_.obj).map { case (k, v) =>
+      k -> ujson.Num((v("readBytes").num + v("writeBytes").num) / rays.size) })
     val readBeats = axi("readBeats").num
     val beatBytes = axi("beatBytes").num
     val row = ujson.Obj("run" -> run.name, "cores" -> n, "rays" -> rays.size, "raySetSize" -> p.rays.size,
@@ -200,7 +204,7 @@ object BenchSystem {
       "nodeStoreHitRate" -> (if (storeReads > 0) perf("nodeStoreHits") / storeReads else 0.0),
       "dramBytesPerRay" -> r.dram.fold(0.0)(_.bytes.toDouble / rays.size), "readBytesPerRay" -> beatBytes * readBeats / rays.size,
       "readBeatsPerCycle" -> readBeats / r.cycles, "axiDataBits" -> 8 * beatBytes,
-      "dramBusy" -> r.dram.fold(0.0)(_.busyCycles.toDouble / r.cycles), "goldenMismatches" -> bad,
+      "dramBusy" -> r.dram.fold(0.0)(_.busyCycles.toDouble / r.cycles), "goldenMismatches" -> bad, "dramRegionBytesPerRay" -> regions,
       "simCyclesPerSecond" -> speed("cyclesPerSecond").num, "simCyclesPerCpuSecond" -> speed("cyclesPerCpuSecond").num)
     println(f"bench: system ${run.name}%-20s $n cores ${8 * beatBytes}%.0f-bit m_axi ${rays.size}%5d rays ${r.cycles}%,9d cycles " +
       f"${rays.size.toDouble / r.cycles}%.4f r/c")

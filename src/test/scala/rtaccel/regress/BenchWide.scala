@@ -14,8 +14,11 @@ import java.nio.file.{Files, Path, Paths}
   */
 object BenchWide {
   final case class Args(widths: Seq[Int] = SystemConfig.AxiDataBitsChoices, cores: Seq[Int] = BenchSystem.Cores,
-      mhz: Int = 100, maxRays: Int = 2048, runs: Seq[Bench.Run] = Bench.Runs,
+      mhz: Int = 100, maxRays: Int = 2048, runs: Seq[Bench.Run] = BenchWide.Runs,
       out: Path = Paths.get("build/bench/system-wide.md"))
+
+  /** make bench's ray sets and the Cornell box's shadow and AO rays (records of the triangle store's scene). */
+  val Runs: Seq[Bench.Run] = Bench.Runs ++ Seq("shadow", "ao").map(k => Bench.Run("cornell-box", "scenes/cornell-box/cornell-box.xml", k))
 
   def parse(args: Seq[String]): Args = {
     def fail(why: String): Nothing = throw new IllegalArgumentException(
@@ -30,8 +33,8 @@ object BenchWide {
         case "--cores"    => a.copy(cores = ints)
         case "--mhz"      => a.copy(mhz = one)
         case "--max-rays" => a.copy(maxRays = one)
-        case "--runs"     => a.copy(runs = v.split(',').toSeq.map(n => Bench.Runs.find(_.name == n)
-                               .getOrElse(fail(s"--runs: '$n' is not one of ${Bench.Runs.map(_.name).mkString(", ")}"))))
+        case "--runs"     => a.copy(runs = v.split(',').toSeq.map(n => Runs.find(_.name == n)
+                               .getOrElse(fail(s"--runs: '$n' is not one of ${Runs.map(_.name).mkString(", ")}"))))
         case "--out"      => a.copy(out = Paths.get(v))
         case other        => fail(s"unknown option '$other'")
       }
@@ -84,6 +87,21 @@ object BenchWide {
       s"(${12800 / a.mhz} B/cycle of DDR). At most ${a.maxRays} rays per set, strided, each checked bit for bit against " +
       "the golden model. rays/cycle: of the whole system. R beats/cycle: m_axi read beats per cycle (64 bytes each at " +
       "512 bits, 128 at 1024). DDR busy: the share of cycles the DDR model's channel moved data.\n\n" +
-      (head +: sep +: body).mkString("\n") + "\n"
+      (head +: sep +: body).mkString("\n") + "\n" + regionTable(rows, a)
+  }
+
+  /** DRAM bytes per ray by image region, at 2 cores (the cores that fit) or the most cores run. */
+  def regionTable(rows: Seq[ujson.Obj], a: Args): String = {
+    val n = if (a.cores.contains(2)) 2 else a.cores.last
+    val regions = Seq("nodes", "triangles", "rays", "hits")
+    val body = for (run <- a.runs.map(_.name); w <- a.widths;
+                    r <- rows.find(r => r("run").str == run && r("axiDataBits").num.toInt == w && r("cores").num.toInt == n)) yield {
+      val per = r.obj.get("dramRegionBytesPerRay").map(_.obj).getOrElse(collection.mutable.LinkedHashMap.empty[String, ujson.Value])
+      s"| $run | $w | ${regions.map(g => per.get(g).fold("-")(v => f"${v.num}%.0f")).mkString(" | ")} | " +
+        f"${r("dramBytesPerRay").num}%.0f | ${r("readBytesPerRay").num / (w / 8)}%.2f |"
+    }
+    s"\nWhat the DDR spends per ray ($n ${if (n == 1) "core" else "cores"}, bytes of whole 64-byte bursts, from `sim-memory.json`'s regions):\n\n" +
+      "| rays | m_axi | nodes | triangles | rays | hits | DRAM bytes/ray | R beats/ray |\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |\n" +
+      body.mkString("\n") + "\n"
   }
 }

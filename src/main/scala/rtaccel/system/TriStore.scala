@@ -1,0 +1,117 @@
+package rtaccel.system
+
+import chisel3._
+import chisel3.util._
+import rtaccel.axi.{Axi4Addr, Axi4Params, Axi4R}
+import rtaccel.mem.{MemPortParams, MemRequest, MemResponse}
+
+/** The on-chip triangle store: the first `capacityBytes` bytes of the
+  * triangle array (docs/scene-store.md), copied from DRAM when a scene is
+  * loaded (after the node store), then served from block RAM at a fixed
+  * latency to `clients` triangle clients, like NodeStore serves nodes.
+  *
+  * Records are `port.recordBytes` (48 for a triangle), at most one beat and a
+  * multiple of 16 bytes, so a record starts on a 16-byte boundary of the
+  * array and may straddle two lines (beats). Storage: line j of the array
+  * (bytes j*B .. j*B+B-1, B the beat) lives in bank j mod 2 at index j / 2,
+  * so the two lines a record touches, L and L+1, are always in different
+  * banks: one read per bank per request (bank 0 at (L+1)/2, bank 1 at L/2),
+  * then the pair is put in order and shifted down by the record's 16-byte
+  * offset in line L. Each copy of the two banks is true dual-port BRAM
+  * serving two clients (port A also takes the fill's writes, which only
+  * happen while no client can hit); `clients` > 2 gets ceil(clients / 2)
+  * copies.
+  *
+  * A request hits when the store is loaded, its address is 16-byte aligned
+  * relative to `base` and the whole record lies below base + storedBytes.
+  * Latency: request accepted in cycle t, response offered from t +
+  * `NodeStore.Latency` = 2 (the BRAM read, then the output queue). Full
+  * rate: one record per client per cycle.
+  */
+class TriStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: Int, fillId: Int) extends Module {
+  private val B        = p.beatBytes
+  private val recBytes = port.recordBytes
+  require(recBytes % TriStore.Grain == 0 && recBytes <= B, s"TriStore: records must be a multiple of ${TriStore.Grain} bytes up to one $B-byte beat, got $recBytes")
+  require(Integer.bitCount(capacityBytes) == 1 && capacityBytes >= 2 * B,
+    s"TriStore: capacity must be a power of two of at least two $B-byte lines, got $capacityBytes")
+  private val lines    = capacityBytes / B
+  private val words    = lines / 2 // per bank
+  private val idxBits  = log2Ceil(words).max(1)
+  private val lineBits = log2Ceil(B)
+  private val grainBits = log2Ceil(TriStore.Grain)
+
+  val io = IO(new Bundle {
+    val load  = new NodeStoreLoad(p.addrBits)
+    /** Would a request at this address hit? (combinational, per client) */
+    val probe = Input(Vec(clients, UInt(p.addrBits.W)))
+    val hit   = Output(Vec(clients, Bool()))
+    val req   = Vec(clients, Flipped(Decoupled(new MemRequest(port))))
+    val resp  = Vec(clients, Decoupled(new MemResponse(port)))
+    val ar    = Decoupled(new Axi4Addr(p))
+    /** R beats with ID `fillId` while this store fills; always taken. */
+    val r     = Flipped(Valid(new Axi4R(p)))
+    val error = Output(Bool())
+  })
+
+  // ---- Fill: whole lines (a record's second line is filled with the first) ----
+  private val fill = Module(new StoreFill(p, capacityBytes, B, fillId))
+  fill.io.load <> io.load
+  io.ar <> fill.io.ar
+  fill.io.r := io.r
+  private val errorReg = RegInit(false.B)
+  io.error := errorReg || fill.io.error
+  private val baseReg = fill.io.base
+  // The last address at which a whole record is stored, + 1: limit - (rec - 1), registered like the limit
+  // (it follows it a cycle late, long before `ready`). Below base when nothing whole is stored: no hit.
+  private val recLimitReg = RegNext(Mux(fill.io.limit >= baseReg +& recBytes.U, fill.io.limit - (recBytes - 1).U, 0.U), 0.U)
+
+  // ---- Serve ----
+  for (c <- 0 until clients) {
+    val a = io.probe(c)
+    val aligned = a(grainBits - 1, 0) === baseReg(grainBits - 1, 0)
+    io.hit(c) := fill.io.ready && a >= baseReg && a < recLimitReg && aligned
+  }
+  private val copies  = (clients + 1) / 2
+  private val banks   = Seq.fill(copies)(Seq.fill(2)(SyncReadMem(words, UInt((8 * B).W))))
+  private val wEnable = fill.io.write.valid
+  private val wLine   = fill.io.write.bits.line
+  private val wIdx    = (wLine >> 1)(idxBits - 1, 0)
+
+  for (c <- 0 until clients) {
+    val outQ = Module(new Queue(new MemResponse(port), NodeStore.OutDepth))
+    val s1ValidReg = RegInit(false.B)
+    // Credit: queued + being read < depth, so every read has a place when it lands.
+    val credit = outQ.io.count +& s1ValidReg.asUInt < NodeStore.OutDepth.U
+    io.req(c).ready := credit
+    val fire = io.req(c).fire
+    val rel  = io.req(c).bits.addr - baseReg
+    val line = rel >> lineBits
+    // Bank 0 holds the even line of L, L+1, bank 1 the odd one. (L+1)/2 past the last word (L the last line,
+    // odd) wraps to word 0, a power of two: that line is then not part of the record (it lies below the stored end).
+    val idx  = Seq(((line +& 1.U) >> 1)(idxBits - 1, 0), (line >> 1)(idxBits - 1, 0))
+    val rdata = banks(c / 2).zipWithIndex.map { case (mem, b) =>
+      if (c % 2 == 0) {
+        val w = wEnable && wLine(0) === b.U
+        mem.readWrite(Mux(w, wIdx, idx(b)), fill.io.write.bits.data, w || fire, w)
+      } else mem.read(idx(b), fire)
+    }
+    // A hit is only accepted when loaded, and the fill writes only while not loaded.
+    when(fire && wEnable) { errorReg := true.B }
+    s1ValidReg := fire
+    val s1TagReg = RegEnable(io.req(c).bits.tag, fire)
+    val s1OddReg = RegEnable(line(0), fire)
+    val s1SubReg = RegEnable(rel(lineBits - 1, grainBits), fire)
+    // As in NodeStore: no register on the read data (Yosys would double the memory); the BRAM's output is it.
+    val pair = Mux(s1OddReg, Cat(rdata(0), rdata(1)), Cat(rdata(1), rdata(0))) // line L+1 above line L
+    outQ.io.enq.valid     := s1ValidReg
+    outQ.io.enq.bits.data := (pair >> (s1SubReg << (grainBits + 3)))(8 * recBytes - 1, 0)
+    outQ.io.enq.bits.tag  := s1TagReg
+    when(outQ.io.enq.valid && !outQ.io.enq.ready) { errorReg := true.B }
+    io.resp(c) <> outQ.io.deq
+  }
+}
+
+object TriStore {
+  /** Record alignment inside the array: a 48-byte triangle starts on a 16-byte boundary. */
+  val Grain = 16
+}
