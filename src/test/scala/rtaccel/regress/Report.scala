@@ -41,7 +41,9 @@ object Report {
       wallSeconds: Double, goldenMismatches: Int, errorRays: Int): ujson.Obj = {
     val p = r.perf.map { case (k, v) => k -> v.toDouble }
     def perRay(k: String) = p(k) / rays.max(1)
-    val dramBytes = r.node.dramBytes + r.tri.dramBytes
+    // Every byte the DRAM moved: nodes and triangles, and in the system (SIM=cpp) also
+    // the rays read and hits written through it, which load the same DRAM.
+    val dramBytes = r.dram.fold(r.node.dramBytes + r.tri.dramBytes)(_.bytes)
     val bound = Bound(rays, r.perf, r.dram, dramBytes)
     ujson.Obj(
       "rays" -> rays,
@@ -98,8 +100,11 @@ object Report {
       "bound terms (rays/cycle)" -> r("boundTerms").obj.map { case (k, v) => s"$k ${n(v)}" }.mkString(", "),
       "DRAM bytes per ray" -> (r("dramBytesPerRay") match {
         case ujson.Null => "- (on chip)"
-        case v => s"${n(v, 1)} (node ${n(r("memory")("node")("dramBytes").num / r("rays").num, 1)}, triangle " +
-          s"${n(r("memory")("triangle")("dramBytes").num / r("rays").num, 1)}; DRAM busy ${n(r("memory")("dram")("busyShare"), 2)})"
+        case v =>
+          val Seq(node, tri) = Seq("node", "triangle").map(k => r("memory")(k)("dramBytes").num / r("rays").num)
+          val other = v.num - node - tri // the system's rays and hits
+          s"${n(v, 1)} (node ${n(node, 1)}, triangle ${n(tri, 1)}" + (if (other > 0.05) s", rays and hits ${n(other, 1)}" else "") +
+            s"; DRAM busy ${n(r("memory")("dram")("busyShare"), 2)})"
       }),
       "node / triangle tests per ray" -> s"${n(r("nodeTestsPerRay"), 2)} / ${n(r("triangleTestsPerRay"), 2)}",
       "node bytes per ray" -> n(r("nodeBytesPerRay"), 1),
