@@ -44,6 +44,14 @@ class BestHit(cfg: AccelConfig) extends Bundle {
   *    new tmax is written to the RayBuffer before it leaves, so its next box
   *    test sees it (the golden model relies on that).
   *
+  * Timing (docs/fmax.md): no 1-of-`numRayIds` table read feeds logic in the
+  * cycle it is used. The reduce stage's entries (best hit, hit, occluded,
+  * errors, last outstanding answer) are read a cycle ahead, at the answer
+  * pipe's stage before it, into registers, with that cycle's own writes
+  * forwarded; the issuing ray keeps its entries in registers beside
+  * `issueIdReg`. Cycle for cycle the unit behaves as if it read the tables
+  * directly (assertions `leaf_done_view`, `leaf_issue_view` check it).
+  *
   * Every queue holds up to `numRayIds` entries, and each ray is in one place,
   * so none can overflow and the response channel is always ready. The one
   * enqueue that cannot wait (a ray's last answer, into `exits`) is checked:
