@@ -44,6 +44,14 @@ class BestHit(cfg: AccelConfig) extends Bundle {
   *    new tmax is written to the RayBuffer before it leaves, so its next box
   *    test sees it (the golden model relies on that).
   *
+  * Timing (docs/fmax.md): no 1-of-`numRayIds` table read feeds logic in the
+  * cycle it is used. The reduce stage's entries (best hit, hit, occluded,
+  * errors, last outstanding answer) are read a cycle ahead, at the answer
+  * pipe's stage before it, into registers, with that cycle's own writes
+  * forwarded; the issuing ray keeps its entries in registers beside
+  * `issueIdReg`. Cycle for cycle the unit behaves as if it read the tables
+  * directly (assertions `leaf_done_view`, `leaf_issue_view` check it).
+  *
   * Every queue holds up to `numRayIds` entries, and each ray is in one place,
   * so none can overflow and the response channel is always ready. The one
   * enqueue that cannot wait (a ray's last answer, into `exits`) is checked:
@@ -91,7 +99,15 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   private val nextTriReg   = Reg(UInt(cfg.triIndexBits.W))
   private val remainingReg = Reg(UInt(cfg.leafCountBits.W))
 
-  private val stopEarly = busyReg && occludedReg(issueIdReg)
+  // The issuing ray's view of the per-ID tables, kept beside issueIdReg so
+  // that no 1-of-n table read sits in the issue and exit logic (the clock at
+  // 128 IDs): loaded from the tables when its job is taken, then updated with
+  // the tables by its own answers. Checked against the tables below.
+  private val issueOccReg = RegInit(false.B) // occludedReg(issueIdReg)
+  private val issueErrReg = RegInit(0.U(ErrorFlags.width.W)) // leafErrorsReg(issueIdReg)
+  private val issueOutReg = RegInit(0.U(cfg.leafCountBits.W)) // outstandingReg(issueIdReg)
+
+  private val stopEarly = busyReg && issueOccReg
   io.mem.req.valid     := busyReg && !stopEarly
   io.mem.req.bits.addr := io.triBase + nextTriReg * TriangleRecord.RecordBytes.U
   io.mem.req.bits.tag  := issueIdReg
@@ -138,7 +154,11 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   carryIn.rayId := respReg.tag
   carryIn.prim  := TriangleRecord.prim(respReg.data)
   carryIn.bad   := (for (v <- 0 until 3; a <- 0 until 3) yield ErrorFlags.nonFinite(TriangleRecord.vertexWord(respReg.data, v, a))).reduce(_ || _)
-  private val carry = Pipe(respValidReg, carryIn, prim.latency)
+  // `pre`: the answer pipe one stage before `carry`, where the reduce stage's
+  // per-ID table reads are made (registered, with the cycle's own writes forwarded).
+  private val (preValid, preId, carry) =
+    if (prim.latency == 0) (io.mem.resp.valid, io.mem.resp.bits.tag, Pipe(respValidReg, carryIn, 0))
+    else { val p = Pipe(respValidReg, carryIn, prim.latency - 1); (p.valid, p.bits.rayId, Pipe(p, 1)) }
   io.tested := prim.io.out.valid
 
   private val doneId  = carry.bits.rayId
@@ -148,20 +168,30 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   // One read port per consumer: every extra `read` replicates the memory.
   private val doneTok  = parked.read(doneId)
   private val issueTok = parked.read(issueIdReg)
-  private val old = best.read(doneId)
+  // The tables as they stand for `doneId` (read a cycle ahead, below).
+  private val doneHasHitReg = Reg(Bool())                     // hasHitReg(doneId)
+  private val doneOldReg    = Reg(new BestHit(cfg))           // best(doneId)
+  private val doneOccReg    = Reg(Bool())                     // occludedReg(doneId)
+  private val doneErrReg    = Reg(UInt(ErrorFlags.width.W))   // leafErrorsReg(doneId)
+  private val doneLastReg   = Reg(Bool())                     // outstandingReg(doneId) === 1
+  private val old = doneOldReg
   private val (tKey, oldKey) = (FpOrder.key(cfg.triFloat, ans.t), FpOrder.key(cfg.triFloat, old.t))
-  private val closer = !hasHitReg(doneId) || tKey < oldKey || (tKey === oldKey && primIdx < old.prim)
+  private val closer = !doneHasHitReg || tKey < oldKey || (tKey === oldKey && primIdx < old.prim)
   private val reduce = prim.io.out.valid
-  when(reduce && ans.hit && !primTooWide && closer) {
-    val b = Wire(new BestHit(cfg))
-    b.t := ans.t; b.u := ans.u; b.v := ans.v; b.prim := primIdx
+  private val update = reduce && ans.hit && !primTooWide && closer
+  private val occludes = update && doneTok.shadow
+  private val b = Wire(new BestHit(cfg))
+  b.t := ans.t; b.u := ans.u; b.v := ans.v; b.prim := primIdx
+  /** This cycle's error flags for `doneId`. */
+  private val errNow = Mux(reduce && primTooWide, ErrorFlags.bit(ErrorFlags.IndexOverflow), 0.U) |
+    Mux(reduce && carry.bits.bad, ErrorFlags.bit(ErrorFlags.BadSceneData), 0.U)
+  when(update) {
     best.write(doneId, b)
     hasHitReg(doneId) := true.B
     when(doneTok.shadow) { occludedReg(doneId) := true.B }
   }
   when(reduce && (primTooWide || carry.bits.bad)) {
-    leafErrorsReg(doneId) := leafErrorsReg(doneId) | Mux(primTooWide, ErrorFlags.bit(ErrorFlags.IndexOverflow), 0.U) |
-      Mux(carry.bits.bad, ErrorFlags.bit(ErrorFlags.BadSceneData), 0.U)
+    leafErrorsReg(doneId) := leafErrorsReg(doneId) | errNow
   }
 
   // ---- Outstanding counts: +1 per request, -1 per reduced answer ----
@@ -170,21 +200,61 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
     val dec = reduce && doneId === i.U
     outstandingReg(i) := outstandingReg(i) + inc.asUInt - dec.asUInt
   }
-  private val lastAnswer = reduce && outstandingReg(doneId) === 1.U && !((busyReg || stoppingReg) && issueIdReg === doneId)
-  private val issueDrained = outstandingReg(issueIdReg) === 0.U ||
-    (outstandingReg(issueIdReg) === 1.U && reduce && doneId === issueIdReg)
+  private val issuing    = busyReg || stoppingReg
+  private val doneIssuing = reduce && doneId === issueIdReg
+  private val lastAnswer = reduce && doneLastReg && !(issuing && issueIdReg === doneId)
+  private val issueDrained = issueOutReg === 0.U || (issueOutReg === 1.U && doneIssuing)
+
+  // ---- The reduce stage's reads, one cycle ahead: the tables for `preId` as
+  // they will stand after this cycle's writes (each forwarded when it is to
+  // `preId`; a clear is applied last, as above: `when(io.clear.valid)` comes
+  // after the reduce's writes). `preValid` now means `reduce` next cycle for
+  // that ID; otherwise the registers are not read. ----
+  private val toPre  = doneId === preId
+  private val clrPre = io.clear.valid && io.clear.bits === preId
+  private val outPre = outstandingReg(preId) + (io.mem.req.fire && issueIdReg === preId).asUInt - (reduce && toPre).asUInt
+  doneLastReg   := outPre === 1.U
+  doneHasHitReg := !clrPre && (hasHitReg(preId) || (update && toPre))
+  doneOldReg    := Mux(update && toPre, b, best.read(preId))
+  doneOccReg    := !clrPre && (occludedReg(preId) || (occludes && toPre))
+  doneErrReg    := Mux(clrPre, 0.U, leafErrorsReg(preId) | Mux(reduce && toPre, errNow, 0.U))
+
+  // ---- The issuing ray's view (see issueOccReg): a job's ray has no request
+  // outstanding (it left its last leaf drained, and is in one place), so no
+  // answer or clear can change its entries in the cycle its job is taken. ----
+  issueOutReg := issueOutReg + io.mem.req.fire.asUInt - doneIssuing.asUInt
+  when(doneIssuing && occludes) { issueOccReg := true.B }
+  when(doneIssuing) { issueErrReg := issueErrReg | errNow }
+  when(io.clear.valid && io.clear.bits === issueIdReg) { issueOccReg := false.B; issueErrReg := 0.U }
+  when(jobs.io.deq.fire) {
+    val id = jobs.io.deq.bits.token.rayId
+    issueOutReg := 0.U
+    issueOccReg := occludedReg(id)
+    issueErrReg := leafErrorsReg(id)
+  }
+  assert(!jobs.io.deq.fire || outstandingReg(jobs.io.deq.bits.token.rayId) === 0.U,
+    "leaf_job_drained: a ray's job was taken while it still had triangle requests outstanding")
+  assert(!issuing || (issueOutReg === outstandingReg(issueIdReg) && issueOccReg === occludedReg(issueIdReg) &&
+    issueErrReg === leafErrorsReg(issueIdReg)), "leaf_issue_view: the issuing ray's registers differ from its table entries")
+  assert(!reduce || (doneLastReg === (outstandingReg(doneId) === 1.U) && doneHasHitReg === hasHitReg(doneId) &&
+    doneOccReg === occludedReg(doneId) && doneErrReg === leafErrorsReg(doneId)),
+    // (not `best`: a fourth read port would replicate the memory; the specs compare every hit)
+    "leaf_done_view: the reduce stage's registers differ from the answered ray's table entries")
 
   // ---- Exit: the answer side first (it cannot wait), then the issue side ----
-  private def exitOf(id: UInt, tok: TraversalToken): LeafExit = {
+  // A ray's exit in the cycle of its last answer also carries that answer's
+  // error flags (its table entry takes them only at the clock edge).
+  private def exitOf(tok: TraversalToken, errors: UInt, occluded: Bool, answered: Bool): LeafExit = {
     val e = Wire(new LeafExit(cfg))
     e.token := tok
-    e.token.errors := tok.errors | leafErrorsReg(id)
-    e.occluded := occludedReg(id) || (reduce && doneId === id && ans.hit && tok.shadow)
+    e.token.errors := tok.errors | errors | Mux(answered, errNow, 0.U)
+    e.occluded := occluded || (answered && ans.hit && tok.shadow)
     e
   }
   private val issueExit = stoppingReg && issueDrained && !lastAnswer
   exits.io.enq.valid := lastAnswer || issueExit
-  exits.io.enq.bits  := Mux(lastAnswer, exitOf(doneId, doneTok), exitOf(issueIdReg, issueTok))
+  exits.io.enq.bits  := Mux(lastAnswer, exitOf(doneTok, doneErrReg, doneOccReg, reduce),
+    exitOf(issueTok, issueErrReg, issueOccReg, doneIssuing))
   when(issueExit && exits.io.enq.ready) { stoppingReg := false.B }
   private val brokenReg = RegInit(false.B)
   when(lastAnswer && !exits.io.enq.ready) { brokenReg := true.B }
@@ -219,6 +289,14 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   io.result.bits  := best.read(io.resultId)
 
   // Waiting jobs, exits, and between them each ray issuing or owed answers.
-  private val working = (0 until n).map(i => outstandingReg(i) =/= 0.U || ((busyReg || stoppingReg) && issueIdReg === i.U))
-  io.held := jobs.io.count +& PopCount(working) +& exits.io.count
+  // The rays between are counted as they pass (taken from `jobs`; put into
+  // `exits`, or lost by the checked enqueue above): a 128-wide popcount into
+  // `held` was the unit's longest path. The popcount stays as an assertion
+  // (simulation and formal only), as RayIdFreeList checks its in-flight count.
+  private val working = (0 until n).map(i => outstandingReg(i) =/= 0.U || (issuing && issueIdReg === i.U))
+  private val betweenReg = RegInit(0.U(log2Ceil(n + 1).W))
+  private val leaves = lastAnswer || (issueExit && exits.io.enq.ready)
+  betweenReg := betweenReg + jobs.io.deq.fire.asUInt - leaves.asUInt
+  assert(betweenReg === PopCount(working), "leaf_between_count: the rays counted between jobs and exits differ from the IDs issuing or owed answers")
+  io.held := jobs.io.count +& betweenReg +& exits.io.count
 }

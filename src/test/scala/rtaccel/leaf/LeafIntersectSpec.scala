@@ -3,7 +3,7 @@ package rtaccel.leaf
 import chisel3._
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
-import rtaccel.AccelConfig
+import rtaccel.{AccelConfig, ErrorFlags}
 import rtaccel.datapath.{BoxRounding, FloatDatapath, TriangleTest}
 import rtaccel.fp.FloatFormat
 import rtaccel.mem._
@@ -50,7 +50,9 @@ class LeafIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
     Seq(issue, memory, ids).min
   }
 
-  /** Triangle i: t from a small set (so ties happen), hit with probability 1/2, prim = a scrambled index. */
+  /** Triangle i: t from a small set (so ties happen), hit with probability 1/2, prim = a scrambled index.
+    * Every 13th has a NaN in vertex word 5 (which FieldPrim does not read), no random draw spent on it. */
+  private def badVertex(i: Int): Boolean = i % 13 == 5
   private def craftImage(rnd: Random): (MemoryImage, IndexedSeq[(Boolean, Long, Long, Long, Long)]) = {
     val img = SyntheticImage(nodes = 4, tris = numTris, rnd)
     val tris = (0 until numTris).map { i =>
@@ -60,6 +62,7 @@ class LeafIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
     for ((tri, i) <- tris.zipWithIndex) {
       val b = ByteBuffer.wrap(img.bytes, img.triAddr(i).toInt, 48).order(ByteOrder.LITTLE_ENDIAN)
       b.putInt(tri._2.toInt).putInt(tri._3.toInt).putInt(tri._4.toInt).putInt(if (tri._1) 1 else 0)
+      if (badVertex(i)) { b.position(img.triAddr(i).toInt + 20); b.putInt(0x7fc00000) }
       b.position(img.triAddr(i).toInt + 36); b.putInt(tri._5.toInt)
     }
     (img, tris)
@@ -67,13 +70,16 @@ class LeafIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   private case class Life(id: Int, shadow: Boolean, var tmax: Long, var leavesLeft: Int,
       var best: Option[(Long, Long, Long, Long)] = None, var occluded: Boolean = false,
-      var issued: Int = 0, var leaf: (Int, Int) = (0, 0))
+      var issued: Int = 0, var leaf: (Int, Int) = (0, 0), var bad: Boolean = false)
 
   /** `earlyExits`: require a shadow ray to stop issuing early at least once
     * (see the cases below for when that can happen). */
   private def run(latency: Latency, primLatency: Int, cycles: Int, name: String, earlyExits: Boolean = true): Unit = Seeded(name) { rnd =>
     val memMean = latency match { case Latency.Fixed(c) => c.toDouble; case Latency.Uniform(lo, hi) => (lo + hi) / 2.0 }
     val (img, tris) = craftImage(rnd)
+    // Any of the nine vertex words non-finite (u and v are two of them, SyntheticImage wrote the rest).
+    val badTri = (0 until numTris).map(i => (0 until 9).exists(w => ErrorFlags.nonFiniteWord(
+      ByteBuffer.wrap(img.bytes, img.triAddr(i).toInt + 4 * w, 4).order(ByteOrder.LITTLE_ENDIAN).getInt & 0xffffffffL)))
     Waves.onFailure(Backends.verilator) { annos => test(new LeafIntersect(cfg, UInt(16.W), () => new FieldPrim(cfg, primLatency))).withAnnotations(annos) { dut =>
       val model = new MemorySystemModel(img, 48, MemoryParams(latency = latency, maxOutstanding = maxOutstanding, seed = rnd.nextLong()), "tri")
       val mem = new MemPortHarness(dut.io.mem, model, refuse = refuse, rnd = rnd)
@@ -82,7 +88,7 @@ class LeafIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
       val waiting = mutable.Queue.empty[Int]          // IDs with a job to send
       var readReq: Option[Int] = None
       val tmaxWrites = mutable.Map.empty[Int, Long] // written, exit not yet seen
-      var exitsSeen, shadowEarly, leavesDone = 0
+      var exitsSeen, shadowEarly, leavesDone, badExits = 0
       for (cycle <- 0 until cycles) {
         // Start new rays on free IDs.
         val freeIds = (0 until cfg.numRayIds).filterNot(lives.contains)
@@ -138,6 +144,11 @@ class LeafIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
             if (cands.nonEmpty) { val m = cands.minBy(c => (c._1, c._2)); l.best = Some((m._1, m._3, m._4, m._2)) }
           }
           dut.io.out.bits.token.nodeIdx.expect((id + 10).U); dut.io.out.bits.token.sp.expect(1.U)
+          // Error flags are sticky per ray: BadSceneData once any triangle it was answered
+          // had a NaN/infinite vertex word, this leaf's last answer included.
+          l.bad ||= (first until first + l.issued).exists(badTri)
+          dut.io.out.bits.token.errors.expect((if (l.bad) 1 << ErrorFlags.BadSceneData else 0).U, s"cycle $cycle ray $id errors")
+          if (l.bad) badExits += 1
           dut.io.resultId.poke(id.U)
           if (!l.shadow) {
             dut.io.result.valid.expect(l.best.isDefined.B, s"cycle $cycle ray $id has a hit")
@@ -173,6 +184,8 @@ class LeafIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
       info(f"$leavesDone leaves in $cycles cycles (triangle latency $primLatency); the physical bound is ${expected}%.0f")
       assert(leavesDone > expected / 3, f"only $leavesDone leaves finished in $cycles cycles; the harness sustains ~${expected}%.0f")
       info(s"$shadowEarly shadow rays stopped issuing early")
+      info(s"$badExits exits flagged BadSceneData")
+      assert(badExits > 0, "no exit carried BadSceneData: the error path went untested")
       if (earlyExits) assert(shadowEarly > 0, "no shadow ray ever stopped early: the early exit went untested")
     } }
   }
