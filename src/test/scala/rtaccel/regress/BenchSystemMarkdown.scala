@@ -31,9 +31,10 @@ object BenchSystemMarkdown {
     def rpc(run: String, n: Int) = row(run, n)("raysPerCycle").num
     /** estimate, not run on a board: the fitting system's rays/cycle x the Fmax estimate (MHz -> Mrays/s). */
     def estimate(run: String) = rpc(run, fit) * mhz
+    val store = rtaccel.system.SystemConfig() // the stores' sizes the bench's systems are built with (the defaults)
     val header = Seq("", "## The system on a ZC706 (estimate, not run on a board) against Embree (this machine)", "",
       s"Simulated by `make bench` at commit ${r.sim.commit} (${r.sim.at}). The system top `rtaccel_system` (N cores, the MemoryFabric with its node",
-      "store, ray and hit DMA through DDR, registers), 4-wide FP32 watertight cores (conservative boxes, 64 ray IDs each),",
+      s"store and triangle store (the first ${store.nodeStoreBytes / 1024} KiB of nodes, ${store.triStoreBytes / 1024} KiB of triangles on chip: docs/scene-store.md), ray and hit DMA through DDR, registers), 4-wide FP32 watertight cores (conservative boxes, 64 ray IDs each),",
       "under the C++ harness (`sw/sim/`, driven by librtaccel as on the board) with the ZC706 DDR model behind `m_axi`:",
       "12.8 GB/s, 64-byte bursts, 100 ns latency, 64 outstanding, out of order, clocked at the accelerator's estimated",
       s"clock, ${f(simMhz, 0)} MHz (${f(DdrBytesPerSecond / (simMhz * 1e6), 0)} B/cycle, at most one ${r.rows.map(beatBytes).distinct.map(f(_, 0)).mkString("/")}-byte beat per cycle on `m_axi`).",
