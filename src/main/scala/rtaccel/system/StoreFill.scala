@@ -163,6 +163,14 @@ class StoreFill(p: Axi4Params, capacityBytes: Int, wordBytes: Int, fillId: Int) 
 }
 
 object StoreFill {
+  /** The fill of the store whose ports are `io`, wired to them (load, AR, R); the store serves from its `write`s. */
+  def apply(p: Axi4Params, io: StoreIO, capacityBytes: Int, wordBytes: Int, fillId: Int): StoreFill = {
+    val fill = Module(new StoreFill(p, capacityBytes, wordBytes, fillId))
+    fill.io.load <> io.load
+    io.ar <> fill.io.ar
+    fill.io.r := io.r
+    fill
+  }
   val FillBurstBeats = 16
   val FillBursts = 8
   /** A store's base alignment in DDR (NodeStoreLoad: `base` is 64-byte aligned). */

@@ -2,8 +2,8 @@ package rtaccel.system
 
 import chisel3._
 import chisel3.util._
-import rtaccel.axi.{Axi4Addr, Axi4Params, Axi4R}
-import rtaccel.mem.{MemPortParams, MemRequest, MemResponse}
+import rtaccel.axi.Axi4Params
+import rtaccel.mem.{MemPortParams, MemResponse}
 
 /** The on-chip triangle store: the first `capacityBytes` bytes of the
   * triangle array (docs/scene-store.md), copied from DRAM when a scene is
@@ -40,24 +40,10 @@ class TriStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: 
   private val lineBits = log2Ceil(B)
   private val grainBits = log2Ceil(TriStore.Grain)
 
-  val io = IO(new Bundle {
-    val load  = new NodeStoreLoad(p.addrBits)
-    /** Would a request at this address hit? (combinational, per client) */
-    val probe = Input(Vec(clients, UInt(p.addrBits.W)))
-    val hit   = Output(Vec(clients, Bool()))
-    val req   = Vec(clients, Flipped(Decoupled(new MemRequest(port))))
-    val resp  = Vec(clients, Decoupled(new MemResponse(port)))
-    val ar    = Decoupled(new Axi4Addr(p))
-    /** R beats with ID `fillId` while this store fills; always taken. */
-    val r     = Flipped(Valid(new Axi4R(p)))
-    val error = Output(Bool())
-  })
+  val io = IO(new StoreIO(p, port, clients))
 
   // ---- Fill: whole lines (a record's second line is filled with the first) ----
-  private val fill = Module(new StoreFill(p, capacityBytes, B, fillId))
-  fill.io.load <> io.load
-  io.ar <> fill.io.ar
-  fill.io.r := io.r
+  private val fill = StoreFill(p, io, capacityBytes, B, fillId)
   private val errorReg = RegInit(false.B)
   io.error := errorReg || fill.io.error
   private val baseReg = fill.io.base
