@@ -14,6 +14,14 @@
  * failure rtaccel_last_error(dev) holds a sentence naming the file, register
  * or value concerned.
  *
+ * Faults (docs/faults.md): every wait is bounded (the timeout argument, or a
+ * default of RTACCEL_DEFAULT_TIMEOUT_MS; the sim backend counts cycles). A
+ * batch that ends with a hardware fault (AXI_ERROR, WINDOW_ERROR, watchdog
+ * TIMEOUT, BROKEN) returns its error code once, after the library has reset
+ * the block (CTRL.SOFT_RESET) and loaded the scene again from the device
+ * buffer: the next rtaccel_submit runs normally. A lost interrupt is noticed
+ * at the timeout (STATUS says the batch ended) and is not an error.
+ *
  * Thread safety: every call on one device takes the device's mutex, so
  * calls from several threads are serialized and safe. One batch is in flight
  * per device: rtaccel_submit while a batch runs returns RTACCEL_ERR_BUSY.
@@ -35,17 +43,25 @@ extern "C" {
 
 typedef enum rtaccel_status {
   RTACCEL_OK = 0,
-  RTACCEL_ERR_ARG = -1,         /* a null pointer, zero rays, a size that does not fit */
+  RTACCEL_ERR_ARG = -1,         /* a null pointer or zero rays */
   RTACCEL_ERR_FILE = -2,        /* a file could not be opened or read (message names it) */
   RTACCEL_ERR_NOMEM = -3,       /* host allocation failed, or the device buffer is too small */
   RTACCEL_ERR_DEVICE = -4,      /* not an rtaccel (ID or VERSION register), or the backend failed */
   RTACCEL_ERR_SCENE = -5,       /* the hardware refused the scene: STATUS.SCENE_ERROR; see rtaccel_scene_error */
-  RTACCEL_ERR_TIMEOUT = -6,     /* no DONE / SCENE interrupt in time */
+  RTACCEL_ERR_TIMEOUT = -6,     /* the host's wait bound passed with the batch or load still running (call rtaccel_abort) */
   RTACCEL_ERR_BUSY = -7,        /* a batch is in flight */
   RTACCEL_ERR_NO_SCENE = -8,    /* submit before a scene loaded */
   RTACCEL_ERR_BROKEN = -9,      /* STATUS.BROKEN: a ray was lost or duplicated (never expected) */
   RTACCEL_ERR_AXI = -10,        /* STATUS.AXI_ERROR: the memory answered a non-OKAY response */
-  RTACCEL_ERR_UNSUPPORTED = -11 /* the backend is not built in, or cannot run on this machine */
+  RTACCEL_ERR_UNSUPPORTED = -11, /* the backend is not built in, or cannot run on this machine */
+  RTACCEL_ERR_ABORTED = -12,    /* the batch was ended by rtaccel_abort before all its rays were done */
+  RTACCEL_ERR_WINDOW = -13,     /* STATUS.WINDOW_ERROR: an access outside the DMA window was refused */
+  RTACCEL_ERR_WATCHDOG = -14,   /* STATUS.TIMEOUT: the hardware watchdog ended a batch or load without progress */
+  RTACCEL_ERR_ALIGN = -15,      /* a ray or hit pointer not aligned to its record's type */
+  RTACCEL_ERR_TOO_BIG = -16,    /* a batch larger than the device's ray and hit buffers, or more hits than the batch */
+  RTACCEL_ERR_LAYOUT = -17,     /* a scene of another node layout than the hardware's (CONFIG_LAYOUT) */
+  RTACCEL_ERR_STATE = -18       /* a call the device's state does not allow: wait or abort without a batch, hits of a
+                                   batch that did not complete */
 } rtaccel_status;
 
 /* SCENE_ERROR_CODE values (contract; the hardware's scene checks). */
@@ -141,9 +157,17 @@ const char* rtaccel_scene_error_name(uint32_t code);
 
 /* Copies `count` rays to the device and starts them (CTRL.START). Ray i's hit has number i. */
 rtaccel_status rtaccel_submit(rtaccel_dev* dev, const rtaccel_ray* rays, uint32_t count);
-/* Waits for the batch's DONE interrupt. timeout_ms: board wall time (0: forever); the sim
- * backend bounds a wait by rtaccel_sim_options.max_cycles instead. */
+/* Waits for the batch's end. timeout_ms: board wall time (0: RTACCEL_DEFAULT_TIMEOUT_MS); the sim
+ * backend bounds a wait by rtaccel_sim_options.max_cycles instead. RTACCEL_ERR_TIMEOUT: the batch is
+ * still running (rtaccel_abort ends it); a fault's code: the batch failed and the block is ready again. */
 rtaccel_status rtaccel_wait(rtaccel_dev* dev, uint32_t timeout_ms);
+/* Ends the running batch (CTRL.ABORT: no more rays start, the rays in flight finish), waits for it
+ * (bounded by timeout_ms as rtaccel_wait), and leaves the block ready for the next batch (SOFT_RESET and a
+ * scene reload if the batch does not end or ends with a fault). RTACCEL_OK: the batch ended, by itself
+ * (its hits are readable) or by the abort (they are not: RTACCEL_ERR_STATE). RTACCEL_ERR_STATE without a
+ * batch. */
+rtaccel_status rtaccel_abort(rtaccel_dev* dev, uint32_t timeout_ms);
+#define RTACCEL_DEFAULT_TIMEOUT_MS 10000u
 /* Copies the batch's hits out (hit i at index i); count = the batch's ray count. */
 rtaccel_status rtaccel_read_hits(rtaccel_dev* dev, rtaccel_hit* hits, uint32_t count);
 rtaccel_status rtaccel_read_counters(rtaccel_dev* dev, rtaccel_counters* out);
@@ -154,6 +178,8 @@ rtaccel_status rtaccel_clear_counters(rtaccel_dev* dev);
  * the DDR model's statistics as a JSON object written to `path`. */
 rtaccel_status rtaccel_sim_cycles(rtaccel_dev* dev, uint64_t* cycles);
 rtaccel_status rtaccel_sim_write_memory_json(rtaccel_dev* dev, const char* path);
+/* Simulation backend only: lets `cycles` cycles of the system pass (the board's time between two calls). */
+rtaccel_status rtaccel_sim_run(rtaccel_dev* dev, uint64_t cycles);
 
 #ifdef __cplusplus
 }

@@ -30,11 +30,15 @@ typedef struct rtaccel_backend {
   void (*close)(void* ctx);
   /* Optional (sim only): CONFIG_AXI_DATA_BITS of the simulated system, known without an s_axi access. */
   uint32_t (*sim_axi_data_bits)(void* ctx);
+  /* Optional (sim only): run the system `cycles` cycles. */
+  rtaccel_status (*sim_run)(void* ctx, uint64_t cycles, char* err, size_t errn);
 } rtaccel_backend;
 
 /* Called by a backend's open function once it holds its context; takes ownership. */
 rtaccel_status rtaccel_attach(const rtaccel_backend* be, void* ctx, uint64_t buf_base, uint64_t buf_size,
                               rtaccel_dev** out);
+/* The backend context of a device opened with `be` (NULL for another backend's): the sim's fault harness. */
+void* rtaccel_backend_context(rtaccel_dev* dev, const rtaccel_backend* be);
 /* Records an open failure for rtaccel_open_error (thread-local). */
 void rtaccel_set_open_error(const char* fmt, ...);
 

@@ -105,7 +105,8 @@ static void close_ctx(void* c) {
   free(x);
 }
 
-static const rtaccel_backend uio_backend = {"uio", reg_read, reg_write, mem_write, mem_read, wait_irq, NULL, NULL, NULL, NULL, close_ctx, NULL};
+static const rtaccel_backend uio_backend = {"uio", reg_read, reg_write, mem_write, mem_read, wait_irq, NULL, NULL, NULL, NULL, close_ctx, NULL,
+                                            NULL};
 
 static int read_sysfs_u64(const char* path, uint64_t* v) {
   FILE* f = fopen(path, "r");

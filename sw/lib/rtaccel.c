@@ -30,6 +30,7 @@ struct rtaccel_dev {
   uint64_t ray_base, hit_base;
   uint32_t batch;         /* rays of the batch submitted last */
   int busy;
+  int hits_valid;         /* the last batch completed: its hit records are all written */
   char err[512];
 };
 
@@ -84,6 +85,13 @@ const char* rtaccel_status_name(rtaccel_status s) {
     case RTACCEL_ERR_BROKEN: return "RTACCEL_ERR_BROKEN";
     case RTACCEL_ERR_AXI: return "RTACCEL_ERR_AXI";
     case RTACCEL_ERR_UNSUPPORTED: return "RTACCEL_ERR_UNSUPPORTED";
+    case RTACCEL_ERR_ABORTED: return "RTACCEL_ERR_ABORTED";
+    case RTACCEL_ERR_WINDOW: return "RTACCEL_ERR_WINDOW";
+    case RTACCEL_ERR_WATCHDOG: return "RTACCEL_ERR_WATCHDOG";
+    case RTACCEL_ERR_ALIGN: return "RTACCEL_ERR_ALIGN";
+    case RTACCEL_ERR_TOO_BIG: return "RTACCEL_ERR_TOO_BIG";
+    case RTACCEL_ERR_LAYOUT: return "RTACCEL_ERR_LAYOUT";
+    case RTACCEL_ERR_STATE: return "RTACCEL_ERR_STATE";
   }
   return "RTACCEL_ERR_UNKNOWN";
 }
@@ -117,9 +125,9 @@ rtaccel_status rtaccel_attach(const rtaccel_backend* be, void* ctx, uint64_t buf
   uint32_t id = 0, version = 0;
   rtaccel_status s = rd(d, RTACCEL_ID_OFFSET, &id);
   if (s == RTACCEL_OK) s = rd(d, RTACCEL_VERSION_OFFSET, &version);
-  if (s == RTACCEL_OK && (id != 0x52544143u || version != 1u)) {
-    snprintf(d->err, sizeof d->err, "rtaccel %s: ID 0x%08x VERSION %u: not an rtaccel of register map version 1 "
-             "(expected ID 0x52544143)", be->name, id, version);
+  if (s == RTACCEL_OK && (id != RTACCEL_ID_VALUE || version != RTACCEL_VERSION_VALUE)) {
+    snprintf(d->err, sizeof d->err, "rtaccel %s: ID 0x%08x VERSION %u: not an rtaccel of register map version %u "
+             "(expected ID 0x%08x)", be->name, id, version, RTACCEL_VERSION_VALUE, RTACCEL_ID_VALUE);
     s = RTACCEL_ERR_DEVICE;
   }
   if (s != RTACCEL_OK) {
@@ -168,13 +176,50 @@ rtaccel_status rtaccel_info_get(rtaccel_dev* d, rtaccel_info* o) {
   LOCKED(d, info_locked(d, o));
 }
 
+/* The sticky STATUS faults that only SOFT_RESET clears. */
+#define FAULT_MASK \
+  (RTACCEL_STATUS_BROKEN_MASK | RTACCEL_STATUS_AXI_ERROR_MASK | RTACCEL_STATUS_TIMEOUT_MASK | RTACCEL_STATUS_WINDOW_ERROR_MASK)
+
 /* STATUS bits that end a wait badly, whatever the operation. */
 static rtaccel_status check_sticky(rtaccel_dev* d, uint32_t status) {
   if (status & RTACCEL_STATUS_BROKEN_MASK)
     return fail(d, RTACCEL_ERR_BROKEN, "rtaccel: STATUS.BROKEN (0x%08x): the hardware lost or duplicated a ray", status);
+  if (status & RTACCEL_STATUS_WINDOW_ERROR_MASK) {
+    uint32_t addr = 0;
+    rd(d, RTACCEL_WINDOW_FAULT_ADDR_OFFSET, &addr);
+    return fail(d, RTACCEL_ERR_WINDOW, "rtaccel: STATUS.WINDOW_ERROR (0x%08x): an access at 0x%08x outside the DMA window "
+                "was refused", status, addr);
+  }
   if (status & RTACCEL_STATUS_AXI_ERROR_MASK)
     return fail(d, RTACCEL_ERR_AXI, "rtaccel: STATUS.AXI_ERROR (0x%08x): the memory answered a non-OKAY response "
                 "(an address outside the device buffer?)", status);
+  if (status & RTACCEL_STATUS_TIMEOUT_MASK)
+    return fail(d, RTACCEL_ERR_WATCHDOG, "rtaccel: STATUS.TIMEOUT (0x%08x): the watchdog ended the batch after "
+                "WATCHDOG_CYCLES cycles without progress (a memory response that never came?)", status);
+  return RTACCEL_OK;
+}
+
+static rtaccel_status load_scene_hw(rtaccel_dev* d);
+
+/* After a fault: SOFT_RESET, then the scene loaded again from the device buffer (it is still there). The
+   fault's own message stays in d->err unless the recovery itself fails. */
+static rtaccel_status recover(rtaccel_dev* d) {
+  char why[sizeof d->err];
+  memcpy(why, d->err, sizeof why);
+  d->busy = 0;
+  d->hits_valid = 0;
+  TRY(wr(d, RTACCEL_CTRL_OFFSET, RTACCEL_CTRL_SOFT_RESET_MASK));
+  int had_scene = d->scene_ready;
+  d->scene_ready = 0;
+  if (had_scene) {
+    rtaccel_status s = load_scene_hw(d);
+    if (s != RTACCEL_OK) {
+      char again[sizeof d->err];
+      memcpy(again, d->err, sizeof again);
+      return fail(d, s, "%s; then reloading the scene after SOFT_RESET failed: %s", why, again);
+    }
+  }
+  memcpy(d->err, why, sizeof why);
   return RTACCEL_OK;
 }
 
@@ -206,26 +251,7 @@ static rtaccel_status load_locked(rtaccel_dev* d, const void* image, size_t byte
   if (skew % ALIGN != 0 || bytes + skew > d->buf_size) skew = 0; /* keep the contract's alignment; never past the buffer */
   d->scene_base = d->buf_base + skew;
   TRY(d->be->mem_write(d->ctx, d->scene_base, image, bytes, d->err, sizeof d->err));
-  TRY(wr(d, RTACCEL_SCENE_BASE_OFFSET, (uint32_t)d->scene_base));
-  TRY(wr(d, RTACCEL_IRQ_STATUS_OFFSET, RTACCEL_IRQ_STATUS_SCENE_MASK | RTACCEL_IRQ_STATUS_DONE_MASK));
-  TRY(wr(d, RTACCEL_IRQ_ENABLE_OFFSET, RTACCEL_IRQ_ENABLE_SCENE_MASK));
-  TRY(wr(d, RTACCEL_CTRL_OFFSET, RTACCEL_CTRL_LOAD_SCENE_MASK));
-  rtaccel_status w = d->be->wait_irq(d->ctx, 10000, d->err, sizeof d->err);
-  if (w == RTACCEL_ERR_TIMEOUT) return fail(d, w, "rtaccel: no SCENE interrupt after LOAD_SCENE (%s)", d->err);
-  TRY(w);
-  TRY(wr(d, RTACCEL_IRQ_STATUS_OFFSET, RTACCEL_IRQ_STATUS_SCENE_MASK));
-  uint32_t status;
-  TRY(rd(d, RTACCEL_STATUS_OFFSET, &status));
-  TRY(check_sticky(d, status));
-  if (status & RTACCEL_STATUS_SCENE_ERROR_MASK) {
-    TRY(rd(d, RTACCEL_SCENE_ERROR_CODE_OFFSET, &d->scene_error));
-    return fail(d, RTACCEL_ERR_SCENE, "rtaccel: the hardware refused the scene: SCENE_ERROR_CODE %u (%s)", d->scene_error,
-                rtaccel_scene_error_name(d->scene_error));
-  }
-  if (!(status & RTACCEL_STATUS_SCENE_READY_MASK))
-    return fail(d, RTACCEL_ERR_DEVICE, "rtaccel: SCENE interrupt but STATUS 0x%08x has neither SCENE_READY nor SCENE_ERROR",
-                status);
-  d->scene_ready = 1;
+  TRY(load_scene_hw(d));
   d->scene_bytes = skew + bytes;
   if (d->be->sim_region) {
     if (node_off <= tri_off && tri_off <= bytes) {
@@ -234,6 +260,45 @@ static rtaccel_status load_locked(rtaccel_dev* d, const void* image, size_t byte
       d->be->sim_region(d->ctx, "triangles", d->scene_base + tri_off, d->scene_base + bytes);
     }
   }
+  return RTACCEL_OK;
+}
+
+/* LOAD_SCENE of the image at d->scene_base, waiting (bounded) for SCENE_READY or SCENE_ERROR. */
+static rtaccel_status load_scene_hw(rtaccel_dev* d) {
+  TRY(wr(d, RTACCEL_SCENE_BASE_OFFSET, (uint32_t)d->scene_base));
+  TRY(wr(d, RTACCEL_IRQ_STATUS_OFFSET, RTACCEL_IRQ_STATUS_SCENE_MASK | RTACCEL_IRQ_STATUS_DONE_MASK | RTACCEL_IRQ_STATUS_FAULT_MASK));
+  TRY(wr(d, RTACCEL_IRQ_ENABLE_OFFSET, RTACCEL_IRQ_ENABLE_SCENE_MASK | RTACCEL_IRQ_ENABLE_FAULT_MASK));
+  TRY(wr(d, RTACCEL_CTRL_OFFSET, RTACCEL_CTRL_LOAD_SCENE_MASK));
+  rtaccel_status w = d->be->wait_irq(d->ctx, RTACCEL_DEFAULT_TIMEOUT_MS, d->err, sizeof d->err);
+  uint32_t status = 0;
+  if (w == RTACCEL_ERR_TIMEOUT) {
+    /* A lost interrupt: the load ended all the same (STATUS says so). */
+    TRY(rd(d, RTACCEL_STATUS_OFFSET, &status));
+    if (status & RTACCEL_STATUS_BUSY_MASK) {
+      fail(d, w, "rtaccel: no SCENE interrupt after LOAD_SCENE, STATUS 0x%08x still BUSY (%s)", status, d->err);
+      TRY(recover(d));
+      return w;
+    }
+  } else {
+    TRY(w);
+  }
+  TRY(wr(d, RTACCEL_IRQ_STATUS_OFFSET, RTACCEL_IRQ_STATUS_SCENE_MASK | RTACCEL_IRQ_STATUS_FAULT_MASK));
+  TRY(rd(d, RTACCEL_STATUS_OFFSET, &status));
+  rtaccel_status f = check_sticky(d, status);
+  if (f != RTACCEL_OK) {
+    TRY(recover(d));
+    return f;
+  }
+  if (status & RTACCEL_STATUS_SCENE_ERROR_MASK) {
+    TRY(rd(d, RTACCEL_SCENE_ERROR_CODE_OFFSET, &d->scene_error));
+    return fail(d, d->scene_error == RTACCEL_SCENE_LAYOUT ? RTACCEL_ERR_LAYOUT : RTACCEL_ERR_SCENE,
+                "rtaccel: the hardware refused the scene: SCENE_ERROR_CODE %u (%s)", d->scene_error,
+                rtaccel_scene_error_name(d->scene_error));
+  }
+  if (!(status & RTACCEL_STATUS_SCENE_READY_MASK))
+    return fail(d, RTACCEL_ERR_DEVICE, "rtaccel: SCENE interrupt but STATUS 0x%08x has neither SCENE_READY nor SCENE_ERROR",
+                status);
+  d->scene_ready = 1;
   return RTACCEL_OK;
 }
 rtaccel_status rtaccel_load_scene(rtaccel_dev* d, const void* image, size_t bytes) {
@@ -298,14 +363,14 @@ static rtaccel_status submit_locked(rtaccel_dev* d, const rtaccel_ray* rays, uin
   uint64_t hit_base = align_up(ray_base + (uint64_t)count * RAY_BYTES);
   uint64_t end = hit_base + (uint64_t)count * HIT_BYTES;
   if (end > d->buf_base + d->buf_size)
-    return fail(d, RTACCEL_ERR_NOMEM, "rtaccel: %u rays need %llu bytes of device buffer after the scene; it holds %llu",
+    return fail(d, RTACCEL_ERR_TOO_BIG, "rtaccel: %u rays need %llu bytes of device buffer after the scene; it holds %llu",
                 count, (unsigned long long)(end - ray_base), (unsigned long long)(d->buf_base + d->buf_size - ray_base));
   TRY(d->be->mem_write(d->ctx, ray_base, rays, (size_t)count * RAY_BYTES, d->err, sizeof d->err));
   TRY(wr(d, RTACCEL_RAY_BASE_OFFSET, (uint32_t)ray_base));
   TRY(wr(d, RTACCEL_RAY_COUNT_OFFSET, count));
   TRY(wr(d, RTACCEL_HIT_BASE_OFFSET, (uint32_t)hit_base));
-  TRY(wr(d, RTACCEL_IRQ_STATUS_OFFSET, RTACCEL_IRQ_STATUS_DONE_MASK));
-  TRY(wr(d, RTACCEL_IRQ_ENABLE_OFFSET, RTACCEL_IRQ_ENABLE_DONE_MASK));
+  TRY(wr(d, RTACCEL_IRQ_STATUS_OFFSET, RTACCEL_IRQ_STATUS_DONE_MASK | RTACCEL_IRQ_STATUS_FAULT_MASK));
+  TRY(wr(d, RTACCEL_IRQ_ENABLE_OFFSET, RTACCEL_IRQ_ENABLE_DONE_MASK | RTACCEL_IRQ_ENABLE_FAULT_MASK));
   if (d->be->sim_region) {
     d->be->sim_region(d->ctx, "rays", ray_base, ray_base + (uint64_t)count * RAY_BYTES);
     d->be->sim_region(d->ctx, "hits", hit_base, end);
@@ -316,43 +381,72 @@ static rtaccel_status submit_locked(rtaccel_dev* d, const rtaccel_ray* rays, uin
   d->hit_base = hit_base;
   d->batch = count;
   d->busy = 1;
+  d->hits_valid = 0;
   return RTACCEL_OK;
 }
 rtaccel_status rtaccel_submit(rtaccel_dev* d, const rtaccel_ray* rays, uint32_t count) {
   if (!rays) return RTACCEL_ERR_ARG;
+  if ((uintptr_t)rays % _Alignof(rtaccel_ray) != 0) return RTACCEL_ERR_ALIGN;
   LOCKED(d, submit_locked(d, rays, count));
 }
 
-static rtaccel_status wait_locked(rtaccel_dev* d, uint32_t timeout_ms) {
-  if (!d->busy) return fail(d, RTACCEL_ERR_ARG, "rtaccel: wait without a batch submitted");
-  rtaccel_status w = d->be->wait_irq(d->ctx, timeout_ms, d->err, sizeof d->err);
+/* The batch's end, once the interrupt came or the wait's bound passed: STATUS decides. `aborting`: the
+   caller asked for ABORT, so an ABORTED end is what it wanted. */
+static rtaccel_status batch_end(rtaccel_dev* d, rtaccel_status w, int aborting) {
   uint32_t status = 0;
-  if (w == RTACCEL_ERR_TIMEOUT) {
-    rd(d, RTACCEL_STATUS_OFFSET, &status);
-    return fail(d, w, "rtaccel: no DONE interrupt for the batch of %u rays (STATUS 0x%08x): %s", d->batch, status, d->err);
-  }
-  TRY(w);
-  TRY(wr(d, RTACCEL_IRQ_STATUS_OFFSET, RTACCEL_IRQ_STATUS_DONE_MASK));
   TRY(rd(d, RTACCEL_STATUS_OFFSET, &status));
+  if (w == RTACCEL_ERR_TIMEOUT && (status & RTACCEL_STATUS_BUSY_MASK))
+    return fail(d, w, "rtaccel: the batch of %u rays still runs (STATUS 0x%08x) after the wait's bound: %s; "
+                "rtaccel_abort ends it", d->batch, status, d->err);
+  if (w != RTACCEL_OK && w != RTACCEL_ERR_TIMEOUT) return w;
+  /* Ended: with its interrupt, or with the interrupt lost (w == TIMEOUT, not BUSY). */
+  TRY(wr(d, RTACCEL_IRQ_STATUS_OFFSET, RTACCEL_IRQ_STATUS_DONE_MASK | RTACCEL_IRQ_STATUS_FAULT_MASK));
   d->busy = 0;
-  TRY(check_sticky(d, status));
+  rtaccel_status f = check_sticky(d, status);
+  if (f != RTACCEL_OK) {
+    TRY(recover(d));
+    return aborting ? RTACCEL_OK : f;
+  }
+  if (status & RTACCEL_STATUS_ABORTED_MASK)
+    return aborting ? RTACCEL_OK : fail(d, RTACCEL_ERR_ABORTED, "rtaccel: the batch was aborted (STATUS 0x%08x)", status);
   if (!(status & RTACCEL_STATUS_DONE_MASK))
-    return fail(d, RTACCEL_ERR_DEVICE, "rtaccel: DONE interrupt but STATUS 0x%08x lacks DONE", status);
+    return fail(d, RTACCEL_ERR_DEVICE, "rtaccel: the batch ended but STATUS 0x%08x lacks DONE", status);
   uint32_t done;
   TRY(rd(d, RTACCEL_RAYS_DONE_OFFSET, &done));
   if (done != d->batch)
     return fail(d, RTACCEL_ERR_BROKEN, "rtaccel: DONE with RAYS_DONE %u for a batch of %u rays", done, d->batch);
+  d->hits_valid = 1;
   return RTACCEL_OK;
+}
+
+static rtaccel_status wait_locked(rtaccel_dev* d, uint32_t timeout_ms) {
+  if (!d->busy) return fail(d, RTACCEL_ERR_STATE, "rtaccel: wait without a batch submitted");
+  rtaccel_status w = d->be->wait_irq(d->ctx, timeout_ms ? timeout_ms : RTACCEL_DEFAULT_TIMEOUT_MS, d->err, sizeof d->err);
+  return batch_end(d, w, 0);
 }
 rtaccel_status rtaccel_wait(rtaccel_dev* d, uint32_t timeout_ms) { LOCKED(d, wait_locked(d, timeout_ms)); }
 
+static rtaccel_status abort_locked(rtaccel_dev* d, uint32_t timeout_ms) {
+  if (!d->busy) return fail(d, RTACCEL_ERR_STATE, "rtaccel: abort without a batch submitted");
+  TRY(wr(d, RTACCEL_CTRL_OFFSET, RTACCEL_CTRL_ABORT_MASK));
+  rtaccel_status w = d->be->wait_irq(d->ctx, timeout_ms ? timeout_ms : RTACCEL_DEFAULT_TIMEOUT_MS, d->err, sizeof d->err);
+  rtaccel_status s = batch_end(d, w, 1);
+  /* Still running after ABORT and the wait (the watchdog disabled, or a bound shorter than it): reset. */
+  if (s == RTACCEL_ERR_TIMEOUT) return recover(d);
+  return s;
+}
+rtaccel_status rtaccel_abort(rtaccel_dev* d, uint32_t timeout_ms) { LOCKED(d, abort_locked(d, timeout_ms)); }
+
 static rtaccel_status hits_locked(rtaccel_dev* d, rtaccel_hit* hits, uint32_t count) {
   if (d->busy) return fail(d, RTACCEL_ERR_BUSY, "rtaccel: read_hits before the batch finished (call rtaccel_wait)");
-  if (count > d->batch) return fail(d, RTACCEL_ERR_ARG, "rtaccel: %u hits asked of a batch of %u", count, d->batch);
+  if (!d->hits_valid)
+    return fail(d, RTACCEL_ERR_STATE, "rtaccel: no hits: the last batch did not complete (aborted, failed, or none)");
+  if (count > d->batch) return fail(d, RTACCEL_ERR_TOO_BIG, "rtaccel: %u hits asked of a batch of %u", count, d->batch);
   return d->be->mem_read(d->ctx, d->hit_base, hits, (size_t)count * HIT_BYTES, d->err, sizeof d->err);
 }
 rtaccel_status rtaccel_read_hits(rtaccel_dev* d, rtaccel_hit* hits, uint32_t count) {
   if (!hits) return RTACCEL_ERR_ARG;
+  if ((uintptr_t)hits % _Alignof(rtaccel_hit) != 0) return RTACCEL_ERR_ALIGN;
   LOCKED(d, hits_locked(d, hits, count));
 }
 
@@ -398,3 +492,11 @@ rtaccel_status rtaccel_sim_write_memory_json(rtaccel_dev* d, const char* path) {
   if (!path) return RTACCEL_ERR_ARG;
   LOCKED(d, sim_json_locked(d, path));
 }
+
+static rtaccel_status sim_run_locked(rtaccel_dev* d, uint64_t cycles) {
+  if (!d->be->sim_run) return fail(d, RTACCEL_ERR_UNSUPPORTED, "rtaccel %s: not a simulation", d->be->name);
+  return d->be->sim_run(d->ctx, cycles, d->err, sizeof d->err);
+}
+rtaccel_status rtaccel_sim_run(rtaccel_dev* d, uint64_t cycles) { LOCKED(d, sim_run_locked(d, cycles)); }
+
+void* rtaccel_backend_context(rtaccel_dev* d, const rtaccel_backend* be) { return d && d->be == be ? d->ctx : NULL; }

@@ -156,6 +156,17 @@ const AxiSlaveSignals& AxiMemory::drive() {
   return out_;
 }
 
+void AxiMemory::faultOn(Burst& b, bool write) {
+  if (fault_.count == 0 || fault_.write != write || b.addr < fault_.lo || b.addr >= fault_.hi) return;
+  if (fault_.skip > 0) {
+    fault_.skip--;
+    return;
+  }
+  fault_.count--;
+  if (fault_.lost) b.lost = true;
+  else b.resp = fault_.resp;
+}
+
 void AxiMemory::commit(const AxiMasterSignals& in) {
   stats_.readOutstandingSum += int64_t(reads_.size());
   if (in.arvalid && !out_.arready) stats_.readStallCycles++;
@@ -163,15 +174,19 @@ void AxiMemory::commit(const AxiMasterSignals& in) {
   checkHeld("AW", heldAw_, in.awvalid, in.awid, in.awaddr, in.awlen, in.awsize, in.awburst, out_.awready);
   if (in.arvalid && out_.arready) {
     Burst b{seq_++, in.arid, in.araddr, in.arlen + 1, checkAddr("AR", in.arid, in.araddr, in.arlen, in.arsize, in.arburst)};
+    faultOn(b, false);
     uint64_t bytes = uint64_t(b.beats) * p_.beatBytes;
-    b.handle = dram_.issue(b.addr, uint32_t(bytes), drawLatency(), now_);
-    charge(b.addr, bytes, false);
-    reads_.push_back(b);
+    if (!b.lost) {
+      b.handle = dram_.issue(b.addr, uint32_t(bytes), drawLatency(), now_);
+      charge(b.addr, bytes, false);
+      reads_.push_back(b);
+    }
     stats_.readBursts++;
   }
   if (in.awvalid && out_.awready) {
     awWait_.push_back(Burst{seq_++, in.awid, in.awaddr, in.awlen + 1,
                             checkAddr("AW", in.awid, in.awaddr, in.awlen, in.awsize, in.awburst)});
+    faultOn(awWait_.back(), true);
     stats_.writeBursts++;
   }
   if (in.wvalid && out_.wready) {
@@ -185,7 +200,7 @@ void AxiMemory::commit(const AxiMasterSignals& in) {
   while (!awWait_.empty() && !wEarly_.empty()) {
     Burst& b = awWait_.front();
     const WBeat& w = wEarly_.front();
-    if (b.resp == kOkay)
+    if (b.resp == kOkay && !b.lost)
       for (int k = 0; k < p_.beatBytes / 64; ++k)  // the beat's 64-byte lines, each under its 64 strobes
         mem_.writeLine(b.addr + uint64_t(b.done) * p_.beatBytes + 64 * k, w.data + 64 * k, w.strb[k]);
     b.done++;
@@ -196,7 +211,9 @@ void AxiMemory::commit(const AxiMasterSignals& in) {
       violation(buf);
     }
     wEarly_.pop_front();
-    if (last) {
+    if (last && b.lost) {
+      awWait_.pop_front();
+    } else if (last) {
       uint64_t bytes = uint64_t(b.beats) * p_.beatBytes;
       b.handle = dram_.issue(b.addr, uint32_t(bytes), drawLatency(), now_);
       charge(b.addr, bytes, true);

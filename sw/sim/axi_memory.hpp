@@ -59,6 +59,18 @@ struct AxiMemoryParams {
 };
 
 // The master's signals (the DUT's outputs), sampled once they settled.
+// A fault for `count` bursts (after `skip`) of one direction whose address lies in [lo, hi) (make faults,
+// docs/faults.md): a non-OKAY response (resp 2 SLVERR, 3 DECERR; a write's data is then not stored), or,
+// with `lost`, no response ever (a read gets no R beat; a write's W beats are taken, no B comes).
+struct AxiFault {
+  bool write = false;
+  uint64_t lo = 0, hi = 0;
+  uint32_t resp = 0;
+  bool lost = false;
+  uint32_t skip = 0;   // matching bursts let through first
+  uint32_t count = 0;
+};
+
 struct AxiMasterSignals {
   bool arvalid = false; uint32_t arid = 0; uint32_t araddr = 0; uint32_t arlen = 0, arsize = 0, arburst = 0;
   bool rready = false;
@@ -97,6 +109,9 @@ class AxiMemory {
 
   const AxiSlaveSignals& drive();
   void commit(const AxiMasterSignals& in);
+  void inject(const AxiFault& f) { fault_ = f; }
+  // Bursts of the injected fault not yet met.
+  uint32_t faultLeft() const { return fault_.count; }
   void tick();
 
   // Bytes of bursts per named address range (e.g. nodes, triangles, rays), since the last
@@ -112,7 +127,8 @@ class AxiMemory {
  private:
   struct Burst {
     uint64_t seq; uint32_t id; uint64_t addr; uint32_t beats;
-    uint32_t resp;         // 0 OKAY, 2 SLVERR
+    uint32_t resp;         // 0 OKAY, 2 SLVERR, 3 DECERR
+    bool lost = false;     // never answered (AxiFault)
     int handle = -1;       // DRAM transfer
     uint32_t done = 0;     // R beats sent, or W beats taken
   };
@@ -133,6 +149,9 @@ class AxiMemory {
   JavaRandom rnd_;
   int64_t now_ = 0;
   uint64_t seq_ = 0;
+  AxiFault fault_;
+  // Applies the injected fault to a burst just accepted.
+  void faultOn(Burst& b, bool write);
   std::vector<Burst> reads_;   // accepted, not fully sent; acceptance order
   std::deque<Burst> awWait_;   // write addresses waiting for their data
   std::deque<WBeat> wEarly_;   // W beats before their AW

@@ -7,7 +7,9 @@
 #include <new>
 
 #include "backend.h"
+#include "rtaccel_regs.h"
 #include "rtaccel_progress.hpp"
+#include "sim_faults.hpp"
 #include "system_sim.hpp"
 
 using rtaccel::sim::AxiMemoryParams;
@@ -22,6 +24,7 @@ struct SimCtx {
   SystemSim sim;
   uint64_t maxCycles;
   bool progress;
+  bool loseIrq = false;  // the next wait misses the interrupt (make faults)
   SimCtx(const AxiMemoryParams& p, const char* vcd, uint64_t maxCycles, bool progress)
       : sim(p, vcd), maxCycles(maxCycles), progress(progress) {}
 };
@@ -82,9 +85,19 @@ bool runShowingProgress(SimCtx& x) {
   return true;
 }
 
+// A lost interrupt's wait runs this long when max_cycles sets no bound.
+constexpr uint64_t kLostIrqCycles = 1 << 20;
+
 rtaccel_status waitIrq(void* c, uint32_t, char* err, size_t errn) {
   auto* x = static_cast<SimCtx*>(c);
   return guard(err, errn, [&] {
+    if (x->loseIrq) {
+      x->loseIrq = false;
+      const uint64_t n = x->maxCycles ? x->maxCycles : kLostIrqCycles;
+      for (uint64_t i = 0; i < n; ++i) x->sim.step();
+      std::snprintf(err, errn, "the interrupt was lost (make faults); %llu cycles passed", (unsigned long long)n);
+      return RTACCEL_ERR_TIMEOUT;
+    }
     if (x->progress ? runShowingProgress(*x) : x->sim.runUntilInterrupt(x->maxCycles)) return RTACCEL_OK;
     std::snprintf(err, errn, "%llu simulated cycles passed (rtaccel_sim_options.max_cycles)",
                   (unsigned long long)x->maxCycles);
@@ -133,12 +146,19 @@ rtaccel_status memoryJson(void* c, const char* path, char* err, size_t errn) {
 void region(void* c, const char* name, uint64_t lo, uint64_t hi) {
   static_cast<SimCtx*>(c)->sim.memory().setRegion(name, lo, hi);
 }
+rtaccel_status simRun(void* c, uint64_t cycles, char* err, size_t errn) {
+  auto* x = static_cast<SimCtx*>(c);
+  return guard(err, errn, [&] {
+    for (uint64_t i = 0; i < cycles; ++i) x->sim.step();
+    return RTACCEL_OK;
+  });
+}
 void batchStart(void* c) { static_cast<SimCtx*>(c)->sim.memory().batchStart(); }
 void closeCtx(void* c) { delete static_cast<SimCtx*>(c); }
 
 uint32_t axiDataBits(void*) { return uint32_t(rtaccel::sim::dutAxiDataBits()); }
 const rtaccel_backend kSimBackend = {"sim", regRead, regWrite, memWrite, memRead, waitIrq, simCycles, memoryJson, region, batchStart, closeCtx,
-                                     axiDataBits};
+                                     axiDataBits, simRun};
 
 }  // namespace
 
@@ -170,9 +190,25 @@ extern "C" rtaccel_status rtaccel_open_sim(const rtaccel_sim_options* opt, rtacc
   try {
     c = new SimCtx(p, o.vcd_path, o.max_cycles, o.progress != 0);
     c->sim.reset();
+    // What a board's privileged boot code does: confine the block's DMA to the driver's buffer, and lock it.
+    c->sim.writeReg(RTACCEL_WINDOW_BASE_OFFSET, uint32_t(kBufBase));
+    c->sim.writeReg(RTACCEL_WINDOW_LIMIT_OFFSET, uint32_t(kBufBase + kBufSize));
+    c->sim.writeReg(RTACCEL_WINDOW_LOCK_OFFSET, RTACCEL_WINDOW_LOCK_LOCK_MASK);
   } catch (const std::exception& e) {
     rtaccel_set_open_error("rtaccel sim: %s", e.what());
     return RTACCEL_ERR_DEVICE;
   }
   return rtaccel_attach(&kSimBackend, c, kBufBase, kBufSize, out);
 }
+
+namespace rtaccel::sim {
+SystemSim* systemOf(rtaccel_dev* dev) {
+  auto* x = static_cast<SimCtx*>(rtaccel_backend_context(dev, &kSimBackend));
+  return x ? &x->sim : nullptr;
+}
+bool loseNextInterrupt(rtaccel_dev* dev) {
+  auto* x = static_cast<SimCtx*>(rtaccel_backend_context(dev, &kSimBackend));
+  if (x) x->loseIrq = true;
+  return x != nullptr;
+}
+}  // namespace rtaccel::sim

@@ -14,6 +14,7 @@
 #include "rays_csv.hpp"
 #include "rtaccel.h"
 #include "rtaccel.hpp"
+#include "rtaccel_regs.h"
 #include "system_sim.hpp"
 
 namespace {
@@ -56,7 +57,7 @@ int main(int argc, char** argv) {
   if (s != RTACCEL_OK) return 1;
   rtaccel_info info{};
   s = rtaccel_info_get(dev, &info);
-  expect(s == RTACCEL_OK && info.id == 0x52544143u && info.version == 1 && info.cores >= 1 &&
+  expect(s == RTACCEL_OK && info.id == RTACCEL_ID_VALUE && info.version == RTACCEL_VERSION_VALUE && info.cores >= 1 &&
              info.axi_data_bits == uint32_t(rtaccel::sim::dutAxiDataBits()),
          "ID, VERSION and CONFIG registers (cores " + std::to_string(info.cores) + ", ray IDs " +
              std::to_string(info.ray_ids) + ", m_axi " + std::to_string(info.axi_data_bits) + " bits, the model's " +

@@ -29,7 +29,7 @@ def _golden(bench, name):
 async def _check_config(bench):
     """ID, VERSION and the CONFIG_* registers describe the generated hardware."""
     c = bench.cfg
-    want = {"ID": 0x52544143, "VERSION": 1, "CONFIG_CORES": c["cores"], "CONFIG_LAYOUT": c["layout"],
+    want = {"ID": 0x52544143, "VERSION": c["version"], "CONFIG_CORES": c["cores"], "CONFIG_LAYOUT": c["layout"],
             "CONFIG_RAY_IDS": c["ray_ids"], "CONFIG_STACK_DEPTH": c["stack_depth"],
             "CONFIG_FLOAT": c["float_exp"] << 8 | c["float_man"], "CONFIG_NODE_STORE_BYTES": c["node_store_bytes"],
             "CONFIG_AXI_DATA_BITS": 512}
@@ -188,4 +188,76 @@ async def scene_errors(dut):
     st, code = await bench.load_scene(good)
     assert st["SCENE_READY"] and not st["SCENE_ERROR"] and code == 0, f"good load after errors: STATUS {st}, code {code}"
     await _batch(bench, "after errors", rays, want)
+    bench.monitor.check()
+
+
+@cocotb.test()
+async def abort_and_window(dut):
+    """ABORT mid-batch (the rays handed out finish, the rest are not started), then the hit buffer outside the
+    DMA window (refused: nothing written there, WINDOW_ERROR), SOFT_RESET, and an exact batch after each."""
+    bench = Bench(dut, "abort_and_window")
+    await bench.reset()
+    image = _image(bench)
+    st, code = await bench.load_scene(image)
+    assert st["SCENE_READY"] and code == 0, f"LOAD_SCENE: STATUS {st}, code {code}"
+    rays, want = _golden(bench, "primary")
+    ebits = bench.cfg["error_bits"]
+
+    def written(what):
+        """Hit records written (the rest keep the 0xa5 fill); each must be the golden one."""
+        blob = bench.ddr.read(HIT_BASE, HIT_BYTES * len(rays))
+        n = 0
+        for i, ray in enumerate(rays):
+            rec = blob[HIT_BYTES * i:HIT_BYTES * (i + 1)]
+            if rec == bytes([0xa5]) * HIT_BYTES:
+                continue
+            got, junk = Hit.unpack(rec, ebits)
+            assert got.number == i and not junk and agrees(ray, got, want[i]), f"{what}: ray {i}: hardware {got}, golden {want[i]}"
+            n += 1
+        return n
+
+    async def start():
+        bench.ddr.write(HIT_BASE, bytes([0xa5]) * (HIT_BYTES * len(rays)))
+        bench.ddr.write(RAY_BASE, b"".join(r.record() for r in rays))
+        await bench.write("RAY_BASE", RAY_BASE)
+        await bench.write("RAY_COUNT", len(rays))
+        await bench.write("HIT_BASE", HIT_BASE)
+        await bench.write("IRQ_ENABLE", bench.bit("IRQ_ENABLE", "DONE"))
+        await bench.write("CTRL", bench.bit("CTRL", "START"))
+
+    async def end(what):
+        await bench.wait_interrupt(400_000, what)
+        await bench.write("IRQ_STATUS", await bench.read("IRQ_STATUS"))
+        return await bench.read("STATUS")
+
+    # ABORT a few hundred cycles into the batch.
+    await start()
+    await ClockCycles(bench.dut.aclk, 300)
+    await bench.write("CTRL", bench.bit("CTRL", "ABORT"))
+    status = await end("ABORT")
+    issued, done = await bench.read("RAYS_ISSUED"), await bench.read("RAYS_DONE")
+    aborted = bool(status & bench.bit("STATUS", "ABORTED"))
+    assert aborted != bool(status & bench.bit("STATUS", "DONE")), f"ABORT: STATUS {status:#x}"
+    assert done == issued <= len(rays), f"ABORT: RAYS_DONE {done}, RAYS_ISSUED {issued}"
+    assert written("ABORT") == done, "ABORT: hit records written differ from RAYS_DONE"
+    bench.log.info("ABORT after 300 cycles: %s, %d of %d rays issued and done", "ABORTED" if aborted else "DONE", issued, len(rays))
+    await _batch(bench, "after ABORT", rays, want)
+
+    # The hit buffer outside the window: every hit write refused.
+    await bench.write("WINDOW_LIMIT", HIT_BASE)
+    await start()
+    status = await end("window")
+    assert status & bench.bit("STATUS", "WINDOW_ERROR") and status & bench.bit("STATUS", "ABORTED"), f"window: STATUS {status:#x}"
+    refused, first = await bench.read("WINDOW_REFUSED"), await bench.read("WINDOW_FAULT_ADDR")
+    assert refused >= 1 and HIT_BASE <= first < HIT_BASE + HIT_BYTES * len(rays), f"window: {refused} refused, first at {first:#x}"
+    assert bench.ddr.read(HIT_BASE, HIT_BYTES * len(rays)) == bytes([0xa5]) * (HIT_BYTES * len(rays)), "window: a hit written outside it"
+    await bench.write("CTRL", bench.bit("CTRL", "START"))
+    await ClockCycles(bench.dut.aclk, 20)
+    assert not (await bench.read("STATUS")) & bench.bit("STATUS", "BUSY"), "START while WINDOW_ERROR is ignored"
+    await bench.write("WINDOW_LIMIT", 0)
+    await bench.write("CTRL", bench.bit("CTRL", "SOFT_RESET"))
+    assert await bench.read("STATUS") == 0, "STATUS after SOFT_RESET: no fault, no scene"
+    st, code = await bench.load_scene(image)
+    assert st["SCENE_READY"] and code == 0, f"LOAD_SCENE after SOFT_RESET: STATUS {st}, code {code}"
+    await _batch(bench, "after the window refusal", rays, want)
     bench.monitor.check()

@@ -7,7 +7,8 @@ import rtaccel.axi.{AxiLite, AxiResp}
 /** The AXI4-Lite slave generated from RegisterMap. One read and one write in
   * progress at a time (AXI4-Lite needs no more). Unmapped addresses answer
   * SLVERR (reads return 0); writes to ro registers are ignored with OKAY.
-  * Address bits 1..0 are ignored (word access).
+  * Address bits 1..0 are ignored (word access). While `lock`, a write to a
+  * lockable register is refused with SLVERR.
   *
   * Per register (index = position in RegisterMap.regs):
   *  - ro: `hw(i)` is the value read (ID and VERSION are constants here);
@@ -25,6 +26,8 @@ class AxiLiteRegs extends Module {
     val hw    = Input(Vec(n, UInt(32.W)))
     val value = Output(Vec(n, UInt(32.W)))
     val pulse = Output(Vec(n, UInt(32.W)))
+    /** Freezes the lockable registers (RegisterMap.Reg.lockable): their writes answer SLVERR. */
+    val lock  = Input(Bool())
   })
 
   private def word(addr: UInt): UInt = addr(RegisterMap.AddrBits - 1, 2)
@@ -55,14 +58,15 @@ class AxiLiteRegs extends Module {
   private val byteMask = Cat((3 to 0 by -1).map(b => Fill(8, wStrbReg(b))))
   when(doWrite) {
     awValidReg := false.B; wValidReg := false.B; bValidReg := true.B
-    bRespReg := Mux(VecInit(wHits).asUInt.orR, AxiResp.Okay.U, AxiResp.SlvErr.U)
+    val locked = io.lock && VecInit(regs.zip(wHits).collect { case (r, h) if r.lockable => h }).asUInt.orR
+    bRespReg := Mux(VecInit(wHits).asUInt.orR && !locked, AxiResp.Okay.U, AxiResp.SlvErr.U)
   }
   io.axi.b.valid := bValidReg
   io.axi.b.bits  := bRespReg
   when(io.axi.b.fire) { bValidReg := false.B }
 
   for (((r, i), hit) <- regs.zipWithIndex.zip(wHits)) {
-    val wr = doWrite && hit
+    val wr = doWrite && hit && !(if (r.lockable) io.lock else false.B)
     io.pulse(i) := 0.U
     r.access match {
       case Access.Rw =>

@@ -25,6 +25,11 @@ class RayDma(sys: SystemConfig) extends Module {
     val rayCount = Input(UInt(32.W))
     val mem      = new MemPort(RayDma.port(sys))
     val rays     = Decoupled(new RayIn)
+    /** Stop the batch (ABORT, a fault): no more block reads; blocks still
+      * arriving are taken and dropped, their rays not handed out. */
+    val stop     = Input(Bool())
+    /** No block read in flight and none buffered: after `stop`, no ray will come. */
+    val idle     = Output(Bool())
     /** Sticky: a block came back for a tag not in flight. */
     val broken   = Output(Bool())
   })
@@ -45,7 +50,7 @@ class RayDma(sys: SystemConfig) extends Module {
     addrReg   := io.rayBase
   }
   private val tag = PriorityEncoder(freeReg)
-  io.mem.req.valid := issuedReg < blocksReg && freeReg.orR && !io.start
+  io.mem.req.valid := issuedReg < blocksReg && freeReg.orR && !io.start && !io.stop
   io.mem.req.bits.addr := addrReg
   io.mem.req.bits.tag := tag
   when(io.mem.req.fire) {
@@ -71,7 +76,7 @@ class RayDma(sys: SystemConfig) extends Module {
   // ---- unpack: ray `subReg` of the head block ----
   private val subReg = RegInit(0.U(log2Ceil(rpb).max(1).W))
   private val number = Cat(blockOfTag(q.io.deq.bits.tag), 0.U(log2Ceil(rpb).W)) | subReg
-  private val present = number < countReg
+  private val present = number < countReg && !io.stop
   private val rec = (q.io.deq.bits.data >> (subReg * (SystemConfig.RayBytes * 8).U))(SystemConfig.RayBytes * 8 - 1, 0)
   private def word(k: Int): UInt = rec(32 * k + 31, 32 * k)
   private val flags = word(8)
@@ -93,6 +98,7 @@ class RayDma(sys: SystemConfig) extends Module {
   private val taken = Mux(io.mem.req.fire, UIntToOH(tag, nTags), 0.U)
   freeReg := (freeReg | freed) & ~taken
   io.broken := brokenReg
+  io.idle := freeReg.andR
 }
 
 object RayDma {

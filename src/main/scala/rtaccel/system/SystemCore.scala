@@ -15,6 +15,15 @@ import rtaccel.{Datapath, ErrorFlags, RtAccel}
   * received RAY_COUNT B responses since START (every hit written). The core
   * bases change only at LOAD_SCENE, which is refused while BUSY, so no ray is
   * in flight when they change.
+  *
+  * Faults (docs/faults.md): ABORT, an AXI error or a refused burst stop the
+  * batch: no more rays are handed out, the rays in flight finish and their
+  * hits are written, then the batch ends (STATUS.ABORTED, RAYS_ISSUED rays
+  * done). The watchdog ends a batch or a load with no progress for
+  * WATCHDOG_CYCLES cycles (STATUS.TIMEOUT, IRQ FAULT). SOFT_RESET resets all
+  * but the register block (which holds the DMA window and its lock); it is
+  * the way out of every sticky fault. Every m_axi burst passes the
+  * WindowGuard.
   */
 class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends Module {
   val io = IO(new Bundle {
@@ -23,13 +32,29 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
     val interrupt = Output(Bool())
   })
   private val cfg = sys.core
-  private val cores = Seq.fill(sys.cores)(Module(new RtAccel(cfg, dp)))
-  private val loader = Module(new SceneLoader(sys))
-  private val rayDma = Module(new RayDma(sys))
-  private val hitDma = Module(new HitDma(sys))
+  // ---- registers: outside the soft reset, so the window and its lock hold until aresetn ----
+  private val regs = Module(new AxiLiteRegs)
+  regs.io.axi <> io.ctl
+  private val rm = RegisterMap
+  regs.io.hw.foreach(_ := 0.U)
+  private def hw(name: String): UInt = regs.io.hw(rm.index(name))
+  private def value(name: String): UInt = regs.io.value(rm.index(name))
+  private def bit(reg: String, field: String): Int = rm.field(reg, field).lsb
+  private val ctrl = regs.io.pulse(rm.index("CTRL"))
+  regs.io.lock := value("WINDOW_LOCK")(bit("WINDOW_LOCK", "LOCK"))
+  /** SOFT_RESET: one cycle of synchronous reset for everything below but the register block. */
+  private val softResetReg = RegNext(ctrl(bit("CTRL", "SOFT_RESET")), false.B)
+  private val dpReset = reset.asBool || softResetReg
+
+  private def underSoftReset[M <: RawModule](m: => M): M = withReset(dpReset)(Module(m))
+  private val cores = Seq.fill(sys.cores)(underSoftReset(new RtAccel(cfg, dp)))
+  private val loader = underSoftReset(new SceneLoader(sys))
+  private val rayDma = underSoftReset(new RayDma(sys))
+  private val hitDma = underSoftReset(new HitDma(sys))
   private val readers = cores.flatMap(c => Seq(c.io.nodeMem.p, c.io.triMem.p)) ++ Seq(SceneLoader.port(sys), RayDma.port(sys))
-  private val fabric = Module(new MemoryFabric(sys, readers, cores.flatMap(_ => Seq(true, false)) ++ Seq(false, false),
+  private val fabric = underSoftReset(new MemoryFabric(sys, readers, cores.flatMap(_ => Seq(true, false)) ++ Seq(false, false),
     cores.flatMap(_ => Seq(false, true)) ++ Seq(false, false)))
+  private val guard = underSoftReset(new WindowGuard(sys.axi))
   for ((c, i) <- cores.zipWithIndex) {
     fabric.io.readers(2 * i) <> c.io.nodeMem
     fabric.io.readers(2 * i + 1) <> c.io.triMem
@@ -39,35 +64,70 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   fabric.io.store <> loader.io.store
   fabric.io.triStore <> loader.io.triStore
   fabric.io.write <> hitDma.io.write
-  io.axi <> fabric.io.axi
+  guard.io.in <> fabric.io.axi
+  io.axi <> guard.io.out
+  guard.io.base := value("WINDOW_BASE")
+  guard.io.limit := value("WINDOW_LIMIT")
 
-  // ---- registers ----
-  private val regs = Module(new AxiLiteRegs)
-  regs.io.axi <> io.ctl
-  private val rm = RegisterMap
-  regs.io.hw.foreach(_ := 0.U)
-  private def hw(name: String): UInt = regs.io.hw(rm.index(name))
-  private def value(name: String): UInt = regs.io.value(rm.index(name))
-  private def bit(reg: String, field: String): Int = rm.field(reg, field).lsb
-  private val ctrl = regs.io.pulse(rm.index("CTRL"))
-
+  // Batch state: cleared by SOFT_RESET like the modules above.
   private val activeReg = RegInit(false.B)
   private val doneReg   = RegInit(false.B)
   private val brokenReg = RegInit(false.B)
+  private val stopReg   = RegInit(false.B) // ABORT seen in this batch
+  private val abortedReg = RegInit(false.B)
+  private val timeoutReg = RegInit(false.B)
+  private val windowErrReg = RegInit(false.B)
+  private val refusedReg = RegInit(0.U(32.W))
+  private val faultAddrReg = RegInit(0.U(32.W))
   private val writesBaseReg = RegInit(0.U(32.W))
   private val countReg  = RegInit(0.U(32.W))
+  private val issuedReg = RegInit(0.U(32.W))
   private val busy = activeReg || loader.io.busy
+  /** A fault that only SOFT_RESET clears: START and LOAD_SCENE wait for it. */
+  private val fault = brokenReg || fabric.io.axiError || timeoutReg || windowErrReg
   private val aligned = value("RAY_BASE")(5, 0) === 0.U && value("HIT_BASE")(5, 0) === 0.U
-  private val start = ctrl(bit("CTRL", "START")) && !busy && loader.io.ready && aligned
-  private val load = ctrl(bit("CTRL", "LOAD_SCENE")) && !busy
+  private val start = ctrl(bit("CTRL", "START")) && !busy && loader.io.ready && aligned && !fault
+  private val load = ctrl(bit("CTRL", "LOAD_SCENE")) && !busy && !fault
   private val clear = ctrl(bit("CTRL", "CLEAR_COUNTERS"))
+  private val abort = ctrl(bit("CTRL", "ABORT")) && activeReg
   private val raysDone = fabric.io.writesDone - writesBaseReg
-  private val finish = activeReg && raysDone === countReg
+  /** The batch stops handing out rays: ABORT, or a fault that makes its hits untrustworthy. */
+  private val stopping = stopReg || fabric.io.axiError || windowErrReg
+  // Stopped: every ray handed out has its hit written (each ray handed out gives exactly one hit record).
+  private val stopped = stopping && rayDma.io.idle && raysDone === issuedReg
+  private val watchdogFired = Wire(Bool())
+  private val finish = activeReg && (raysDone === countReg || stopped || watchdogFired)
   when(start) {
-    activeReg := true.B; doneReg := false.B
+    activeReg := true.B; doneReg := false.B; abortedReg := false.B; stopReg := false.B; issuedReg := 0.U
     writesBaseReg := fabric.io.writesDone; countReg := value("RAY_COUNT")
   }
-  when(finish) { activeReg := false.B; doneReg := true.B }
+  when(abort) { stopReg := true.B }
+  when(rayDma.io.rays.fire) { issuedReg := issuedReg + 1.U }
+  when(finish) {
+    activeReg := false.B
+    doneReg := raysDone === countReg && !stopping && !watchdogFired
+    abortedReg := raysDone =/= countReg && stopping && !watchdogFired
+  }
+  when(guard.io.refused) {
+    windowErrReg := true.B
+    refusedReg := refusedReg + 1.U
+    when(!windowErrReg) { faultAddrReg := guard.io.refusedAddr }
+  }
+
+  // ---- watchdog: cycles of a batch or scene load without a ray handed out, a hit written or a scene beat ----
+  private val watchReg = RegInit(0.U(32.W))
+  private val progress = rayDma.io.rays.fire || io.axi.b.fire || (loader.io.busy && io.axi.r.fire)
+  private val limit = value("WATCHDOG_CYCLES")
+  when(!busy || progress || timeoutReg) { watchReg := 0.U }.otherwise { watchReg := watchReg + 1.U }
+  watchdogFired := busy && limit =/= 0.U && watchReg >= limit && !timeoutReg
+  when(watchdogFired) { timeoutReg := true.B }
+  rayDma.io.stop := stopping || timeoutReg
+
+  when(softResetReg) {
+    activeReg := false.B; doneReg := false.B; brokenReg := false.B; stopReg := false.B; abortedReg := false.B
+    timeoutReg := false.B; windowErrReg := false.B; refusedReg := 0.U; faultAddrReg := 0.U; writesBaseReg := 0.U
+    issuedReg := 0.U; watchReg := 0.U
+  }
 
   loader.io.start := load
   loader.io.sceneBase := value("SCENE_BASE")
@@ -100,11 +160,13 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   // ---- status, interrupt ----
   private val irqDone = bit("IRQ_STATUS", "DONE")
   private val irqScene = bit("IRQ_STATUS", "SCENE")
-  hw("IRQ_STATUS") := (finish.asUInt << irqDone) | (loader.io.finished.asUInt << irqScene)
+  hw("IRQ_STATUS") := (finish.asUInt << irqDone) | (loader.io.finished.asUInt << irqScene) |
+    (watchdogFired.asUInt << bit("IRQ_STATUS", "FAULT"))
   io.interrupt := RegNext((value("IRQ_STATUS") & value("IRQ_ENABLE")).orR, false.B)
   private def at(reg: String, field: String, b: Bool): UInt = b.asUInt << bit(reg, field)
   hw("STATUS") := at("STATUS", "BUSY", busy) | at("STATUS", "DONE", doneReg) | at("STATUS", "SCENE_READY", loader.io.ready) |
-    at("STATUS", "SCENE_ERROR", loader.io.error) | at("STATUS", "BROKEN", brokenReg) | at("STATUS", "AXI_ERROR", fabric.io.axiError)
+    at("STATUS", "SCENE_ERROR", loader.io.error) | at("STATUS", "BROKEN", brokenReg) | at("STATUS", "AXI_ERROR", fabric.io.axiError) |
+    at("STATUS", "ABORTED", abortedReg) | at("STATUS", "TIMEOUT", timeoutReg) | at("STATUS", "WINDOW_ERROR", windowErrReg)
   hw("SCENE_ERROR_CODE") := loader.io.errorCode
   hw("CONFIG_CORES") := n.U
   hw("CONFIG_LAYOUT") := cfg.layout.code.U
@@ -114,6 +176,9 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   hw("CONFIG_NODE_STORE_BYTES") := sys.nodeStoreBytes.U
   hw("CONFIG_AXI_DATA_BITS") := sys.axiDataBits.U
   hw("RAYS_DONE") := raysDone
+  hw("RAYS_ISSUED") := issuedReg
+  hw("WINDOW_REFUSED") := refusedReg
+  hw("WINDOW_FAULT_ADDR") := faultAddrReg
   for ((b, name) <- rm.errorFlags) hw(s"ERR_COUNT_$name") := hitDma.io.errCount(b)
 
   // ---- 64-bit counters: since CLEAR_COUNTERS (a snapshot of the running sums is subtracted) ----
@@ -125,7 +190,7 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   }
   private val a = io.axi
   private val cyclesReg = RegInit(0.U(64.W))
-  when(start) { cyclesReg := 0.U }.elsewhen(activeReg) { cyclesReg := cyclesReg + 1.U }
+  when(start || softResetReg) { cyclesReg := 0.U }.elsewhen(activeReg) { cyclesReg := cyclesReg + 1.U }
   private val running: Seq[(String, UInt)] = Seq(
     "RAYS_IN" -> sum(_.raysIn), "HITS_OUT" -> sum(_.hitsOut), "NODE_FETCHES" -> sum(_.nodeFetches), "TRI_FETCHES" -> sum(_.triFetches),
     "BOX_TESTS" -> sum(_.boxTests), "CHILD_BOX_TESTS" -> sum(_.childBoxTests), "TRI_TESTS" -> sum(_.triTests),
@@ -138,7 +203,8 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   show("CYCLES", cyclesReg)
   for ((name, v) <- running) {
     val baseReg = RegInit(0.U(64.W))
-    when(clear) { baseReg := v }
+    // After SOFT_RESET the sources restart from 0, so must their snapshot.
+    when(softResetReg) { baseReg := 0.U }.elsewhen(clear) { baseReg := v }
     show(name, v - baseReg)
   }
 }

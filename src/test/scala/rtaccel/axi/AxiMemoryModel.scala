@@ -68,6 +68,8 @@ final class AxiMemoryModel(val params: AxiMemoryParams, val mem: SparseMemory = 
   private var heldAr, heldAw: Option[AxiAddrBeat] = None
   private var heldW: Option[AxiWBeat] = None
 
+  /** Bursts accepted and, by `lostAt`, never to be answered. */
+  var lostBursts = 0L
   var readBursts, readBeats, writeBursts, writeBeats, reorderedBursts, interleavedBeats = 0L
   private var lastRBurst: Option[Burst] = None
 
@@ -134,10 +136,13 @@ final class AxiMemoryModel(val params: AxiMemoryParams, val mem: SparseMemory = 
       val a = m.ar.get
       val b = new Burst(seq, a, if (params.errorAt(a.addr)) 2 else 0)
       seq += 1
-      reads += b
-      byId(b.seq) = b
-      dram.issue(client, b.seq, a.addr, b.beats * B, drawLatency(), now)
       readBursts += 1
+      if (params.lostAt(a.addr)) lostBursts += 1
+      else {
+        reads += b
+        byId(b.seq) = b
+        dram.issue(client, b.seq, a.addr, b.beats * B, drawLatency(), now)
+      }
     }
     if (m.aw.isDefined && s.awReady) {
       val a = m.aw.get
@@ -150,11 +155,12 @@ final class AxiMemoryModel(val params: AxiMemoryParams, val mem: SparseMemory = 
       val b = awWait.head
       val w = wEarly.dequeue()
       val base = b.a.addr + b.beatsDone.toLong * B
-      for (i <- 0 until B if w.strb.testBit(i)) mem.write(base + i, Array(((w.data >> (8 * i)) & 0xff).toByte))
+      if (!params.lostAt(b.a.addr)) for (i <- 0 until B if w.strb.testBit(i)) mem.write(base + i, Array(((w.data >> (8 * i)) & 0xff).toByte))
       b.beatsDone += 1
       val lastExpected = b.beatsDone == b.beats
       if (w.last != lastExpected) fail(s"wlast ${w.last} on beat ${b.beatsDone} of ${b.beats} of the write burst ${b.a}")
-      if (lastExpected) {
+      if (lastExpected && params.lostAt(b.a.addr)) { awWait.dequeue(); lostBursts += 1 }
+      else if (lastExpected) {
         awWait.dequeue()
         writes += b
         byId(b.seq) = b

@@ -14,6 +14,8 @@ import rtaccel.mem.{FabricClock, LatencyNs, MemoryKind}
   * @param maxReads    read bursts accepted and not finished; arready is low at the limit
   * @param maxWrites   write bursts accepted and not answered on B; awready is low at the limit
   * @param errorAt     answer SLVERR for a burst whose address this is true of (default: never)
+  * @param lostAt      never answer a burst whose address this is true of (a response that never comes: no R beat,
+  *                    no B; its W beats are taken and dropped; default: never)
   * @param seed        seed of every random choice (the test prints it)
   */
 final case class AxiMemoryParams(
@@ -27,6 +29,7 @@ final case class AxiMemoryParams(
     maxReads: Int = 64,
     maxWrites: Int = 64,
     errorAt: Long => Boolean = _ => false,
+    lostAt: Long => Boolean = _ => false,
     seed: Long = 1
 ) {
   require(Integer.bitCount(beatBytes) == 1, s"AxiMemoryParams: beatBytes must be a power of two, got $beatBytes")

@@ -71,7 +71,7 @@ object Prepare {
     "cores" -> sys.cores, "ray_ids" -> sys.core.numRayIds, "stack_depth" -> sys.core.stackDepth,
     "layout" -> sys.core.layout.code, "float_exp" -> sys.core.triFloat.expBits, "float_man" -> sys.core.triFloat.manBits,
     "node_store_bytes" -> sys.nodeStoreBytes, "tri_store_bytes" -> sys.triStoreBytes, "datapath" -> dp.name,
-    "error_bits" -> rtaccel.ErrorFlags.width,
+    "error_bits" -> rtaccel.ErrorFlags.width, "version" -> RegisterMap.Version.toInt,
     "error_names" -> ujson.Arr.from(RegisterMap.errorFlags.sortBy(_._1).map(_._2)),
     "scene_errors" -> ujson.Arr.from(RegisterMap.sceneErrors.map { case (c, n, _) => ujson.Arr(c, n) }),
     // The single source of the map, and the committed header a driver includes, checked against it.

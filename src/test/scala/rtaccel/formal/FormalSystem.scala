@@ -22,8 +22,9 @@ import rtaccel.{AccelConfig, BvhLayout, HitOut, PerfCounters, RtAccel}
   */
 final case class SystemEnv(readLatency: Int, stall: Int, bLatency: Int, maxRays: Int, bursts: Int)
 
-/** One system proof: the configuration, environment and depth. */
-final case class SystemCase(name: String, sys: SystemConfig, env: SystemEnv, depth: Int)
+/** One system proof: the configuration, environment and depth. `window`: the host first sets a free DMA
+  * window and the proof is the window property alone (FormalSystemTop). */
+final case class SystemCase(name: String, sys: SystemConfig, env: SystemEnv, depth: Int, window: Boolean = false)
 
 object SystemCase {
   /** 1 core of 2 ray IDs, 12-bit addresses (the AXI minimum), 2 AXI ID bits (3 read slots + the store's fill),
@@ -35,7 +36,7 @@ object SystemCase {
       raysPerBlock = 4, rayBlockTags = 2, hitQueue = 2)
   }
   val env: SystemEnv = SystemEnv(readLatency = 3, stall = 1, bLatency = 2, maxRays = 8, bursts = 4)
-  val all: Seq[SystemCase] = Seq(SystemCase("s1", sys2, env, depth = 42))
+  val all: Seq[SystemCase] = Seq(SystemCase("s1", sys2, env, depth = 42), SystemCase("w1", sys2, env, depth = 30, window = true))
 
   /** The units' environment, from s1's: memory and AXI slave as env (L = 3, S = 1, 4 bursts), the core and
     * the read clients refusing at most env.stall = 1 cycle in a row. */
@@ -149,6 +150,11 @@ class FormalCoreStub(cfg: AccelConfig, name: String, stall: Int) extends Module 
   *    hits written + rays in flight, with none in flight at DONE);
   *    `system_ray_conservation` in every cycle, rays fetched = hits written + rays held unit by unit (SystemConservation);
   *    `batch_bounded_response` DONE comes within `bound(RAY_COUNT)` cycles of START (SystemBound).
+  *
+  * With `c.window` the host first writes WINDOW_BASE (64-aligned) and WINDOW_LIMIT (64-aligned, 0 for the
+  * whole space), free, chosen once; the scene, the buffers and the core stub's free addresses then fall
+  * inside or outside it, so bursts are refused and batches stop: the one property is
+  * `window_respected`: no m_axi AR or AW burst reaches outside [WINDOW_BASE, WINDOW_LIMIT).
   */
 class FormalSystemTop(c: SystemCase, bound: Int => Int, dp: FormalDatapath) extends Module {
   override def desiredName = s"FormalTop_${c.name}"
@@ -176,16 +182,21 @@ class FormalSystemTop(c: SystemCase, bound: Int => Int, dp: FormalDatapath) exte
     hbFree(5, 0) === 0.U && hbFree <= (space - env.maxRays * SystemConfig.HitBytes).U &&
     countFree >= 1.U && countFree <= env.maxRays.U), "host_batch: aligned buffers inside the address space, 1..maxRays rays")
   private val blocks = (countReg +& (rpb - 1).U) >> log2Ceil(rpb)
+  private val (wbReg, wlReg) = (Reg(UInt(addrBits.W)), Reg(UInt(addrBits.W)))
+  private val (wbFree, wlFree) = (FormalAnySeq(UInt(addrBits.W)), FormalAnySeq(UInt(addrBits.W)))
+  when(!loadedReg) { wbReg := wbFree; wlReg := wlFree }
+  if (c.window) assume(loadedReg || (wbFree(5, 0) === 0.U && wlFree(5, 0) === 0.U), "host_window: a 64-aligned window")
 
   // ---- Host: the AXI-Lite script ----
   private def reg(name: String) = RegisterMap.regs(RegisterMap.index(name)).offset
   // LOAD_SCENE first, the batch's registers while the scene loads; START on the scene interrupt, then the
   // interrupt is switched to DONE (IRQ_ENABLE) so that it rises only when the batch ends.
-  private val script: Seq[(Int, UInt)] = Seq(reg("CTRL") -> 2.U, reg("IRQ_ENABLE") -> 2.U, reg("RAY_BASE") -> rbReg,
+  private val windowScript = if (c.window) Seq(reg("WINDOW_BASE") -> wbReg, reg("WINDOW_LIMIT") -> wlReg) else Nil
+  private val script: Seq[(Int, UInt)] = windowScript ++ Seq(reg("CTRL") -> 2.U, reg("IRQ_ENABLE") -> 2.U, reg("RAY_BASE") -> rbReg,
     reg("HIT_BASE") -> hbReg, reg("RAY_COUNT") -> countReg, reg("CTRL") -> 1.U, reg("IRQ_ENABLE") -> 1.U)
-  private val stepReg = RegInit(0.U(3.W))
+  private val stepReg = RegInit(0.U(log2Ceil(script.size + 1).W))
   private val running = stepReg === script.size.U
-  private val gate = MuxLookup(stepReg, true.B)(Seq(5.U -> dut.io.interrupt))
+  private val gate = MuxLookup(stepReg, true.B)(Seq((windowScript.size + 5).U -> dut.io.interrupt))
   private val active = loadedReg && !running && gate
   private val awSentReg = RegInit(false.B)
   private val wSentReg = RegInit(false.B)
@@ -217,7 +228,7 @@ class FormalSystemTop(c: SystemCase, bound: Int => Int, dp: FormalDatapath) exte
   private val blockReadRegs = RegInit(VecInit(Seq.fill(maxBlocks)(false.B)))
   for (k <- 0 until maxBlocks) {
     val isBlock = a.r.fire && last && slave.io.burstLen === 2.U && slave.io.burstAddr === rbReg + (k * sys.rayBlockBytes).U && k.U < blocks
-    assert(!isBlock || !blockReadRegs(k), s"ray_block_read_once: ray block $k read twice")
+    if (!c.window) assert(!isBlock || !blockReadRegs(k), s"ray_block_read_once: ray block $k read twice")
     when(isBlock) { blockReadRegs(k) := true.B }
   }
   private val inBatch = VecInit((0 until env.maxRays).map(i => i.U < countReg))
@@ -239,11 +250,20 @@ class FormalSystemTop(c: SystemCase, bound: Int => Int, dp: FormalDatapath) exte
   private val inBuffer = awQ.io.deq.bits >= hbReg && (lowHalf || highHalf) && index < countReg && a.w.bits.last
   private val writtenRegs = RegInit(VecInit(Seq.fill(env.maxRays)(false.B)))
   private val idx = index(log2Ceil(env.maxRays) - 1, 0)
-  assert(!a.w.fire || inBuffer, "hit_in_buffer: a write outside the hit buffer, or not one whole hit record")
-  assert(!(a.w.fire && inBuffer) || !writtenRegs(idx), "hit_written_once: a hit record written twice")
-  assert(!(a.w.fire && inBuffer) || fetched(idx), "hit_after_fetch: a hit written for a ray not read from DDR")
+  if (!c.window) {
+    assert(!a.w.fire || inBuffer, "hit_in_buffer: a write outside the hit buffer, or not one whole hit record")
+    assert(!(a.w.fire && inBuffer) || !writtenRegs(idx), "hit_written_once: a hit record written twice")
+    assert(!(a.w.fire && inBuffer) || fetched(idx), "hit_after_fetch: a hit written for a ray not read from DDR")
+    SystemConservation(dut, countReg, rbReg, a.w.fire, maxBlocks)
+  }
   when(a.w.fire && inBuffer) { writtenRegs(idx) := true.B }
-  SystemConservation(dut, countReg, rbReg, a.w.fire, maxBlocks)
+  // The DMA window: every burst's whole beats inside [WINDOW_BASE, WINDOW_LIMIT) (0: the whole space).
+  if (c.window) {
+    val top = Mux(wlReg === 0.U, space.U, wlReg)
+    def inside(x: rtaccel.axi.Axi4Addr): Bool = x.addr >= wbReg && (x.addr +& ((x.len +& 1.U) << beatBits)) <= top
+    assert(!(a.ar.fire && !inside(a.ar.bits)) && !(a.aw.fire && !inside(a.aw.bits)),
+      "window_respected: an m_axi burst outside [WINDOW_BASE, WINDOW_LIMIT)")
+  }
   private val pendingReg = RegInit(0.U(5.W))
   private val bStallReg = RegInit(0.U(log2Ceil(env.bLatency + 1).max(1).W))
   a.b.valid := pendingReg =/= 0.U && (FormalAnySeq(Bool()) || bStallReg === env.bLatency.U)
@@ -255,14 +275,15 @@ class FormalSystemTop(c: SystemCase, bound: Int => Int, dp: FormalDatapath) exte
   // ---- The batch: DONE (the interrupt after START) ----
   private val done = running && dut.io.interrupt
   private val all = VecInit(inBatch.zip(writtenRegs).zip(fetched).map { case ((in, w), f) => in === w && in === f }).asUInt.andR
-  assert(!done || all, "batch_conservation: DONE with a ray of the batch not read or its hit not written once")
+  if (!c.window) assert(!done || all, "batch_conservation: DONE with a ray of the batch not read or its hit not written once")
   private val ageBits = log2Ceil((1 to env.maxRays).map(bound).max + 2)
   private val ageReg = RegInit(0.U(ageBits.W))
   private val doneSeenReg = RegInit(false.B)
   when(done) { doneSeenReg := true.B }
   when(running && !doneSeenReg) { ageReg := ageReg + 1.U }
   private val limit = MuxLookup(countReg, 0.U)((1 to env.maxRays).map(r => r.U -> bound(r).U(ageBits.W)))
-  assert(!(running && !doneSeenReg && !done && ageReg >= limit), "batch_bounded_response: no DONE within the derived bound after START")
+  if (!c.window)
+    assert(!(running && !doneSeenReg && !done && ageReg >= limit), "batch_bounded_response: no DONE within the derived bound after START")
 }
 
 object FormalSystemTop {

@@ -31,6 +31,8 @@ final class SystemHarness[T <: Data](dut: SystemSimTop[T], p: AxiMemoryParams) {
   private def addr(word: BigInt) = AxiAddrBeat(field(word, 0, sys.axiIdBits).toInt, field(word, sys.axiIdBits, sys.axiAddrBits).toLong,
     field(word, sys.axiIdBits + sys.axiAddrBits, 8).toInt, field(word, sys.axiIdBits + sys.axiAddrBits + 8, 3).toInt,
     field(word, sys.axiIdBits + sys.axiAddrBits + 11, 2).toInt)
+  /** Called with every address beat the system offers on m_axi (AR: read = true). */
+  var onBurst: (Boolean, AxiAddrBeat) => Unit = (_, _) => ()
   var flags = BigInt(0)
   def flag(n: String): Boolean = flags.testBit(SystemSimTop.outFields.indexOf(n))
 
@@ -40,6 +42,7 @@ final class SystemHarness[T <: Data](dut: SystemSimTop[T], p: AxiMemoryParams) {
     val s = model.slave
     val ar = Option.when(flag("arvalid"))(addr(io.ar.peek().litValue))
     val aw = Option.when(flag("awvalid"))(addr(io.aw.peek().litValue))
+    ar.foreach(onBurst(true, _)); aw.foreach(onBurst(false, _))
     val w = Option.when(flag("wvalid")) {
       val x = io.w.peek().litValue
       AxiWBeat(x >> (1 + sys.axiDataBits / 8), field(x, 1, sys.axiDataBits / 8), x.testBit(0))
@@ -103,6 +106,8 @@ final class SystemHarness[T <: Data](dut: SystemSimTop[T], p: AxiMemoryParams) {
     d
   }
   def read64(counter: String): BigInt = { val lo = read(s"${counter}_LO"); (BigInt(read(s"${counter}_HI")) << 32) | lo }
+  /** Writes 1 to CTRL's `field` (a one-cycle command pulse). */
+  def command(field: String): Unit = write("CTRL", 1L << RegisterMap.field("CTRL", field).lsb)
   def status(field: String): Boolean = ((read("STATUS") >> RegisterMap.field("STATUS", field).lsb) & 1) == 1
 
   /** Steps until `interrupt` is high (failing after `limit` cycles); `tick` every 2^12 cycles. */
