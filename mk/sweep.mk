@@ -92,7 +92,7 @@ sweep-jobs: $(addprefix $(SWEEP)/points/,$(addsuffix .json,$(SWEEP_POINTS))) \
 $(SWEEP)/classpath:
 	@mkdir -p $(SWEEP)
 	$(SBT) "compile" "export Runtime/fullClasspath" | tail -1 > $(SWEEP)/classpath.tmp
-	@grep -q 'test-classes' $(SWEEP)/classpath.tmp || { echo "sweep: sbt did not print the classpath"; exit 1; }
+	@grep -q 'scala-2.13/classes' $(SWEEP)/classpath.tmp || { echo "sweep: sbt did not print the classpath"; exit 1; }
 	@mv $(SWEEP)/classpath.tmp $(SWEEP)/classpath
 
 sweep-packages: $(SWEEP_PACKAGES)
