@@ -10,4 +10,4 @@ FAULTS_SEED ?= 1
 
 .PHONY: faults
 faults: setup $(CPPSIM_PKG)/image.bin ## Fault injection and recovery on the C++ board simulation; table into docs/reports/faults.md [FAULTS_TRIALS=10 FAULTS_SEED=1]
-	$(SBT) "Test/runMain rtaccel.regress.CppSimFaults --package $(CPPSIM_PKG) --out $(BUILD)/faults --rays $(CPPSIM_RAYS) --trials $(FAULTS_TRIALS) --seed $(FAULTS_SEED) --report docs/reports/faults.md"
+	$(SBT) "runMain rtaccel.regress.CppSimFaults --package $(CPPSIM_PKG) --out $(BUILD)/faults --rays $(CPPSIM_RAYS) --trials $(FAULTS_TRIALS) --seed $(FAULTS_SEED) --report docs/reports/faults.md"

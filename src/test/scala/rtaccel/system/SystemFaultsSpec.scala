@@ -2,11 +2,13 @@ package rtaccel.system
 
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
-import rtaccel.axi.AxiMemoryParams
+import rtaccel.bvh.BvhLayout
 import rtaccel.golden.{RayRecord, TraversalGolden}
 import rtaccel.scene.MemoryImage
-import rtaccel.testutil.{Backends, Seeded}
-import rtaccel.{AccelConfig, BvhLayout, ErrorFlags}
+import rtaccel.sim.axi.AxiMemoryParams
+import rtaccel.sim.{Backends, ControlWorkload, FieldDatapath, SystemHarness, SystemSimTop}
+import rtaccel.testutil.Seeded
+import rtaccel.{AccelConfig, ErrorFlags}
 
 import scala.util.Random
 
