@@ -106,7 +106,7 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   when(finish) {
     activeReg := false.B
     doneReg := raysDone === countReg && !stopping && !watchdogFired
-    abortedReg := raysDone =/= countReg && stopping && !watchdogFired
+    abortedReg := stopping && !watchdogFired
   }
   when(guard.io.refused) {
     windowErrReg := true.B
