@@ -2,10 +2,10 @@ package rtaccel.study
 
 import rtaccel.scene.MemoryImage
 
-/** One candidate of the study: a node layout (which compiled image it reads), a memory design and how reads past
-  * the stores reach DRAM. `extraBram(cores)` is the block RAM it adds to the stores'.
+/** One candidate of the study, named by `key` on the command line (`--only`): a node layout (which compiled image it
+  * reads), a memory design and how reads past the stores reach DRAM.
   */
-final case class Candidate(name: String, layout: String, design: MemoryDesign, path: Candidate.Path = Candidate.Direct) {
+final case class Candidate(key: String, name: String, layout: String, design: MemoryDesign, path: Candidate.Path = Candidate.Direct) {
   def bram(cores: Int, batch: Int): Int = design.storeBram(cores) + (path match {
     case Candidate.Direct => 0
     case Candidate.Cached(bytes, _) => MemoryDesign.copies(cores) * (MemoryDesign.bram(bytes) + Candidate.tagBram(bytes))
