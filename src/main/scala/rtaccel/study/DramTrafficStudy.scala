@@ -1,6 +1,7 @@
 package rtaccel.study
 
-import rtaccel.{AccelConfig, BvhLayout}
+import rtaccel.AccelConfig
+import rtaccel.bvh.BvhLayout
 import rtaccel.datapath.{BoxRounding, FloatDatapath, FloatGolden, TriangleTest}
 import rtaccel.fp.FloatFormat
 import rtaccel.scene.ScenePackage

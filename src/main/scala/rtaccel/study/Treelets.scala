@@ -1,6 +1,6 @@
 package rtaccel.study
 
-import rtaccel.BvhLayout
+import rtaccel.bvh.BvhLayout
 import rtaccel.scene.{MemoryImage, Records}
 
 import scala.collection.mutable
@@ -25,7 +25,7 @@ object Treelets {
     img.layout match {
       case BvhLayout.Nori => throw new IllegalArgumentException(s"${img.source}: the treelet study takes wide layouts")
       case _ =>
-        val live = recs.filter(_.word0 != rtaccel.BvhNode.EmptySlot)
+        val live = recs.filter(_.word0 != rtaccel.bvh.BvhNode.EmptySlot)
         (live.filter(r => !r.isLeaf).map(_.word1), live.filter(_.isLeaf).map(r => (r.word1, r.low31.toInt)))
     }
   }

@@ -1,9 +1,9 @@
 package rtaccel.study
 
 import org.scalatest.flatspec.AnyFlatSpec
-import rtaccel.BvhLayout
+import rtaccel.bvh.BvhLayout
 import rtaccel.golden.RayRecord
-import rtaccel.system.SyntheticBvh
+import rtaccel.sim.SyntheticBvh
 import rtaccel.testutil.Seeded
 
 /** The DRAM traffic study's accounting (docs/dram-traffic.md): whole lines, the stores' prefixes, the cache's LRU,
