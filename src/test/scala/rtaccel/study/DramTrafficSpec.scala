@@ -16,7 +16,8 @@ class DramTrafficSpec extends AnyFlatSpec {
     import MemoryDesign.lineBytes
     assert(lineBytes(64, 48) == 64)    // triangle 0 of an array at 64: one line
     assert(lineBytes(112, 48) == 128)  // triangle 1: bytes 112..159 straddle two lines
-    assert(lineBytes(160, 48) == 64)   // triangle 2: 160..207, one line
+    assert(lineBytes(160, 48) == 128)  // triangle 2: 160..207, two lines
+    assert(lineBytes(208, 48) == 64)   // triangle 3: 208..255, one line (1.5 lines a triangle on average)
     assert(lineBytes(64, 128) == 128)  // a 4-wide node
     assert(lineBytes(144, 80) == 128)  // an 8q node never touches three lines (80 i + 64 is 16-aligned)
     val img = SyntheticBvh(new scala.util.Random(1), maxDepth = 4, maxLeaf = 3, layout = BvhLayout.Wide(4))
