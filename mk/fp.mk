@@ -3,8 +3,8 @@ FP_AREA_JOBS ?= 2
 
 .PHONY: fp-area fp-test
 
-fp-area: setup ## Synthesise each FP unit (Yosys synth_xilinx xc7, several formats) into docs/fp-area.md; FP_AREA_JOBS=2
+fp-area: setup ## Synthesise each FP unit in several formats -> docs/reports/fp-area.md
 	$(SBT) "runMain rtaccel.tools.FpAreaReport $(BUILD)/fp-area docs/fp-area.md $(FP_AREA_JOBS)"
 
-fp-test: setup-sbt ## Run only the floating-point specs (golden model + Verilator unit runs)
+fp-test: setup-sbt ## Only the floating-point specs
 	$(SBT) "testOnly rtaccel.fp.*"

@@ -2,7 +2,7 @@
 # and committed; the cargo tests fail if it is missing or stale.
 .PHONY: hard-cases
 
-hard-cases: setup-cargo ## Regenerate scenes/hard/ (hard-case scenes, rays.txt, expect.csv; deterministic, seeded)
+hard-cases: setup-cargo ## Regenerate scenes/hard/ (seeded, deterministic)
 	rm -rf scenes/hard
 	$(BRIDGE) hard-cases --out scenes/hard
 

@@ -13,7 +13,7 @@ setup-slurm: ## Install Slurm and munge from Debian, if missing
 	    $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing >/dev/null; \
 	  else echo "setup-slurm: slurm-wlm and munge present"; fi
 
-slurm-up: setup-slurm ## Start a one-node Slurm cluster on this machine (build/slurm/); then: make speed-vs-error SWEEP_ENGINE=slurm
+slurm-up: setup-slurm ## Start a one-node Slurm cluster on this machine
 	@scripts/slurm/local-cluster.sh up
 
 slurm-down: ## Stop the one-node Slurm cluster
@@ -33,9 +33,9 @@ SWEEP_CHECK_POINTS ?= 4-e8m23-e8m23-cons-wt 4q-e8m10-e8m23-cons-wt
 SWEEP_CHECK_VARS   ?= SWEEP_CORNELL_PX=48 SWEEP_DRAGON_PX=64 SPEED_RAYS=256
 .PHONY: sweep-slurm-check sweep-compare
 
-sweep-slurm-check: setup setup-slurm ## Slurm sweep == make -j sweep: one-node cluster up, SWEEP_CHECK_POINTS as a job array, compare with SWEEP_CHECK_REF, cluster down
+sweep-slurm-check: setup setup-slurm ## Check that a Slurm sweep equals the make -j sweep (needs root)
 	scripts/slurm/sweep-check.sh $(SWEEP_CHECK) $(SWEEP_CHECK_REF) "$(SWEEP_CHECK_POINTS)" $(SWEEP_CHECK_VARS)
 
-sweep-compare: ## Compare two sweep directories' results field by field: make sweep-compare A=build/sweep6 B=build/sweep-slurm [POINTS="..."]
+sweep-compare: ## Compare two sweep directories field by field: A=<dir> B=<dir>
 	@[ -n "$(A)" ] && [ -n "$(B)" ] || { echo "usage: make sweep-compare A=<sweep dir> B=<sweep dir> [POINTS=\"<point> ...\"]"; exit 2; }
 	scripts/slurm/compare-sweeps.py $(A) $(B) $(POINTS)
