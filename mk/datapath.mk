@@ -7,7 +7,7 @@ datapath-area: setup-sbt ## Synthesise each datapath unit alone (Yosys; slow, re
 	$(SBT) "runMain rtaccel.tools.DatapathArea $(BUILD)/datapath-area $(DATAPATH_AREA_JOBS)"
 
 datapath-report: datapath-area ## Write docs/reports/datapath-report.md: latency, area, leaks
-	$(SBT) "runMain rtaccel.tools.DatapathReport $(BUILD)/datapath-area/area.tsv docs/datapath-report.md"
+	$(SBT) "runMain rtaccel.tools.DatapathReport $(BUILD)/datapath-area/area.tsv docs/reports/datapath-report.md"
 
 datapath-test: setup-sbt hls-vectors ## Only the datapath specs
 	$(SBT) "testOnly rtaccel.datapath.*"

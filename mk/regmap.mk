@@ -8,5 +8,5 @@ regmap: setup-sbt ## Regenerate the register map's C header, docs page and Syste
 	$(SBT) "runMain rtaccel.tools.RegMapGen"
 	@if [ ! -x $(REGMAP_VENV)/bin/peakrdl ]; then \
 	  python3 -m venv $(REGMAP_VENV) && $(REGMAP_VENV)/bin/pip install -q peakrdl peakrdl-html; fi
-	$(REGMAP_VENV)/bin/peakrdl html docs/rtaccel.rdl -o $(BUILD)/regmap/html
+	$(REGMAP_VENV)/bin/peakrdl html docs/reports/rtaccel.rdl -o $(BUILD)/regmap/html
 	@echo "regmap: SystemRDL export compiled by PeakRDL into $(BUILD)/regmap/html"

@@ -1,10 +1,10 @@
-# Accelerator speed measurements: writes docs/performance.md.
+# Accelerator speed measurements: writes docs/reports/performance.md.
 # BVH_LAYOUTS: node layouts to compare (nori-bridge compile --bvh); MAX_RAYS:
 # rays simulated per run, strided over the set;
 # BENCH_RUNS: a subset of the runs (e.g. for a quick look).
 BVH_LAYOUTS ?= nori 2 4 8
 BENCH_RUNS  ?= cornell-box-primary dragon-primary dragon-shadow dragon-ao
-BENCH_OUT   ?= docs/performance.md
+BENCH_OUT   ?= docs/reports/performance.md
 bench_list   = $(subst $(space),$(comma),$(strip $(1)))
 
 # BENCH_SYSTEM=1 (default) adds the system section (issue 13): the system top

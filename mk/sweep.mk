@@ -1,5 +1,5 @@
 # Speed against error (issue 6): `make speed-vs-error` regenerates
-# docs/speed-vs-error.{md,json} and its plots from nothing. Every point is an
+# docs/reports/speed-vs-error.{md,json} and its plots from nothing. Every point is an
 # independent job with one command line (java ... SweepPoint / PointArea), so
 # `make -j` spreads them over cores and a batch scheduler over machines.
 SWEEP          ?= $(BUILD)/sweep
@@ -42,7 +42,7 @@ SWEEP_ENGINE   ?= local
 # sweep-slurm-check points it into its own sweep so every area is recomputed).
 SWEEP_AREA_CACHE ?= build/area-cache
 # Where the report goes: $(SWEEP_DOC).{md,json} and the plots in $(SWEEP_DOC)/.
-SWEEP_DOC      ?= docs/speed-vs-error
+SWEEP_DOC      ?= docs/reports/speed-vs-error
 SWEEP_JAVA     := java -Xss8m -Xmx3g -cp "$$(cat $(SWEEP)/classpath)"
 comma := ,
 empty :=

@@ -12,7 +12,7 @@ import java.nio.file.{Files, Path, Paths}
   * `docs/speed-vs-error.json` (`make speed-vs-error`).
   */
 object SweepChoice {
-  val defaultJson: Path = Paths.get("docs/speed-vs-error.json")
+  val defaultJson: Path = Paths.get("docs/reports/speed-vs-error.json")
 
   def variant(test: TriangleTest, rounding: BoxRounding): String =
     s"${if (rounding == BoxRounding.Conservative) "conservative" else "rne"}/${if (test == TriangleTest.Watertight) "watertight" else "moller"}"

@@ -33,7 +33,7 @@ object Bench {
   val DefaultLayout = "nori"
 
   final case class Args(layouts: Seq[String] = Seq(DefaultLayout), runs: Seq[Run] = Runs, maxRays: Int = 2048,
-      out: Path = Paths.get("docs/performance.md"), area: Path = Paths.get("build/bench/area.json"),
+      out: Path = Paths.get("docs/reports/performance.md"), area: Path = Paths.get("build/bench/area.json"),
       bridge: Path = Paths.get("nori-bridge/target/release/nori-bridge"), threads: Int = 2,
       /** Only redraw the table from `rows` (after a run, e.g. with new area figures). */
       renderOnly: Boolean = false,
@@ -48,7 +48,7 @@ object Bench {
       /** What `make verilog` wrote: the cores that fit and the Fmax estimate (VerilogFigures). */
       verilog: Path = Paths.get("build/verilog/resources.md"))
 
-  val usage = "usage: Bench [--out docs/performance.md] [--layouts nori,2,4,8] [--runs cornell-box-primary,dragon-ao,...] " +
+  val usage = "usage: Bench [--out docs/reports/performance.md] [--layouts nori,2,4,8] [--runs cornell-box-primary,dragon-ao,...] " +
     "[--max-rays 2048] [--area build/bench/area.json] [--threads 2] [--render-only 0|1] [--system 0|1|cached|embree] " +
     "[--verilog build/verilog/resources.md] [--rows build/bench/bench.json]"
 
