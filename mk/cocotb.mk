@@ -1,4 +1,4 @@
-# The system top under Verilator against independent AXI models (issue 12):
+# The system top under Verilator against independent AXI models:
 # cocotb + cocotbext-axi (AxiRam on m_axi, AxiLiteMaster on s_axi), tests in
 # src/test/cocotb/. `make test` runs them for one core (COCOTB_CORES=1).
 #

@@ -21,7 +21,7 @@ $(CPPSIM_PKG)/image.bin: | setup-cargo
 cppsim-test: setup cppsim-lib $(CPPSIM_PKG)/image.bin ## librtaccel against the Verilated system top (part of make test)
 	$(SBT) "Test/runMain rtaccel.regress.CppSimTest --package $(CPPSIM_PKG) --out $(BUILD)/cppsim/test --rays $(CPPSIM_RAYS)"
 
-# The two harnesses of the one-core system top side by side (issue 13): the
+# The two harnesses of the one-core system top side by side: the
 # chiseltest one (SystemHarness + AxiMemoryModel) and the C++ one (rtaccel-sim:
 # librtaccel + the C++ twin of AxiMemoryModel), same rays, same memory settings,
 # same random draws. Fails unless every hit record and the batch's CYCLES agree;
@@ -38,8 +38,8 @@ cppsim-compare: setup ## The chiseltest and C++ system harnesses: same hits, sam
 	$(BRIDGE) compile $(CPPSIM_COMPARE_SCENE) --out $(CPPSIM_COMPARE_PKG) --rays $(CPPSIM_COMPARE_RAYS_KIND) --bvh 4 >/dev/null
 	$(SBT) "Test/runMain rtaccel.regress.CppSimCompare --package $(CPPSIM_COMPARE_PKG) --out $(CPPSIM_COMPARE_PKG)-r$(or $(REORDER),0)$(if $(MAX_RAYS), --rays $(MAX_RAYS)) --reorder $(or $(REORDER),0)"
 
-# The C++ harness's speed, measured to be trusted on a shared machine (issue 13,
-# docs/cppsim.md "Speed"): rtaccel-sim on the Cornell regression's rays (the
+# The C++ harness's speed, measured to be trusted on a shared machine
+# (docs/cppsim.md "Speed"): rtaccel-sim on the Cornell regression's rays (the
 # 4,096 camera rays of `make regress SCENE=scenes/cornell-box/cornell-box.xml`,
 # about 25k cycles) and on the dragon's 4,096 camera rays (about 62k cycles),
 # CPPSIM_SPEED_RUNS times each, the builds alternating; every run's cycles per

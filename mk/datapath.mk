@@ -1,4 +1,4 @@
-# Intersection datapaths (issue 4): area and leak report. Tests run in `make test` (sbt test).
+# Intersection datapaths: area and leak report. Tests run in `make test` (sbt test).
 DATAPATH_AREA_JOBS ?= 2
 
 .PHONY: datapath-area datapath-report datapath-test

@@ -1,7 +1,7 @@
 # Formal checks of the control path (docs/formal.md). `make formal` is part of
-# `make test`: about 3 minutes on an idle 2-core machine in session 5 (emission 40 s, n2 38 s,
-# n4 107 s; n4 is now cut to depth 18 to pay for ray_conservation); the mutants are not (they break the design on purpose), nor are
-# formal-deep (per-unit bounded response by BMC) and formal-induction (pdr).
+# `make test`: about 3 minutes on an idle 2-core machine (emission about 40 s,
+# then n2 to depth 28 and n4 to depth 18); the mutants are not (they break the
+# design on purpose), nor are formal-deep (per-unit bounded response by BMC) and formal-induction (pdr).
 FORMAL_DIR := $(BUILD)/formal
 .PHONY: formal formal-emit formal-mutants formal-deep formal-induction
 test: formal

@@ -1,4 +1,4 @@
-# Floating-point units (issue 3): area table. Tests run in `make test` (sbt test).
+# Floating-point units: area table. Tests run in `make test` (sbt test).
 FP_AREA_JOBS ?= 2
 
 .PHONY: fp-area fp-test

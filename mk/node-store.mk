@@ -1,4 +1,4 @@
-# Node-store design study (issue 12): hit rates of a preloaded top of the tree
+# Node-store design study: hit rates of a preloaded top of the tree
 # (image order and breadth-first) and of an LRU cache, per store size, on the
 # regression scenes -> build/node-store/study.md (quoted in docs/node-store.md).
 .PHONY: node-store-study

@@ -1,4 +1,4 @@
-# Quantized child boxes (issue 15 part 2): the bench's table for the FP32
+# Quantized child boxes: the bench's table for the FP32
 # wide layouts beside their quantized twins, Cornell and dragon camera rays,
 # on chip and under the ZC706 DDR model -> docs/reports/quant-performance.md. No system
 # section (`make bench`'s), and its own rows (build/bench/quant.json), so it never

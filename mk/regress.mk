@@ -7,7 +7,7 @@ BENCH_RUNS  ?= cornell-box-primary dragon-primary dragon-shadow dragon-ao
 BENCH_OUT   ?= docs/reports/performance.md
 bench_list   = $(subst $(space),$(comma),$(strip $(1)))
 
-# BENCH_SYSTEM=1 (default) adds the system section (issue 13): the system top
+# BENCH_SYSTEM=1 (default) adds the system section: the system top
 # under the C++ harness for 1, 2, 4 and the cores that fit, the ZC706 estimate
 # (cores that fit and the Fmax estimate read from build/verilog/resources.md,
 # so `make verilog` runs first, cached per unit) beside Embree on this machine.

@@ -1,4 +1,4 @@
-# A one-node Slurm cluster on this machine (issue 15): `make speed-vs-error
+# A one-node Slurm cluster on this machine: `make speed-vs-error
 # SWEEP_ENGINE=slurm` submits the sweep's point jobs to Slurm as one job array.
 # On a real cluster, skip slurm-up: set SLURM_CONF or use the site's defaults,
 # and pass sbatch options in SWEEP_SLURM_ARGS (the repository must be on a
@@ -19,7 +19,7 @@ slurm-up: setup-slurm ## Start a one-node Slurm cluster on this machine
 slurm-down: ## Stop the one-node Slurm cluster
 	@scripts/slurm/local-cluster.sh down
 
-# The issue-15 check, outside `make test` (it needs root and starts services):
+# The Slurm sweep's check, outside `make test` (it needs root and starts services):
 # start the one-node cluster, run SWEEP_CHECK_POINTS through
 # `make speed-vs-error SWEEP_ENGINE=slurm` into a fresh $(SWEEP_CHECK) (its own
 # Yosys cache, so every area is recomputed; its report goes to

@@ -1,10 +1,10 @@
-# Speed against error (issue 6): `make speed-vs-error` regenerates
+# Speed against error: `make speed-vs-error` regenerates
 # docs/reports/speed-vs-error.{md,json} and its plots from nothing. Every point is an
 # independent job with one command line (java ... SweepPoint / PointArea), so
 # `make -j` spreads them over cores and a batch scheduler over machines.
 SWEEP          ?= $(BUILD)/sweep
 SWEEP_JOBS     ?= 2
-# The grid (issue 15): layout x box format x triangle format x box rounding x
+# The grid: layout x box format x triangle format x box rounding x
 # triangle test. A point is `<layout>-<box>-<tri>-<rne|cons>-<mt|wt>`, e.g.
 # 4q-e8m10-e8m23-cons-wt. SWEEP_GRID=full runs every combination of the
 # SWEEP_* lists below; SWEEP_GRID=reduced (the default) the SWEEP_REDUCED

@@ -1,4 +1,4 @@
-# System-level measurement (issue 12): rays/cycle of RtAccelSystem with N cores
+# System-level measurement: rays/cycle of RtAccelSystem with N cores
 # under the AXI DDR model; rows go to build/bench/system.md.
 SYSTEM_BENCH_SCENE ?= scenes/cornell-box/cornell-box.xml
 

@@ -1,4 +1,4 @@
-# The m_axi width (issue 13, docs/system-wide.md): every SystemConfig that names no
+# The m_axi width (docs/system-wide.md): every SystemConfig that names no
 # width takes AXI_DATA_BITS (512 by default, or 1024) from the environment, so
 # `make verilog AXI_DATA_BITS=1024`, `make cppsim-test AXI_DATA_BITS=1024` and the
 # system specs under it build the wide system. bench-wide measures the system's

@@ -115,6 +115,6 @@ object DatapathReport {
     }
     }
     line("")
-    line("Anchor (issue 4): Embree 3.13 with ROBUST leaked 1.7% of vertex-aimed rays. FP32 figures of the HLS twins on their own mesh: docs/reports/kernel-leaks.md.")
+    line("Anchor: Embree 3.13 with ROBUST leaked 1.7% of vertex-aimed rays. FP32 figures of the HLS twins on their own mesh: docs/reports/kernel-leaks.md.")
   }
 }
