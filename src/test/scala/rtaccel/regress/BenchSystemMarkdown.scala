@@ -63,7 +63,7 @@ object BenchSystemMarkdown {
       s"| $run | ${f(estimate(run), 1)} (= $fit × ${f(rpc(run, fit) / fit, 4)} rays/cycle per core × ${f(mhz, 0)} MHz) | ${f(e.packetsMrays, 1)} | " +
         s"${if (e.load1.isNaN) "unknown" else f(e.load1, 2)} | ${e.at} | ${f(estimate(run) / e.packetsMrays, 2)} |"
     }
-    val goals = Seq("", "**Goals of issue 13** (the estimate, not run on a board):", "") ++
+    val goals = Seq("", "**Throughput goals** (the estimate, not run on a board):", "") ++
       runs.find(_ == "cornell-box-primary").map(run => goal(s"Cornell primary ≥ ${f(CornellGoalMrays, 0)} Mrays/s (RayCore Lite, measured on an Arria 10)", run, CornellGoalMrays, r)).toSeq ++
       runs.find(_ == "dragon-primary").map { run =>
         val e = r.embree(run).packetsMrays
