@@ -7,7 +7,7 @@ FORMAL_DIR := $(BUILD)/formal
 test: formal
 
 formal-emit: setup-sbt
-	$(SBT) "Test/runMain rtaccel.formal.EmitFormal --out $(FORMAL_DIR)"
+	$(SBT) "runMain rtaccel.formal.EmitFormal --out $(FORMAL_DIR)"
 
 formal: setup formal-emit ## Bounded model check of the core's control path (part of make test)
 	scripts/formal.sh $(FORMAL_DIR) $(FORMAL_DEPTH)
@@ -25,7 +25,7 @@ formal-induction: setup formal-emit ## Not in make test: unbounded proofs (pdr, 
 # over a minute here). The core inside SystemCore is replaced by FormalCoreStub (read over RtAccel).
 .PHONY: formal-system formal-system-emit formal-system-mutants formal-system-units
 formal-system-emit: setup-sbt
-	$(SBT) "Test/runMain rtaccel.formal.EmitFormalSystem --out $(FORMAL_DIR)"
+	$(SBT) "runMain rtaccel.formal.EmitFormalSystem --out $(FORMAL_DIR)"
 
 formal-system: setup formal-system-emit ## Not in make test: bounded model check of the system top
 	scripts/formal.sh $(FORMAL_DIR) "$(FORMAL_DEPTH)" system-cases.txt

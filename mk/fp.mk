@@ -4,7 +4,7 @@ FP_AREA_JOBS ?= 2
 .PHONY: fp-area fp-test
 
 fp-area: setup ## Synthesise each FP unit in several formats -> docs/reports/fp-area.md
-	$(SBT) "runMain rtaccel.tools.FpAreaReport $(BUILD)/fp-area docs/reports/fp-area.md $(FP_AREA_JOBS)"
+	$(SBT) "runMain rtaccel.report.FpAreaReport $(BUILD)/fp-area docs/reports/fp-area.md $(FP_AREA_JOBS)"
 
 fp-test: setup-sbt ## Only the floating-point specs
 	$(SBT) "testOnly rtaccel.fp.*"

@@ -21,7 +21,7 @@ BENCH_RENDER_ONLY ?= $(if $(filter cached embree,$(BENCH_SYSTEM)),1,0)
 
 .PHONY: bench bench-embree
 bench: setup $(if $(filter 1,$(BENCH_SYSTEM)),verilog) ## Rays/cycle per layout and memory; ZC706 estimate vs Embree
-	$(SBT) "Test/runMain rtaccel.regress.Bench --out $(BENCH_OUT) --layouts $(call bench_list,$(BVH_LAYOUTS)) --runs $(call bench_list,$(BENCH_RUNS)) --max-rays $(or $(MAX_RAYS),2048) --system $(BENCH_SYSTEM) --render-only $(BENCH_RENDER_ONLY)"
+	$(SBT) "runMain rtaccel.bench.Bench --out $(BENCH_OUT) --layouts $(call bench_list,$(BVH_LAYOUTS)) --runs $(call bench_list,$(BENCH_RUNS)) --max-rays $(or $(MAX_RAYS),2048) --system $(BENCH_SYSTEM) --render-only $(BENCH_RENDER_ONLY)"
 
 bench-embree: setup ## Re-measure only Embree and redraw docs/reports/performance.md
 	$(MAKE) bench BENCH_SYSTEM=embree
