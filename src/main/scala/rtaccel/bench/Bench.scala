@@ -21,7 +21,7 @@ import java.nio.file.{Files, Path, Paths}
   * golden model (a mismatch fails the bench); Embree mismatches are counted
   * on every ray of the set, with the golden model's answers (the hardware's,
   * bit for bit, as the simulated sample shows). Writes the table (by default
-  * docs/performance.md) and build/bench/bench.json.
+  * docs/reports/performance.md) and build/bench/bench.json.
   */
 object Bench {
   final case class Run(scene: String, xml: String, rays: String) { def name = s"$scene-$rays" }
@@ -79,7 +79,7 @@ object Bench {
     }
   }
 
-  /** The hand-written reading kept beside a generated page: docs/performance.md's is docs/performance-notes.md. */
+  /** The hand-written reading kept beside a generated page: docs/reports/performance.md's is docs/reports/performance-notes.md. */
   def notesFor(out: Path): Path = out.resolveSibling(out.getFileName.toString.stripSuffix(".md") + "-notes.md")
 
   /** The hardware that reads `layout`'s nodes: the ZC706 configuration with its box lanes. */

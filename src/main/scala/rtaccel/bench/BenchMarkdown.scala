@@ -1,6 +1,6 @@
 package rtaccel.bench
 
-/** docs/performance.md from the bench rows: one table, runs x layouts x memory side by side. */
+/** docs/reports/performance.md from the bench rows: one table, runs x layouts x memory side by side. */
 object BenchMarkdown {
   /** `seconds` < 0: the table is redrawn from the bench.json of `earlier` (which run wrote it). */
   def apply(rows: Seq[ujson.Obj], areaLuts: Map[String, Double], maxRays: Int, seconds: Double, system: String = "",

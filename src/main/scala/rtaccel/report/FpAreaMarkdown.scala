@@ -2,7 +2,7 @@ package rtaccel.report
 
 import rtaccel.tools.Synth
 
-/** Formats the [[FpAreaReport]] results as docs/fp-area.md. */
+/** Formats the [[FpAreaReport]] results as docs/reports/fp-area.md. */
 object FpAreaMarkdown {
   import FpAreaReport.{Area, AreaUnit}
 

@@ -51,7 +51,7 @@ class BenchSpec extends AnyFlatSpec {
     assert(sys.coresFit == 2 && sys.fmaxNs == 20.0 && sys.slowestUnit == "MemoryFabric", sys)
   }
 
-  it should "state each issue-13 goal as met or not and name the term that holds it back" in {
+  it should "state each throughput goal as met or not and name the term that holds it back" in {
     def row(run: String, cores: Int, rpc: Double) = ujson.Obj("run" -> run, "cores" -> cores, "rays" -> 100, "raySetSize" -> 4096,
       "cycles" -> 100 / rpc, "raysPerCycle" -> rpc, "nodeStoreHitRate" -> 0.5, "dramBytesPerRay" -> 100.0, "readBytesPerRay" -> 100.0, "readBeatsPerCycle" -> 0.5,
       "goldenMismatches" -> 0,
