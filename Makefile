@@ -12,7 +12,8 @@ BRIDGE    := nori-bridge/target/release/nori-bridge
 BUILD     := build
 SBT_LAUNCH_VERSION := $(shell sed -n 's/^sbt.version *= *//p' project/build.properties)
 SBT_LAUNCH_JAR := $(HOME)/.m2/repository/org/scala-sbt/sbt-launch/$(SBT_LAUNCH_VERSION)/sbt-launch-$(SBT_LAUNCH_VERSION).jar
-APT_PACKAGES := verilator yosys libembree-dev maven pkg-config fonts-dejavu-core
+# libeigen3-dev: the Nori drop-in builds against real Eigen in its test (nori-accel/stub/include/nori/common.h).
+APT_PACKAGES := verilator yosys libembree-dev maven pkg-config fonts-dejavu-core libeigen3-dev
 
 .PHONY: help help-all setup setup-apt setup-sbt setup-cargo test test-scala test-rust test-hls demo verilog regress clean
 
