@@ -16,12 +16,16 @@ import rtaccel.fp.RoundingMode.{RDN, RUP}
   * o - base' (d < 0), base' the q' = 0 plane. Every quantity below is a bound
   * rounded outward (RDN for a lower, RUP for an upper one), so for every
   * q' >= 0, tbLo + q' 2^s R- <= t(q') <= tbHi + q' 2^s R+, with R- <= 1/|d| <= R+
-  * the ray's reciprocals ([[RayK]]). A flat axis (d = +-0) has no distances:
+  * the ray's reciprocals ([[RayK]]). Relative to t0, t(q') - t0 = (q' - c) 2^s / |d|
+  * with c the ray's grid coordinate at t0: `d` must be the exact direction
+  * (one format for box and triangle, or an FP32 box format, where it is the
+  * FP32 ray's). A flat axis (d = +-0) has no distances:
   * its test is the origin's grid coordinate c' = -diff / 2^s, which lies in
   * [-diffHi, -diffLo] / 2^s.
   */
 object GridKernel {
-  final case class Axis[F, B](flat: B, neg: B, diffLo: F, diffHi: F, bLo: F, bHi: F)
+  /** `cLo`, `cHi`: bounds on c 2^s, c the grid coordinate (in q') of the ray's point at t0. */
+  final case class Axis[F, B](flat: B, neg: B, diffLo: F, diffHi: F, cLo: F, cHi: F)
   /** `tminR`/`tmaxR`: the ray's interval relative to `t0` (down, up). */
   final case class Node[F, B](axes: Seq[Axis[F, B]], t0: F, tminR: F, tmaxR: F, err: B)
 
@@ -42,16 +46,17 @@ object GridKernel {
       val diffHi = sub(mux(neg, oHi, origin(i)), mux(neg, farLo, o), RUP)
       // BoxKernel's rule: the reciprocal that moves the product outward.
       val tbLo = mul(diffLo, mux(ltZero(diffLo), ray.rcpHi(i), ray.rcpLo(i)), RDN)
-      val tbHi = mul(diffHi, mux(gtZero(diffHi), ray.rcpHi(i), ray.rcpLo(i)), RUP)
-      (isZero(d), neg, diffLo, diffHi, tbLo, tbHi)
+      (isZero(d), neg, diffLo, diffHi, tbLo, abs(d))
     }
     // t0: the grid's entry distance, rounded down (any finite value keeps the
     // test conservative; this one keeps every relative bound of a child the
     // ray enters within qMax steps of 0). 0 when no axis gives a finite one.
     val t0Raw = pre.foldLeft(negInf) { case (m, (flat, _, _, _, tbLo, _)) => max(m, mux(flat, negInf, tbLo)) }
     val t0 = mux(isNonFinite(t0Raw), posZero, t0Raw)
-    val axes = pre.map { case (flat, neg, diffLo, diffHi, tbLo, tbHi) =>
-      Axis(flat, neg, diffLo, diffHi, sub(tbLo, t0, RDN), sub(tbHi, t0, RUP))
+    // t(q') - t0 = (q' - c) 2^s / |d| with c 2^s = t0 |d| - diff: the ray's grid
+    // coordinate at t0, which for a ray through the grid lies in 0..qMax.
+    val axes = pre.map { case (flat, neg, diffLo, diffHi, _, absD) =>
+      Axis(flat, neg, diffLo, diffHi, sub(mul(t0, absD, RDN), diffHi, RDN), sub(mul(t0, absD, RUP), diffLo, RUP))
     }
     Node(axes, t0, sub(ray.tmin, t0, RDN), sub(tmax, t0, RUP), ray.err)
   }

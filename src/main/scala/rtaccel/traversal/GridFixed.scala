@@ -11,8 +11,9 @@ import rtaccel.fp.FloatFormat
   *                 grid step in t: how finely a child's slab ends are kept
   * @param width    signed width of a relative distance in units of u; it must hold qMax steps of
   *                 the smallest axis, qMax 2^(fracBits+1), so width >= qBits + fracBits + 3
+  * @param cFracBits fraction bits of the ray's grid coordinate at t0
   */
-final case class GridParams(qBits: Int = 8, fracBits: Int = 3, width: Int = 14) {
+final case class GridParams(qBits: Int = 8, fracBits: Int = 3, width: Int = 14, cFracBits: Int = 4) {
   require(qBits >= 1 && qBits <= 8, s"GridParams: qBits must be in 1..8, got $qBits")
   require(fracBits >= 0, s"GridParams: fracBits must be >= 0, got $fracBits")
   require(width >= qBits + fracBits + 3, s"GridParams: width $width < qBits + fracBits + 3 = ${qBits + fracBits + 3}")
@@ -27,7 +28,13 @@ final case class GridParams(qBits: Int = 8, fracBits: Int = 3, width: Int = 14) 
   val gLo: BigInt = -1
   val gHi: BigInt = qMax + 1
   val gBits: Int = qBits + 2
-  def name: String = s"q${qBits}f${fracBits}w$width"
+  /** The ray's grid coordinate at t0 in units of 2^-cFracBits, kept within -2..qMax+2 cells (flags beyond). */
+  val cLo: BigInt = -(BigInt(2) << cFracBits)
+  val cHi: BigInt = BigInt(qMax + 2) << cFracBits
+  val cBits: Int = GridFixed.widthOf(cLo, cHi)
+  /** q' - c in units of 2^-cFracBits. */
+  val dBits: Int = GridFixed.widthOf(-cHi, (BigInt(qMax) << cFracBits) - cLo)
+  def name: String = s"q${qBits}f${fracBits}w${width}c$cFracBits"
 }
 
 /** A float scaled by 2^k, rounded to an integer (floor or ceil) and clamped

@@ -4,10 +4,11 @@ import chisel3._
 import chisel3.util._
 
 /** One axis of a node in integer form: what every child lane of the node reads.
-  * Distances are relative to the node's t0 in units u = 2^eu (GridNode).
+  * Steps are in units u = 2^eu of t (GridNode); cLo..cHi bound the ray's grid
+  * coordinate at t0 in units of 2^-cFracBits (`cLoBelow`/`cHiAbove`: past the window).
   */
 final case class GridAxisFixed(flat: Boolean, neg: Boolean, stepLo: BigInt, stepHi: BigInt, stepHiSat: Boolean,
-    bLo: BigInt, bLoBelow: Boolean, bHi: BigInt, bHiAbove: Boolean, gHi: BigInt, gLo: BigInt)
+    cLo: BigInt, cLoBelow: Boolean, cHi: BigInt, cHiAbove: Boolean, gHi: BigInt, gLo: BigInt)
 final case class GridNodeFixed(axes: Seq[GridAxisFixed], tmin: BigInt, tmax: BigInt, err: Boolean)
 
 class GridAxisHw(p: GridParams) extends Bundle {
@@ -16,10 +17,10 @@ class GridAxisHw(p: GridParams) extends Bundle {
   val stepLo    = UInt(p.stepBits.W)
   val stepHi    = UInt(p.stepBits.W)
   val stepHiSat = Bool()
-  val bLo       = SInt(p.width.W)
-  val bLoBelow  = Bool()
-  val bHi       = SInt(p.width.W)
-  val bHiAbove  = Bool()
+  val cLo       = SInt(p.cBits.W)
+  val cLoBelow  = Bool()
+  val cHi       = SInt(p.cBits.W)
+  val cHiAbove  = Bool()
   val gHi       = SInt(p.gBits.W)
   val gLo       = SInt(p.gBits.W)
 }
@@ -39,9 +40,10 @@ class GridChildHw(p: GridParams) extends Bundle {
   val present = Bool()
 }
 
-/** The per-child half of the grid box test: per axis two products of a
-  * qBits-bit offset and a step, two adds and a clamp, all in `width`-bit
-  * integers; then the slab test's max/min and comparisons on integers
+/** The per-child half of the grid box test: per axis the offsets' distance
+  * from the ray's grid coordinate (q' - c, one subtraction each) times a step
+  * (the lower step for a lower bound of a positive product, the upper one
+  * otherwise), rounded outward to units of u and clamped to `width` bits; then the slab test's max/min and comparisons on integers
   * (docs/kernels.md, "Box tests in the node's grid", for why no child the
   * ray enters is missed). `near` is the child's entry distance relative to
   * the node (units of u): an order among siblings, not a distance.
@@ -51,11 +53,17 @@ object GridLane {
 
   def soft(p: GridParams, n: GridNodeFixed, qMin: Seq[Int], qMax: Seq[Int], present: Boolean): Out = {
     def clamp(v: BigInt) = v.max(p.bot).min(p.top)
+    def floorDiv(v: BigInt) = v >> p.cFracBits // arithmetic: floor
+    def ceilDiv(v: BigInt) = -((-v) >> p.cFracBits)
     val axes = (0 until 3).map { i =>
       val a = n.axes(i)
       val (qe, qx) = if (a.neg) (p.qMax - qMax(i), p.qMax - qMin(i)) else (qMin(i), qMax(i))
-      val lo = if (a.flat || a.bLoBelow) p.bot else clamp(a.bLo + qe * a.stepLo)
-      val hi = if (a.flat || a.bHiAbove || (a.stepHiSat && qx != 0)) p.top else clamp(a.bHi + qx * a.stepHi)
+      val dLo = (BigInt(qe) << p.cFracBits) - a.cHi // <= qe - c
+      val dHi = (BigInt(qx) << p.cFracBits) - a.cLo // >= qx - c
+      val lo = if (a.flat || a.cHiAbove || (dLo < 0 && a.stepHiSat)) p.bot
+        else clamp(floorDiv(dLo * (if (dLo >= 0) a.stepLo else a.stepHi)))
+      val hi = if (a.flat || a.cLoBelow || (dHi > 0 && a.stepHiSat)) p.top
+        else clamp(ceilDiv(dHi * (if (dHi > 0) a.stepHi else a.stepLo)))
       val in = !a.flat || (qe <= a.gHi && a.gLo <= qx)
       (lo, hi, in && qMin(i) <= qMax(i))
     }
@@ -88,25 +96,31 @@ class GridLane(p: GridParams) extends Module {
   private val n = io.in.bits.node
   private val c = io.in.bits.child
   private val qMaxU = p.qMax.U(p.qBits.W)
-  // Cycle 1: offsets renumbered from the entry side, products.
+  // Cycle 1: offsets renumbered from the entry side, their distances from c, products.
   private val s1 = (0 until 3).map { i =>
     val a = n.axes(i)
     val qe = Mux(a.neg, qMaxU - c.qMax(i), c.qMin(i))
     val qx = Mux(a.neg, qMaxU - c.qMin(i), c.qMax(i))
+    val dLo = (qe << p.cFracBits).zext - a.cHi
+    val dHi = (qx << p.cFracBits).zext - a.cLo
     val en = io.in.valid
-    (RegEnable(a, en), RegEnable(qe, en), RegEnable(qx, en), RegEnable(qe * a.stepLo, en), RegEnable(qx * a.stepHi, en),
-      RegEnable(c.qMin(i) <= c.qMax(i), en))
+    val pLo = dLo * Mux(dLo >= 0.S, a.stepLo, a.stepHi).zext
+    val pHi = dHi * Mux(dHi > 0.S, a.stepHi, a.stepLo).zext
+    val loOut = a.flat || a.cHiAbove || (dLo < 0.S && a.stepHiSat)
+    val hiOut = a.flat || a.cLoBelow || (dHi > 0.S && a.stepHiSat)
+    val in = !a.flat || (qe.zext <= a.gHi && a.gLo <= qx.zext)
+    (RegEnable(pLo, en), RegEnable(pHi, en), RegEnable(loOut, en), RegEnable(hiOut, en),
+      RegEnable(in && c.qMin(i) <= c.qMax(i), en))
   }
   private val err1 = RegEnable(n.err || !c.present, io.in.valid)
   private val tmin1 = RegEnable(n.tmin, io.in.valid)
   private val tmax1 = RegEnable(n.tmax, io.in.valid)
   private def clamp(v: SInt): SInt = Mux(v < p.bot.S, p.bot.S(p.width.W), Mux(v > p.top.S, p.top.S(p.width.W), v(p.width - 1, 0).asSInt))
-  // Cycle 2: sums, clamps, the flat axes' origin test.
-  private val s2 = s1.map { case (a, qe, qx, pLo, pHi, ok) =>
-    val lo = Mux(a.flat || a.bLoBelow, p.bot.S(p.width.W), clamp(a.bLo +& pLo.zext))
-    val hi = Mux(a.flat || a.bHiAbove || (a.stepHiSat && qx =/= 0.U), p.top.S(p.width.W), clamp(a.bHi +& pHi.zext))
-    val in = !a.flat || (qe.zext <= a.gHi && a.gLo <= qx.zext)
-    (RegEnable(lo, v1), RegEnable(hi, v1), RegEnable(in && ok, v1))
+  // Cycle 2: outward to units of u (an arithmetic shift is a floor), clamps.
+  private val s2 = s1.map { case (pLo, pHi, loOut, hiOut, ok) =>
+    val lo = Mux(loOut, p.bot.S(p.width.W), clamp(pLo >> p.cFracBits))
+    val hi = Mux(hiOut, p.top.S(p.width.W), clamp(-((-pHi) >> p.cFracBits)))
+    (RegEnable(lo, v1), RegEnable(hi, v1), RegEnable(ok, v1))
   }
   private val err2 = RegEnable(err1, v1)
   private val tmin2 = RegEnable(tmin1, v1)

@@ -37,11 +37,11 @@ object GridNode {
     val axes = k.axes.zipWithIndex.map { case (a, i) =>
       val sLo = fx(ray.rcpLo(i), s(i) - eu, up = false, 0, p.stepMax)
       val sHi = fx(ray.rcpHi(i), s(i) - eu, up = true, 0, p.stepMax)
-      val bLo = fx(a.bLo, -eu, up = false, p.bot, p.top)
-      val bHi = fx(a.bHi, -eu, up = true, p.bot, p.top)
+      val cLo = fx(a.cLo, p.cFracBits - s(i), up = false, p.cLo, p.cHi)
+      val cHi = fx(a.cHi, p.cFracBits - s(i), up = true, p.cLo, p.cHi)
       val gHi = fx(fmt.negate(a.diffLo), -s(i), up = false, p.gLo, p.gHi)
       val gLo = fx(fmt.negate(a.diffHi), -s(i), up = true, p.gLo, p.gHi)
-      GridAxisFixed(a.flat, a.neg, sLo.value, sHi.value, sHi.above, bLo.value, bLo.below, bHi.value, bHi.above,
+      GridAxisFixed(a.flat, a.neg, sLo.value, sHi.value, sHi.above, cLo.value, cLo.below, cHi.value, cHi.above,
         gHi.value, gLo.value)
     }
     GridNodeFixed(axes, fx(k.tminR, -eu, up = false, p.bot, p.top).value, fx(k.tmaxR, -eu, up = true, p.bot, p.top).value, k.err)
@@ -93,7 +93,7 @@ class GridNodeStage(p: GridParams, rays: RayConsts) extends Module {
   private val eu = Mux(flat0.reduce(_ && _), 0.S, esMin - p.fracBits.S)
   private def timed[T <: Data](x: T) = new Timed(x, 0, chain)
 
-  val latency: Int = (k.axes.flatMap(a => Seq(a.bLo, a.bHi, a.diffLo, a.diffHi)) ++ Seq(k.tminR, k.tmaxR)).map(_.ready).max + 1
+  val latency: Int = (k.axes.flatMap(a => Seq(a.cLo, a.cHi, a.diffLo, a.diffHi)) ++ Seq(k.tminR, k.tmaxR)).map(_.ready).max + 1
   private val c = latency - 1
   private val euC = timed(eu).at(c)
   private val sC = sInt.map(timed(_).at(c))
@@ -107,17 +107,17 @@ class GridNodeStage(p: GridParams, rays: RayConsts) extends Module {
     val o = node.axes(i)
     val sLo = fx(rcpLoC(i), sC(i) - euC, up = false, 0, p.stepMax)
     val sHi = fx(rcpHiC(i), sC(i) - euC, up = true, 0, p.stepMax)
-    val bLo = fx(a.bLo.at(c), -euC, up = false, p.bot, p.top)
-    val bHi = fx(a.bHi.at(c), -euC, up = true, p.bot, p.top)
+    val cLo = fx(a.cLo.at(c), p.cFracBits.S - sC(i), up = false, p.cLo, p.cHi)
+    val cHi = fx(a.cHi.at(c), p.cFracBits.S - sC(i), up = true, p.cLo, p.cHi)
     o.flat := a.flat.at(c)
     o.neg := a.neg.at(c)
     o.stepLo := sLo.value.asUInt(p.stepBits - 1, 0)
     o.stepHi := sHi.value.asUInt(p.stepBits - 1, 0)
     o.stepHiSat := sHi.above
-    o.bLo := bLo.value(p.width - 1, 0).asSInt
-    o.bLoBelow := bLo.below
-    o.bHi := bHi.value(p.width - 1, 0).asSInt
-    o.bHiAbove := bHi.above
+    o.cLo := cLo.value
+    o.cLoBelow := cLo.below
+    o.cHi := cHi.value
+    o.cHiAbove := cHi.above
     o.gHi := fx(negF(a.diffLo.at(c)), -sC(i), up = false, p.gLo, p.gHi).value
     o.gLo := fx(negF(a.diffHi.at(c)), -sC(i), up = true, p.gLo, p.gHi).value
   }
