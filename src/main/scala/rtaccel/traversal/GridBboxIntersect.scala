@@ -15,10 +15,7 @@ import rtaccel.datapath.RayConsts
 class GridBboxIntersect(k: Int, p: GridParams, rays: RayConsts) extends Module {
   val io = IO(new Bundle {
     val in = Flipped(Valid(new Bundle {
-      val ray      = rays.cloneType
-      val tmax     = UInt(rays.triFmt.width.W)
-      val origin   = Vec(3, UInt(32.W))
-      val exp      = Vec(3, UInt(8.W))
+      val node     = new GridNodeIn(rays)
       val children = Vec(k, new GridChildHw(p))
     }))
     val out = Valid(new Bundle {
@@ -33,10 +30,7 @@ class GridBboxIntersect(k: Int, p: GridParams, rays: RayConsts) extends Module {
 
   private val stage = Module(new GridNodeStage(p, rays))
   stage.io.in.valid := io.in.valid
-  stage.io.in.bits.ray := io.in.bits.ray
-  stage.io.in.bits.tmax := io.in.bits.tmax
-  stage.io.in.bits.origin := io.in.bits.origin
-  stage.io.in.bits.exp := io.in.bits.exp
+  stage.io.in.bits := io.in.bits.node
   // The children wait for their node's constants, loading only on valid slots.
   private val children = (0 until stage.latency).foldLeft((io.in.bits.children, io.in.valid)) { case ((c, v), _) =>
     (RegEnable(c, v), RegNext(v, false.B))

@@ -48,6 +48,18 @@ object GridNode {
   }
 }
 
+/** What the per-node stage reads: the ray's constants and tmax, and the node's
+  * per-axis origin and scale exponent as the 4q/8q record holds them (QuantNode).
+  */
+class GridNodeIn(rays: RayConsts) extends Bundle {
+  val ray    = rays.cloneType
+  /** In the triangle format; rounded up to FP32 where that is narrower (BoxKernel.narrowTmax). */
+  val tmax   = UInt(rays.triFmt.width.W)
+  val origin = Vec(3, UInt(32.W))
+  /** Scale exponent fields e (scale 2^(e-127)), QuantNode.ExpMin..ExpMax. */
+  val exp    = Vec(3, UInt(8.W))
+}
+
 /** [[GridNode.soft]] in hardware: the FP32 [[GridKernel]] pipeline (HwArith
   * units, each enabled by the slot's valid), then one cycle of conversions.
   * `out` is valid `latency` cycles after `in`.
@@ -56,14 +68,7 @@ class GridNodeStage(p: GridParams, rays: RayConsts) extends Module {
   private val fmt = rays.boxFmt
   require(fmt == FloatFormat.FP32, s"GridNodeStage: the node's planes are FP32; the box constants must be too, not $fmt")
   val io = IO(new Bundle {
-    val in = Flipped(Valid(new Bundle {
-      val ray    = rays.cloneType
-      /** In the triangle format; rounded up to FP32 where that is narrower (BoxKernel.narrowTmax). */
-      val tmax   = UInt(rays.triFmt.width.W)
-      val origin = Vec(3, UInt(32.W))
-      /** Scale exponent fields e (scale 2^(e-127)), QuantNode.ExpMin..ExpMax. */
-      val exp    = Vec(3, UInt(8.W))
-    }))
+    val in = Flipped(Valid(new GridNodeIn(rays)))
     val out = Valid(new GridNodeHw(p))
     /** A scale exponent outside QuantNode.ExpMin..ExpMax: bad scene data; no child hits. */
     val badScale = Output(Bool())

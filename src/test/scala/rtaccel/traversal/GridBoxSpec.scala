@@ -149,7 +149,10 @@ class GridBoxSpec extends AnyFlatSpec with ChiselScalatestTester {
       for (_ <- 0 until 4000) t = tally(f32, p, randomCase(r, p, 4), t, withFp32 = true, x => if (miss.isEmpty) miss = Some(x))
       info(s"FP32, ${p.name}: $t")
       assert(t.falseMisses == 0, s"first false miss: ${miss.getOrElse("none")}")
-      assert(t.exactHits > 1000, s"too few hits to mean anything: $t")
+      assert(t.exactHits > 500, s"too few hits to mean anything: $t")
+      // Not a correctness bound (extra hits only cost traversal) but a quality
+      // one: the unit, step and window keep extra hits rare (0.2% of misses here).
+      assert(t.falseHits * 100 <= t.exactMisses, s"more than 1% of exact misses hit: $t")
     }
 
   "GridBboxIntersect" should "answer every child bit for bit as the golden model, under random valid gaps" in {
@@ -169,7 +172,7 @@ class GridBoxSpec extends AnyFlatSpec with ChiselScalatestTester {
             val bad = r.nextInt(40) == 0
             val e = c0.s.map(_ + 127).updated(0, if (bad) (if (r.nextBoolean()) 0 else 250) else c0.s(0) + 127)
             val (k, tmax) = ray(f32, c0)
-            val in = dut.io.in.bits
+            val in = dut.io.in.bits.node
             for (i <- 0 until 3) {
               in.ray.box.origin(i).poke(k.o(i).U)
               in.ray.box.dir(i).poke(k.d(i).U)
@@ -182,10 +185,10 @@ class GridBoxSpec extends AnyFlatSpec with ChiselScalatestTester {
             in.ray.box.err.poke(k.err.B)
             in.tmax.poke(tmax.U)
             for (j <- 0 until 4; i <- 0 until 3) {
-              in.children(j).qMin(i).poke(c0.qMin(j)(i).U)
-              in.children(j).qMax(i).poke(c0.qMax(j)(i).U)
+              dut.io.in.bits.children(j).qMin(i).poke(c0.qMin(j)(i).U)
+              dut.io.in.bits.children(j).qMax(i).poke(c0.qMax(j)(i).U)
             }
-            for (j <- 0 until 4) in.children(j).present.poke(c0.present(j).B)
+            for (j <- 0 until 4) dut.io.in.bits.children(j).present.poke(c0.present(j).B)
             expect.enqueue((c0, bad, if (bad) Nil else golden(f32, p, c0)._2))
             sent += 1
           }
