@@ -11,7 +11,7 @@ lazy val root = (project in file("."))
     libraryDependencies ++= Seq(
       "org.chipsalliance" %% "chisel"     % chiselVersion,
       "com.lihaoyi"       %% "ujson"      % "3.1.0",
-      "edu.berkeley.cs"   %% "chiseltest" % "6.0.0" % Test,
+      "edu.berkeley.cs"   %% "chiseltest" % "6.0.0",
       "org.scalatest"     %% "scalatest"  % "3.2.19" % Test
     ),
     addCompilerPlugin("org.chipsalliance" % "chisel-plugin" % chiselVersion cross CrossVersion.full),
@@ -21,7 +21,8 @@ lazy val root = (project in file("."))
     Test / fork := true,
     Test / javaOptions ++= Seq("-Xss8m", "-Xmx4g"),
     Test / testOptions += Tests.Argument(TestFrameworks.ScalaTest, "-oD"),
-    // Runs from `make regress` (a Scala main driving chiseltest) fork too.
+    // The flows (`make regress`, `make bench`, ...) are Scala mains in src/main
+    // that drive chiseltest, hence chiseltest in Compile scope; they fork too.
     run / fork := true,
     run / javaOptions ++= Seq("-Xss8m", "-Xmx4g"),
     Compile / run / mainClass := None

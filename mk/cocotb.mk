@@ -46,7 +46,7 @@ $(COCOTB_BUILD)/pkg/shadow/image.bin: $(BRIDGE) $(COCOTB_SCENE) mk/cocotb.mk
 	$(BRIDGE) compile $(COCOTB_SCENE) --out $(@D) --rays shadow --bvh 4 --width $(COCOTB_RAYS_W) --height $(COCOTB_RAYS_H)
 
 test-cocotb: setup-sbt setup-cargo setup-cocotb $(COCOTB_BUILD)/pkg/primary/image.bin $(COCOTB_BUILD)/pkg/shadow/image.bin ## rtaccel_system under Verilator + cocotb: AxiRam (reordering, back-pressure) and AxiLiteMaster, protocol assertions, every hit vs the golden model [COCOTB_CORES="1 2" (default 1) RTACCEL_SEED=]
-	$(SBT) "Test/runMain rtaccel.cocotb.Prepare --out $(COCOTB_BUILD) --cores $(subst $(space),$(comma),$(strip $(COCOTB_CORES))) --packages $(COCOTB_BUILD)/pkg/primary,$(COCOTB_BUILD)/pkg/shadow"
+	$(SBT) "runMain rtaccel.cocotb.Prepare --out $(COCOTB_BUILD) --cores $(subst $(space),$(comma),$(strip $(COCOTB_CORES))) --packages $(COCOTB_BUILD)/pkg/primary,$(COCOTB_BUILD)/pkg/shadow"
 	@for n in $(COCOTB_CORES); do \
 	  echo "test-cocotb: rtaccel_system with $$n core(s)"; \
 	  PATH=$(COCOTB_VENV)/bin:$$PATH $(MAKE) --no-print-directory -C $(COCOTB_DIR) \

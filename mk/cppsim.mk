@@ -19,7 +19,7 @@ $(CPPSIM_PKG)/image.bin: | setup-cargo
 	$(BRIDGE) compile scenes/cornell-box/cornell-box.xml --out $(CPPSIM_PKG) --rays primary --width 16 --height 16 --bvh 4 >/dev/null
 
 cppsim-test: setup cppsim-lib $(CPPSIM_PKG)/image.bin ## librtaccel + the C++ Verilator harness on Cornell (part of make test)
-	$(SBT) "Test/runMain rtaccel.regress.CppSimTest --package $(CPPSIM_PKG) --out $(BUILD)/cppsim/test --rays $(CPPSIM_RAYS)"
+	$(SBT) "runMain rtaccel.regress.CppSimTest --package $(CPPSIM_PKG) --out $(BUILD)/cppsim/test --rays $(CPPSIM_RAYS)"
 
 # The two harnesses of the one-core system top side by side (issue 13): the
 # chiseltest one (SystemHarness + AxiMemoryModel) and the C++ one (rtaccel-sim:
@@ -36,7 +36,7 @@ CPPSIM_COMPARE_PKG = $(BUILD)/cppsim/compare-pkg/$(basename $(notdir $(CPPSIM_CO
 .PHONY: cppsim-compare
 cppsim-compare: setup ## The chiseltest and C++ system harnesses on the same rays: same hits and cycles, and their speed [CPPSIM_COMPARE_SCENE= CPPSIM_COMPARE_RAYS_KIND=primary|shadow|ao MAX_RAYS= REORDER=0|1 CPPSIM_CLANG=1|0]
 	$(BRIDGE) compile $(CPPSIM_COMPARE_SCENE) --out $(CPPSIM_COMPARE_PKG) --rays $(CPPSIM_COMPARE_RAYS_KIND) --bvh 4 >/dev/null
-	$(SBT) "Test/runMain rtaccel.regress.CppSimCompare --package $(CPPSIM_COMPARE_PKG) --out $(CPPSIM_COMPARE_PKG)-r$(or $(REORDER),0)$(if $(MAX_RAYS), --rays $(MAX_RAYS)) --reorder $(or $(REORDER),0)"
+	$(SBT) "runMain rtaccel.regress.CppSimCompare --package $(CPPSIM_COMPARE_PKG) --out $(CPPSIM_COMPARE_PKG)-r$(or $(REORDER),0)$(if $(MAX_RAYS), --rays $(MAX_RAYS)) --reorder $(or $(REORDER),0)"
 
 # The C++ harness's speed, measured to be trusted on a shared machine (issue 13,
 # docs/cppsim.md "Speed"): rtaccel-sim on the Cornell regression's rays (the

@@ -7,7 +7,7 @@ FORMAL_DIR := $(BUILD)/formal
 test: formal
 
 formal-emit: setup-sbt
-	$(SBT) "Test/runMain rtaccel.formal.EmitFormal --out $(FORMAL_DIR)"
+	$(SBT) "runMain rtaccel.formal.EmitFormal --out $(FORMAL_DIR)"
 
 formal: setup formal-emit ## Bounded model check of small RtAccel configurations (Yosys -> AIGER -> ABC bmc3): no overflow, IDs once, every ray once -> build/formal/formal.log [FORMAL_DEPTH=]
 	scripts/formal.sh $(FORMAL_DIR) $(FORMAL_DEPTH)
@@ -25,7 +25,7 @@ formal-induction: setup formal-emit ## Unbounded proofs, not in make test: by pd
 # over a minute here). The core inside SystemCore is replaced by FormalCoreStub (read over RtAccel).
 .PHONY: formal-system formal-system-emit formal-system-mutants formal-system-units
 formal-system-emit: setup-sbt
-	$(SBT) "Test/runMain rtaccel.formal.EmitFormalSystem --out $(FORMAL_DIR)"
+	$(SBT) "runMain rtaccel.formal.EmitFormalSystem --out $(FORMAL_DIR)"
 
 formal-system: setup formal-system-emit ## Not in make test: bounded model check of SystemCore (1 core as an abstract stub, AXI slave and host as assumptions): no overflow, each ray read once, each hit written once inside the hit buffer, DONE after all -> build/formal/formal-system-cases.log [FORMAL_DEPTH=]
 	scripts/formal.sh $(FORMAL_DIR) "$(FORMAL_DEPTH)" system-cases.txt

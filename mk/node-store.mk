@@ -3,4 +3,4 @@
 # regression scenes -> build/node-store/study.md (quoted in docs/node-store.md).
 .PHONY: node-store-study
 node-store-study: setup ## Node-store hit rates (preload vs cache) per size on Cornell and the dragon -> build/node-store/study.md [MAX_RAYS=2048]
-	$(SBT) "Test/runMain rtaccel.nodestore.NodeStoreStudy $(or $(MAX_RAYS),2048)"
+	$(SBT) "runMain rtaccel.study.NodeStoreStudy $(or $(MAX_RAYS),2048)"

@@ -8,4 +8,4 @@ QUANT_RUNS    ?= cornell-box-primary dragon-primary
 
 .PHONY: bench-quant
 bench-quant: setup ## Node bytes per ray and rays/cycle, 4 vs 4q and 8 vs 8q (Cornell, dragon primary; DDR and on chip) -> docs/quant-performance.md [QUANT_LAYOUTS= QUANT_RUNS= MAX_RAYS=2048]
-	$(SBT) "Test/runMain rtaccel.regress.Bench --out docs/quant-performance.md --area build/bench/area-quant.json --layouts $(call bench_list,$(QUANT_LAYOUTS)) --runs $(call bench_list,$(QUANT_RUNS)) --max-rays $(or $(MAX_RAYS),2048) --system 0 --rows build/bench/quant.json"
+	$(SBT) "runMain rtaccel.bench.Bench --out docs/quant-performance.md --area build/bench/area-quant.json --layouts $(call bench_list,$(QUANT_LAYOUTS)) --runs $(call bench_list,$(QUANT_RUNS)) --max-rays $(or $(MAX_RAYS),2048) --system 0 --rows build/bench/quant.json"

@@ -21,7 +21,7 @@ BENCH_RENDER_ONLY ?= $(if $(filter cached embree,$(BENCH_SYSTEM)),1,0)
 
 .PHONY: bench bench-embree
 bench: setup $(if $(filter 1,$(BENCH_SYSTEM)),verilog) ## Speed side by side: BVH layouts x memory (onchip, ddr) x Cornell/dragon rays; the system top on a ZC706 (estimate) against Embree -> docs/performance.md [BVH_LAYOUTS="nori 2 4 8" MAX_RAYS=2048 BENCH_RUNS= BENCH_SYSTEM=1|0|cached|embree BENCH_RENDER_ONLY=]
-	$(SBT) "Test/runMain rtaccel.regress.Bench --out $(BENCH_OUT) --layouts $(call bench_list,$(BVH_LAYOUTS)) --runs $(call bench_list,$(BENCH_RUNS)) --max-rays $(or $(MAX_RAYS),2048) --system $(BENCH_SYSTEM) --render-only $(BENCH_RENDER_ONLY)"
+	$(SBT) "runMain rtaccel.bench.Bench --out $(BENCH_OUT) --layouts $(call bench_list,$(BVH_LAYOUTS)) --runs $(call bench_list,$(BENCH_RUNS)) --max-rays $(or $(MAX_RAYS),2048) --system $(BENCH_SYSTEM) --render-only $(BENCH_RENDER_ONLY)"
 
 bench-embree: setup ## Re-measure only Embree (with the 1-minute load average) and redraw docs/performance.md from the cached bench rows (after a make bench; for an idle machine)
 	$(MAKE) bench BENCH_SYSTEM=embree

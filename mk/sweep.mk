@@ -91,8 +91,8 @@ sweep-jobs: $(addprefix $(SWEEP)/points/,$(addsuffix .json,$(SWEEP_POINTS))) \
 # after changing a scene or the hardware).
 $(SWEEP)/classpath:
 	@mkdir -p $(SWEEP)
-	$(SBT) "Test/compile" "export Test/fullClasspath" | tail -1 > $(SWEEP)/classpath.tmp
-	@grep -q 'test-classes' $(SWEEP)/classpath.tmp || { echo "sweep: sbt did not print the classpath"; exit 1; }
+	$(SBT) "compile" "export Runtime/fullClasspath" | tail -1 > $(SWEEP)/classpath.tmp
+	@grep -q 'scala-2.13/classes' $(SWEEP)/classpath.tmp || { echo "sweep: sbt did not print the classpath"; exit 1; }
 	@mv $(SWEEP)/classpath.tmp $(SWEEP)/classpath
 
 sweep-packages: $(SWEEP_PACKAGES)

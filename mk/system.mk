@@ -6,4 +6,4 @@ SYSTEM_BENCH_SCENE ?= scenes/cornell-box/cornell-box.xml
 system-bench: setup ## Rays/cycle of the system top for CORES=1 2 4 on SYSTEM_BENCH_SCENE (primary rays, 4-wide) [RAYS=<first n>]
 	$(BRIDGE) compile $(SYSTEM_BENCH_SCENE) --out $(BUILD)/bench/system-pkg --rays primary --bvh 4
 	for n in $(or $(CORES),1 2 4); do \
-	  $(SBT) "Test/runMain rtaccel.system.SystemBench --package $(BUILD)/bench/system-pkg --cores $$n$(if $(RAYS), --rays $(RAYS))"; done
+	  $(SBT) "runMain rtaccel.bench.SystemBench --package $(BUILD)/bench/system-pkg --cores $$n$(if $(RAYS), --rays $(RAYS))"; done

@@ -9,4 +9,4 @@ WIDE_MHZ ?= 100
 
 .PHONY: bench-wide
 bench-wide: setup ## Benchmark: system rays/cycle for m_axi 512 vs 1024 bits x 1, 2, 4 cores on the bench's ray sets (C++ harness, ZC706 DDR model) -> build/bench/system-wide.md [WIDE_WIDTHS="512 1024" WIDE_CORES="1 2 4" WIDE_MHZ=100 MAX_RAYS=2048]
-	$(SBT) "Test/runMain rtaccel.regress.BenchWide --widths $(call bench_list,$(WIDE_WIDTHS)) --cores $(call bench_list,$(WIDE_CORES)) --mhz $(WIDE_MHZ) --max-rays $(or $(MAX_RAYS),2048)"
+	$(SBT) "runMain rtaccel.bench.BenchWide --widths $(call bench_list,$(WIDE_WIDTHS)) --cores $(call bench_list,$(WIDE_CORES)) --mhz $(WIDE_MHZ) --max-rays $(or $(MAX_RAYS),2048)"

@@ -40,5 +40,5 @@ opts+=" --waves ${WAVES:-0} --strict ${STRICT:-0} --seed ${SEED:-1} --bridge $br
 [ -n "${SIZE:-}" ] && opts+=" --size $SIZE"
 [ -n "${MEM_LATENCY:-}" ] && opts+=" --mem-latency $MEM_LATENCY"
 [ -n "${CACHE:-}" ] && opts+=" --cache $CACHE"
-./sbt "Test/runMain rtaccel.regress.Regress $opts"
+./sbt "runMain rtaccel.regress.Regress $opts"
 echo "regress: $OUT/report.md ($(( $(date +%s) - start )) s)"

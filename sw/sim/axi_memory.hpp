@@ -5,7 +5,7 @@
 // 64-byte bursts of every beat on one 12.8 GB/s channel.
 //
 // It is the C++ twin of the chiseltest harness's slave, sysmem's
-// rtaccel.axi.AxiMemoryModel (src/test/scala/rtaccel/axi/), call for call,
+// rtaccel.sim.axi.AxiMemoryModel (src/test/scala/rtaccel/axi/), call for call,
 // random draw for random draw, so the two harnesses see the same cycles:
 //  - timing: every burst (read or write) is a transfer on the DramModel
 //    (latency drawn per burst; bytes charged in whole 64-byte bursts on one

@@ -1,4 +1,4 @@
-// The DDR channel the Scala DramModel (src/test/scala/rtaccel/mem/DramModel.scala)
+// The DDR channel the Scala DramModel (src/main/scala/rtaccel/sim/mem/DramModel.scala)
 // charges, for AXI bursts: each transfer waits its latency, then its bytes,
 // charged as whole DRAM bursts, cross one channel of `bytesPerCycle` shared by
 // every transfer (reads and writes alike).

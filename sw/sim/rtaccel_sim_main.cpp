@@ -1,6 +1,6 @@
 // rtaccel-sim: one scene package through the Verilated rtaccel_system, driven
 // by librtaccel exactly as a program on the board would drive it. Used by
-// `make regress SIM=cpp` (src/test/scala/rtaccel/regress/CppSim.scala), which
+// `make regress SIM=cpp` (src/main/scala/rtaccel/regress/CppSim.scala), which
 // reads what this writes and makes the usual hits.csv and report.json:
 //   OUT/hits.bin  the hit records as the hardware wrote them (32 B each, ray order)
 //   OUT/sim.json  cycles, speed, the hardware's counters, the DDR model's statistics

@@ -2,6 +2,7 @@ package rtaccel
 
 import chisel3.util.log2Ceil
 import rtaccel.fp.FloatFormat
+import rtaccel.bvh.BvhLayout
 
 /** The one configuration every rtaccel module derives its widths and depths
   * from. Nothing else in the generator retypes a width: ask the config.

@@ -2,7 +2,7 @@
 
 The expected hits come from the golden model (rtaccel.golden.TraversalGolden,
 what `make regress` compares the RTL against bit for bit), written per ray by
-`Test/runMain rtaccel.cocotb.Prepare` next to the ray words themselves:
+`runMain rtaccel.cocotb.Prepare` next to the ray words themselves:
 golden.csv, header
   ray,ox,oy,oz,dx,dy,dz,tmin,tmax,shadow,hit,t,u,v,prim,errors
 with the float words as hex bit patterns.

@@ -4,7 +4,8 @@ import chisel3._
 import chisel3.util._
 import rtaccel.mem.{MemPort, MemPortParams}
 import rtaccel.traversal.PrepFetch
-import rtaccel.{AccelConfig, BvhNode, Datapath, RayIdFreeList}
+import rtaccel.{AccelConfig, Datapath, RayIdFreeList}
+import rtaccel.bvh.BvhNode
 
 /** A ray with its ID, out of RayPrep. */
 class PreparedEntry[T <: Data](cfg: AccelConfig, gen: T) extends Bundle {

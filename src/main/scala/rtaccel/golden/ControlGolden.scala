@@ -1,6 +1,7 @@
 package rtaccel.golden
 
-import rtaccel.{BvhLayout, ErrorFlags}
+import rtaccel.ErrorFlags
+import rtaccel.bvh.BvhLayout
 
 /** Plain-Scala meaning of TraversalControl's decision, shared by its spec and
   * by the whole-traversal golden model, so both speak of the same order.

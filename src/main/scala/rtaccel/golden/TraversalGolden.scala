@@ -2,7 +2,8 @@ package rtaccel.golden
 
 import rtaccel.fp.{FloatFormat, FpOrder}
 import rtaccel.scene.{MemoryImage, NodeRecord, Records, TriangleRecord}
-import rtaccel.{AccelConfig, BvhLayout, BvhNode, ErrorFlags}
+import rtaccel.{AccelConfig, ErrorFlags}
+import rtaccel.bvh.{BvhLayout, BvhNode}
 
 import scala.collection.mutable
 

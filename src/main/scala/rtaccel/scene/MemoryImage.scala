@@ -26,7 +26,7 @@ final class MemoryImage private (val source: String, val bytes: Array[Byte]) {
   val maxLeafSize: Long = u32(36)
   /** The largest stack the layout's traversal can need. */
   val bvhDepth: Long    = u32(40)
-  val layout: rtaccel.BvhLayout = rtaccel.BvhLayout.fromCode(u32(44), source)
+  val layout: rtaccel.bvh.BvhLayout = rtaccel.bvh.BvhLayout.fromCode(u32(44), source)
 
   private def fail(what: String): Nothing = throw new IllegalArgumentException(s"$source: $what")
   if (version != Version) fail(s"format version $version, this build reads version $Version")
@@ -86,12 +86,12 @@ final case class TriangleRecord(vertexWords: Seq[Long], prim: Long, flags: Long)
 
 object Records {
   /** Node `i`'s 32-byte records: the node itself (nori), or its K slots (wide;
-    * a quantized node decoded as the hardware decodes it, rtaccel.QuantNode).
+    * a quantized node decoded as the hardware decodes it, rtaccel.bvh.QuantNode).
     */
   def node(img: MemoryImage, i: Long): IndexedSeq[NodeRecord] = img.layout match {
-    case w: rtaccel.BvhLayout.Wide if w.quantized =>
+    case w: rtaccel.bvh.BvhLayout.Wide if w.quantized =>
       val bytes = (0 until w.nodeBytes).map(b => img.readLE(img.nodeAddr(i) + b, 1).toInt)
-      rtaccel.QuantNode.decodeSoft(w.k, bytes).map(s => NodeRecord(s.word0, s.word1, s.boxMin, s.boxMax)).toIndexedSeq
+      rtaccel.bvh.QuantNode.decodeSoft(w.k, bytes).map(s => NodeRecord(s.word0, s.word1, s.boxMin, s.boxMax)).toIndexedSeq
     case _ => (0 until img.layout.lanes).map { s =>
       val w = (0 until 8).map(k => img.readLE(img.nodeAddr(i) + 32 * s + 4 * k, 4).toLong)
       NodeRecord(w(0), w(1), w.slice(2, 5), w.slice(5, 8))

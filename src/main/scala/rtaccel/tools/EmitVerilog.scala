@@ -4,7 +4,8 @@ import rtaccel.datapath.{BoxRounding, FloatDatapath, TriangleTest}
 import rtaccel.fp.FloatFormat
 import rtaccel.scene.ScenePackage
 import rtaccel.system.{RtAccelSystem, SystemConfig}
-import rtaccel.{AccelConfig, BvhLayout, RtAccel}
+import rtaccel.{AccelConfig, RtAccel}
+import rtaccel.bvh.BvhLayout
 
 import java.nio.file.{Files, Path, Paths}
 import scala.sys.process._

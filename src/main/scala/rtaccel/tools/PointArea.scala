@@ -24,7 +24,7 @@ object PointArea {
     val t0 = System.nanoTime()
     def fmt(k: String) = FloatFormat.parse(kv.getOrElse(k, req("--float")))
     val (dp, layout) = try (FloatDatapath(fmt("--box-float"), fmt("--tri-float"), TriangleTest.parse(req("--triangle")),
-      BoxRounding.parse(req("--rounding"))), rtaccel.BvhLayout.parse(kv.getOrElse("--bvh", "nori")))
+      BoxRounding.parse(req("--rounding"))), rtaccel.bvh.BvhLayout.parse(kv.getOrElse("--bvh", "nori")))
     catch { case e: IllegalArgumentException => System.err.println(s"Error: ${e.getMessage}\n$usage"); sys.exit(2) }
     val out = Paths.get(req("--out"))
     // The point's node layout sets the box lanes (K) and the node decode.

@@ -3,7 +3,8 @@ package rtaccel.traversal
 import chisel3._
 import chisel3.util._
 import rtaccel.fetch.PreparedEntry
-import rtaccel.{AccelConfig, BvhNode}
+import rtaccel.AccelConfig
+import rtaccel.bvh.BvhNode
 
 /** A new ray, at the root, with the root node it will be tested against. */
 class EntryToken(cfg: AccelConfig) extends Bundle {

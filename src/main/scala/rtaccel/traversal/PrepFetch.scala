@@ -3,7 +3,8 @@ package rtaccel.traversal
 import chisel3._
 import chisel3.util._
 import rtaccel.mem.{MemPort, MemPortParams}
-import rtaccel.{AccelConfig, BvhNode}
+import rtaccel.AccelConfig
+import rtaccel.bvh.BvhNode
 
 /** Turns "ray `id` wants node `k`" into a node request tagged with `id`, and
   * each response back into (token, node).

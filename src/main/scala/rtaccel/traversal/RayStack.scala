@@ -2,7 +2,8 @@ package rtaccel.traversal
 
 import chisel3._
 import chisel3.util._
-import rtaccel.{AccelConfig, ChildRef}
+import rtaccel.AccelConfig
+import rtaccel.bvh.ChildRef
 
 /** Every ray's traversal stack, in `cfg.stackBanks` on-chip memories.
   *

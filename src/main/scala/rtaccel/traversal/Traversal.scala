@@ -4,7 +4,8 @@ import chisel3._
 import chisel3.util._
 import rtaccel.leaf.{LeafExit, LeafJob}
 import rtaccel.mem.MemPort
-import rtaccel.{AccelConfig, BvhNode, Datapath}
+import rtaccel.{AccelConfig, Datapath}
+import rtaccel.bvh.BvhNode
 
 /** The traversal loop: box test → decision → node fetch → box test …
   *

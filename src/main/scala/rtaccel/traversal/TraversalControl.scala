@@ -3,7 +3,8 @@ package rtaccel.traversal
 import chisel3._
 import chisel3.util._
 import rtaccel.fp.FpOrder
-import rtaccel.{AccelConfig, BvhLayout, ChildRef, ErrorFlags}
+import rtaccel.{AccelConfig, ErrorFlags}
+import rtaccel.bvh.{BvhLayout, ChildRef}
 
 /** Where a ray goes after TraversalControl. TRAVERSE and GOBACK both lead to
   * a node fetch (the nearest hit child, or the node popped off the stack);

@@ -3,7 +3,8 @@ package rtaccel.datapath
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import rtaccel.fp.FloatFormat
-import rtaccel.testutil.{Backends, Seeded}
+import rtaccel.testutil.Seeded
+import rtaccel.sim.Backends
 
 /** The hardware units (ray prep + box, ray prep + triangle) on Verilator,
   * every output bit against its reference:

@@ -5,7 +5,8 @@ import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import rtaccel.AccelConfig
 import rtaccel.fp.FloatFormat
-import rtaccel.testutil.{Backends, Seeded}
+import rtaccel.testutil.Seeded
+import rtaccel.sim.Backends
 
 /** `toFloat32` of a narrow datapath (combinational widening) against the golden widening. */
 class ToFloat32Harness(val dp: FloatDatapath) extends Module {

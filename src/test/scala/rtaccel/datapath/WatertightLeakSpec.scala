@@ -1,10 +1,9 @@
 package rtaccel.datapath
 
-import rtaccel.tools.{ClosedMesh, LeakCount}
-
 import org.scalatest.flatspec.AnyFlatSpec
 import rtaccel.fp.FloatFormat
 import rtaccel.testutil.Seeded
+import rtaccel.report.{ClosedMesh, LeakCount}
 
 /** Zero leaks of the watertight datapath on a closed mesh (rays from inside
   * aimed exactly at every vertex and edge midpoint), in FP32 and the narrow

@@ -3,9 +3,10 @@ package rtaccel.fetch
 import chisel3._
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
-import rtaccel.{AccelConfig, BvhLayout, BvhNode}
-import rtaccel.system.FieldDatapath
-import rtaccel.testutil.{Backends, Seeded}
+import rtaccel.AccelConfig
+import rtaccel.testutil.Seeded
+import rtaccel.bvh.{BvhLayout, BvhNode}
+import rtaccel.sim.{Backends, FieldDatapath}
 
 import scala.collection.mutable
 

@@ -2,7 +2,8 @@ package rtaccel.fp
 
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
-import rtaccel.testutil.{Backends, Seeded}
+import rtaccel.testutil.Seeded
+import rtaccel.sim.Backends
 
 /** Every unit, every format the project uses, every rounding mode, bit-exact
   * against the golden model (and FP32 RNE against JVM `Float`), on Verilator.

@@ -7,8 +7,10 @@ import rtaccel.{AccelConfig, ErrorFlags}
 import rtaccel.datapath.{BoxRounding, FloatDatapath, TriangleTest}
 import rtaccel.fp.FloatFormat
 import rtaccel.mem._
+import rtaccel.sim.mem._
 import rtaccel.scene.MemoryImage
-import rtaccel.testutil.{Backends, Seeded, Waves}
+import rtaccel.testutil.{Seeded, Waves}
+import rtaccel.sim.Backends
 
 import java.nio.{ByteBuffer, ByteOrder}
 import scala.collection.mutable

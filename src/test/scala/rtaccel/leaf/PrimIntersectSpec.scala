@@ -7,7 +7,8 @@ import org.scalatest.flatspec.AnyFlatSpec
 import rtaccel.AccelConfig
 import rtaccel.datapath.{RayPrepFromWords, BoxRounding, FloatDatapath, FloatGolden, KernelVectors, TriangleTest}
 import rtaccel.fp.FloatFormat
-import rtaccel.testutil.{Backends, Seeded}
+import rtaccel.testutil.Seeded
+import rtaccel.sim.Backends
 
 /** RayPrep feeding PrimIntersect, so a spec can drive raw rays and triangles. */
 class PrimHarness(val cfg: AccelConfig, val dp: FloatDatapath) extends Module {

@@ -3,7 +3,8 @@ package rtaccel.mem
 import chisel3._
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
-import rtaccel.testutil.{Backends, Seeded}
+import rtaccel.testutil.Seeded
+import rtaccel.sim.Backends
 
 import scala.collection.mutable
 

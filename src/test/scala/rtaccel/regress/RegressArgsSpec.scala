@@ -1,7 +1,7 @@
 package rtaccel.regress
 
 import org.scalatest.flatspec.AnyFlatSpec
-import rtaccel.mem.{Latency, MemoryKind}
+import rtaccel.sim.mem.{Latency, MemoryKind}
 
 /** `make regress` options: the defaults it documents, and an error naming
   * the option and the value for every bad one.

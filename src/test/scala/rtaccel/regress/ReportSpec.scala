@@ -1,8 +1,8 @@
 package rtaccel.regress
 
 import org.scalatest.flatspec.AnyFlatSpec
-import rtaccel.mem.{DramStats, MemStats}
-import rtaccel.system.RunResult
+import rtaccel.sim.RunResult
+import rtaccel.sim.mem.{DramStats, MemStats}
 
 /** The bound: one term per hardware resource, the least wins, and nothing
   * the test bench chose is a term.

@@ -2,7 +2,9 @@ package rtaccel.system
 
 import org.scalatest.flatspec.AnyFlatSpec
 import rtaccel.tools.Synth
-import rtaccel.{AccelConfig, BvhLayout}
+import rtaccel.AccelConfig
+import rtaccel.bvh.BvhLayout
+import rtaccel.sim.FieldDatapath
 
 /** The top's Verilog carries exactly the contract's port names (so Vivado infers m_axi, s_axi, the clock, reset and interrupt). */
 class RtAccelSystemPortsSpec extends AnyFlatSpec {

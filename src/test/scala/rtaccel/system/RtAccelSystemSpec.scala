@@ -2,15 +2,17 @@ package rtaccel.system
 
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
-import rtaccel.axi.AxiMemoryParams
-import rtaccel.mem.LatencyNs
 import rtaccel.datapath.{BoxRounding, FloatDatapath, FloatGolden, TriangleTest}
 import rtaccel.fp.FloatFormat
 import rtaccel.golden.{ArithGolden, RayRecord, TraversalGolden}
 import rtaccel.regress.Bridge
 import rtaccel.scene.{MemoryImage, ScenePackage}
-import rtaccel.testutil.{Backends, Seeded}
-import rtaccel.{AccelConfig, BvhLayout, Datapath, ErrorFlags}
+import rtaccel.testutil.Seeded
+import rtaccel.{AccelConfig, Datapath, ErrorFlags}
+import rtaccel.bvh.BvhLayout
+import rtaccel.sim.{Backends, ControlWorkload, FieldDatapath, SystemHarness, SystemSimTop}
+import rtaccel.sim.axi.AxiMemoryParams
+import rtaccel.sim.mem.LatencyNs
 
 import java.nio.{ByteBuffer, ByteOrder}
 import java.nio.file.Paths

@@ -6,8 +6,10 @@ import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import rtaccel.datapath.{RayPrepFromWords, BoxRounding, ExactBox, FloatDatapath, FloatGolden, KernelCase, KernelVectors, RayConsts, TriangleTest}
 import rtaccel.fp.FloatFormat
-import rtaccel.testutil.{Backends, Seeded}
-import rtaccel.{AccelConfig, BvhLayout, BvhNode, QuantNode}
+import rtaccel.testutil.Seeded
+import rtaccel.AccelConfig
+import rtaccel.bvh.{BvhLayout, BvhNode, QuantNode}
+import rtaccel.sim.Backends
 
 /** RayPrep feeding BboxIntersect, so a spec can drive raw rays and boxes. */
 class BboxHarness(val cfg: AccelConfig, val dp: FloatDatapath) extends Module {

@@ -3,9 +3,10 @@ package rtaccel.traversal
 import chisel3._
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
-import rtaccel.system.FieldDatapath
-import rtaccel.testutil.{Backends, Seeded}
-import rtaccel.{AccelConfig, BvhLayout}
+import rtaccel.testutil.Seeded
+import rtaccel.AccelConfig
+import rtaccel.bvh.BvhLayout
+import rtaccel.sim.{Backends, FieldDatapath}
 
 import scala.collection.mutable
 

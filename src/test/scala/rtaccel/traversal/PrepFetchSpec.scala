@@ -4,11 +4,14 @@ import chisel3._
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import rtaccel.mem._
+import rtaccel.sim.mem._
 import rtaccel.scene.MemoryImage
-import rtaccel.testutil.{Backends, Seeded}
+import rtaccel.testutil.Seeded
 import rtaccel.golden.TraversalGolden
 import rtaccel.scene.Records
-import rtaccel.{AccelConfig, BvhLayout, ErrorFlags}
+import rtaccel.{AccelConfig, ErrorFlags}
+import rtaccel.bvh.BvhLayout
+import rtaccel.sim.Backends
 
 import scala.collection.mutable
 import scala.util.Random

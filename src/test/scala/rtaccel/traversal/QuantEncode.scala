@@ -1,6 +1,6 @@
 package rtaccel.traversal
 
-import rtaccel.QuantNode
+import rtaccel.bvh.QuantNode
 
 /** The quantizer of nori-bridge (`bvh/quant.rs`), for specs that need a
   * quantized node of given exact boxes: per axis the smallest scale 2^s with

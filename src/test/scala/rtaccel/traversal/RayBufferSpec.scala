@@ -4,7 +4,8 @@ import chisel3._
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import rtaccel.AccelConfig
-import rtaccel.testutil.{Backends, Seeded}
+import rtaccel.testutil.Seeded
+import rtaccel.sim.Backends
 
 import scala.collection.mutable
 

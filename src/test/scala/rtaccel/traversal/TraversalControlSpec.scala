@@ -7,8 +7,10 @@ import org.scalatest.flatspec.AnyFlatSpec
 import rtaccel.fp.FpOrder
 import rtaccel.golden.ControlGolden
 import rtaccel.golden.ControlGolden._
-import rtaccel.testutil.{Backends, Seeded}
-import rtaccel.{AccelConfig, BvhLayout, ErrorFlags}
+import rtaccel.testutil.Seeded
+import rtaccel.{AccelConfig, ErrorFlags}
+import rtaccel.bvh.BvhLayout
+import rtaccel.sim.Backends
 
 import scala.collection.mutable
 import scala.util.Random

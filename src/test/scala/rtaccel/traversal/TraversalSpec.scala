@@ -8,11 +8,12 @@ import rtaccel.golden.ControlGolden
 import rtaccel.golden.ControlGolden._
 import rtaccel.golden.TraversalGolden
 import rtaccel.leaf.{LeafExit, LeafJob}
-import rtaccel.mem.{Latency, MemPortHarness, MemoryParams, MemorySystemModel}
 import rtaccel.scene.{MemoryImage, Records}
-import rtaccel.system.{FieldDatapath, SyntheticBvh}
-import rtaccel.testutil.{Backends, Seeded}
-import rtaccel.{AccelConfig, BvhLayout, BvhNode}
+import rtaccel.testutil.Seeded
+import rtaccel.AccelConfig
+import rtaccel.bvh.{BvhLayout, BvhNode}
+import rtaccel.sim.{Backends, FieldDatapath, SyntheticBvh}
+import rtaccel.sim.mem.{Latency, MemPortHarness, MemoryParams, MemorySystemModel}
 
 import scala.collection.mutable
 import scala.util.Random

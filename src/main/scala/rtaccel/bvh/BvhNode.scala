@@ -1,0 +1,94 @@
+package rtaccel.bvh
+
+import chisel3._
+import chisel3.util._
+import rtaccel.{AccelConfig, ErrorFlags}
+
+/** Where a child of a node leads: an inner node to fetch, or a leaf's
+  * triangle range. It is also what a ray's stack holds.
+  */
+class ChildRef(cfg: AccelConfig) extends Bundle {
+  val isLeaf = Bool()
+  /** Node index (inner child) or first triangle slot (leaf). */
+  val index  = UInt(cfg.refIndexBits.W)
+  /** Triangles in the leaf (leaf only). */
+  val count  = UInt(cfg.leafCountBits.W)
+}
+
+/** One child slot of a decoded node: its box (raw FP32 bits; BboxIntersect
+  * narrows them to its format) and where it leads.
+  */
+class NodeSlot(cfg: AccelConfig) extends Bundle {
+  val present = Bool()
+  val child   = new ChildRef(cfg)
+  val boxMin  = Vec(3, UInt(32.W))
+  val boxMax  = Vec(3, UInt(32.W))
+}
+
+/** A decoded node record (docs/memory-format.md, version 2).
+  *
+  *  - Nori layout: one slot, the node itself (its own box; a leaf's range, or
+  *    for an inner node `ref.index` = its right child, the left being the next
+  *    node), and the split axis that picks the near child.
+  *  - Wide layout: `cfg.boxLanes` slots, one per child, used slots first.
+  */
+class BvhNode(cfg: AccelConfig) extends Bundle {
+  val slots  = Vec(cfg.boxLanes, new NodeSlot(cfg))
+  /** Nori layout only: split axis of an inner node. */
+  val axis   = UInt(2.W)
+  /** The record does not fit this hardware, or is corrupt: see ErrorFlags. */
+  val errors = ErrorFlags()
+}
+
+object BvhNode {
+  /** Slot `word0` of an empty wide-node slot. */
+  val EmptySlot: Long = 0x40000000L
+
+  /** Decodes a little-endian node record of `cfg.layout`, flagging fields too
+    * wide for `cfg`, corrupt kind words and non-finite bounds. Only used slots
+    * can flag. A quantized node's boxes are decoded to FP32 here (QuantNode),
+    * so the box lanes see exact FP32 boxes in every layout.
+    */
+  def decode(cfg: AccelConfig, record: UInt): BvhNode = {
+    val bytes = cfg.layout.nodeBytes
+    require(record.getWidth == bytes * 8, s"BvhNode.decode: record must be ${bytes * 8} bits")
+    def word(slot: Int, i: Int): UInt = record(256 * slot + 32 * i + 31, 256 * slot + 32 * i)
+    def highBitsSet(w: UInt, keep: Int): Bool = if (keep >= 32) false.B else w(31, keep).orR
+    // A quantized node is first decoded into the slot words a 32-byte slot would hold.
+    val raw: Seq[SlotWords[UInt]] = cfg.layout match {
+      case w: BvhLayout.Wide if w.quantized => QuantNode.decode(w.k, record)
+      case _ => (0 until cfg.boxLanes).map(s => SlotWords(word(s, 0), word(s, 1), (2 until 5).map(word(s, _)), (5 until 8).map(word(s, _))))
+    }
+    val n = Wire(new BvhNode(cfg))
+    val slotErrors = for (s <- 0 until cfg.boxLanes) yield {
+      val (w0, w1) = (raw(s).word0, raw(s).word1)
+      val slot = n.slots(s)
+      val leaf = w0(31)
+      slot.child.isLeaf := leaf
+      slot.child.index  := w1(cfg.refIndexBits - 1, 0)
+      slot.child.count  := w0(cfg.leafCountBits - 1, 0)
+      for (a <- 0 until 3) {
+        slot.boxMin(a) := raw(s).boxMin(a)
+        slot.boxMax(a) := raw(s).boxMax(a)
+      }
+      val indexTooWide = Mux(leaf, highBitsSet(w1, cfg.triIndexBits), highBitsSet(w1, cfg.nodeIndexBits))
+      val leafTooBig = leaf && (w0(30, 0) > cfg.maxLeafSize.U)
+      // Nori: an inner node's word0 is its split axis, 0..2. Wide: an inner
+      // child's word0 is 0, an empty slot's is EmptySlot; nothing else is valid.
+      val (present, badKind) = cfg.layout match {
+        case BvhLayout.Nori    => (true.B, !leaf && (w0(30, 0) > 2.U))
+        case _: BvhLayout.Wide => (w0 =/= EmptySlot.U, !leaf && w0 =/= 0.U && w0 =/= EmptySlot.U)
+      }
+      slot.present := present
+      // A NaN or infinite bound would make the slab test miss (or hit)
+      // silently: nori-bridge writes only finite bounds, so it is bad data.
+      val badBox = (slot.boxMin ++ slot.boxMax).map(ErrorFlags.nonFinite).reduce(_ || _)
+      Mux(present && (indexTooWide || badKind), ErrorFlags.bit(ErrorFlags.IndexOverflow), 0.U) |
+        Mux(present && leafTooBig, ErrorFlags.bit(ErrorFlags.LeafTooBig), 0.U) |
+        Mux(present && badBox, ErrorFlags.bit(ErrorFlags.BadSceneData), 0.U)
+    }
+    n.axis   := raw(0).word0(1, 0)
+    n.errors := slotErrors.reduce(_ | _)
+    n
+  }
+}

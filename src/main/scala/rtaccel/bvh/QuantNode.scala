@@ -1,0 +1,114 @@
+package rtaccel.bvh
+
+import chisel3._
+import chisel3.util._
+import rtaccel.fp.{FloatFormat, FpAdd, FpModel, RoundingMode}
+
+/** A child slot as a 32-byte wide-slot record would hold it: word0, word1
+  * and the FP32 box words. Quantized nodes are decoded into these, so one
+  * set of checks (BvhNode.decode) serves every wide layout.
+  */
+final case class SlotWords[W](word0: W, word1: W, boxMin: Seq[W], boxMax: Seq[W])
+
+/** The quantized wide node (layouts `4q`, `8q`; docs/memory-format.md,
+  * "Quantized wide node"): bytes 0-11 origin (FP32 x, y, z), 12-14 scale
+  * exponents e (scale 2^(e-127)), 15 zero, 16-19 childBase, 20-23 triBase,
+  * then one meta byte per slot, then the 8-bit plane offsets q: lo x, lo y,
+  * lo z, hi x, hi y, hi z, k bytes each (slot order); zero padding.
+  *
+  * A plane decodes to origin + q 2^(e-127) in one FP32 add. nori-bridge
+  * writes origin = m 2^(e-127) with |m| <= 2^24 - 256, so the exact sum
+  * (m + q) 2^(e-127) has an integer significand below 2^24 and is an FP32
+  * number: the add rounds nothing, and the decoded box is the stored
+  * (outward-quantized) box exactly (docs/kernels.md, "Quantized boxes").
+  * A scale exponent outside ExpMin..ExpMax decodes to NaN planes, which
+  * BvhNode.decode flags as bad scene data.
+  */
+object QuantNode {
+  val FixedBytes = 24
+  val ExpMin = 1
+  val ExpMax = 247
+  val MetaEmpty = 0x00
+  val MetaInner = 0x01
+  val MetaLeaf  = 0x80
+  /** The canonical quiet NaN a bad scale decodes to. */
+  val NaN32: Long = 0x7fc00000L
+
+  def nodeBytes(k: Int): Int = (FixedBytes + 7 * k + 15) / 16 * 16
+
+  /** Byte offset of plane p (0..2 lo x, y, z; 3..5 hi x, y, z) of slot s. */
+  def planeByte(k: Int, p: Int, s: Int): Int = FixedBytes + k + p * k + s
+
+  // ---- Hardware ----
+
+  /** The k slots of a little-endian quantized node record. One FP32 adder
+    * (combinational, exact for valid images) per plane per slot.
+    */
+  def decode(k: Int, record: UInt): Seq[SlotWords[UInt]] = {
+    require(record.getWidth == nodeBytes(k) * 8, s"QuantNode.decode: record must be ${nodeBytes(k) * 8} bits")
+    def byte(i: Int): UInt = record(8 * i + 7, 8 * i)
+    def word(i: Int): UInt = record(8 * i + 31, 8 * i)
+    val origin = (0 until 3).map(a => word(4 * a))
+    val exp = (0 until 3).map(a => byte(12 + a))
+    val badExp = exp.map(e => e < ExpMin.U || e > ExpMax.U)
+    val (childBase, triBase) = (word(16), word(20))
+    var innerBefore: UInt = 0.U(4.W)
+    var trisBefore: UInt = 0.U(11.W)
+    for (s <- 0 until k) yield {
+      val m = byte(FixedBytes + s)
+      val (isEmpty, isInner, isLeaf) = (m === MetaEmpty.U, m === MetaInner.U, m(7))
+      val count = m(6, 0)
+      val w0 = Mux(isEmpty, BvhNode.EmptySlot.U(32.W), Mux(isInner, 0.U(32.W),
+        Mux(isLeaf, Cat(1.U(1.W), 0.U(24.W), count), m.pad(32))))
+      val w1 = Mux(isInner, childBase +% innerBefore, Mux(isLeaf, triBase +% trisBefore, 0.U))
+      innerBefore = innerBefore +& isInner.asUInt
+      trisBefore = trisBefore +& Mux(isLeaf, count, 0.U)
+      def plane(p: Int): UInt = {
+        val a = p % 3
+        val sum = Module(new FpAdd(FloatFormat.FP32, Some(RoundingMode.RNE), latency = 0))
+        sum.io.in.valid := true.B
+        sum.io.in.bits.a := origin(a)
+        sum.io.in.bits.b := scaled(byte(planeByte(k, p, s)), exp(a))
+        Mux(badExp(a), NaN32.U(32.W), sum.io.out.bits)
+      }
+      SlotWords(w0, w1, (0 until 3).map(plane), (3 until 6).map(plane))
+    }
+  }
+
+  /** q 2^(e-127) as FP32 bits: exact and normal (or +0) for e in ExpMin..ExpMax. */
+  private def scaled(q: UInt, e: UInt): UInt = {
+    val p = Log2(q) // 0..7: the leading one
+    val sig = ((q.pad(31) << 23) >> p)(22, 0)
+    Mux(q === 0.U, 0.U(32.W), Cat(0.U(1.W), (e +% p)(7, 0), sig))
+  }
+
+  // ---- Software (golden), bit for bit with `decode` ----
+
+  def decodeSoft(k: Int, bytes: IndexedSeq[Int]): Seq[SlotWords[Long]] = {
+    def u32(i: Int): Long = (0 until 4).map(j => bytes(i + j).toLong << (8 * j)).sum
+    val origin = (0 until 3).map(a => u32(4 * a))
+    val exp = (0 until 3).map(a => bytes(12 + a))
+    val (childBase, triBase) = (u32(16), u32(20))
+    var innerBefore, trisBefore = 0L
+    for (s <- 0 until k) yield {
+      val m = bytes(FixedBytes + s)
+      val (w0, w1) =
+        if (m == MetaEmpty) (BvhNode.EmptySlot, 0L)
+        else if (m == MetaInner) { innerBefore += 1; (0L, (childBase + innerBefore - 1) & 0xffffffffL) }
+        else if ((m & MetaLeaf) != 0) {
+          val c = (m & 0x7f).toLong; trisBefore += c
+          (0x80000000L | c, (triBase + trisBefore - c) & 0xffffffffL)
+        } else (m.toLong, 0L)
+      def plane(p: Int): Long = {
+        val e = exp(p % 3)
+        if (e < ExpMin || e > ExpMax) NaN32
+        else {
+          val q = bytes(planeByte(k, p, s))
+          val scaledBits = FpModel.f32RawBits(q.toFloat * java.lang.Float.intBitsToFloat(e << 23))
+          FpModel.add(FloatFormat.FP32, RoundingMode.RNE, BigInt(origin(p % 3)), scaledBits).toLong
+        }
+      }
+      SlotWords(w0, w1, (0 until 3).map(plane), (3 until 6).map(plane))
+    }
+  }
+}
