@@ -80,7 +80,7 @@ class GridNodeStage(p: GridParams, rays: RayConsts) extends Module {
   private val ray = RayConsts.readBox(ar, io.in.bits.ray)
   private val tmax = BoxKernel.narrowTmax(ar, BoxRounding.Conservative, ar.input(io.in.bits.tmax), rays.triFmt)
   private val e = io.in.bits.exp
-  private val bad = e.map(x => x < rtaccel.QuantNode.ExpMin.U || x > rtaccel.QuantNode.ExpMax.U).reduce(_ || _)
+  private val bad = e.map(x => x < rtaccel.bvh.QuantNode.ExpMin.U || x > rtaccel.bvh.QuantNode.ExpMax.U).reduce(_ || _)
   // qMax 2^s: exponent field e + qBits - 1, the qBits - 1 fraction bits below the point set.
   private val span = e.map(x => ar.input(Cat(0.U(1.W), x + (p.qBits - 1).U, ((BigInt(1) << (p.qBits - 1)) - 1).U((p.qBits - 1).W),
     0.U((fmt.manBits - p.qBits + 1).W))))

@@ -5,7 +5,8 @@ import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import rtaccel.datapath._
 import rtaccel.fp.{FloatFormat, FpModel, RoundingMode}
-import rtaccel.testutil.{Backends, Seeded}
+import rtaccel.sim.Backends
+import rtaccel.testutil.Seeded
 
 import scala.util.Random
 
