@@ -140,8 +140,9 @@ enum Cmd {
         #[arg(long)]
         out_dir: PathBuf,
     },
-    /// Trace the package's rays through its own memory image in software
-    /// (f32, the hardware's algorithm) and write a hits.csv.
+    /// Trace the package's rays through its own memory image with the
+    /// Möller–Trumbore layout walk (f32; checks the layouts against Embree; not
+    /// the hardware's arithmetic: nori-accel's golden-trace is) and write a hits.csv.
     Trace {
         #[arg(long)]
         package: PathBuf,
@@ -254,7 +255,7 @@ pub fn run() -> Result<()> {
         }
         Cmd::Trace { package, out } => {
             let pkg = Package::load(&package)?;
-            let (hits, stats) = crate::memory::traverse::trace_all(&pkg.image, &pkg.rays);
+            let (hits, stats) = crate::memory::mt_walk::trace_all(&pkg.image, &pkg.rays);
             crate::ray::csv_io::write_hits(&out, &hits)?;
             println!("{}: {} rays, largest stack {} (bvhDepth {})", out.display(), hits.len(), stats.max_stack, pkg.image.bvh_depth);
         }

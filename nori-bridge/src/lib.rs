@@ -31,7 +31,7 @@ pub mod sweep;
 pub use bvh::build as bvh_build;
 pub use compare::{judge, pixels, render};
 pub use memory as image_bin;
-pub use memory::traverse;
+pub use memory::mt_walk;
 pub use package::{compile, needs};
 pub use ray::{csv_io, generate as ray_gen, txt as rays_txt};
 pub use reference::{device as embree_dev, double as double_ref, embree as embree_ref, exact};
