@@ -22,6 +22,7 @@ pub mod package;
 pub mod progress;
 pub mod ray;
 pub mod reference;
+pub mod regress;
 pub mod scene;
 pub mod shade;
 pub mod sweep;
