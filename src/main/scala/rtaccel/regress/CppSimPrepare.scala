@@ -34,7 +34,9 @@ object CppSimPrepare {
 
   def prepare(a: RegressArgs, dir: Path): Unit = {
     val pkg = ScenePackage.load(a.pkg)
-    val (cfg, chosen) = Regress.hardware(a, pkg)
+    val hw = Regress.hardware(a, pkg)
+    val cfg = hw._1
+    val chosen = hw._2
     val memory = CppSim.memoryOptions(a)
     val sim = CppSim.build(cfg, chosen.dp, clang = CppSim.useClang)
     Files.createDirectories(dir)

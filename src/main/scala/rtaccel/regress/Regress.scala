@@ -78,7 +78,9 @@ object Regress {
   def run(a: RegressArgs): Boolean = {
     val pkg = ScenePackage.load(a.pkg)
     val rays = a.maxRays.fold(pkg.rays)(n => pkg.rays.take(n))
-    val (cfg, chosen) = hardware(a, pkg)
+    val hw = hardware(a, pkg)
+    val cfg = hw._1
+    val chosen = hw._2
     Files.createDirectories(a.out)
     println(s"regress: ${rays.size} rays, ${pkg.needs.triangles} triangles, ${pkg.needs.nodes} nodes; " +
       s"${cfg.numRayIds} ray IDs, stack ${cfg.stackDepth}, ${cfg.floatName}; memory ${a.describeMemory}")
