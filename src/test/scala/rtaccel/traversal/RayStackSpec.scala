@@ -4,7 +4,7 @@ import chisel3._
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import rtaccel.AccelConfig
-import rtaccel.bvh.BvhLayout
+import rtaccel.bvh.{BvhLayout, ChildRef}
 import rtaccel.sim.Backends
 import rtaccel.testutil.Seeded
 
