@@ -80,7 +80,7 @@ class WriteEngineSpec extends AnyFlatSpec with ChiselScalatestTester {
               bQueue.enqueue((cycle + 1 + rnd.nextInt(8), if (slvErrAt(n)) 2 else Axi4.RespOkay))
             }
             dut.clock.step(); cycle += 1
-            if (bValid) { errorWant ||= bQueue.dequeue()._2 != Axi4.RespOkay; bDone += 1 }
+            if (bValid) { val resp = bQueue.dequeue()._2; errorWant = errorWant || resp != Axi4.RespOkay; bDone += 1 }
             dut.io.writesDone.expect(bDone.U, s"cycle $cycle: writesDone")
             dut.io.error.expect(errorWant.B, s"cycle $cycle: error")
           }
