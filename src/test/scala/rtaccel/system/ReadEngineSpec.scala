@@ -35,7 +35,7 @@ class ReadEngineSpec extends AnyFlatSpec with ChiselScalatestTester {
         val mem = new SparseMemory
         mem.write(0, Array.fill(span + 4096)(rnd.nextInt(256).toByte))
         test(new ReadEngine(p, recordBytes, tagBits, slots)).withAnnotations(Backends.treadle) { dut =>
-          val requests = 400
+          val requests = 150
           var issued = 0
           var offer: Option[(Long, Int, Int)] = None // (addr, client, tag)
           val want = Array.fill(recordBytes.size)(mutable.ArrayBuffer.empty[(Int, BigInt)])
