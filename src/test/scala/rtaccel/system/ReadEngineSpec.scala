@@ -43,7 +43,7 @@ class ReadEngineSpec extends AnyFlatSpec with ChiselScalatestTester {
           // The slave: bursts per ID in AR order, each (address, beats left, cycle due).
           val bursts = mutable.Map.empty[Int, mutable.Queue[(Long, Int, Long)]]
           var cycle = 0L
-          while (answered < requests && cycle < 40000) {
+          while (answered < requests && cycle < 40L * requests) {
             if (offer.isEmpty && issued < requests && rnd.nextInt(3) > 0) {
               val client = rnd.nextInt(recordBytes.size)
               val addr = if (rnd.nextBoolean()) (4096L * (1 + rnd.nextInt(span / 4096 - 1)) - rnd.nextInt(2 * B)) else rnd.nextInt(span).toLong
