@@ -6,4 +6,4 @@ grid-area: setup ## Yosys area and longest path of the grid box test (one lane, 
 	$(SBT) "runMain rtaccel.tools.GridArea $(BUILD)/grid/area.md"
 
 grid-test: setup-sbt ## Only the grid box test's spec (exhaustive e3m3 axis, random FP32 against the exact test, RTL against golden)
-	$(SBT) "testOnly rtaccel.traversal.GridBoxSpec"
+	$(SBT) "testOnly rtaccel.traversal.GridBboxIntersectSpec"

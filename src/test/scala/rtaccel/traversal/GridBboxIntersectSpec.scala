@@ -110,7 +110,7 @@ object GridBoxCheck {
   }
 }
 
-class GridBoxSpec extends AnyFlatSpec with ChiselScalatestTester {
+class GridBboxIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
   import GridBoxCheck._
 
   "The grid box test" should "never miss a child the exact ray enters: every finite origin and direction of e3m3 on one axis" in {
@@ -143,7 +143,7 @@ class GridBoxSpec extends AnyFlatSpec with ChiselScalatestTester {
   }
 
   it should "never miss on random FP32 nodes and rays, hard cases included, and keep most exact misses out" in
-    Seeded("GridBoxSpec.random") { r =>
+    Seeded("GridBboxIntersectSpec.random") { r =>
       val p = GridParams()
       var t = Tally()
       var miss: Option[GridCase] = None
@@ -160,7 +160,7 @@ class GridBoxSpec extends AnyFlatSpec with ChiselScalatestTester {
     val p = GridParams()
     val rays = new RayConsts(f32, f32, TriangleTest.Moller, BoxRounding.Conservative)
     test(new GridBboxIntersect(4, p, rays)).withAnnotations(Backends.verilator) { dut =>
-      Seeded("GridBoxSpec.hardware") { r =>
+      Seeded("GridBboxIntersectSpec.hardware") { r =>
         val expect = scala.collection.mutable.Queue.empty[(GridCase, Boolean, Seq[GridLane.Out])]
         var checked = 0
         val total = 600
