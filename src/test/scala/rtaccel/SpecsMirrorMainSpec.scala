@@ -25,7 +25,7 @@ class SpecsMirrorMainSpec extends AnyFlatSpec {
       "datapath/FloatDatapathSpec (through DatapathHarness) and inside fetch/FetchBVHSpec"),
     "GridLane" -> ("one child's grid box test, instantiated K times inside GridBboxIntersect; traversal/GridBboxIntersectSpec " +
       "checks every lane's answer bit for bit against GridLane.soft"),
-    "GridNode" -> ("the grid box test's per-node stage inside GridBboxIntersect; traversal/GridBboxIntersectSpec checks it " +
+    "GridNodeStage" -> ("the grid box test's per-node stage inside GridBboxIntersect; traversal/GridBboxIntersectSpec checks it " +
       "through the lanes' answers against GridNode.soft"),
     "SystemCore" -> ("the system in bundle form (RtAccelSystem only renames its ports to Vivado's): its cycle-level spec " +
       "is system/RtAccelSystemSpec, which drives SystemCore through SystemSimTop; each of its units has a spec of its own")
