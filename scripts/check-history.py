@@ -5,13 +5,15 @@ History (which numbered session or round of work produced a figure, which
 issue asked for it, which branch carried it) belongs in git and in one dated
 line of CHANGELOG.md; a reference page states the method, the current figure
 and the command that reproduces it. This check scans every file `git ls-files`
-lists (or the files given on the command line) except CHANGELOG.md (and
-this check and its spec), and prints
+lists (or the files given on the command line) except CHANGELOG.md, and
+prints
 each offending line as `file:line: text` (exit 1), or nothing (exit 0).
 
 Flagged, case-insensitively:
-  - "session 9", "round 2", "sessions 8 and 9" (numbered rounds of work);
-  - "issue 13", "issue #13", "issues 11 and 13", "issue-15" (tracker numbers);
+  - the word session or round (singular or plural) followed by a number:
+    numbered rounds of work;
+  - the word issue followed by a number, written plain, with # or with a
+    hyphen, or a list of numbers: tracker numbers;
   - branch names of the project's history, but only beside the words branch,
     helper or worktree (or as a wt-<name> worktree path): TriStore is also a
     module, bench and formal are also targets.
@@ -47,7 +49,7 @@ PATTERNS = [
 ]
 
 # CHANGELOG.md holds the history; this check and its spec hold the patterns.
-EXEMPT = {"CHANGELOG.md", "scripts/check-history.py", "scripts/check-history-spec.sh"}
+EXEMPT = {"CHANGELOG.md"}
 
 
 def tracked_files(root):
