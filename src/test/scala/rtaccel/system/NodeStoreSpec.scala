@@ -2,10 +2,7 @@ package rtaccel.system
 
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
-import rtaccel.axi.Axi4Params
-import rtaccel.mem.MemPortParams
 import rtaccel.sim.Backends
-import rtaccel.sim.axi.SparseMemory
 import rtaccel.testutil.Seeded
 
 /** NodeStore alone (StoreDriver): filled from a SparseMemory of random bytes
@@ -24,10 +21,7 @@ class NodeStoreSpec extends AnyFlatSpec with ChiselScalatestTester {
   for ((dataBits, rec) <- Seq((512, 32), (512, 128), (1024, 32))) {
     it should s"serve every read of a loaded store once, with DRAM's record ($dataBits-bit beats, $rec-byte records)" in
       Seeded(s"NodeStore.$dataBits.$rec") { rnd =>
-        val p = Axi4Params(addrBits = 32, dataBits = dataBits, idBits = 6)
-        val port = MemPortParams(addrBits = 32, tagBits = 4, recordBytes = rec)
-        val mem = new SparseMemory
-        mem.write(0x10000, Array.fill(0x10000)(rnd.nextInt(256).toByte))
+        val StoreDriver.Bench(p, port, mem) = StoreDriver.bench(dataBits, rec, rnd)
         test(new NodeStore(p, port, clients = 3, capacityBytes = 4096, fillId = 7)).withAnnotations(Backends.treadle) { dut =>
           val drv = new StoreDriver(dut.io, dut.clock, p, rec, 7, mem, rnd, hits(rec))
           for ((base, bytes) <- Seq((0x10040L, 1000L), (0x14000L, 100000L))) {

@@ -3,6 +3,7 @@ package rtaccel.system
 import chisel3._
 import chiseltest._
 import rtaccel.axi.{Axi4, Axi4Params}
+import rtaccel.mem.MemPortParams
 import rtaccel.sim.axi.SparseMemory
 
 import scala.collection.mutable
@@ -99,5 +100,19 @@ final class StoreDriver(io: StoreIO, clock: Clock, p: Axi4Params, recordBytes: I
     }
     for (c <- 0 until clients) io.req(c).valid.poke(false.B)
     assert(got == n * clients, s"after $cycle cycles: $got of ${n * clients} reads answered (owed ${want.map(_.size).mkString(", ")})")
+  }
+}
+
+object StoreDriver {
+  /** What NodeStoreSpec and TriStoreSpec drive a store with. */
+  final case class Bench(p: Axi4Params, port: MemPortParams, mem: SparseMemory)
+
+  /** A 32-bit AXI4 of `dataBits`-bit beats (6-bit IDs), a client port of `recordBytes`-byte records (4-bit tags),
+    * and 64 KiB of random bytes from `rnd` at 0x10000, the window both specs load from. */
+  def bench(dataBits: Int, recordBytes: Int, rnd: Random): Bench = {
+    val mem = new SparseMemory
+    mem.write(0x10000, Array.fill(0x10000)(rnd.nextInt(256).toByte))
+    Bench(Axi4Params(addrBits = 32, dataBits = dataBits, idBits = 6),
+      MemPortParams(addrBits = 32, tagBits = 4, recordBytes = recordBytes), mem)
   }
 }

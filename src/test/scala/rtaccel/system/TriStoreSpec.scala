@@ -2,10 +2,7 @@ package rtaccel.system
 
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
-import rtaccel.axi.Axi4Params
-import rtaccel.mem.MemPortParams
 import rtaccel.sim.Backends
-import rtaccel.sim.axi.SparseMemory
 import rtaccel.testutil.Seeded
 
 /** TriStore alone (StoreDriver): filled from a SparseMemory of random bytes
@@ -26,10 +23,7 @@ class TriStoreSpec extends AnyFlatSpec with ChiselScalatestTester {
   for (dataBits <- Seq(512, 1024)) {
     it should s"serve every read of a loaded store once, with DRAM's triangle ($dataBits-bit beats)" in
       Seeded(s"TriStore.$dataBits") { rnd =>
-        val p = Axi4Params(addrBits = 32, dataBits = dataBits, idBits = 6)
-        val port = MemPortParams(addrBits = 32, tagBits = 4, recordBytes = rec)
-        val mem = new SparseMemory
-        mem.write(0x10000, Array.fill(0x10000)(rnd.nextInt(256).toByte))
+        val StoreDriver.Bench(p, port, mem) = StoreDriver.bench(dataBits, rec, rnd)
         test(new TriStore(p, port, clients = 3, capacityBytes = 4096, fillId = 3)).withAnnotations(Backends.treadle) { dut =>
           val drv = new StoreDriver(dut.io, dut.clock, p, rec, 3, mem, rnd, hits)
           for ((base, bytes) <- Seq((0x10040L, 1000L), (0x14000L, 100000L))) {
