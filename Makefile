@@ -12,17 +12,42 @@ BRIDGE    := nori-bridge/target/release/nori-bridge
 BUILD     := build
 SBT_LAUNCH_VERSION := $(shell sed -n 's/^sbt.version *= *//p' project/build.properties)
 SBT_LAUNCH_JAR := $(HOME)/.m2/repository/org/scala-sbt/sbt-launch/$(SBT_LAUNCH_VERSION)/sbt-launch-$(SBT_LAUNCH_VERSION).jar
-APT_PACKAGES := verilator yosys libembree-dev maven pkg-config fonts-dejavu-core
+# libeigen3-dev: the Nori drop-in builds against real Eigen in its test (nori-accel/stub/include/nori/common.h).
+APT_PACKAGES := verilator yosys libembree-dev maven pkg-config fonts-dejavu-core libeigen3-dev
 
-.PHONY: help setup setup-apt setup-sbt setup-cargo test test-scala test-rust test-hls demo verilog regress clean
+.PHONY: help help-all setup setup-apt setup-sbt setup-cargo test test-scala test-rust test-hls demo verilog regress clean
 
-help: ## List the targets and what each does
+# `make help`: the main targets by task, one line each (kept by hand, 25 lines
+# at most); `make help-all`: every target's `## ` line, sorted. Each target's
+# options are in docs/make-targets.md.
+help: ## The main targets
+	@printf '%s\n' \
+	  'rtaccel: a Chisel generator for an FPGA ray-tracing accelerator. Guide: docs/README.md' \
+	  '' \
+	  'Start' \
+	  '  make demo                  The Cornell box through the RTL, checked against Embree, with images' \
+	  '  make test                  Every test: what CI runs (about 30 min on 2 cores)' \
+	  '  make setup                 Install what is missing; every target runs it first' \
+	  'Your scene' \
+	  '  make regress SCENE=<xml>   Trace a Nori scene in RTL; every ray checked against golden + Embree' \
+	  '  make render SCENE=<xml>    A shaded image from the accelerator hits, beside Embree and a diff' \
+	  'Hardware' \
+	  '  make verilog               SystemVerilog for the ZC706, lint, Yosys area and Fmax estimate' \
+	  '  make formal                Bounded model check of the core control path' \
+	  'Measure' \
+	  '  make bench                 Rays/cycle per layout and memory; ZC706 estimate against Embree' \
+	  '  make speed-vs-error        The precision sweep: error, area and speed per number format' \
+	  'More' \
+	  '  make help-all              Every target, one line each (options: docs/make-targets.md)' \
+	  '  make clean                 Remove build outputs (keeps toolchains and caches)'
+
+help-all: ## Every target, one line each
 	@grep -hE '^[a-zA-Z0-9_.-]+:.*## ' $(MAKEFILE_LIST) | sort -u | \
-	  awk 'BEGIN {FS = ":.*## "}; {printf "  make %-18s %s\n", $$1, $$2}'
+	  awk 'BEGIN {FS = ":.*## "}; {printf "  make %-21s %s\n", $$1, $$2}'
 
-setup: setup-apt setup-sbt setup-cargo ## Install what is missing (apt packages, sbt launcher, Rust build); idempotent
+setup: setup-apt setup-sbt setup-cargo ## Install what is missing (apt, sbt launcher, Rust build); idempotent
 
-setup-apt: ## Install the Debian packages rtaccel needs, if any is missing
+setup-apt: ## Install the Debian packages rtaccel needs, if missing
 	@missing=""; for p in $(APT_PACKAGES); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; done; \
 	  command -v javac >/dev/null || missing="$$missing openjdk-17-jdk-headless"; \
@@ -37,37 +62,37 @@ setup-sbt: setup-apt ## Fetch the sbt launcher jar from Maven Central, if missin
 	@if [ -f "$(SBT_LAUNCH_JAR)" ]; then echo "setup: sbt launcher $(SBT_LAUNCH_VERSION) present"; \
 	else mvn -q dependency:get -Dartifact=org.scala-sbt:sbt-launch:$(SBT_LAUNCH_VERSION) -Dtransitive=false; fi
 
-setup-cargo: setup-apt ## Build nori-bridge (release), fetching crates from crates.io
+setup-cargo: setup-apt ## Build nori-bridge (release) from crates.io
 	@$(CARGO) build --release --quiet --manifest-path $(BRIDGE_MANIFEST)
 
 # The HLS test benches run first: they write hls/build/vectors/*.out, which the
 # Chisel datapath specs compare against bit for bit.
-test: setup test-hls test-scala test-rust ## Run every test: the hls/ C-simulation tests, sbt test, cargo test
+test: setup test-hls test-scala test-rust ## Every test: what CI runs (about 30 min on 2 cores)
 	@echo "make test: all test suites passed"
 
-test-scala: setup-sbt ## Chisel/chiseltest specs (treadle and Verilator)
+test-scala: setup-sbt ## The Chisel specs (sbt test)
 	$(SBT) test
 
-test-rust: setup-cargo ## nori-bridge tests
+test-rust: setup-cargo ## The nori-bridge tests (cargo test)
 	$(CARGO) test --release --manifest-path $(BRIDGE_MANIFEST)
 
-test-hls: setup-apt ## Build and run the HLS twins' C-simulation test benches
+test-hls: setup-apt ## The HLS twins' C-simulation test benches
 	$(MAKE) -C hls test
 
-demo: setup ## The main job on the default shipped scene
+demo: setup ## The Cornell box through the RTL against Embree, with images
 	@./scripts/demo.sh
 
 # SCENE= (or an already compiled PACKAGE=) sizes the hardware to that scene and
 # its rays (RAYS=primary by default) and reports the area saved (sized.md).
 VERILOG_PACKAGE = $(or $(PACKAGE),$(if $(SCENE),$(BUILD)/verilog/scene))
-verilog: setup ## SystemVerilog for the ZC706 into build/verilog/, lint, Yosys resource table [BVH=4|2|8|nori|4q|8q FLOAT=eXmY|auto BOX_FLOAT= TRI_FLOAT= TRIANGLE= ROUNDING=conservative|rne IDS=<ray IDs per core> SYNTH=0 SYSTEM=0|1 CORES=<n> SCENE=<scene.xml> or PACKAGE=<compiled dir>]
+verilog: setup ## SystemVerilog for the ZC706, lint, area and Fmax estimate
 	$(if $(SCENE),$(BRIDGE) compile $(SCENE) --out $(BUILD)/verilog/scene --rays $(or $(RAYS),primary) --bvh $(or $(BVH),4))
 	$(SBT) "runMain rtaccel.tools.EmitVerilog --out $(BUILD)/verilog --bvh $(or $(BVH),4) --float $(or $(FLOAT),e8m23)$(if $(BOX_FLOAT), --box-float $(BOX_FLOAT))$(if $(TRI_FLOAT), --tri-float $(TRI_FLOAT)) --triangle $(or $(TRIANGLE),watertight) --rounding $(or $(ROUNDING),conservative)$(if $(IDS), --ids $(IDS)) --synth $(or $(SYNTH),1) --system $(or $(SYSTEM),1)$(if $(CORES), --cores $(CORES))$(if $(VERILOG_PACKAGE), --package $(VERILOG_PACKAGE))"
 
-regress: setup ## Scene regression: make regress SCENE=scenes/x/x.xml [RAYS= FLOAT= BOX_FLOAT= TRI_FLOAT= TRIANGLE= ROUNDING=conservative|rne MEMORY=ddr|onchip MEM_LATENCY=<ns> FABRIC_MHZ=200 IDS= STACK= OUT= WAVES=1 SIM=chiseltest|cpp]
+regress: setup ## Trace a scene's rays in RTL, each checked: SCENE=<scene.xml>
 	@scripts/regress.sh
 
-clean: ## Remove build outputs (keeps downloaded toolchains and caches)
+clean: ## Remove build outputs (keeps toolchains and caches)
 	rm -rf $(BUILD) target project/target project/project test_run_dir
 	$(MAKE) -C hls clean
 	$(CARGO) clean --manifest-path $(BRIDGE_MANIFEST)

@@ -1,4 +1,4 @@
-# The system top under Verilator against independent AXI models (issue 12):
+# The system top under Verilator against independent AXI models:
 # cocotb + cocotbext-axi (AxiRam on m_axi, AxiLiteMaster on s_axi), tests in
 # src/test/cocotb/. `make test` runs them for one core (COCOTB_CORES=1).
 #
@@ -26,7 +26,7 @@ COCOTB_RAYS_H := 12
 
 test: test-cocotb
 
-setup-cocotb: setup-apt ## Python venv with the pinned cocotb / cocotbext-axi (~/.cache/rtaccel/cocotb-venv), if missing or stale
+setup-cocotb: setup-apt ## Python venv with the pinned cocotb and cocotbext-axi
 	@want=$$(sha256sum $(COCOTB_REQ) | cut -c1-16); \
 	if [ "$$(cat $(COCOTB_VENV)/.requirements 2>/dev/null)" = "$$want" ]; then \
 	  echo "setup: cocotb venv present ($(COCOTB_VENV))"; \
@@ -45,7 +45,7 @@ $(COCOTB_BUILD)/pkg/primary/image.bin: $(BRIDGE) $(COCOTB_SCENE) mk/cocotb.mk
 $(COCOTB_BUILD)/pkg/shadow/image.bin: $(BRIDGE) $(COCOTB_SCENE) mk/cocotb.mk
 	$(BRIDGE) compile $(COCOTB_SCENE) --out $(@D) --rays shadow --bvh 4 --width $(COCOTB_RAYS_W) --height $(COCOTB_RAYS_H)
 
-test-cocotb: setup-sbt setup-cargo setup-cocotb $(COCOTB_BUILD)/pkg/primary/image.bin $(COCOTB_BUILD)/pkg/shadow/image.bin ## rtaccel_system under Verilator + cocotb: AxiRam (reordering, back-pressure) and AxiLiteMaster, protocol assertions, every hit vs the golden model [COCOTB_CORES="1 2" (default 1) RTACCEL_SEED=]
+test-cocotb: setup-sbt setup-cargo setup-cocotb $(COCOTB_BUILD)/pkg/primary/image.bin $(COCOTB_BUILD)/pkg/shadow/image.bin ## The system top under cocotb + cocotbext-axi (part of make test)
 	$(SBT) "runMain rtaccel.cocotb.Prepare --out $(COCOTB_BUILD) --cores $(subst $(space),$(comma),$(strip $(COCOTB_CORES))) --packages $(COCOTB_BUILD)/pkg/primary,$(COCOTB_BUILD)/pkg/shadow"
 	@for n in $(COCOTB_CORES); do \
 	  echo "test-cocotb: rtaccel_system with $$n core(s)"; \

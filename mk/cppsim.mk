@@ -12,16 +12,16 @@ CPPSIM_RAYS ?= 256
 .PHONY: cppsim-test cppsim-lib
 test: cppsim-test
 
-cppsim-lib: setup-apt ## librtaccel (board backend) into build/cppsim/lib/
+cppsim-lib: setup-apt ## Build librtaccel (board backend) into build/cppsim/lib/
 	$(MAKE) -C sw lib unit
 
 $(CPPSIM_PKG)/image.bin: | setup-cargo
 	$(BRIDGE) compile scenes/cornell-box/cornell-box.xml --out $(CPPSIM_PKG) --rays primary --width 16 --height 16 --bvh 4 >/dev/null
 
-cppsim-test: setup cppsim-lib $(CPPSIM_PKG)/image.bin ## librtaccel + the C++ Verilator harness on Cornell (part of make test)
+cppsim-test: setup cppsim-lib $(CPPSIM_PKG)/image.bin ## librtaccel against the Verilated system top (part of make test)
 	$(SBT) "runMain rtaccel.regress.CppSimTest --package $(CPPSIM_PKG) --out $(BUILD)/cppsim/test --rays $(CPPSIM_RAYS)"
 
-# The two harnesses of the one-core system top side by side (issue 13): the
+# The two harnesses of the one-core system top side by side: the
 # chiseltest one (SystemHarness + AxiMemoryModel) and the C++ one (rtaccel-sim:
 # librtaccel + the C++ twin of AxiMemoryModel), same rays, same memory settings,
 # same random draws. Fails unless every hit record and the batch's CYCLES agree;
@@ -34,12 +34,12 @@ CPPSIM_COMPARE_RAYS_KIND ?= primary
 CPPSIM_COMPARE_PKG = $(BUILD)/cppsim/compare-pkg/$(basename $(notdir $(CPPSIM_COMPARE_SCENE)))-$(CPPSIM_COMPARE_RAYS_KIND)
 
 .PHONY: cppsim-compare
-cppsim-compare: setup ## The chiseltest and C++ system harnesses on the same rays: same hits and cycles, and their speed [CPPSIM_COMPARE_SCENE= CPPSIM_COMPARE_RAYS_KIND=primary|shadow|ao MAX_RAYS= REORDER=0|1 CPPSIM_CLANG=1|0]
+cppsim-compare: setup ## The chiseltest and C++ system harnesses: same hits, same cycles
 	$(BRIDGE) compile $(CPPSIM_COMPARE_SCENE) --out $(CPPSIM_COMPARE_PKG) --rays $(CPPSIM_COMPARE_RAYS_KIND) --bvh 4 >/dev/null
 	$(SBT) "runMain rtaccel.regress.CppSimCompare --package $(CPPSIM_COMPARE_PKG) --out $(CPPSIM_COMPARE_PKG)-r$(or $(REORDER),0)$(if $(MAX_RAYS), --rays $(MAX_RAYS)) --reorder $(or $(REORDER),0)"
 
-# The C++ harness's speed, measured to be trusted on a shared machine (issue 13,
-# docs/cppsim.md "Speed"): rtaccel-sim on the Cornell regression's rays (the
+# The C++ harness's speed, measured to be trusted on a shared machine
+# (docs/cppsim.md "Speed"): rtaccel-sim on the Cornell regression's rays (the
 # 4,096 camera rays of `make regress SCENE=scenes/cornell-box/cornell-box.xml`,
 # about 25k cycles) and on the dragon's 4,096 camera rays (about 62k cycles),
 # CPPSIM_SPEED_RUNS times each, the builds alternating; every run's cycles per
@@ -60,7 +60,7 @@ $(BUILD)/cppsim/speed/%-primary/rays.csv: | setup
 $(BUILD)/cppsim/speed/dragon-primary/rays.csv: $(BRIDGE_CACHE)/dragon_res2.obj
 
 .PHONY: cppsim-speed
-cppsim-speed: setup $(addsuffix /rays.csv,$(CPPSIM_SPEED_PKGS)) ## Benchmark: the C++ harness's simulated cycles per wall and per CPU second, Cornell and dragon, several alternating runs [CPPSIM_SPEED_RUNS=5 CPPSIM_SPEED_BUILDS=]
+cppsim-speed: setup $(addsuffix /rays.csv,$(CPPSIM_SPEED_PKGS)) ## Benchmark: the C++ harness's simulated cycles per second
 	python3 sw/speed.py $(BUILD)/cppsim/speed.json $(CPPSIM_SPEED_RUNS) $(CPPSIM_SPEED_BUILDS) $(CPPSIM_SPEED_PKGS)
 
 # The same builds' work per simulated cycle, independent of the machine's load
@@ -69,7 +69,7 @@ cppsim-speed: setup $(addsuffix /rays.csv,$(CPPSIM_SPEED_PKGS)) ## Benchmark: th
 # instructions and simulates the branch predictor over the Cornell regression's
 # rays (about 100 s per build under valgrind). A benchmark, prints only.
 .PHONY: cppsim-instructions
-cppsim-instructions: setup $(BUILD)/cppsim/speed/cornell-box-primary/rays.csv ## Benchmark: instructions and branch mispredictions per simulated cycle of the C++ harness builds (valgrind cachegrind), Cornell [CPPSIM_SPEED_BUILDS=]
+cppsim-instructions: setup $(BUILD)/cppsim/speed/cornell-box-primary/rays.csv ## Benchmark: instructions per simulated cycle (valgrind cachegrind)
 	@command -v valgrind >/dev/null || { SUDO=""; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
 	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq valgrind >/dev/null; }
 	@for b in $$(echo $(CPPSIM_SPEED_BUILDS) | tr , ' '); do \

@@ -1,13 +1,13 @@
-# Accelerator speed measurements: writes docs/performance.md.
+# Accelerator speed measurements: writes docs/reports/performance.md.
 # BVH_LAYOUTS: node layouts to compare (nori-bridge compile --bvh); MAX_RAYS:
 # rays simulated per run, strided over the set;
 # BENCH_RUNS: a subset of the runs (e.g. for a quick look).
 BVH_LAYOUTS ?= nori 2 4 8
 BENCH_RUNS  ?= cornell-box-primary dragon-primary dragon-shadow dragon-ao
-BENCH_OUT   ?= docs/performance.md
+BENCH_OUT   ?= docs/reports/performance.md
 bench_list   = $(subst $(space),$(comma),$(strip $(1)))
 
-# BENCH_SYSTEM=1 (default) adds the system section (issue 13): the system top
+# BENCH_SYSTEM=1 (default) adds the system section: the system top
 # under the C++ harness for 1, 2, 4 and the cores that fit, the ZC706 estimate
 # (cores that fit and the Fmax estimate read from build/verilog/resources.md,
 # so `make verilog` runs first, cached per unit) beside Embree on this machine.
@@ -20,8 +20,8 @@ BENCH_SYSTEM ?= 1
 BENCH_RENDER_ONLY ?= $(if $(filter cached embree,$(BENCH_SYSTEM)),1,0)
 
 .PHONY: bench bench-embree
-bench: setup $(if $(filter 1,$(BENCH_SYSTEM)),verilog) ## Speed side by side: BVH layouts x memory (onchip, ddr) x Cornell/dragon rays; the system top on a ZC706 (estimate) against Embree -> docs/performance.md [BVH_LAYOUTS="nori 2 4 8" MAX_RAYS=2048 BENCH_RUNS= BENCH_SYSTEM=1|0|cached|embree BENCH_RENDER_ONLY=]
+bench: setup $(if $(filter 1,$(BENCH_SYSTEM)),verilog) ## Rays/cycle per layout and memory; ZC706 estimate vs Embree
 	$(SBT) "runMain rtaccel.bench.Bench --out $(BENCH_OUT) --layouts $(call bench_list,$(BVH_LAYOUTS)) --runs $(call bench_list,$(BENCH_RUNS)) --max-rays $(or $(MAX_RAYS),2048) --system $(BENCH_SYSTEM) --render-only $(BENCH_RENDER_ONLY)"
 
-bench-embree: setup ## Re-measure only Embree (with the 1-minute load average) and redraw docs/performance.md from the cached bench rows (after a make bench; for an idle machine)
+bench-embree: setup ## Re-measure only Embree and redraw docs/reports/performance.md
 	$(MAKE) bench BENCH_SYSTEM=embree

@@ -13,14 +13,14 @@ $(NORI_SIMDIR)/rtaccel-sim: $(shell find src/main/scala -name '*.scala') $(wildc
 	$(MAKE) cppsim-test
 	touch $@
 
-nori-accel: setup-apt ## Build nori-accel/: the golden walk (bit-exact with the FP32 RTL) and the Nori drop-in
+nori-accel: setup-apt ## Build nori-accel/: the golden walk and the Nori drop-in
 	$(MAKE) -C nori-accel
 
-render: setup nori-accel $(if $(filter 1,$(RTL)),$(NORI_SIMDIR)/rtaccel-sim) ## Shaded PNG + Embree image + diff + montage.png [SCENE= INTEGRATOR=normals|ao|direct WIDTH=256 HEIGHT=256 SPP=1 SAMPLES=4 RTL=1 OUT=]
+render: setup nori-accel $(if $(filter 1,$(RTL)),$(NORI_SIMDIR)/rtaccel-sim) ## A shaded image from the accelerator's hits: SCENE=<scene.xml>
 	RTL_SIMDIR=$(NORI_SIMDIR) scripts/render.sh
 
 NORI_ACCEL_BENCH := build/nori-accel-bench
-nori-accel-bench: setup nori-accel ## Golden-mode throughput of the Nori drop-in on 2 threads (Cornell 256x256 camera and AO rays, dragon AO) -> build/nori-accel-bench/bench.json
+nori-accel-bench: setup nori-accel ## Golden-mode throughput of the Nori drop-in on 2 threads
 	@mkdir -p $(NORI_ACCEL_BENCH)
 	$(BRIDGE_BIN) compile scenes/cornell-box/cornell-box.xml --out $(NORI_ACCEL_BENCH)/cornell-primary --rays primary --width 256 --height 256 --bvh 4 >/dev/null
 	$(BRIDGE_BIN) compile scenes/cornell-box/cornell-box.xml --out $(NORI_ACCEL_BENCH)/cornell-ao --rays ao --width 256 --height 256 --bvh 4 >/dev/null
@@ -29,11 +29,21 @@ nori-accel-bench: setup nori-accel ## Golden-mode throughput of the Nori drop-in
 	@echo "nori-accel-bench: $(NORI_ACCEL_BENCH)/bench.json (wall-clock figures depend on the machine's load; mrays_per_cpu_s does not)"
 
 # The drop-in's rtl mode (RTACCEL_MODE=rtl: librtaccel's simulation backend)
-# against golden mode, hit for hit, from 4 threads on make cppsim-test's
-# Cornell package (256 rays, every third a shadow ray, and 2 invalid rays).
+# against golden mode, hit for hit: from 4 threads on make cppsim-test's
+# Cornell package (256 rays, every third a shadow ray, and 2 invalid rays),
+# then from 2 threads on Cornell's 64x64 camera rays (4,096 rays), where the
+# median batch must hold more than one ray (rays gathered across threads).
+# RTACCEL_RTL_WINDOW_US=1000000: a batch closes as soon as every thread has a
+# ray in it, so the long window costs nothing while the threads ask and keeps
+# the batch-size check independent of the machine's load.
 # Reuses cppsim-test's simulator build, so in make test it costs only the
-# drop-in's link and the run.
+# drop-in's link and the two runs.
+NORI_RTL_PKG := $(BUILD)/nori-accel/cornell-64x64
+$(NORI_RTL_PKG)/image.bin: | setup-cargo
+	$(BRIDGE_BIN) compile scenes/cornell-box/cornell-box.xml --out $(NORI_RTL_PKG) --rays primary --width 64 --height 64 --bvh 4 >/dev/null
+
 test: nori-accel-rtl-test
-nori-accel-rtl-test: setup nori-accel cppsim-test ## The Nori drop-in's rtl mode (Verilated system via librtaccel) against golden mode, from 4 threads (part of make test)
+nori-accel-rtl-test: setup nori-accel cppsim-test $(NORI_RTL_PKG)/image.bin ## The Nori drop-in's rtl mode (Verilated system via librtaccel) against golden mode, from 4 and 2 threads; batches gathered across threads (part of make test)
 	$(MAKE) -C nori-accel rtl SIMDIR=$(abspath $(NORI_SIMDIR))
-	nori-accel/build/dropin-check-rtl --rtl $(CPPSIM_PKG) 256 4
+	RTACCEL_RTL_WINDOW_US=1000000 nori-accel/build/dropin-check-rtl --rtl $(CPPSIM_PKG) 256 4
+	RTACCEL_RTL_WINDOW_US=1000000 nori-accel/build/dropin-check-rtl --rtl $(NORI_RTL_PKG) 4096 2

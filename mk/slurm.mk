@@ -1,4 +1,4 @@
-# A one-node Slurm cluster on this machine (issue 15): `make speed-vs-error
+# A one-node Slurm cluster on this machine: `make speed-vs-error
 # SWEEP_ENGINE=slurm` submits the sweep's point jobs to Slurm as one job array.
 # On a real cluster, skip slurm-up: set SLURM_CONF or use the site's defaults,
 # and pass sbatch options in SWEEP_SLURM_ARGS (the repository must be on a
@@ -13,13 +13,13 @@ setup-slurm: ## Install Slurm and munge from Debian, if missing
 	    $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing >/dev/null; \
 	  else echo "setup-slurm: slurm-wlm and munge present"; fi
 
-slurm-up: setup-slurm ## Start a one-node Slurm cluster on this machine (build/slurm/); then: make speed-vs-error SWEEP_ENGINE=slurm
+slurm-up: setup-slurm ## Start a one-node Slurm cluster on this machine
 	@scripts/slurm/local-cluster.sh up
 
 slurm-down: ## Stop the one-node Slurm cluster
 	@scripts/slurm/local-cluster.sh down
 
-# The issue-15 check, outside `make test` (it needs root and starts services):
+# The Slurm sweep's check, outside `make test` (it needs root and starts services):
 # start the one-node cluster, run SWEEP_CHECK_POINTS through
 # `make speed-vs-error SWEEP_ENGINE=slurm` into a fresh $(SWEEP_CHECK) (its own
 # Yosys cache, so every area is recomputed; its report goes to
@@ -33,9 +33,9 @@ SWEEP_CHECK_POINTS ?= 4-e8m23-e8m23-cons-wt 4q-e8m10-e8m23-cons-wt
 SWEEP_CHECK_VARS   ?= SWEEP_CORNELL_PX=48 SWEEP_DRAGON_PX=64 SPEED_RAYS=256
 .PHONY: sweep-slurm-check sweep-compare
 
-sweep-slurm-check: setup setup-slurm ## Slurm sweep == make -j sweep: one-node cluster up, SWEEP_CHECK_POINTS as a job array, compare with SWEEP_CHECK_REF, cluster down
+sweep-slurm-check: setup setup-slurm ## Check that a Slurm sweep equals the make -j sweep (needs root)
 	scripts/slurm/sweep-check.sh $(SWEEP_CHECK) $(SWEEP_CHECK_REF) "$(SWEEP_CHECK_POINTS)" $(SWEEP_CHECK_VARS)
 
-sweep-compare: ## Compare two sweep directories' results field by field: make sweep-compare A=build/sweep6 B=build/sweep-slurm [POINTS="..."]
+sweep-compare: ## Compare two sweep directories field by field: A=<dir> B=<dir>
 	@[ -n "$(A)" ] && [ -n "$(B)" ] || { echo "usage: make sweep-compare A=<sweep dir> B=<sweep dir> [POINTS=\"<point> ...\"]"; exit 2; }
 	scripts/slurm/compare-sweeps.py $(A) $(B) $(POINTS)

@@ -1,10 +1,10 @@
-# Speed against error (issue 6): `make speed-vs-error` regenerates
-# docs/speed-vs-error.{md,json} and its plots from nothing. Every point is an
+# Speed against error: `make speed-vs-error` regenerates
+# docs/reports/speed-vs-error.{md,json} and its plots from nothing. Every point is an
 # independent job with one command line (java ... SweepPoint / PointArea), so
 # `make -j` spreads them over cores and a batch scheduler over machines.
 SWEEP          ?= $(BUILD)/sweep
 SWEEP_JOBS     ?= 2
-# The grid (issue 15): layout x box format x triangle format x box rounding x
+# The grid: layout x box format x triangle format x box rounding x
 # triangle test. A point is `<layout>-<box>-<tri>-<rne|cons>-<mt|wt>`, e.g.
 # 4q-e8m10-e8m23-cons-wt. SWEEP_GRID=full runs every combination of the
 # SWEEP_* lists below; SWEEP_GRID=reduced (the default) the SWEEP_REDUCED
@@ -42,7 +42,7 @@ SWEEP_ENGINE   ?= local
 # sweep-slurm-check points it into its own sweep so every area is recomputed).
 SWEEP_AREA_CACHE ?= build/area-cache
 # Where the report goes: $(SWEEP_DOC).{md,json} and the plots in $(SWEEP_DOC)/.
-SWEEP_DOC      ?= docs/speed-vs-error
+SWEEP_DOC      ?= docs/reports/speed-vs-error
 SWEEP_JAVA     := java -Xss8m -Xmx3g -cp "$$(cat $(SWEEP)/classpath)"
 comma := ,
 empty :=
@@ -52,7 +52,7 @@ space := $(empty) $(empty)
 
 # The report has a recipe line of its own: make runs a line that names $(MAKE)
 # even under -n, and `make -n speed-vs-error` must not rewrite the report.
-speed-vs-error: setup ## Precision sweep (layout x box format x triangle format x rounding x test x scenes): docs/speed-vs-error.{md,json} + plots [SWEEP_JOBS=2 SWEEP_GRID=reduced|full SWEEP_POINTS=... SWEEP_LAYOUTS= SWEEP_BOX_FORMATS= SWEEP_TRI_FORMATS= SWEEP_ENGINE=local|slurm]
+speed-vs-error: setup ## The precision sweep: error, area and speed per number format
 	@mkdir -p $(SWEEP) && date +%s > $(SWEEP)/started
 	rm -f $(SWEEP)/classpath
 	$(MAKE) --no-print-directory $(SWEEP)/classpath
@@ -130,7 +130,7 @@ $(SWEEP)/hard-ref/%-robust.json: $(SWEEP)/hard-pkg/%-robust/package.json
 # The references alone, plus nori-bridge's f32 software trace (the hardware's
 # algorithm in f32), on every hard case.
 .PHONY: hard-measure
-hard-measure: setup-cargo ## Score Embree (plain, ROBUST), the f64 reference and the f32 software trace on every hard case -> $(SWEEP)/hard-ref/*.json
+hard-measure: setup-cargo ## Score Embree, ROBUST, f64 and the f32 trace on every hard case
 	@$(MAKE) --no-print-directory $(foreach c,$(HARD_CASES),$(foreach r,embree robust double trace,$(SWEEP)/hard-ref/$(c)-$(r).json))
 $(SWEEP)/hard-ref/%-trace.json: $(SWEEP)/packages/$(SWEEP_REF_LAYOUT)/hard-%/package.json
 	@mkdir -p $(@D)
@@ -160,5 +160,5 @@ $(SWEEP)/area/%.json: | $(SWEEP)/classpath
 	$(SWEEP_JAVA) rtaccel.tools.PointArea $(call sweep_point_args,$*) --cache $(SWEEP_AREA_CACHE) --out $@ > $(SWEEP)/logs/area-$*.log 2>&1 || { tail -30 $(SWEEP)/logs/area-$*.log; exit 1; }
 	@tail -1 $(SWEEP)/logs/area-$*.log
 
-sweep-clean: ## Remove the sweep's outputs (not the shared Yosys cache build/area-cache)
+sweep-clean: ## Remove the sweep's outputs (keeps the Yosys cache)
 	rm -rf $(SWEEP)

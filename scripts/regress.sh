@@ -9,7 +9,8 @@
 #   SIZE=1 (hardware sized to the scene)   BVH=4|2|8|nori|4q|8q (node layout; 4 if unset)
 #   MEMORY=ddr|onchip   MEM_LATENCY=100 (ns, or 80-300; ddr only)   FABRIC_MHZ=200
 #   OUTSTANDING=64   CACHE=0 (KiB; ddr only)
-#   SIM=chiseltest|cpp (cpp: the system top under the C++ Verilator harness, sw/sim/)
+#   SIM=chiseltest|cpp (cpp: the system top under the C++ Verilator harness, sw/sim/, driven by
+#   scripts/regress-cpp.sh with no JVM once the RTL is emitted)
 set -euo pipefail
 : "${SCENE:?make regress needs SCENE=scenes/<name>/<name>.xml (or a package directory)}"
 bridge=nori-bridge/target/release/nori-bridge
@@ -29,16 +30,22 @@ else
   "$bridge" "${args[@]}"
 fi
 start=$(date +%s)
-opts="--package $pkg --out $OUT --float ${FLOAT:-e8m23} --triangle ${TRIANGLE:-watertight}"
-opts+="${BOX_FLOAT:+ --box-float $BOX_FLOAT}${TRI_FLOAT:+ --tri-float $TRI_FLOAT}"
-opts+=" --rounding ${ROUNDING:-conservative} --memory ${MEMORY:-ddr} --fabric-mhz ${FABRIC_MHZ:-200}"
-opts+=" --outstanding ${OUTSTANDING:-64} --ids ${IDS:-64} --sim ${SIM:-chiseltest}"
-opts+=" --waves ${WAVES:-0} --strict ${STRICT:-0} --seed ${SEED:-1} --bridge $bridge"
+# The hardware and memory options, then the run's own.
+hw="--float ${FLOAT:-e8m23} --triangle ${TRIANGLE:-watertight}"
+hw+="${BOX_FLOAT:+ --box-float $BOX_FLOAT}${TRI_FLOAT:+ --tri-float $TRI_FLOAT}"
+hw+=" --rounding ${ROUNDING:-conservative} --memory ${MEMORY:-ddr} --fabric-mhz ${FABRIC_MHZ:-200}"
+hw+=" --outstanding ${OUTSTANDING:-64} --ids ${IDS:-64} --seed ${SEED:-1}"
 # Empty values would vanish in sbt's argument splitting: pass only what is set.
-[ -n "${STACK:-}" ] && opts+=" --stack $STACK"
-[ -n "${MAX_RAYS:-}" ] && opts+=" --rays $MAX_RAYS"
-[ -n "${SIZE:-}" ] && opts+=" --size $SIZE"
-[ -n "${MEM_LATENCY:-}" ] && opts+=" --mem-latency $MEM_LATENCY"
-[ -n "${CACHE:-}" ] && opts+=" --cache $CACHE"
-./sbt "runMain rtaccel.regress.Regress $opts"
+[ -n "${STACK:-}" ] && hw+=" --stack $STACK"
+[ -n "${SIZE:-}" ] && hw+=" --size $SIZE"
+[ -n "${MEM_LATENCY:-}" ] && hw+=" --mem-latency $MEM_LATENCY"
+[ -n "${CACHE:-}" ] && hw+=" --cache $CACHE"
+run="--waves ${WAVES:-0} --strict ${STRICT:-0} --bridge $bridge"
+[ -n "${MAX_RAYS:-}" ] && run+=" --rays $MAX_RAYS"
+if [ "${SIM:-chiseltest}" = cpp ]; then
+  # The C++ harness: no JVM once the RTL is emitted (scripts/regress-cpp.sh).
+  scripts/regress-cpp.sh "$pkg" "$OUT" "$hw" "$run"
+else
+  ./sbt "runMain rtaccel.regress.Regress --package $pkg --out $OUT $hw $run --sim ${SIM:-chiseltest}"
+fi
 echo "regress: $OUT/report.md ($(( $(date +%s) - start )) s)"

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Analysis aid for docs/speed-vs-error-notes.md: how many triangles of the
+"""Analysis aid for docs/reports/speed-vs-error-notes.md: how many triangles of the
 closed hard-case meshes become zero-area when their f32 vertices are rounded
 (to nearest even) to a narrower mantissa, as the datapath's input converters
 do. Exact (fractions). Usage: scripts/zero_area_after_rounding.py

@@ -5,6 +5,14 @@
 // LeafIntersect does (TraversalGolden.scala); the box kernel is BoxKernel's
 // conservative mode in FP32, the triangle kernel is hls/prim_wt.cpp, which
 // `make -C hls test` bit-compares with the Chisel datapath.
+//
+// Role: the bit-exact C++ twin of the Scala golden model
+// (rtaccel.golden.TraversalGolden, what the RTL is checked against), for
+// renderers (the Nori drop-in, make render) and for make regress SIM=cpp,
+// which checks every hardware hit against it with no JVM (golden-trace
+// --rtl-hits). The twin is proved by NoriAccelGoldenSpec
+// (src/test/scala/rtaccel/golden/, in make test): every ray of the regression
+// scenes and the hard cases against TraversalGolden, bit for bit.
 #pragma once
 #include <cstddef>
 #include <cstdint>

@@ -8,9 +8,11 @@
 #include <nori/accel.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -18,10 +20,17 @@
 #include <stdexcept>
 #include <string>
 
-#include "../golden/package_io.h"
-#include "../golden/walk.h"
+// Every Eigen header this file uses, itself: Nori's common.h brings only
+// <Eigen/Core>, which declares cross() but does not define it.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+// Through the include path <the rtaccel checkout> (docs/nori-dropin.md), so
+// they resolve wherever this file is copied, e.g. into Nori's src/.
+#include "nori-accel/golden/package_io.h"
+#include "nori-accel/golden/walk.h"
 #ifdef RTACCEL_SIM
-#include "rtl_batcher.h"
+#include "nori-accel/src/rtl_batcher.h"
 #endif
 
 #ifndef NORI_ACCEL_BRIDGE
@@ -40,6 +49,44 @@ std::string num(float x) {
 std::string env(const char *name, const char *fallback) {
     const char *v = std::getenv(name);
     return v && *v ? v : fallback;
+}
+
+/// build()'s scratch directory under $TMPDIR (else /tmp): removed with
+/// everything in it when build() returns or throws, unless `keep`.
+struct TempDir {
+    std::filesystem::path path;
+    bool keep;
+    explicit TempDir(bool keep_) : keep(keep_) {
+        std::string tmpl = (std::filesystem::temp_directory_path() / "nori-accel-XXXXXX").string();
+        if (!mkdtemp(tmpl.data()))
+            throw std::runtime_error("Accel::build(): cannot create a temporary directory " + tmpl + ": " + std::strerror(errno));
+        path = tmpl;
+    }
+    ~TempDir() {
+        if (keep) {
+            std::fprintf(stderr, "nori-accel: kept %s (RTACCEL_KEEP_TMP=1)\n", path.c_str());
+            return;
+        }
+        std::error_code ec;  // a destructor must not throw; a leftover directory is only untidy
+        std::filesystem::remove_all(path, ec);
+    }
+    TempDir(const TempDir &) = delete;
+    TempDir &operator=(const TempDir &) = delete;
+};
+
+/// The last `lines` lines of a text file, each ending in a newline ("" if unreadable).
+std::string tail(const std::filesystem::path &file, size_t lines) {
+    std::ifstream in(file);
+    std::vector<std::string> last;
+    for (std::string line; std::getline(in, line);) {
+        last.push_back("  " + line + "\n");
+        if (last.size() > lines)
+            last.erase(last.begin());
+    }
+    std::string out;
+    for (const std::string &l : last)
+        out += l;
+    return out;
 }
 }  // namespace
 
@@ -104,14 +151,32 @@ Accel::~Accel() {
 #ifdef RTACCEL_SIM
     if (m_state->rtl) {
         const nori_rtl::BatchStats b = m_state->rtl->stats();
-        std::fprintf(stderr, "nori-accel rtl: %llu rays in %llu batches (largest %llu), %llu simulated cycles\n",
-                     (unsigned long long)b.rays, (unsigned long long)b.batches, (unsigned long long)b.largestBatch,
-                     (unsigned long long)b.simCycles);
+        std::fprintf(stderr,
+                     "nori-accel rtl: %llu rays in %llu batches (median %u, largest %llu), %llu simulated cycles; "
+                     "batch sizes (rays x batches): %s\n",
+                     (unsigned long long)b.rays, (unsigned long long)b.batches, b.medianBatch(), (unsigned long long)b.largestBatch,
+                     (unsigned long long)b.simCycles, b.histogram().c_str());
     }
 #endif
     if (m_state->errors.count > 0)
         std::fprintf(stderr, "nori-accel: %llu rays were flagged by the hardware and answered as misses (RTACCEL_ON_ERROR=warn)\n",
                      (unsigned long long)m_state->errors.count);
+}
+
+uint32_t Accel::rtlMedianBatch() const {
+#ifdef RTACCEL_SIM
+    if (m_state && m_state->rtl)
+        return m_state->rtl->stats().medianBatch();
+#endif
+    return 0;
+}
+
+std::string Accel::rtlBatchHistogram() const {
+#ifdef RTACCEL_SIM
+    if (m_state && m_state->rtl)
+        return m_state->rtl->stats().histogram();
+#endif
+    return "";
 }
 
 void Accel::addMesh(Mesh *mesh) {
@@ -141,22 +206,25 @@ void Accel::build() {
 
     // The meshes as OBJ files (world-space vertices, shortest exact decimals)
     // and a Nori scene listing them in addMesh order, so prim numbers run
-    // through the meshes in that order, faces in index order.
-    char tmpl[] = "/tmp/nori-accel-XXXXXX";
-    if (!mkdtemp(tmpl))
-        throw std::runtime_error("Accel::build(): cannot create a temporary directory");
-    const std::filesystem::path dir(tmpl);
+    // through the meshes in that order, faces in index order. The directory
+    // goes when build() returns or throws, unless RTACCEL_KEEP_TMP=1.
+    const TempDir tmp(env("RTACCEL_KEEP_TMP", "0") == "1");
+    const std::filesystem::path &dir = tmp.path;
     std::ofstream xml(dir / "scene.xml");
     xml << "<scene>\n";
     uint32_t prims = 0;
     for (size_t k = 0; k < m_meshes.size(); ++k) {
         const MatrixXf &V = m_meshes[k]->getVertexPositions();
         const MatrixXu &F = m_meshes[k]->getIndices();
-        std::ofstream obj(dir / ("mesh" + std::to_string(k) + ".obj"));
+        const std::filesystem::path objPath = dir / ("mesh" + std::to_string(k) + ".obj");
+        std::ofstream obj(objPath);
         for (int64_t j = 0; j < V.cols(); ++j)
             obj << "v " << num(V(0, j)) << ' ' << num(V(1, j)) << ' ' << num(V(2, j)) << '\n';
         for (int64_t j = 0; j < F.cols(); ++j)
             obj << "f " << F(0, j) + 1 << ' ' << F(1, j) + 1 << ' ' << F(2, j) + 1 << '\n';
+        obj.close();
+        if (!obj)
+            throw std::runtime_error("Accel::build(): cannot write " + objPath.string());
         xml << "  <mesh type=\"obj\"><string name=\"filename\" value=\"mesh" << k << ".obj\"/></mesh>\n";
         state->firstPrim.push_back(prims);
         prims += static_cast<uint32_t>(F.cols());
@@ -164,12 +232,17 @@ void Accel::build() {
     xml << "</scene>\n";
     xml.close();
     std::ofstream(dir / "one-ray.txt") << "0 0 0 0 0 1\n";  // compile wants a ray set; this one is not used
+    if (!xml || !std::filesystem::exists(dir / "one-ray.txt"))
+        throw std::runtime_error("Accel::build(): cannot write the scene into " + dir.string());
     const std::string bridge = env("RTACCEL_NORI_BRIDGE", NORI_ACCEL_BRIDGE);
+    const std::filesystem::path log = dir / "compile.log";
     const std::string cmd = "'" + bridge + "' compile '" + (dir / "scene.xml").string() + "' --out '" + (dir / "pkg").string() +
-                            "' --rays '" + (dir / "one-ray.txt").string() + "' --bvh 4 > '" + (dir / "compile.log").string() + "' 2>&1";
+                            "' --rays '" + (dir / "one-ray.txt").string() + "' --bvh 4 > '" + log.string() + "' 2>&1";
     if (std::system(cmd.c_str()) != 0)
-        throw std::runtime_error("Accel::build(): `" + cmd + "` failed; see " + (dir / "compile.log").string() +
-                                 " (set RTACCEL_NORI_BRIDGE to nori-bridge's path)");
+        throw std::runtime_error("Accel::build(): `" + cmd + "` failed" +
+                                 (tmp.keep ? "; see " + log.string() : " (RTACCEL_KEEP_TMP=1 keeps " + dir.string() + ")") +
+                                 "; its output:\n" + tail(log, 20) +
+                                 "set RTACCEL_NORI_BRIDGE to nori-bridge's path if it was not found (docs/nori-dropin.md)");
     const std::string imagePath = (dir / "pkg" / "image.bin").string();
     std::ifstream imageFile(imagePath, std::ios::binary);
     const std::vector<uint8_t> imageBytes((std::istreambuf_iterator<char>(imageFile)), std::istreambuf_iterator<char>());
@@ -179,7 +252,6 @@ void Accel::build() {
     if (state->image.tris.size() != prims)
         throw std::runtime_error("Accel::build(): the image holds " + std::to_string(state->image.tris.size()) +
                                  " triangles for " + std::to_string(prims));
-    std::filesystem::remove_all(dir);
 #ifdef RTACCEL_SIM
     if (mode == "rtl") {
         nori_rtl::BatchOptions opt;

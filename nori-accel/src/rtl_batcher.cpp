@@ -11,6 +11,7 @@ namespace nori_rtl {
 struct RtlBatcher::Request {
     rtaccel_ray ray{};
     rtaccel_hit hit{};
+    std::thread::id caller;
     bool done = false;
     std::string failure;  ///< non-empty: the device failed on this ray's batch
 };
@@ -55,12 +56,14 @@ RtlBatcher::~RtlBatcher() {
 
 rtg::HitOut RtlBatcher::trace(const rtg::RayIn &r) {
     Request q;
+    q.caller = std::this_thread::get_id();
     q.ray = {r.o[0], r.o[1], r.o[2], r.d[0], r.d[1], r.d[2], r.tmin, r.tmax, r.shadow ? 1u : 0u, {0, 0, 0}};
     {
         std::unique_lock<std::mutex> g(m_lock);
         if (!m_failure.empty())
             throw std::runtime_error(m_failure);
         m_queue.push_back(&q);
+        m_callers.insert(q.caller);
         m_queued.notify_one();
         m_answered.wait(g, [&] { return q.done; });
     }
@@ -76,6 +79,21 @@ rtg::HitOut RtlBatcher::trace(const rtg::RayIn &r) {
     return h;
 }
 
+uint32_t BatchStats::medianBatch() const {
+    uint64_t seen = 0;
+    for (const auto &[size, count] : sizes)
+        if ((seen += count) * 2 >= batches)
+            return size;
+    return 0;
+}
+
+std::string BatchStats::histogram() const {
+    std::string s;
+    for (const auto &[size, count] : sizes)
+        s += (s.empty() ? "" : ", ") + std::to_string(size) + " x" + std::to_string(count);
+    return s;
+}
+
 BatchStats RtlBatcher::stats() {
     std::lock_guard<std::mutex> g(m_lock);
     return m_stats;
@@ -89,11 +107,22 @@ void RtlBatcher::submitLoop() {
             m_queued.wait(g, [&] { return m_stop || !m_queue.empty(); });
             if (m_queue.empty())
                 return;  // stopping, and no caller waits (each caller holds its request until answered)
+            // Full: one ray from every asking thread, or maxBatch. Each asking
+            // thread has at most one ray queued (it waits for it), so the
+            // queue reaching the number of asking threads means all are in.
+            auto full = [&] { return m_queue.size() >= std::min<size_t>(m_opt.maxBatch, m_callers.size()); };
             const auto until = std::chrono::steady_clock::now() + std::chrono::microseconds(m_opt.windowUs);
-            m_queued.wait_until(g, until, [&] { return m_stop || m_queue.size() >= m_opt.maxBatch; });
+            const bool closedEarly = m_queued.wait_until(g, until, [&] { return m_stop || full(); });
             while (!m_queue.empty() && batch.size() < m_opt.maxBatch) {
                 batch.push_back(m_queue.front());
                 m_queue.pop_front();
+            }
+            if (!closedEarly) {  // the window ran out: forget the threads that did not ask in it
+                m_callers.clear();
+                for (const Request *q : batch)
+                    m_callers.insert(q->caller);
+                for (const Request *q : m_queue)
+                    m_callers.insert(q->caller);
             }
         }
         runBatch(batch);  // the device is this thread's alone: no lock held while it simulates
@@ -137,6 +166,7 @@ void RtlBatcher::runBatch(std::vector<Request *> &batch) {
         m_stats.rays += n;
         m_stats.batches += 1;
         m_stats.largestBatch = std::max<uint64_t>(m_stats.largestBatch, n);
+        m_stats.sizes[n] += 1;
         m_stats.simCycles = cycles;
         if (!failure.empty())
             m_failure = failure;

@@ -19,7 +19,8 @@
 //     <rays> rays (every third one as a shadow ray) plus two invalid rays,
 //     asked from <threads> threads at once of the rtl Accel, every answer
 //     (return value, its bit for bit, mesh, or the thrown message) equal to
-//     golden mode's answer to the same ray.
+//     golden mode's answer to the same ray; with several threads, the median
+//     batch sent to the hardware must hold more than one ray.
 //   dropin-check --bench <package dir> [threads]   golden-mode throughput.
 #include <nori/accel.h>
 
@@ -28,10 +29,12 @@
 #include <cstdio>
 #include <cstring>
 #include <ctime>
+#include <filesystem>
 #include <stdexcept>
 #include <thread>
+#include <unistd.h>
 
-#include "../golden/package_io.h"
+#include "nori-accel/golden/package_io.h"
 #include "../../hls/fp32.h"
 
 using namespace nori;
@@ -131,7 +134,12 @@ int check(const std::string& dir) {
           p2(tri->v[2][0], tri->v[2][1], tri->v[2][2]);
       const float b0 = 1 - (g.u + g.v);
       const Point3f p = b0 * p0 + g.u * p1 + g.v * p2;
-      const Vector3f n = (p1 - p0).cross(p2 - p0).normalized();
+      // Eigen's cross product, written out (Eigen/src/Geometry/OrthoMethods.h's
+      // order) so that this file needs no <Eigen/Geometry>: the link of
+      // accel.cpp's cross() must come from accel.cpp's own include (stub common.h).
+      const Vector3f e1 = p1 - p0, e2 = p2 - p0;
+      const Vector3f n = Vector3f(e1.y() * e2.z() - e1.z() * e2.y(), e1.z() * e2.x() - e1.x() * e2.z(),
+                                  e1.x() * e2.y() - e1.y() * e2.x()).normalized();
       if (!same(its.t, g.t)) why = "t";
       else if (!same(its.uv.x(), g.u) || !same(its.uv.y(), g.v)) why = "uv";
       else if (its.mesh != s.meshes[k].get()) why = "mesh";
@@ -164,6 +172,49 @@ int warnCheck(const std::string& dir) {
   std::printf("dropin-check: RTACCEL_ON_ERROR=warn: a NaN-direction ray %s\n",
               ok ? "is answered a reported miss" : ("gave hit " + std::to_string(a.hit) + ", thrown '" + a.thrown + "'").c_str());
   return ok ? 0 : 1;
+}
+
+// build() with a nori-bridge that fails: it throws with the tool's output in
+// the message and leaves nothing in $TMPDIR; with RTACCEL_KEEP_TMP=1 it keeps
+// its directory (scene, meshes, compile.log) for the user to look at.
+int cleanupCheck(const std::string& dir) {
+  const rtg::Image img = rtg::read_image(dir + "/image.bin");
+  const Scene s = meshes_of(img);
+  const std::filesystem::path tmp = std::filesystem::temp_directory_path() /
+                                    ("dropin-check-tmp-" + std::to_string(static_cast<long>(getpid())));
+  std::filesystem::remove_all(tmp);
+  std::filesystem::create_directories(tmp);
+  const char* oldTmp = std::getenv("TMPDIR");
+  const std::string savedTmp = oldTmp ? oldTmp : "";
+  setenv("TMPDIR", tmp.c_str(), 1);
+  setenv("RTACCEL_NORI_BRIDGE", "/bin/false", 1);  // a nori-bridge that fails
+  auto attempt = [&](bool keep) {
+    if (keep) setenv("RTACCEL_KEEP_TMP", "1", 1);
+    Accel accel;
+    for (const auto& m : s.meshes) accel.addMesh(m.get());
+    std::string thrown;
+    try {
+      accel.build();
+    } catch (const std::runtime_error& e) {
+      thrown = e.what();
+    }
+    unsetenv("RTACCEL_KEEP_TMP");
+    const auto left = std::distance(std::filesystem::directory_iterator(tmp), std::filesystem::directory_iterator());
+    return std::make_pair(thrown, static_cast<long>(left));
+  };
+  const auto [thrownGone, leftGone] = attempt(false);
+  const auto [thrownKept, leftKept] = attempt(true);
+  unsetenv("RTACCEL_NORI_BRIDGE");
+  if (savedTmp.empty()) unsetenv("TMPDIR"); else setenv("TMPDIR", savedTmp.c_str(), 1);
+  std::filesystem::remove_all(tmp);
+  std::string why;
+  if (thrownGone.find("failed") == std::string::npos) why = "build() did not throw for a failing nori-bridge ('" + thrownGone + "')";
+  else if (leftGone != 0) why = "build() left " + std::to_string(leftGone) + " entries in TMPDIR after failing";
+  else if (thrownKept.find("compile.log") == std::string::npos || leftKept != 1)
+    why = "RTACCEL_KEEP_TMP=1: " + std::to_string(leftKept) + " directories kept, message '" + thrownKept + "'";
+  std::printf("dropin-check: build() with a failing nori-bridge %s\n",
+              why.empty() ? "throws and removes its directory (kept with RTACCEL_KEEP_TMP=1)" : why.c_str());
+  return why.empty() ? 0 : 1;
 }
 
 bool sameFrame(const Frame& a, const Frame& b) { return same3(a.n, b.n) && same3(a.s, b.s) && same3(a.t, b.t); }
@@ -218,6 +269,21 @@ int rtlCheck(const std::string& dir, size_t count, unsigned threads) {
   }
   if (flagged != 2) {
     std::printf("dropin-check --rtl: %ld rays threw in golden mode, expected the 2 invalid rays\n", flagged);
+    ++bad_rays;
+  }
+  // Batching across threads: with one ray from each of several threads in a
+  // batch, the median batch holds more than one ray. Nothing here depends on
+  // the machine's speed as long as RTACCEL_RTL_WINDOW_US outlasts a thread's
+  // time between two rays (the make target sets a long window: a batch closes
+  // as soon as every thread has a ray in it, so the window is only spent
+  // when a thread finishes).
+  const uint32_t median = rtl.accel.rtlMedianBatch();
+  std::printf("dropin-check --rtl: %s: batches: median %u rays; sizes (rays x batches): %s\n", dir.c_str(), median,
+              rtl.accel.rtlBatchHistogram().c_str());
+  if (threads > 1 && median <= 1) {
+    std::printf("dropin-check --rtl: %u threads, yet the median batch holds %u ray: rays are not gathered across threads "
+                "(is RTACCEL_RTL_WINDOW_US=%s long enough?)\n", threads, median,
+                std::getenv("RTACCEL_RTL_WINDOW_US") ? std::getenv("RTACCEL_RTL_WINDOW_US") : "<default>");
     ++bad_rays;
   }
   std::printf("dropin-check --rtl: %s: %zu rays (%ld hits, %ld flagged) from %u threads through the rtl mode in %.1f s wall, "
@@ -278,7 +344,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "usage: dropin-check <package dir>... | --rtl <package dir> <rays> <threads> | --bench <package dir> [threads]\n");
       return 2;
     }
-    int rc = warnCheck(argv[1]);
+    int rc = warnCheck(argv[1]) | cleanupCheck(argv[1]);
     for (int i = 1; i < argc; ++i) rc |= check(argv[i]);
     return rc;
   } catch (const std::exception& e) {

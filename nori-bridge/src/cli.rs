@@ -140,13 +140,30 @@ enum Cmd {
         #[arg(long)]
         out_dir: PathBuf,
     },
-    /// Trace the package's rays through its own memory image in software
-    /// (f32, the hardware's algorithm) and write a hits.csv.
+    /// Trace the package's rays through its own memory image with the
+    /// Möller–Trumbore layout walk (f32; checks the layouts against Embree; not
+    /// the hardware's arithmetic: nori-accel's golden-trace is) and write a hits.csv.
     Trace {
         #[arg(long)]
         package: PathBuf,
         #[arg(long)]
         out: PathBuf,
+    },
+    /// The report of a `make regress SIM=cpp` run (scripts/regress-cpp.sh): stats.json,
+    /// report.json and report.md from rtaccel-sim's output, the golden check's count,
+    /// accuracy.json and the cold step's regress.json; prints the table.
+    RegressReport {
+        #[arg(long)]
+        out: PathBuf,
+        /// regress.json written by rtaccel.regress.CppSimPrepare.
+        #[arg(long)]
+        prepared: PathBuf,
+        #[arg(long)]
+        rays: usize,
+        #[arg(long)]
+        golden_mismatches: usize,
+        #[arg(long)]
+        wall_seconds: f64,
     },
     /// Measure Embree reference throughput (Mrays/s, 2 threads) on a package's rays.
     Bench {
@@ -164,12 +181,12 @@ enum Cmd {
         /// Directory with points/, area/, hard-ref/ (see src/sweep/input.rs).
         #[arg(long, default_value = "build/sweep")]
         sweep: PathBuf,
-        #[arg(long, default_value = "docs/speed-vs-error.json")]
+        #[arg(long, default_value = "docs/reports/speed-vs-error.json")]
         json: PathBuf,
-        #[arg(long, default_value = "docs/speed-vs-error.md")]
+        #[arg(long, default_value = "docs/reports/speed-vs-error.md")]
         md: PathBuf,
         /// Directory for the PNG plots.
-        #[arg(long, default_value = "docs/speed-vs-error")]
+        #[arg(long, default_value = "docs/reports/speed-vs-error")]
         plots: PathBuf,
         /// Format of the reference points (pixels and ratios are against it).
         #[arg(long, default_value = "e8m23")]
@@ -254,9 +271,12 @@ pub fn run() -> Result<()> {
         }
         Cmd::Trace { package, out } => {
             let pkg = Package::load(&package)?;
-            let (hits, stats) = crate::memory::traverse::trace_all(&pkg.image, &pkg.rays);
+            let (hits, stats) = crate::memory::mt_walk::trace_all(&pkg.image, &pkg.rays);
             crate::ray::csv_io::write_hits(&out, &hits)?;
             println!("{}: {} rays, largest stack {} (bvhDepth {})", out.display(), hits.len(), stats.max_stack, pkg.image.bvh_depth);
+        }
+        Cmd::RegressReport { out, prepared, rays, golden_mismatches, wall_seconds } => {
+            crate::regress::report::run(&crate::regress::report::ReportArgs { out, prepared, rays, golden_mismatches, wall_seconds })?
         }
         Cmd::SweepReport { sweep, json, md, plots, baseline_format, runtime_note } => {
             crate::sweep::report::run(&crate::sweep::report::ReportOpts { sweep, json, md, plots, baseline_format, runtime_note })?

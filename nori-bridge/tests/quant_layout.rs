@@ -12,7 +12,7 @@ use nori_bridge::bvh::quant::{self, QuantNode};
 use nori_bridge::bvh::{Layout, Slot};
 use nori_bridge::geom::Aabb;
 use nori_bridge::image_bin::Image;
-use nori_bridge::traverse;
+use nori_bridge::mt_walk;
 
 const PAIRS: [(Layout, Layout); 2] = [(Layout::Wide4, Layout::Quant4), (Layout::Wide8, Layout::Quant8)];
 
@@ -107,8 +107,8 @@ fn quantized_walks_equal_the_fp32_walks_ray_by_ray() {
         let rays = walk_rays(name, seed);
         for (wide, quant) in PAIRS {
             let ((_, wimg), (_, qimg)) = (build_as(&scene, 4, wide), build_as(&scene, 4, quant));
-            let (want, _) = traverse::trace_all(&wimg, &rays);
-            let (got, stats) = traverse::trace_all(&qimg, &rays);
+            let (want, _) = mt_walk::trace_all(&wimg, &rays);
+            let (got, stats) = mt_walk::trace_all(&qimg, &rays);
             let what = format!("{name} --bvh {quant} seed {seed}");
             assert!(stats.max_stack <= qimg.bvh_depth as usize, "{what}: stack {} > bvhDepth {}", stats.max_stack, qimg.bvh_depth);
             let hits = want[..RAYS].iter().filter(|h| h.hit).count();

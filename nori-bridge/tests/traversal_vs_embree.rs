@@ -8,7 +8,7 @@ use nori_bridge::compare::compare;
 use nori_bridge::embree_ref::EmbreeScene;
 use nori_bridge::judge::{Class, Tolerances};
 use nori_bridge::ray::Ray;
-use nori_bridge::{double_ref, ray_gen, traverse};
+use nori_bridge::{double_ref, ray_gen, mt_walk};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -19,7 +19,7 @@ fn check(name: &str, rays: &[Ray], robust: bool, seed: u64) {
     let (_, img) = build(&scene, 4);
     let embree = EmbreeScene::new(device(), &scene.tris, robust).unwrap();
     let want = embree.trace(rays);
-    let (got, stats) = traverse::trace_all(&img, rays);
+    let (got, stats) = mt_walk::trace_all(&img, rays);
     assert!(stats.max_stack <= img.bvh_depth as usize, "{name}: stack {} > bvhDepth {}", stats.max_stack, img.bvh_depth);
     let (acc, _) = compare(&scene.tris, rays, &got, &want, Tolerances::default()).unwrap();
     let hits = want.iter().filter(|h| h.hit).count();
@@ -76,7 +76,7 @@ fn icosphere_agrees_with_double_reference() {
     let rays = random_rays("icosphere", seed, 20_000);
     let want = double_ref::trace_double(&scene.tris, &rays).unwrap();
     let (_, img) = build(&scene, 4);
-    let (got, _) = traverse::trace_all(&img, &rays);
+    let (got, _) = mt_walk::trace_all(&img, &rays);
     let (acc, classes) = compare(&scene.tris, &rays, &got, &want, Tolerances::default()).unwrap();
     println!("icosphere vs double, seed {seed}: {:?}", acc.counts);
     assert_eq!(acc.mismatches, 0, "seed {seed}: {:?}", acc.counts);
@@ -110,7 +110,7 @@ fn in_plane_axis_aligned_rays_on_cornell_box() {
     }
     let exact = double_ref::trace_double(&scene.tris, &rays).unwrap();
     let (_, img) = build(&scene, 4);
-    let (ours, _) = traverse::trace_all(&img, &rays);
+    let (ours, _) = mt_walk::trace_all(&img, &rays);
     let (acc, _) = compare(&scene.tris, &rays, &ours, &exact, Tolerances::default()).unwrap();
     println!("in-plane rays, ours vs f64: {:?}", acc.counts);
     assert_eq!(acc.mismatches, 0, "{:?} worst {}", acc.counts, serde_json::to_string(&acc.worst).unwrap());
@@ -161,7 +161,7 @@ fn degenerate_triangles_are_never_hit() {
     let img = nori_bridge::image_bin::Image::from_bvh(&nori_bridge::bvh_build::build_bvh(&device(), &tris, 4).unwrap(), &tris);
     assert_eq!(img.tris.iter().filter(|r| r.flags & nori_bridge::image_bin::FLAG_ZERO_AREA != 0).count(), 2000);
     let want = EmbreeScene::new(device(), &tris, false).unwrap().trace(&rays);
-    let (got, _) = traverse::trace_all(&img, &rays);
+    let (got, _) = mt_walk::trace_all(&img, &rays);
     for (i, h) in got.iter().enumerate() {
         assert!(!h.hit || tris[h.prim as usize].double_area64() > 0.0, "seed {seed}: ray {i} hit zero-area prim {}", h.prim);
     }
@@ -181,7 +181,7 @@ fn sliver_hits_are_judged_edge_cases() {
     let (tris, rays) = soup(seed, true);
     let img = nori_bridge::image_bin::Image::from_bvh(&nori_bridge::bvh_build::build_bvh(&device(), &tris, 4).unwrap(), &tris);
     let want = EmbreeScene::new(device(), &tris, false).unwrap().trace(&rays);
-    let (got, _) = traverse::trace_all(&img, &rays);
+    let (got, _) = mt_walk::trace_all(&img, &rays);
     let (acc, classes) = compare(&tris, &rays, &got, &want, Tolerances::default()).unwrap();
     println!("sliver soup seed {seed}: {:?}", acc.counts);
     assert_eq!(acc.mismatches, 0, "seed {seed}: {:?} worst {}", acc.counts, serde_json::to_string(&acc.worst).unwrap());

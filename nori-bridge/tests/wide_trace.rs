@@ -10,7 +10,7 @@ mod common;
 use common::*;
 use nori_bridge::bvh::Layout;
 use nori_bridge::image_bin::Image;
-use nori_bridge::traverse;
+use nori_bridge::mt_walk;
 use std::process::Command;
 
 #[test]
@@ -20,13 +20,13 @@ fn wide_walks_equal_the_nori_walk_ray_by_ray() {
         let scene = load(name);
         let rays = walk_rays(name, seed);
         let (_, nori_img) = build_as(&scene, 4, Layout::Nori);
-        let (want, nori_stats) = traverse::trace_all(&nori_img, &rays);
+        let (want, nori_stats) = mt_walk::trace_all(&nori_img, &rays);
         assert!(nori_stats.max_stack <= nori_img.bvh_depth as usize, "{name} seed {seed}: nori stack");
         let hits = want[..RAYS].iter().filter(|h| h.hit).count();
         assert!(hits > RAYS / 10, "{name} seed {seed}: only {hits} hits, the ray set is too easy");
         for layout in [Layout::Wide2, Layout::Wide4, Layout::Wide8] {
             let (_, img) = build_as(&scene, 4, layout);
-            let (got, stats) = traverse::trace_all(&img, &rays);
+            let (got, stats) = mt_walk::trace_all(&img, &rays);
             let what = format!("{name} --bvh {layout} seed {seed}");
             assert!(stats.max_stack <= img.bvh_depth as usize, "{what}: stack {} > bvhDepth {}", stats.max_stack, img.bvh_depth);
             let (mut ties, mut ulps) = (0, 0);

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The issue-15 check behind `make sweep-slurm-check`: a Slurm sweep equals a
+# The check behind `make sweep-slurm-check`: a Slurm sweep equals a
 # `make -j` sweep. Starts the one-node cluster, runs the points through
 # `make speed-vs-error SWEEP_ENGINE=slurm` into a fresh sweep directory (its own
 # Yosys cache, so every area is recomputed; the report goes into that directory,

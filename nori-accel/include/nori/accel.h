@@ -4,7 +4,9 @@
 // docs/nori-dropin.md. Several meshes are supported (Nori's skeleton takes one).
 #pragma once
 
+#include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <nori/mesh.h>
@@ -31,6 +33,13 @@ public:
     /// Closest hit in [ray.mint, ray.maxt] (shadowRay: any hit, its untouched),
     /// as the FP32 accelerator answers it; fills its like Nori's own Accel.
     bool rayIntersect(const Ray3f &ray, Intersection &its, bool shadowRay) const;
+
+    // Beyond Nori's interface (Nori never calls them): the rtl mode's batches
+    // so far; 0 and "" in golden mode. ~Accel prints both to stderr.
+    /// The median rays per batch sent to the simulated hardware.
+    uint32_t rtlMedianBatch() const;
+    /// Each batch size and how many batches had it, e.g. "1 x3, 2 x120".
+    std::string rtlBatchHistogram() const;
 
 private:
     std::vector<Mesh *> m_meshes;          ///< Meshes in addMesh order (prim numbering order)

@@ -1,4 +1,4 @@
-//! `nori-bridge hard-cases`: the hard-case suite (issue 6, part 2). Each
+//! `nori-bridge hard-cases`: the hard-case suite. Each
 //! case is built in code (spheres.rs, planes.rs) as meshes plus
 //! rays, each ray carrying an intent; `resolve` turns intents into
 //! expectations with the exact predicates of exact.rs and panics if a

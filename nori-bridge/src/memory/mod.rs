@@ -2,7 +2,7 @@
 //! reasons for it are in docs/memory-format.md (format version 2: the
 //! header names the node layout, nori or K-wide).
 
-pub mod traverse;
+pub mod mt_walk;
 
 use crate::bvh::layout::RECORD_BYTES;
 use crate::bvh::quant::{self, QuantNode};

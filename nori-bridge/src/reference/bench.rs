@@ -27,7 +27,7 @@ pub fn bench(pkg: &Package, min_rays: usize, robust: bool) -> Result<()> {
     let single = n as f64 / t.elapsed().as_secs_f64() / 1e6;
     assert_eq!(scene.trace_single(&pkg.rays), scene.trace(&pkg.rays), "packet and single-ray paths disagree");
     let t = Instant::now();
-    std::hint::black_box(crate::memory::traverse::trace_all(&pkg.image, &pkg.rays));
+    std::hint::black_box(crate::memory::mt_walk::trace_all(&pkg.image, &pkg.rays));
     let ours = pkg.rays.len() as f64 / t.elapsed().as_secs_f64() / 1e6;
     println!(
         "{}: {} triangles, {} rays x {reps} ({}): Embree{} {:.2} Mrays/s in packets of 8, {single:.2} Mrays/s one by one, on {} threads (scene build {:.3} s); our f32 layout walk {:.2} Mrays/s",

@@ -1,4 +1,4 @@
-//! docs/speed-vs-error.md, generated line by line from the report. Never
+//! docs/reports/speed-vs-error.md, generated line by line from the report. Never
 //! edit the output: hand-written text goes in the notes file beside it
 //! (`<md stem>-notes.md`), which is included verbatim at the end.
 
@@ -179,7 +179,7 @@ fn fronts(r: &Report) -> Vec<String> {
 pub fn document(r: &Report, o: &ReportOpts, plots: &[Plot]) -> Result<String> {
     let md_dir = o.md.parent().unwrap_or(Path::new(""));
     let mut l: Vec<String> = vec![
-        "# Speed against error: the precision sweep".into(),
+        "# Speed against error: the precision sweep (`make speed-vs-error`)".into(),
         String::new(),
         "<!-- Generated file: do not edit. Hand-written notes go in the -notes.md file beside it. -->".into(),
         String::new(),
@@ -248,8 +248,8 @@ mod tests {
 
     #[test]
     fn links_are_relative_to_the_document() {
-        assert_eq!(relative(Path::new("docs/speed-vs-error/a.png"), Path::new("docs")), PathBuf::from("speed-vs-error/a.png"));
+        assert_eq!(relative(Path::new("docs/reports/speed-vs-error/a.png"), Path::new("docs/reports")), PathBuf::from("speed-vs-error/a.png"));
         assert_eq!(relative(Path::new("build/p/a.png"), Path::new("./docs")), PathBuf::from("../build/p/a.png"));
-        assert_eq!(notes_path(Path::new("docs/speed-vs-error.md")), PathBuf::from("docs/speed-vs-error-notes.md"));
+        assert_eq!(notes_path(Path::new("docs/reports/speed-vs-error.md")), PathBuf::from("docs/reports/speed-vs-error-notes.md"));
     }
 }

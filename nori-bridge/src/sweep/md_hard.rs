@@ -1,4 +1,4 @@
-//! The hard-case section of docs/speed-vs-error.md: one table of leaks,
+//! The hard-case section of docs/reports/speed-vs-error.md: one table of leaks,
 //! false hits and wrong prims per configuration and case, with Embree,
 //! Embree ROBUST and the f64 reference; then every non-zero cell of a
 //! watertight + conservative configuration, which the issue wants at zero.

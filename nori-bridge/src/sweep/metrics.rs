@@ -1,6 +1,6 @@
 //! Derived metrics of the sweep: per run, pooled per point, and ratios
 //! against the FP32 baseline of the same variant. These structs are what
-//! docs/speed-vs-error.json holds.
+//! docs/reports/speed-vs-error.json holds.
 
 use crate::sweep::input::{AccuracyIn, Area, AreaIn, HardIn, Latency, PointConfig, RunIn, SpeedIn};
 use crate::sweep::runs::{PixelDiff, TRel};

@@ -1,5 +1,5 @@
 //! `nori-bridge sweep-report`: the precision sweep's per-point JSON files
-//! in; docs/speed-vs-error.{json,md} and PNG plots out.
+//! in; docs/reports/speed-vs-error.{json,md} and PNG plots out.
 
 use crate::package::compile::write_json;
 use crate::ray::Hit;

@@ -11,7 +11,7 @@
 use crate::sweep::input::format_bits;
 use crate::sweep::metrics::PointOut;
 
-/// The goal of issue 15, against the FP32 layout of the same width.
+/// The narrow-format goal, against the FP32 layout of the same width.
 pub const GOAL_BOX_LUT_RATIO: f64 = 0.6;
 pub const GOAL_NODE_BYTES_RATIO: f64 = 0.5;
 

@@ -11,7 +11,7 @@ use nori_bridge::geom::Tri;
 use nori_bridge::bvh::Slot;
 use nori_bridge::geom::Aabb;
 use nori_bridge::ray::{Hit, Ray};
-use nori_bridge::{ray_gen, traverse};
+use nori_bridge::{ray_gen, mt_walk};
 use rand::SeedableRng;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -128,7 +128,7 @@ pub fn walk_rays(name: &str, seed: u64) -> Vec<Ray> {
 /// Is `prim` hit by `ray` at exactly `t` by the f32 triangle test?
 pub fn hit_at(img: &Image, prim: i64, ray: &Ray, t: f32) -> bool {
     let rec = img.tris.iter().find(|r| r.prim as i64 == prim).unwrap();
-    traverse::moller_trumbore(&rec.tri.v, ray).is_some_and(|h| h.0 == t)
+    mt_walk::moller_trumbore(&rec.tri.v, ray).is_some_and(|h| h.0 == t)
 }
 
 /// The boxes a walk of `img` tests on its way to the leaf holding `prim`
@@ -171,7 +171,7 @@ pub fn path_boxes(img: &Image, prim: i64) -> Vec<Aabb> {
 pub fn tie(ray: &Ray, a: (&Hit, &Image), b: (&Hit, &Image)) -> Option<u32> {
     let (better, worse) = if (a.0.t, a.0.prim) < (b.0.t, b.0.prim) { (a, b) } else { (b, a) };
     let inv = ray.d.map(|x| 1.0 / x);
-    let culled = path_boxes(worse.1, better.0.prim).iter().any(|bx| traverse::box_near(bx, ray, &inv, worse.0.t).is_none());
+    let culled = path_boxes(worse.1, better.0.prim).iter().any(|bx| mt_walk::box_near(bx, ray, &inv, worse.0.t).is_none());
     (better.0.hit && worse.0.hit && better.0.prim != worse.0.prim && hit_at(better.1, better.0.prim, ray, better.0.t) && culled)
         .then(|| worse.0.t.to_bits() - better.0.t.to_bits())
 }

@@ -1,4 +1,4 @@
-"""rtaccel_system against independent AXI models (issue 12).
+"""rtaccel_system against independent AXI models.
 
 cocotbext-axi's AxiRam (reads reordered across IDs and delayed, see
 rtaccel_tb/ddr.py) on m_axi and its AxiLiteMaster on s_axi, random

@@ -1,22 +1,26 @@
-// Test stand-in (see common.h): Nori's BoundingBox3f members the drop-in uses.
+// Test stand-in (see common.h): Nori's axis-aligned box over a point type.
 #pragma once
-#include <limits>
 #include <nori/common.h>
 
 NORI_NAMESPACE_BEGIN
-struct BoundingBox3f {
-  Point3f min, max;
-  BoundingBox3f() { reset(); }
-  BoundingBox3f(const Point3f& a, const Point3f& b) : min(a), max(b) {}
+template <typename Point>
+struct TBoundingBox {
+  Point min, max;
+  TBoundingBox() { reset(); }
+  TBoundingBox(const Point& a, const Point& b) : min(a), max(b) {}
+  /// Empty: min = +inf, max = -inf, so the first expandBy sets both.
   void reset() {
-    const float inf = std::numeric_limits<float>::infinity();
-    min = Point3f(inf, inf, inf);
-    max = Point3f(-inf, -inf, -inf);
+    min.setConstant(std::numeric_limits<typename Point::Scalar>::infinity());
+    max.setConstant(-std::numeric_limits<typename Point::Scalar>::infinity());
   }
-  bool isValid() const { return min.x() <= max.x() && min.y() <= max.y() && min.z() <= max.z(); }
-  void expandBy(const Point3f& p) {
-    for (int i = 0; i < 3; ++i) { min[i] = std::fmin(min[i], p[i]); max[i] = std::fmax(max[i], p[i]); }
+  bool isValid() const { return (max.array() >= min.array()).all(); }
+  void expandBy(const Point& p) {
+    min = min.cwiseMin(p);
+    max = max.cwiseMax(p);
   }
-  void expandBy(const BoundingBox3f& b) { expandBy(b.min); expandBy(b.max); }
+  void expandBy(const TBoundingBox& b) {
+    min = min.cwiseMin(b.min);
+    max = max.cwiseMax(b.max);
+  }
 };
 NORI_NAMESPACE_END

@@ -1,74 +1,52 @@
-// Test stand-in for Nori's types, written for rtaccel from Nori's documented
-// interface (no Nori code): the names, members and signatures the drop-in
-// uses, with the same meaning, so nori-accel/src/accel.cpp compiles
-// unchanged against this header set and against Nori's own. Nori builds
-// these on Eigen; here they are small structs with the same member
-// functions. Only for nori-accel's tests: a Nori build uses Nori's headers.
+// Test stand-in for Nori's include/nori/common.h, written for rtaccel from
+// Nori's documented interface (no Nori code). Only for nori-accel's tests: a
+// Nori build uses Nori's own headers. What matters is the shape, so that
+// nori-accel/src/accel.cpp meets here what it meets in Nori:
+//   - the types are Eigen's (Debian's libeigen3-dev, as Nori builds on Eigen):
+//     vectors and points are Eigen::Matrix<float, N, 1>, meshes' arrays are
+//     dynamic Eigen matrices;
+//   - this header includes <Eigen/Core> only, as Nori's does. Eigen declares
+//     cross() in Core but defines it in <Eigen/Geometry>, so a drop-in that
+//     calls cross() without including Geometry fails to link, here as in Nori.
+//     For that check to hold, nothing else linked into the tests may include
+//     <Eigen/Geometry> (it would supply the definition).
+//   - Epsilon is a macro, as in Nori: a drop-in identifier named Epsilon
+//     breaks here as it would there.
 #pragma once
-#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
+
+#include <Eigen/Core>
 
 #define NORI_NAMESPACE_BEGIN namespace nori {
 #define NORI_NAMESPACE_END }
 
+/// Nori's ray epsilon: the default mint of a ray.
+#define Epsilon 1e-4f
+
 NORI_NAMESPACE_BEGIN
 
-/// A 3-vector with Eigen's member names (x(), cross, dot, normalized).
-struct Vector3f {
-  float v[3] = {0, 0, 0};
-  Vector3f() = default;
-  Vector3f(float x, float y, float z) : v{x, y, z} {}
-  float x() const { return v[0]; }
-  float y() const { return v[1]; }
-  float z() const { return v[2]; }
-  float operator[](int i) const { return v[i]; }
-  float& operator[](int i) { return v[i]; }
-  float operator()(int i) const { return v[i]; }
-  Vector3f operator+(const Vector3f& o) const { return {v[0] + o.v[0], v[1] + o.v[1], v[2] + o.v[2]}; }
-  Vector3f operator-(const Vector3f& o) const { return {v[0] - o.v[0], v[1] - o.v[1], v[2] - o.v[2]}; }
-  Vector3f operator*(float s) const { return {v[0] * s, v[1] * s, v[2] * s}; }
-  Vector3f operator-() const { return {-v[0], -v[1], -v[2]}; }
-  friend Vector3f operator*(float s, const Vector3f& a) { return a * s; }
-  // Eigen's orders (docs/kernels.md): cross a[j]b[k] - a[k]b[j]; dot a0b0 + (a1b1 + a2b2).
-  Vector3f cross(const Vector3f& o) const {
-    return {v[1] * o.v[2] - v[2] * o.v[1], v[2] * o.v[0] - v[0] * o.v[2], v[0] * o.v[1] - v[1] * o.v[0]};
-  }
-  float dot(const Vector3f& o) const { return v[0] * o.v[0] + (v[1] * o.v[1] + v[2] * o.v[2]); }
-  float squaredNorm() const { return dot(*this); }
-  float norm() const { return std::sqrt(squaredNorm()); }
-  Vector3f normalized() const { const float n = norm(); return n > 0 ? *this * (1.0f / n) : *this; }
-};
-using Point3f = Vector3f;
-using Normal3f = Vector3f;
+template <typename Scalar, int Dimension> struct TVector;
+template <typename Scalar, int Dimension> struct TPoint;
+template <typename Point, typename Vector> struct TRay;
+template <typename Point> struct TBoundingBox;
+struct Normal3f;
+struct Frame;
+struct Intersection;
+class Mesh;
 
-struct Point2f {
-  float v[2] = {0, 0};
-  Point2f() = default;
-  Point2f(float x, float y) : v{x, y} {}
-  float x() const { return v[0]; }
-  float y() const { return v[1]; }
-  float operator[](int i) const { return v[i]; }
-  float sum() const { return v[0] + v[1]; }
-  Point2f operator+(const Point2f& o) const { return {v[0] + o.v[0], v[1] + o.v[1]}; }
-  friend Point2f operator*(float s, const Point2f& a) { return {s * a.v[0], s * a.v[1]}; }
-};
+using Vector2f = TVector<float, 2>;
+using Vector3f = TVector<float, 3>;
+using Point2f = TPoint<float, 2>;
+using Point3f = TPoint<float, 3>;
+using Ray3f = TRay<Point3f, Vector3f>;
+using BoundingBox3f = TBoundingBox<Point3f>;
 
-/// Column-major dynamic matrix with Eigen's accessors (rows x cols), float or uint32_t.
-template <typename T>
-struct Matrix {
-  int64_t r = 0, c = 0;
-  std::basic_string<T> data;  // contiguous storage
-  Matrix() = default;
-  Matrix(int64_t rows, int64_t cols) : r(rows), c(cols), data(static_cast<size_t>(rows * cols), T()) {}
-  int64_t rows() const { return r; }
-  int64_t cols() const { return c; }
-  int64_t size() const { return r * c; }
-  T operator()(int64_t i, int64_t j) const { return data[static_cast<size_t>(j * r + i)]; }
-  T& operator()(int64_t i, int64_t j) { return data[static_cast<size_t>(j * r + i)]; }
-  Vector3f col(int64_t j) const { return {static_cast<float>((*this)(0, j)), static_cast<float>((*this)(1, j)), static_cast<float>(r > 2 ? (*this)(2, j) : 0)}; }
-};
-using MatrixXf = Matrix<float>;
-using MatrixXu = Matrix<uint32_t>;
+/// Column-major, 3 x N (positions, normals), 2 x N (texture coordinates), 3 x M (indices).
+using MatrixXf = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic>;
+using MatrixXu = Eigen::Matrix<uint32_t, Eigen::Dynamic, Eigen::Dynamic>;
 
 NORI_NAMESPACE_END
+
+#include <nori/vector.h>

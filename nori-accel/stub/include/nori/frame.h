@@ -1,5 +1,9 @@
-// Test stand-in (see common.h): Nori's Frame built from a normal.
+// Test stand-in (see common.h): Nori's orthonormal frame (s, t, n) built from
+// a unit normal. The tangents come from a branchless basis (Duff et al. 2017)
+// written out by components, not with cross(), so that this header does not
+// need <Eigen/Geometry> (common.h says why that matters).
 #pragma once
+#include <cmath>
 #include <nori/common.h>
 
 NORI_NAMESPACE_BEGIN
@@ -7,8 +11,7 @@ struct Frame {
   Vector3f s, t;
   Normal3f n;
   Frame() = default;
-  /// Frame around the unit normal n (tangents from a branchless basis).
-  explicit Frame(const Vector3f& normal) : n(normal) {
+  Frame(const Vector3f& normal) : n(normal) {
     const float sign = std::copysign(1.0f, n.z());
     const float a = -1.0f / (sign + n.z());
     const float b = n.x() * n.y() * a;

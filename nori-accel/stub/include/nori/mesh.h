@@ -1,14 +1,12 @@
 // Test stand-in (see common.h): Nori's Intersection and the Mesh accessors
-// the drop-in uses (vertex positions 3 x N, normals, texcoords, indices 3 x M).
+// the drop-in uses (positions 3 x N, normals 3 x N or empty, texture
+// coordinates 2 x N or empty, indices 3 x M), as Eigen matrices.
 #pragma once
-#include <limits>
 #include <nori/bbox.h>
 #include <nori/frame.h>
 #include <nori/ray.h>
 
 NORI_NAMESPACE_BEGIN
-class Mesh;
-
 struct Intersection {
   Point3f p;
   float t = 0;
@@ -16,12 +14,10 @@ struct Intersection {
   Frame shFrame;
   Frame geoFrame;
   const Mesh* mesh = nullptr;
-  Intersection() = default;
 };
 
 class Mesh {
  public:
-  Mesh() = default;
   virtual ~Mesh() = default;
   uint32_t getTriangleCount() const { return static_cast<uint32_t>(m_F.cols()); }
   uint32_t getVertexCount() const { return static_cast<uint32_t>(m_V.cols()); }
@@ -32,11 +28,13 @@ class Mesh {
   const MatrixXu& getIndices() const { return m_F; }
   const std::string& getName() const { return m_name; }
 
-  // Test-only setters (Nori fills these from an OBJ file in activate()).
+  // Test-only setters (Nori's OBJ loader fills these in activate()).
   void set(const MatrixXf& V, const MatrixXu& F, const std::string& name) {
-    m_V = V; m_F = F; m_name = name;
+    m_V = V;
+    m_F = F;
+    m_name = name;
     m_bbox.reset();
-    for (int64_t j = 0; j < V.cols(); ++j) m_bbox.expandBy(V.col(j));
+    for (Eigen::Index j = 0; j < V.cols(); ++j) m_bbox.expandBy(Point3f(V.col(j)));
   }
   void setNormals(const MatrixXf& N) { m_N = N; }
   void setTexCoords(const MatrixXf& UV) { m_UV = UV; }

@@ -21,7 +21,7 @@ import scala.jdk.CollectionConverters._
   * against each case's expectations (by construction, checked in exact
   * arithmetic) there is no leak, no false hit, no wrong primitive and no
   * refused ray. Round-to-nearest boxes are not held to this: they cull a node
-  * whose face the ray touches exactly (docs/speed-vs-error.md).
+  * whose face the ray touches exactly (docs/reports/speed-vs-error.md).
   */
 class HardCasesSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "RtAccel on the hard cases"

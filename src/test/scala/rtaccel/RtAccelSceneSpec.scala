@@ -105,7 +105,7 @@ class RtAccelSceneSpec extends AnyFlatSpec with ChiselScalatestTester {
   }
 
   it should "trace narrow conservative boxes (e8m10) with FP32 watertight triangles bit-exact with the golden model, and answer every ray as FP32 does (4q nodes, Cornell box)" in {
-    // Split formats (issue 15): the box lanes bound the FP32 ray outward in e8m10 and tmax
+    // Split formats: the box lanes bound the FP32 ray outward in e8m10 and tmax
     // is narrowed up, so no box the FP32 ray reaches is culled; the triangle test is FP32's.
     // So, by construction, every answer equals the FP32 datapath's: checked per ray here.
     val layout = BvhLayout.Wide(4, quantized = true)

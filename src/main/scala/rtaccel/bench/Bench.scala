@@ -21,7 +21,7 @@ import java.nio.file.{Files, Path, Paths}
   * golden model (a mismatch fails the bench); Embree mismatches are counted
   * on every ray of the set, with the golden model's answers (the hardware's,
   * bit for bit, as the simulated sample shows). Writes the table (by default
-  * docs/performance.md) and build/bench/bench.json.
+  * docs/reports/performance.md) and build/bench/bench.json.
   */
 object Bench {
   final case class Run(scene: String, xml: String, rays: String) { def name = s"$scene-$rays" }
@@ -35,7 +35,7 @@ object Bench {
   val DefaultLayout = "nori"
 
   final case class Args(layouts: Seq[String] = Seq(DefaultLayout), runs: Seq[Run] = Runs, maxRays: Int = 2048,
-      out: Path = Paths.get("docs/performance.md"), area: Path = Paths.get("build/bench/area.json"),
+      out: Path = Paths.get("docs/reports/performance.md"), area: Path = Paths.get("build/bench/area.json"),
       bridge: Path = Paths.get("nori-bridge/target/release/nori-bridge"), threads: Int = 2,
       /** Only redraw the table from `rows` (after a run, e.g. with new area figures). */
       renderOnly: Boolean = false,
@@ -50,7 +50,7 @@ object Bench {
       /** What `make verilog` wrote: the cores that fit and the Fmax estimate (VerilogFigures). */
       verilog: Path = Paths.get("build/verilog/resources.md"))
 
-  val usage = "usage: Bench [--out docs/performance.md] [--layouts nori,2,4,8] [--runs cornell-box-primary,dragon-ao,...] " +
+  val usage = "usage: Bench [--out docs/reports/performance.md] [--layouts nori,2,4,8] [--runs cornell-box-primary,dragon-ao,...] " +
     "[--max-rays 2048] [--area build/bench/area.json] [--threads 2] [--render-only 0|1] [--system 0|1|cached|embree] " +
     "[--verilog build/verilog/resources.md] [--rows build/bench/bench.json]"
 
@@ -79,7 +79,7 @@ object Bench {
     }
   }
 
-  /** The hand-written reading kept beside a generated page: docs/performance.md's is docs/performance-notes.md. */
+  /** The hand-written reading kept beside a generated page: docs/reports/performance.md's is docs/reports/performance-notes.md. */
   def notesFor(out: Path): Path = out.resolveSibling(out.getFileName.toString.stripSuffix(".md") + "-notes.md")
 
   /** The hardware that reads `layout`'s nodes: the ZC706 configuration with its box lanes. */

@@ -11,7 +11,7 @@ import java.nio.file.{Files, Path, Paths, StandardCopyOption}
 import scala.jdk.CollectionConverters._
 import scala.sys.process._
 
-/** `make bench`'s system section (issue 13, part 3): rays/cycle of the system
+/** `make bench`'s system section: rays/cycle of the system
   * top (rtaccel_system: N cores, MemoryFabric and its node store, ray and hit
   * DMA, registers) under the C++ harness (sw/sim/, the DDR model behind
   * m_axi) for N = 1, 2, 4 and the cores that fit; every simulated ray checked

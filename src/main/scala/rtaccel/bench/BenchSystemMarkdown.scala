@@ -1,14 +1,14 @@
 package rtaccel.bench
 
-/** The system section of docs/performance.md: rays/cycle per core count, the
-  * ZC706 estimate beside Embree on this machine, and issue 13's goals, each
+/** The system section of docs/reports/performance.md: rays/cycle per core count, the
+  * ZC706 estimate beside Embree on this machine, and the throughput goals, each
   * met or not and, if not, the term (cores, rays/cycle, clock) that holds it
   * back, with the numbers.
   */
 object BenchSystemMarkdown {
-  /** RayCore Lite's measured Cornell figure (Arria 10), issue 13's first goal. */
+  /** RayCore Lite's measured Cornell figure (Arria 10), the first throughput goal. */
   val CornellGoalMrays = 160.0
-  /** Issue 13's second goal: dragon primary at least this many times Embree on this machine. */
+  /** The second throughput goal: dragon primary at least this many times Embree on this machine. */
   val DragonTimesEmbree = 5.0
   /** The clock the per-core table's DDR model and the MIG's AXI side assume (FABRIC_MHZ's default):
     * the ceiling the clock term is measured against. An assumption, not a timing result. */
@@ -63,7 +63,7 @@ object BenchSystemMarkdown {
       s"| $run | ${f(estimate(run), 1)} (= $fit × ${f(rpc(run, fit) / fit, 4)} rays/cycle per core × ${f(mhz, 0)} MHz) | ${f(e.packetsMrays, 1)} | " +
         s"${if (e.load1.isNaN) "unknown" else f(e.load1, 2)} | ${e.at} | ${f(estimate(run) / e.packetsMrays, 2)} |"
     }
-    val goals = Seq("", "**Goals of issue 13** (the estimate, not run on a board):", "") ++
+    val goals = Seq("", "**Throughput goals** (the estimate, not run on a board):", "") ++
       runs.find(_ == "cornell-box-primary").map(run => goal(s"Cornell primary ≥ ${f(CornellGoalMrays, 0)} Mrays/s (RayCore Lite, measured on an Arria 10)", run, CornellGoalMrays, r)).toSeq ++
       runs.find(_ == "dragon-primary").map { run =>
         val e = r.embree(run).packetsMrays

@@ -10,7 +10,7 @@ import java.nio.file.{Files, Path, Paths}
 /** `make bench-wide`: the system section's rays (BenchSystem: Cornell and dragon camera rays, dragon shadow and AO;
   * at most `--max-rays` of each, every one checked bit for bit against the golden model) under the C++ harness for
   * each m_axi width of `--widths` (SystemConfig.axiDataBits) and each core count of `--cores`, with the ZC706 DDR
-  * model clocked at `--mhz` (docs/performance.md's estimate clock). Rows to build/bench/system-wide.json, a table to
+  * model clocked at `--mhz` (docs/reports/performance.md's estimate clock). Rows to build/bench/system-wide.json, a table to
   * build/bench/system-wide.md (docs/system-wide.md quotes it). A benchmark: simulated cycles, nothing timed.
   */
 object BenchWide {

@@ -13,7 +13,7 @@ import scala.collection.mutable
   * result of a valid operation is the same bits (each stage loads exactly when
   * that operation is at it), an idle unit holds its registers still (the
   * FPGA's clock enables; an idle unit costs no toggling), and the C++ model
-  * skips the unit's logic on idle cycles (docs/cppsim.md, session 9).
+  * skips the unit's logic on idle cycles (docs/cppsim.md).
   */
 final class ValidChain(valid: Bool) {
   private val taps = mutable.ArrayBuffer[Bool](valid)

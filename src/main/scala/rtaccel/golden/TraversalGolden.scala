@@ -38,8 +38,11 @@ trait ArithGolden[S] {
 object TraversalGolden {
   final case class Trace(hit: HitRecord, boxTests: Int, triTests: Int, decisions: Int)
 
-  /** `onNode` is told the index of every node the walk fetches, in order (the root first): the node reads the hardware makes. */
-  def trace[S](cfg: AccelConfig, img: MemoryImage, arith: ArithGolden[S], ray: RayRecord, onNode: Long => Unit = _ => ()): Trace = {
+  /** `onNode` is told the index of every node the walk fetches, in order (the root first): the node reads the hardware makes.
+    * `onLeaf` is told each leaf the walk enters (its first triangle slot and count), before `onTri` is told the slot of
+    * each triangle it tests there (a shadow ray stops testing at its first occluder). */
+  def trace[S](cfg: AccelConfig, img: MemoryImage, arith: ArithGolden[S], ray: RayRecord, onNode: Long => Unit = _ => (),
+      onLeaf: (Long, Int) => Unit = (_, _) => (), onTri: Long => Unit = _ => ()): Trace = {
     val fmt = arith.triFormat
     val p = arith.prep(ray)
     val stack = mutable.ArrayBuffer.empty[ControlGolden.Ref]
@@ -66,10 +69,12 @@ object TraversalGolden {
           var leafErrors = 0
           val leafTmax = tmax
           var i = 0
+          onLeaf(out.leafFirst, out.leafCount)
           // A shadow ray stops at its first occluder; which one the hardware
           // finds first depends on timing, so only `hit` is compared for them.
           while (i < out.leafCount && !(ray.shadow && occluded)) {
             val tri = Records.triangle(img, out.leafFirst + i)
+            onTri(out.leafFirst + i)
             triTests += 1
             if (tri.vertexWords.exists(ErrorFlags.nonFiniteWord)) leafErrors |= 1 << ErrorFlags.BadSceneData
             if (tri.prim >= (1L << cfg.triIndexBits)) leafErrors |= 1 << ErrorFlags.IndexOverflow

@@ -44,7 +44,7 @@ object CppSim {
     * installed on first use) in their own directory (`simDir` + `_clang`), so the gcc build that
     * `make cppsim-test` makes stays as it is, from SystemVerilog lowered for Verilator ([[ClangModelFirtoolOpts]]).
     * clang's model executes 10.6% fewer instructions per simulated cycle than gcc's build and 5.3% fewer than
-    * session 7's gcc profile-guided one, and builds in less time (docs/cppsim.md "Speed").
+    * gcc's profile-guided one, and builds in less time (docs/cppsim.md "Speed").
     */
   def build[T <: Data](cfg: AccelConfig, dp: Datapath[T], cores: Int = 1, clang: Boolean = false,
       axiDataBits: Int = SystemConfig.defaultAxiDataBits): Path = {

@@ -78,6 +78,17 @@ object Regress {
   def run(a: RegressArgs): Boolean = {
     val pkg = ScenePackage.load(a.pkg)
     val rays = a.maxRays.fold(pkg.rays)(n => pkg.rays.take(n))
+    val hw = hardware(a, pkg)
+    val cfg = hw._1
+    val chosen = hw._2
+    Files.createDirectories(a.out)
+    println(s"regress: ${rays.size} rays, ${pkg.needs.triangles} triangles, ${pkg.needs.nodes} nodes; " +
+      s"${cfg.numRayIds} ray IDs, stack ${cfg.stackDepth}, ${cfg.floatName}; memory ${a.describeMemory}")
+    chosen match { case c: Chosen[t, s] => runWith(a, pkg, rays, cfg, c.asInstanceOf[Chosen[Data, s]]) }
+  }
+
+  /** The configuration and datapath a run of `a` on `pkg` generates; refuses a scene the hardware cannot hold. */
+  def hardware(a: RegressArgs, pkg: ScenePackage): (AccelConfig, Chosen[_ <: Data, _]) = {
     val cfg = config(a, pkg)
     val misfits = pkg.misfits(cfg)
     if (misfits.nonEmpty)
@@ -87,10 +98,7 @@ object Regress {
     val (box, tri) = RegressArgs.formats(a)
     val chosen = if (a.sized && a.float != "field") DatapathChoice.resolve(cfg.boxFloat.name, cfg.triFloat.name, a.triangle, a.rounding)
       else DatapathChoice.resolve(box, tri, a.triangle, a.rounding)
-    Files.createDirectories(a.out)
-    println(s"regress: ${rays.size} rays, ${pkg.needs.triangles} triangles, ${pkg.needs.nodes} nodes; " +
-      s"${cfg.numRayIds} ray IDs, stack ${cfg.stackDepth}, ${cfg.floatName}; memory ${a.describeMemory}")
-    chosen match { case c: Chosen[t, s] => runWith(a, pkg, rays, cfg, c.asInstanceOf[Chosen[Data, s]]) }
+    (cfg, chosen)
   }
 
   private def runWith[S](a: RegressArgs, pkg: ScenePackage, rays: IndexedSeq[rtaccel.golden.RayRecord], cfg: AccelConfig,

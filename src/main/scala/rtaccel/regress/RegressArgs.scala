@@ -15,7 +15,7 @@ final case class RegressArgs(
     boxFloat: String = "",
     triFloat: String = "",
     triangle: String = "watertight",
-    /** Conservative (outward-rounded) boxes: no false miss from box rounding (see docs/speed-vs-error.md). */
+    /** Conservative (outward-rounded) boxes: no false miss from box rounding (see docs/reports/speed-vs-error.md). */
     rounding: String = "conservative",
     /** `ddr` (one DRAM behind both ports) or `onchip` (BRAM per port). */
     memory: String = "ddr",

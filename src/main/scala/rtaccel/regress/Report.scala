@@ -65,13 +65,16 @@ object Report {
         "dramBytes" -> dramBytes.toDouble, "dram" -> r.dram.fold[ujson.Value](ujson.Null)(_.toJson)),
       "counters" -> ujson.Obj.from(p.toSeq.sortBy(_._1).map { case (k, v) => k -> ujson.Num(v) }),
       "simulation" -> ujson.Obj("seconds" -> simSeconds, "cyclesPerSecond" -> r.cycles / simSeconds.max(1e-9), "wallSeconds" -> wallSeconds),
-      "configuration" -> ujson.Obj(
-        "datapath" -> datapath, "float" -> cfg.floatName, "triangle" -> a.triangle, "rounding" -> a.rounding,
-        "numRayIds" -> cfg.numRayIds, "stackDepth" -> cfg.stackDepth, "nodeIndexBits" -> cfg.nodeIndexBits,
-        "triIndexBits" -> cfg.triIndexBits, "maxLeafSize" -> cfg.maxLeafSize,
-        "memory" -> a.describeMemory, "fabricMhz" -> a.fabricMhz, "seed" -> a.seed.toDouble)
+      "configuration" -> configuration(a, cfg, datapath)
     )
   }
+
+  /** stats.json's `configuration`: the hardware and the memory settings of a run. */
+  def configuration(a: RegressArgs, cfg: AccelConfig, datapath: String): ujson.Obj = ujson.Obj(
+    "datapath" -> datapath, "float" -> cfg.floatName, "triangle" -> a.triangle, "rounding" -> a.rounding,
+    "numRayIds" -> cfg.numRayIds, "stackDepth" -> cfg.stackDepth, "nodeIndexBits" -> cfg.nodeIndexBits,
+    "triIndexBits" -> cfg.triIndexBits, "maxLeafSize" -> cfg.maxLeafSize,
+    "memory" -> a.describeMemory, "fabricMhz" -> a.fabricMhz, "seed" -> a.seed.toDouble)
 
   private val classes = Seq("false_miss" -> "falseMiss", "false_hit" -> "falseHit", "wrong_prim" -> "wrongPrim",
     "t_error" -> "tOutOfTolerance", "tie" -> "ties", "edge" -> "edgeCases", "reference_wrong" -> "referenceWrong", "agree" -> "agree")

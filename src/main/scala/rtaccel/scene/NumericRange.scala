@@ -44,7 +44,7 @@ final case class NumericRange(maxAbs: Double, smallestEdge: Double, dirMin: Doub
     * largest coordinate: with fewer, rounding the FP32 inputs into the format can merge a
     * triangle's vertices (zero area, rejected by rule) or move them enough to change which
     * triangle a ray meets first. The sweep's hard cases show exactly this below the bound
-    * (docs/speed-vs-error.md); it is reported, not enforced, since a few collapsed slivers
+    * (docs/reports/speed-vs-error.md); it is reported, not enforced, since a few collapsed slivers
     * may be acceptable in an image.
     */
   def neededManBits: Int = math.max(2, math.ceil(log2(maxAbs.max(smallestEdge) / smallestEdge)).toInt + 1)

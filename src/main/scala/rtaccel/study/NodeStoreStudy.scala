@@ -10,7 +10,7 @@ import rtaccel.bench.Bench
 import java.nio.file.{Files, Paths}
 import scala.collection.mutable
 
-/** Hit rates of the two node-store designs of issue 12 on the regression
+/** Hit rates of the two node-store designs on the regression
   * scenes, from the golden walk's node fetches (the hardware's node reads,
   * one per node test):
   *  - preload: a node read hits when the node lies in the first S bytes of

@@ -5,7 +5,7 @@ import chisel3.util._
 import rtaccel.{ErrorFlags, HitOut}
 
 /** Collects the cores' hits (round-robin) and writes each as the 32-byte hit
-  * record at HIT_BASE + 32 * number (docs/register-map.md). Counts the batch's
+  * record at HIT_BASE + 32 * number (docs/reports/register-map.md). Counts the batch's
   * rays per error flag. A hit whose number is not in the batch is not written
   * and sets `broken` (never expected: the ray DMA numbers rays 0..count-1).
   */

@@ -5,7 +5,7 @@ import chisel3.util._
 import rtaccel.fetch.RayIn
 import rtaccel.mem.{MemPort, MemPortParams}
 
-/** Reads the batch's ray records (48 bytes each, docs/register-map.md) in
+/** Reads the batch's ray records (48 bytes each, docs/reports/register-map.md) in
   * blocks of `raysPerBlock` (whole 64-byte lines from a 64-aligned RAY_BASE),
   * up to `rayBlockTags` blocks in flight, answered in any order, and hands the
   * rays out one per cycle. Rays leave in block-arrival order; RayIn.number is

@@ -28,7 +28,7 @@ final case class Reg(name: String, offset: Int, access: Access, desc: String, fi
     reset: Option[Long] = None, hiOf: Option[String] = None, lockable: Boolean = false)
 
 /** The AXI4-Lite register map: the single source of the Chisel register block
-  * (AxiLiteRegs), the C header, docs/register-map.md and the SystemRDL export
+  * (AxiLiteRegs), the C header, docs/reports/register-map.md and the SystemRDL export
   * (rtaccel.tools.RegMapGen). Offsets are grouped by 0x100 pages: identity and
   * configuration, control and status, buffer addresses, batch results,
   * 64-bit performance counters.

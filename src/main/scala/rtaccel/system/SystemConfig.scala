@@ -4,10 +4,10 @@ import chisel3.util.log2Ceil
 import rtaccel.AccelConfig
 import rtaccel.axi.Axi4Params
 
-/** The ZC706 system's one configuration (the system contract, issue 12):
+/** The ZC706 system's one configuration (the system contract):
   * everything in `rtaccel.system` derives from it. `cores` copies of the core
   * described by `core`, one AXI4 master to the PL DDR3 (MIG 7-series), one
-  * AXI4-Lite slave for the registers (docs/register-map.md).
+  * AXI4-Lite slave for the registers (docs/reports/register-map.md).
   *
   * @param core           the accelerator core's configuration, replicated `cores` times
   * @param cores          accelerator cores sharing the memory side
@@ -67,7 +67,7 @@ object SystemConfig {
     case Some(v) => v.toIntOption.filter(AxiDataBitsChoices.contains).getOrElse(throw new IllegalArgumentException(
       s"AXI_DATA_BITS=$v: the m_axi data width must be one of ${AxiDataBitsChoices.mkString(", ")}"))
   }
-  /** Ray and hit records in DDR (docs/register-map.md). */
+  /** Ray and hit records in DDR (docs/reports/register-map.md). */
   val RayBytes = 48
   val HitBytes = 32
   val HeaderBytes = 64

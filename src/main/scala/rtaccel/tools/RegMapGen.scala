@@ -10,8 +10,8 @@ import java.nio.file.{Files, Path, Paths}
   */
 object RegMapGen {
   val header: Path = Paths.get("sw/include/rtaccel_regs.h")
-  val markdown: Path = Paths.get("docs/register-map.md")
-  val rdl: Path = Paths.get("docs/rtaccel.rdl")
+  val markdown: Path = Paths.get("docs/reports/register-map.md")
+  val rdl: Path = Paths.get("docs/reports/rtaccel.rdl")
 
   def outputs: Seq[(Path, String)] = Seq(header -> cHeader, markdown -> docs, rdl -> systemRdl)
 
@@ -62,7 +62,7 @@ object RegMapGen {
 
   def docs: String = {
     val b = new StringBuilder
-    b ++= s"# rtaccel register map (AXI4-Lite)\n\n$generated\n\n"
+    b ++= s"# Register map (AXI4-Lite; `make regmap`)\n\n$generated\n\n"
     b ++= "The `s_axi_*` port of `rtaccel_system`: AXI4-Lite, 32-bit data, 12-bit address (4 KB). All registers are 32 bits. " +
       "Unmapped addresses answer **SLVERR** (reads return 0); writes to read-only registers are ignored and answer OKAY. " +
       "`interrupt` is level-high: `|(IRQ_STATUS & IRQ_ENABLE)` (registered, one cycle behind). " +
@@ -109,7 +109,7 @@ object RegMapGen {
   def systemRdl: String = {
     val b = new StringBuilder
     b ++= s"// rtaccel register map (AXI4-Lite, 32-bit registers).\n// $generated\n\naddrmap rtaccel {\n"
-    b ++= "    name = \"rtaccel\";\n    desc = \"rtaccel ray-tracing accelerator, ZC706 system top (docs/register-map.md).\";\n"
+    b ++= "    name = \"rtaccel\";\n    desc = \"rtaccel ray-tracing accelerator, ZC706 system top (docs/reports/register-map.md).\";\n"
     b ++= "    default regwidth = 32;\n    default accesswidth = 32;\n\n"
     def esc(s: String) = s.replace("\\", "\\\\").replace("\"", "\\\"")
     for (r <- RegisterMap.regs) {

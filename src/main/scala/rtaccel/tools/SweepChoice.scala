@@ -9,10 +9,10 @@ import java.nio.file.{Files, Path, Paths}
   * precision sweep found smallest and still safe (no false miss, false hit or
   * wrong primitive, no hard-case failure, no pixel different from FP32 on any
   * image) for a triangle test and box rounding, read from
-  * `docs/speed-vs-error.json` (`make speed-vs-error`).
+  * `docs/reports/speed-vs-error.json` (`make speed-vs-error`).
   */
 object SweepChoice {
-  val defaultJson: Path = Paths.get("docs/speed-vs-error.json")
+  val defaultJson: Path = Paths.get("docs/reports/speed-vs-error.json")
 
   def variant(test: TriangleTest, rounding: BoxRounding): String =
     s"${if (rounding == BoxRounding.Conservative) "conservative" else "rne"}/${if (test == TriangleTest.Watertight) "watertight" else "moller"}"

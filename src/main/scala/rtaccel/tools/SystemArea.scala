@@ -4,7 +4,7 @@ import java.nio.file.Path
 import scala.concurrent.duration.Duration
 import scala.concurrent.{Await, ExecutionContext, Future}
 
-/** Area and Fmax estimate of the ZC706 system's own units (issue 12): what
+/** Area and Fmax estimate of the ZC706 system's own units: what
   * SystemCore holds besides its cores, each synthesised alone from the
   * emitted `rtaccel_system.sv` in one cached Yosys run ([[FmaxEstimate.run]]:
   * the same script gives the cell counts and the longest path), never the

@@ -17,10 +17,10 @@ class BenchSpec extends AnyFlatSpec {
     }
     assert(Bench.configFor("4").boxLanes == 4 && Bench.configFor("nori").boxLanes == 1)
     // make bench-quant keeps its own rows and notes: it never redraws make bench's, nor appends its reading.
-    val q = Bench.parse(Seq("--out", "docs/quant-performance.md", "--rows", "build/bench/quant.json", "--system", "0"))
+    val q = Bench.parse(Seq("--out", "docs/reports/quant-performance.md", "--rows", "build/bench/quant.json", "--system", "0"))
     assert(q.rows.toString == "build/bench/quant.json" && q.system == "0" && Bench.parse(Nil).system == "1")
-    assert(Bench.notesFor(q.out).toString == "docs/quant-performance-notes.md" &&
-      Bench.notesFor(Bench.parse(Nil).out).toString == "docs/performance-notes.md")
+    assert(Bench.notesFor(q.out).toString == "docs/reports/quant-performance-notes.md" &&
+      Bench.notesFor(Bench.parse(Nil).out).toString == "docs/reports/performance-notes.md")
     assert(Bench.parse(Seq("--system", "embree")).system == "embree")
     assert(intercept[IllegalArgumentException](Bench.parse(Seq("--system", "2"))).getMessage.contains("'2'"))
     val bad = intercept[IllegalArgumentException](Bench.configFor("3"))
@@ -51,7 +51,7 @@ class BenchSpec extends AnyFlatSpec {
     assert(sys.coresFit == 2 && sys.fmaxNs == 20.0 && sys.slowestUnit == "MemoryFabric", sys)
   }
 
-  it should "state each issue-13 goal as met or not and name the term that holds it back" in {
+  it should "state each throughput goal as met or not and name the term that holds it back" in {
     def row(run: String, cores: Int, rpc: Double) = ujson.Obj("run" -> run, "cores" -> cores, "rays" -> 100, "raySetSize" -> 4096,
       "cycles" -> 100 / rpc, "raysPerCycle" -> rpc, "nodeStoreHitRate" -> 0.5, "dramBytesPerRay" -> 100.0, "readBytesPerRay" -> 100.0, "readBeatsPerCycle" -> 0.5,
       "goldenMismatches" -> 0,

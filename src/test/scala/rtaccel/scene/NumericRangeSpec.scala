@@ -5,7 +5,7 @@ import rtaccel.AccelConfig
 import rtaccel.fp.FloatFormat
 import rtaccel.golden.RayRecord
 
-/** Exponent sizing from a scene's numeric range (issue 6, hardware sized to the scene). */
+/** Exponent sizing from a scene's numeric range (hardware sized to the scene). */
 class NumericRangeSpec extends AnyFlatSpec {
   private def bits(x: Float) = FloatText.bits(x)
   private def ray(o: (Float, Float, Float), d: (Float, Float, Float)) =

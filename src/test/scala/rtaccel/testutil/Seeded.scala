@@ -10,9 +10,10 @@ object Seeded {
   def seedFor(testName: String): Long =
     sys.env.get("RTACCEL_SEED").map(_.trim.toLong).getOrElse(testName.hashCode.toLong & 0xffffffffL)
 
-  /** Runs `body` with a seeded Random; on failure, rethrows with the seed in the message. */
+  /** Runs `body` with a seeded Random, printing the seed; on failure, rethrows with the seed in the message. */
   def apply[T](testName: String)(body: Random => T): T = {
     val seed = seedFor(testName)
+    println(s"[$testName] seed $seed (replay: RTACCEL_SEED=$seed)")
     try body(new Random(seed))
     catch {
       case e: Throwable =>

@@ -1,8 +1,14 @@
-//! A software walk of our own memory image in f32, the way the hardware
-//! walks it, in the image's layout: nori nodes near child first by the
-//! split axis; wide nodes nearest hit slot first by entry distance.
-//! Moller-Trumbore triangle test. Used to check the layouts against Embree
-//! and by `nori-bridge trace` to make a hits.csv without hardware.
+//! The Möller–Trumbore layout walk: a software walk of our own memory image
+//! in f32, in the image's layout (nori nodes near child first by the split
+//! axis; wide nodes nearest hit slot first by entry distance), with a padded
+//! box test and the Möller–Trumbore triangle test. It is **not** the
+//! hardware's arithmetic (the RTL's default is watertight triangles and
+//! conservatively rounded boxes): its one role is to check the node layouts
+//! against Embree (tests/traversal_vs_embree.rs, wide_trace.rs,
+//! quant_layout.rs) and to give `nori-bridge trace` a hits.csv without
+//! hardware. The RTL's golden model is the Scala `TraversalGolden`; its
+//! bit-exact C++ twin is nori-accel/golden/walk.cpp (docs/architecture.md,
+//! "Golden models").
 
 use crate::bvh::{Layout, Slot};
 use crate::geom::{Aabb, V3};

@@ -1,0 +1,136 @@
+package rtaccel.traversal
+
+import chisel3._
+import chisel3.util._
+
+/** One axis of a node in integer form: what every child lane of the node reads.
+  * Steps are in units u = 2^eu of t (GridNode); cLo..cHi bound the ray's grid
+  * coordinate at t0 in units of 2^-cFracBits (`cLoBelow`/`cHiAbove`: past the window).
+  */
+final case class GridAxisFixed(flat: Boolean, neg: Boolean, stepLo: BigInt, stepHi: BigInt, stepHiSat: Boolean,
+    cLo: BigInt, cLoBelow: Boolean, cHi: BigInt, cHiAbove: Boolean, gHi: BigInt, gLo: BigInt)
+final case class GridNodeFixed(axes: Seq[GridAxisFixed], tmin: BigInt, tmax: BigInt, err: Boolean)
+
+class GridAxisHw(p: GridParams) extends Bundle {
+  val flat      = Bool()
+  val neg       = Bool()
+  val stepLo    = UInt(p.stepBits.W)
+  val stepHi    = UInt(p.stepBits.W)
+  val stepHiSat = Bool()
+  val cLo       = SInt(p.cBits.W)
+  val cLoBelow  = Bool()
+  val cHi       = SInt(p.cBits.W)
+  val cHiAbove  = Bool()
+  val gHi       = SInt(p.gBits.W)
+  val gLo       = SInt(p.gBits.W)
+}
+
+class GridNodeHw(p: GridParams) extends Bundle {
+  val axes = Vec(3, new GridAxisHw(p))
+  val tmin = SInt(p.width.W)
+  val tmax = SInt(p.width.W)
+  val err  = Bool()
+}
+
+/** A child's box in its node's grid: plane offsets per axis (lo x, y, z; hi x, y, z). */
+class GridChildHw(p: GridParams) extends Bundle {
+  val qMin    = Vec(3, UInt(p.qBits.W))
+  val qMax    = Vec(3, UInt(p.qBits.W))
+  /** Used slot; an empty slot never hits. */
+  val present = Bool()
+}
+
+/** The per-child half of the grid box test: per axis the offsets' distance
+  * from the ray's grid coordinate (q' - c, one subtraction each) times a step
+  * (the lower step for a lower bound of a positive product, the upper one
+  * otherwise), rounded outward to units of u and clamped to `width` bits; then the slab test's max/min and comparisons on integers
+  * (docs/kernels.md, "Box tests in the node's grid", for why no child the
+  * ray enters is missed). `near` is the child's entry distance relative to
+  * the node (units of u): an order among siblings, not a distance.
+  */
+object GridLane {
+  final case class Out(hit: Boolean, near: BigInt)
+
+  def soft(p: GridParams, n: GridNodeFixed, qMin: Seq[Int], qMax: Seq[Int], present: Boolean): Out = {
+    def clamp(v: BigInt) = v.max(p.bot).min(p.top)
+    def floorDiv(v: BigInt) = v >> p.cFracBits // arithmetic: floor
+    def ceilDiv(v: BigInt) = -((-v) >> p.cFracBits)
+    val axes = (0 until 3).map { i =>
+      val a = n.axes(i)
+      val (qe, qx) = if (a.neg) (p.qMax - qMax(i), p.qMax - qMin(i)) else (qMin(i), qMax(i))
+      val dLo = (BigInt(qe) << p.cFracBits) - a.cHi // <= qe - c
+      val dHi = (BigInt(qx) << p.cFracBits) - a.cLo // >= qx - c
+      val lo = if (a.flat || a.cHiAbove || (dLo < 0 && a.stepHiSat)) p.bot
+        else clamp(floorDiv(dLo * (if (dLo >= 0) a.stepLo else a.stepHi)))
+      val hi = if (a.flat || a.cLoBelow || (dHi > 0 && a.stepHiSat)) p.top
+        else clamp(ceilDiv(dHi * (if (dHi > 0) a.stepHi else a.stepLo)))
+      val in = !a.flat || (qe <= a.gHi && a.gLo <= qx)
+      (lo, hi, in && qMin(i) <= qMax(i))
+    }
+    val near = axes.map(_._1).max
+    val far = axes.map(_._2).min
+    Out(present && !n.err && axes.forall(_._3) && near <= far && n.tmin <= far && near <= n.tmax, near)
+  }
+}
+
+/** [[GridLane.soft]] in hardware: 3 cycles (products; sums and clamps;
+  * max/min and comparisons), II = 1. Every register loads only on a valid
+  * slot (the datapath's clock-enable rule, HwArith.ValidChain).
+  */
+class GridLane(p: GridParams) extends Module {
+  val io = IO(new Bundle {
+    val in   = Flipped(Valid(new Bundle {
+      val node  = new GridNodeHw(p)
+      val child = new GridChildHw(p)
+    }))
+    val hit  = Output(Bool())
+    val near = Output(SInt(p.width.W))
+    val outValid = Output(Bool())
+  })
+  override def desiredName = s"GridLane_${p.name}"
+  val latency = 3
+  private val v1 = RegNext(io.in.valid, false.B)
+  private val v2 = RegNext(v1, false.B)
+  io.outValid := RegNext(v2, false.B)
+
+  private val n = io.in.bits.node
+  private val c = io.in.bits.child
+  private val qMaxU = p.qMax.U(p.qBits.W)
+  // Cycle 1: offsets renumbered from the entry side, their distances from c, products.
+  private val s1 = (0 until 3).map { i =>
+    val a = n.axes(i)
+    val qe = Mux(a.neg, qMaxU - c.qMax(i), c.qMin(i))
+    val qx = Mux(a.neg, qMaxU - c.qMin(i), c.qMax(i))
+    val dLo = (qe << p.cFracBits).zext - a.cHi
+    val dHi = (qx << p.cFracBits).zext - a.cLo
+    val en = io.in.valid
+    val pLo = dLo * Mux(dLo >= 0.S, a.stepLo, a.stepHi).zext
+    val pHi = dHi * Mux(dHi > 0.S, a.stepHi, a.stepLo).zext
+    val loOut = a.flat || a.cHiAbove || (dLo < 0.S && a.stepHiSat)
+    val hiOut = a.flat || a.cLoBelow || (dHi > 0.S && a.stepHiSat)
+    val in = !a.flat || (qe.zext <= a.gHi && a.gLo <= qx.zext)
+    (RegEnable(pLo, en), RegEnable(pHi, en), RegEnable(loOut, en), RegEnable(hiOut, en),
+      RegEnable(in && c.qMin(i) <= c.qMax(i), en))
+  }
+  private val err1 = RegEnable(n.err || !c.present, io.in.valid)
+  private val tmin1 = RegEnable(n.tmin, io.in.valid)
+  private val tmax1 = RegEnable(n.tmax, io.in.valid)
+  private def clamp(v: SInt): SInt = Mux(v < p.bot.S, p.bot.S(p.width.W), Mux(v > p.top.S, p.top.S(p.width.W), v(p.width - 1, 0).asSInt))
+  // Cycle 2: outward to units of u (an arithmetic shift is a floor), clamps.
+  private val s2 = s1.map { case (pLo, pHi, loOut, hiOut, ok) =>
+    val lo = Mux(loOut, p.bot.S(p.width.W), clamp(pLo >> p.cFracBits))
+    val hi = Mux(hiOut, p.top.S(p.width.W), clamp(-((-pHi) >> p.cFracBits)))
+    (RegEnable(lo, v1), RegEnable(hi, v1), RegEnable(ok, v1))
+  }
+  private val err2 = RegEnable(err1, v1)
+  private val tmin2 = RegEnable(tmin1, v1)
+  private val tmax2 = RegEnable(tmax1, v1)
+  // Cycle 3: the slab test on integers.
+  private def max2(a: SInt, b: SInt) = Mux(a < b, b, a)
+  private def min2(a: SInt, b: SInt) = Mux(a < b, a, b)
+  private val near = s2.map(_._1).reduce(max2)
+  private val far = s2.map(_._2).reduce(min2)
+  private val hit = !err2 && s2.map(_._3).reduce(_ && _) && near <= far && tmin2 <= far && near <= tmax2
+  io.hit := RegEnable(hit, v2)
+  io.near := RegEnable(near, v2)
+}
