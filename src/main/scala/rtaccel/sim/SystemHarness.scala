@@ -147,7 +147,12 @@ final class SystemHarness[T <: Data](dut: SystemSimTop[T], p: AxiMemoryParams) {
     write("IRQ_ENABLE", 3)
     write("SCENE_BASE", sceneBase)
     write("CTRL", 1L << RegisterMap.field("CTRL", "LOAD_SCENE").lsb)
-    awaitInterrupt(limit)
+    try awaitInterrupt(limit)
+    catch {
+      case e: AssertionError =>
+        val regs = Seq("STATUS", "IRQ_STATUS", "SCENE_ERROR_CODE", "WINDOW_REFUSED", "WINDOW_FAULT_ADDR").map(r => f"$r 0x${read(r)}%x")
+        throw new AssertionError(s"scene load at 0x${sceneBase.toHexString}: ${e.getMessage}; ${regs.mkString(", ")}")
+    }
     val irq = read("IRQ_STATUS")
     assert((irq & 2) != 0, s"interrupt without IRQ_STATUS.SCENE (IRQ_STATUS $irq)")
     write("IRQ_STATUS", 2)

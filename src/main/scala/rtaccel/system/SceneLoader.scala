@@ -26,6 +26,9 @@ class SceneLoader(sys: SystemConfig) extends Module {
     val finished  = Output(Bool())
     val nodeBase  = Output(UInt(sys.axiAddrBits.W))
     val triBase   = Output(UInt(sys.axiAddrBits.W))
+    /** `nodeBase` and `triBase` come from a header that passed the checks (since reset): before that they are 0,
+      * an address nothing says is the scene's (SystemCore holds the cores' node reads until then). */
+    val basesValid = Output(Bool())
   })
   private val sIdle :: sReq :: sResp :: sStore :: sWait :: sTriStore :: sTriWait :: Nil = Enum(7)
   private val stateReg    = RegInit(sIdle)
@@ -35,6 +38,7 @@ class SceneLoader(sys: SystemConfig) extends Module {
   private val baseReg     = RegInit(0.U(sys.axiAddrBits.W))
   private val nodeBaseReg = RegInit(0.U(sys.axiAddrBits.W))
   private val triBaseReg  = RegInit(0.U(sys.axiAddrBits.W))
+  private val basesValidReg = RegInit(false.B)
   private val bytesReg    = RegInit(0.U(32.W))
   private val triBytesReg = RegInit(0.U(32.W))
   private val finished    = WireDefault(false.B)
@@ -67,6 +71,7 @@ class SceneLoader(sys: SystemConfig) extends Module {
       .otherwise {
         nodeBaseReg := baseReg + nodeOffset
         triBaseReg  := baseReg + triOffset
+        basesValidReg := true.B
         // The node array's bytes (nodeCount * nodeBytes, at most triOffset - nodeOffset).
         bytesReg    := triOffset - nodeOffset
         triBytesReg := Mux(triArrayBytes(triArrayBytes.getWidth - 1, 32).orR, "hffffffff".U, triArrayBytes(31, 0))
@@ -96,6 +101,7 @@ class SceneLoader(sys: SystemConfig) extends Module {
   io.finished  := finished
   io.nodeBase  := nodeBaseReg
   io.triBase   := triBaseReg
+  io.basesValid := basesValidReg
 }
 
 object SceneLoader {

@@ -58,6 +58,15 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   for ((c, i) <- cores.zipWithIndex) {
     fabric.io.readers(2 * i) <> c.io.nodeMem
     fabric.io.readers(2 * i + 1) <> c.io.triMem
+    // A core fetches its root node after reset at its nodeBase, which is 0 until a scene's header has passed the
+    // loader's checks: that read, at an address nothing says is the scene's, waits (held, not dropped) until the
+    // bases are the scene's. Otherwise, after SOFT_RESET under a DMA window that leaves out address 0, it is
+    // refused and sets WINDOW_ERROR before any scene can load. The bases and `basesValid` change in the same
+    // cycle, and FetchBVH withdraws the old request in the cycle its base changes, so the fabric only ever sees
+    // the request for the scene's root.
+    val ok = loader.io.basesValid
+    fabric.io.readers(2 * i).req.valid := c.io.nodeMem.req.valid && ok
+    c.io.nodeMem.req.ready := fabric.io.readers(2 * i).req.ready && ok
   }
   fabric.io.readers(2 * sys.cores) <> loader.io.mem
   fabric.io.readers(2 * sys.cores + 1) <> rayDma.io.mem

@@ -54,6 +54,8 @@ class SceneLoaderSpec extends AnyFlatSpec with ChiselScalatestTester {
         test(new SceneLoader(sys)).withAnnotations(Backends.treadle) { dut =>
           // Each case: (scene base, header spoiled by error code k, or 0 for a good one), several times over.
           val cases = rnd.shuffle(Seq.tabulate(21)(i => i % 7) ++ Seq(-1, -1))
+          var passed = false // a header has passed the checks since reset: the bases are valid from then on
+          dut.io.basesValid.expect(false.B, "bases valid after reset")
           for ((spoil, i) <- cases.zipWithIndex) {
             val base = 0x100000L * (1 + i) + (if (spoil == -1) 32 else 0) // -1: a misaligned SCENE_BASE
             val hdr = header(sys, rnd, spoil.max(0))
@@ -106,6 +108,8 @@ class SceneLoaderSpec extends AnyFlatSpec with ChiselScalatestTester {
             dut.io.ready.expect(good.B, s"$what: ready"); dut.io.error.expect((!good).B, s"$what: error")
             dut.io.errorCode.expect(wantCode.U, s"$what: error code")
             if (good) { dut.io.nodeBase.expect((base + hw(5)).U); dut.io.triBase.expect((base + hw(6)).U) }
+            passed ||= good
+            dut.io.basesValid.expect(passed.B, s"$what: bases valid")
           }
         }
       }

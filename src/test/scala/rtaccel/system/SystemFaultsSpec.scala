@@ -78,8 +78,9 @@ class SystemFaultsSpec extends AnyFlatSpec with ChiselScalatestTester {
     Seeded("SystemFaults.all") { rnd =>
       val (img, _) = ControlWorkload.treeOf(BvhLayout.Wide(4), rnd)
       val cfg = fieldCfg.copy(stackDepth = img.bvhDepth.toInt.max(1))
-      val sys = SystemConfig(core = cfg, cores = 2)
-      val rays = ControlWorkload.makeRays(rnd, 160).zipWithIndex.map { case (r, i) => r.copy(number = i.toLong) }
+      // One core and 96 rays: the smallest system that has rays in flight at an ABORT (make test's cost).
+      val sys = SystemConfig(core = cfg, cores = 1)
+      val rays = ControlWorkload.makeRays(rnd, 96).zipWithIndex.map { case (r, i) => r.copy(number = i.toLong) }
       val lay = SystemHarness.layout(img, rays.size, skew = 3)
       val rayEnd = lay.rayBase + SystemConfig.RayBytes * rays.size
       def inRays(a: Long) = a >= lay.rayBase && a < rayEnd
@@ -94,11 +95,14 @@ class SystemFaultsSpec extends AnyFlatSpec with ChiselScalatestTester {
         h.command("ABORT") // without a batch: ignored
         assert(h.read("STATUS") == 0x4, "ABORT without a batch changes nothing")
 
-        // ---- ABORT at random cycles under back-pressure ----
+        // ---- ABORT at random cycles under back-pressure, within a whole batch's length ----
+        val t0 = h.cycle
+        exactBatch(h, cfg, img, rays, lay, "before any fault")
+        val batchCycles = (h.cycle - t0).toInt
         var aborted = 0
         for (trial <- 0 until 4) {
           start(h, rays, lay)
-          val at = rnd.nextInt(6000)
+          val at = rnd.nextInt(batchCycles)
           for (_ <- 0 until at) h.step()
           h.command("ABORT")
           end(h, 2000000)
@@ -118,10 +122,10 @@ class SystemFaultsSpec extends AnyFlatSpec with ChiselScalatestTester {
         val limit = 3000
         h.write("WATCHDOG_CYCLES", limit)
         lose = true
-        val t0 = h.cycle
+        val t1 = h.cycle
         start(h, rays, lay)
         val irq = end(h, 10 * limit)
-        val took = h.cycle - t0
+        val took = h.cycle - t1
         assert((irq & 4) == 4 && h.status("TIMEOUT") && !h.status("DONE"), s"lost read: IRQ $irq, STATUS ${h.read("STATUS").toHexString}")
         assert(took >= limit && took <= limit + 200, s"lost read: the batch ended $took cycles after START, watchdog $limit")
         assert(h.model.lostBursts > 0, "the memory lost no burst")
