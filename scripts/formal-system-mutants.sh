@@ -48,8 +48,8 @@ fi
 if [ "$which" != probes ]; then
   # With a mutant's name as the third argument, only that one runs.
   maybe_mutant done_early "SystemCore finishes one B response early: DONE before the last hit is written" \
-    "/^module SystemCore(/,/^endmodule/s/wire          finish = activeReg \& _fabric_io_writesDone - writesBaseReg == countReg;/wire          finish = activeReg \& _fabric_io_writesDone - writesBaseReg + 32'h1 == countReg;/" \
-    "wire          finish = activeReg & _fabric_io_writesDone - writesBaseReg == countReg;" batch_conservation_1
+    "/^module SystemCore(/,/^endmodule/s/    \& (_raysDone_T == countReg | stopping/    \& (_raysDone_T + 32'h1 == countReg | stopping/" \
+    "    & (_raysDone_T == countReg | stopping" batch_conservation_1
   maybe_mutant slot_freed_twice "ReadEngine never pops client 0's completion queue: the same slot is picked and freed again" \
     "/^module ReadEngine(/,/^endmodule/s/\.io_deq_ready (_arb_io_in_0_ready \& credit),/.io_deq_ready (1'b0),/" \
     ".io_deq_ready (_arb_io_in_0_ready & credit)," read_slot_freed_once_1
@@ -80,6 +80,16 @@ if [ "$which" != probes ]; then
   maybe_mutant hit_drop "HitDma takes ray 0's hit from the core but never queues it: the hit is lost" \
     "/^module HitDma(/,/^endmodule/s/\.io_enq_valid     (_arb_io_out_valid \& inBatch),/.io_enq_valid     (_arb_io_out_valid \& inBatch \& (|_arb_io_out_bits_number)),/" \
     ".io_enq_valid     (_arb_io_out_valid & inBatch)," system_ray_conservation_1
+fi
+# The DMA window (case w1: the host sets a free window first): the guard made to pass bursts outside it.
+if [ "$which" != probes ]; then
+  case_=w1; cdepth=$(awk '$1=="w1"{print $2}' "$dir/system-cases.txt"); formal_wrap "$dir" w1
+  maybe_mutant window_read "WindowGuard forwards every read burst to m_axi, inside the window or not" \
+    "/^module WindowGuard(/,/^endmodule/s/\(io_out_ar_valid_0 = io_in_ar_valid\) \& arOk \& ~fakeRValidReg;/\1 \& ~fakeRValidReg;/" \
+    "io_out_ar_valid_0 = io_in_ar_valid & arOk & ~fakeRValidReg;" window_kept_1
+  maybe_mutant window_write "WindowGuard forwards every write burst to m_axi, inside the window or not" \
+    "/^module WindowGuard(/,/^endmodule/s/\(io_out_aw_valid_0 = io_in_aw_valid\) \& awOk \& awFree;/\1 \& awFree;/" \
+    "io_out_aw_valid_0 = io_in_aw_valid & awOk & awFree;" window_kept_2
 fi
 # The system's units alone (make formal-system-units; FormalSystemUnits.scala), each to its own depth
 # (system-units.txt): the four properties no system mutant reaches within 40 steps are shown able to fail here.

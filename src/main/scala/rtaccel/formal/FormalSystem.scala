@@ -23,8 +23,10 @@ import rtaccel.bvh.BvhLayout
   */
 final case class SystemEnv(readLatency: Int, stall: Int, bLatency: Int, maxRays: Int, bursts: Int)
 
-/** One system proof: the configuration, environment and depth. */
-final case class SystemCase(name: String, sys: SystemConfig, env: SystemEnv, depth: Int)
+/** One system proof: the configuration, environment and depth. `window`: the host first sets a DMA window of
+  * its choice (WINDOW_BASE, WINDOW_LIMIT, free), and the case checks `window_kept` instead of the batch's
+  * end-to-end properties (a refused burst stops the batch, so DONE no longer means every ray). */
+final case class SystemCase(name: String, sys: SystemConfig, env: SystemEnv, depth: Int, window: Boolean = false)
 
 object SystemCase {
   /** 1 core of 2 ray IDs, 12-bit addresses (the AXI minimum), 2 AXI ID bits (3 read slots + the store's fill),
@@ -36,7 +38,9 @@ object SystemCase {
       raysPerBlock = 4, rayBlockTags = 2, hitQueue = 2)
   }
   val env: SystemEnv = SystemEnv(readLatency = 3, stall = 1, bLatency = 2, maxRays = 8, bursts = 4)
-  val all: Seq[SystemCase] = Seq(SystemCase("s1", sys2, env, depth = 42))
+  /** w1's depth: the two window writes, LOAD_SCENE, the header read, the fills, the batch's registers, START and
+    * the first ray block and core reads (docs/formal.md, "System level"). */
+  val all: Seq[SystemCase] = Seq(SystemCase("s1", sys2, env, depth = 42), SystemCase("w1", sys2, env, depth = 30, window = true))
 
   /** The units' environment, from s1's: memory and AXI slave as env (L = 3, S = 1, 4 bursts), the core and
     * the read clients refusing at most env.stall = 1 cycle in a row. */
@@ -182,11 +186,21 @@ class FormalSystemTop(c: SystemCase, bound: Int => Int, dp: FormalDatapath) exte
   private def reg(name: String) = RegisterMap.regs(RegisterMap.index(name)).offset
   // LOAD_SCENE first, the batch's registers while the scene loads; START on the scene interrupt, then the
   // interrupt is switched to DONE (IRQ_ENABLE) so that it rises only when the batch ends.
-  private val script: Seq[(Int, UInt)] = Seq(reg("CTRL") -> 2.U, reg("IRQ_ENABLE") -> 2.U, reg("RAY_BASE") -> rbReg,
+  // The window case first sets the DMA window: base and limit free (64-byte aligned; limit 0 is the whole space),
+  // chosen once, written before any m_axi traffic (LOAD_SCENE comes after them).
+  private val winBaseReg = Reg(UInt(addrBits.W))
+  private val winLimitReg = Reg(UInt(addrBits.W))
+  private val (winBaseFree, winLimitFree) = (FormalAnySeq(UInt(addrBits.W)), FormalAnySeq(UInt(addrBits.W)))
+  when(!loadedReg) { winBaseReg := winBaseFree; winLimitReg := winLimitFree }
+  assume(loadedReg || (winBaseFree(5, 0) === 0.U && winLimitFree(5, 0) === 0.U), "host_window: a window of whole 64-byte lines")
+  private val windowWrites: Seq[(Int, UInt)] =
+    if (c.window) Seq(reg("WINDOW_BASE") -> winBaseReg, reg("WINDOW_LIMIT") -> winLimitReg) else Nil
+  private val script: Seq[(Int, UInt)] = windowWrites ++ Seq(reg("CTRL") -> 2.U, reg("IRQ_ENABLE") -> 2.U, reg("RAY_BASE") -> rbReg,
     reg("HIT_BASE") -> hbReg, reg("RAY_COUNT") -> countReg, reg("CTRL") -> 1.U, reg("IRQ_ENABLE") -> 1.U)
-  private val stepReg = RegInit(0.U(3.W))
+  private val stepReg = RegInit(0.U(log2Ceil(script.size + 1).W))
   private val running = stepReg === script.size.U
-  private val gate = MuxLookup(stepReg, true.B)(Seq(5.U -> dut.io.interrupt))
+  // START waits for the scene's interrupt.
+  private val gate = MuxLookup(stepReg, true.B)(Seq((windowWrites.size + 5).U -> dut.io.interrupt))
   private val active = loadedReg && !running && gate
   private val awSentReg = RegInit(false.B)
   private val wSentReg = RegInit(false.B)
@@ -244,7 +258,7 @@ class FormalSystemTop(c: SystemCase, bound: Int => Int, dp: FormalDatapath) exte
   assert(!(a.w.fire && inBuffer) || !writtenRegs(idx), "hit_written_once: a hit record written twice")
   assert(!(a.w.fire && inBuffer) || fetched(idx), "hit_after_fetch: a hit written for a ray not read from DDR")
   when(a.w.fire && inBuffer) { writtenRegs(idx) := true.B }
-  SystemConservation(dut, countReg, rbReg, a.w.fire, maxBlocks)
+  if (!c.window) SystemConservation(dut, countReg, rbReg, a.w.fire, maxBlocks)
   private val pendingReg = RegInit(0.U(5.W))
   private val bStallReg = RegInit(0.U(log2Ceil(env.bLatency + 1).max(1).W))
   a.b.valid := pendingReg =/= 0.U && (FormalAnySeq(Bool()) || bStallReg === env.bLatency.U)
@@ -253,17 +267,30 @@ class FormalSystemTop(c: SystemCase, bound: Int => Int, dp: FormalDatapath) exte
   when(a.b.valid && !a.b.ready) { bStallReg := bStallReg + 1.U }.otherwise { bStallReg := 0.U }
   pendingReg := pendingReg + a.w.fire.asUInt - a.b.fire.asUInt
 
-  // ---- The batch: DONE (the interrupt after START) ----
+  // ---- The DMA window: no burst outside it is even offered on m_axi ----
+  if (c.window) {
+    val top = Mux(winLimitReg === 0.U, space.U, winLimitReg)
+    def inside(addr: UInt, len: UInt): Bool = addr >= winBaseReg && (addr +& ((len +& 1.U) << beatBits)) <= top
+    // The window registers hold the host's values from the B of the WINDOW_LIMIT write on (step 2); nothing
+    // reaches m_axi before LOAD_SCENE (step 2 as well), so the check covers every burst.
+    val set = stepReg >= windowWrites.size.U
+    assert(!(set && a.ar.valid) || inside(a.ar.bits.addr, a.ar.bits.len), "window_kept: an m_axi read burst offered outside the window")
+    assert(!(set && a.aw.valid) || inside(a.aw.bits.addr, a.aw.bits.len), "window_kept: an m_axi write burst offered outside the window")
+    assert(set || !(a.ar.valid || a.aw.valid), "window_kept: an m_axi burst before the window was set")
+  }
+
+  // ---- The batch: DONE (the interrupt after START); with a window, a refused burst ends it early ----
   private val done = running && dut.io.interrupt
   private val all = VecInit(inBatch.zip(writtenRegs).zip(fetched).map { case ((in, w), f) => in === w && in === f }).asUInt.andR
-  assert(!done || all, "batch_conservation: DONE with a ray of the batch not read or its hit not written once")
+  if (!c.window) assert(!done || all, "batch_conservation: DONE with a ray of the batch not read or its hit not written once")
   private val ageBits = log2Ceil((1 to env.maxRays).map(bound).max + 2)
   private val ageReg = RegInit(0.U(ageBits.W))
   private val doneSeenReg = RegInit(false.B)
   when(done) { doneSeenReg := true.B }
   when(running && !doneSeenReg) { ageReg := ageReg + 1.U }
   private val limit = MuxLookup(countReg, 0.U)((1 to env.maxRays).map(r => r.U -> bound(r).U(ageBits.W)))
-  assert(!(running && !doneSeenReg && !done && ageReg >= limit), "batch_bounded_response: no DONE within the derived bound after START")
+  if (!c.window)
+    assert(!(running && !doneSeenReg && !done && ageReg >= limit), "batch_bounded_response: no DONE within the derived bound after START")
 }
 
 object FormalSystemTop {

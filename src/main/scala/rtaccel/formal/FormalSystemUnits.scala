@@ -90,6 +90,8 @@ class FormalRayDmaTop(sys: SystemConfig, e: UnitEnv, maxRays: Int, name: String)
   dut.io.start := batch.start
   dut.io.rayBase := batch.base
   dut.io.rayCount := batch.count
+  // The unit's proofs are of a batch run to its end; a stopped batch is the system's (docs/faults.md).
+  dut.io.stop := false.B
   dut.io.rays.ready := TakeWithin(dut.io.rays.valid, e.takeStall)
   private val count = batch.countReg
   private val blocks = (count +& (rpb - 1).U) >> log2Ceil(rpb)
