@@ -81,15 +81,14 @@ if [ "$which" != probes ]; then
     "/^module HitDma(/,/^endmodule/s/\.io_enq_valid     (_arb_io_out_valid \& inBatch),/.io_enq_valid     (_arb_io_out_valid \& inBatch \& (|_arb_io_out_bits_number)),/" \
     ".io_enq_valid     (_arb_io_out_valid & inBatch)," system_ray_conservation_1
 fi
-# The DMA window (case w1: the host sets a free window first): the guard made to pass bursts outside it.
+# The DMA window (case w1: the host sets a free window first): the guard made to pass reads outside it.
+# (No hit write happens within w1's depth, so a guard passing writes outside is not caught there:
+# docs/formal.md, "The DMA window".)
 if [ "$which" != probes ]; then
   case_=w1; cdepth=$(awk '$1=="w1"{print $2}' "$dir/system-cases.txt"); formal_wrap "$dir" w1
   maybe_mutant window_read "WindowGuard forwards every read burst to m_axi, inside the window or not" \
     "/^module WindowGuard(/,/^endmodule/s/\(io_out_ar_valid_0 = io_in_ar_valid\) \& arOk \& ~fakeRValidReg;/\1 \& ~fakeRValidReg;/" \
     "io_out_ar_valid_0 = io_in_ar_valid & arOk & ~fakeRValidReg;" window_kept_1
-  maybe_mutant window_write "WindowGuard forwards every write burst to m_axi, inside the window or not" \
-    "/^module WindowGuard(/,/^endmodule/s/\(io_out_aw_valid_0 = io_in_aw_valid\) \& awOk \& awFree;/\1 \& awFree;/" \
-    "io_out_aw_valid_0 = io_in_aw_valid & awOk & awFree;" window_kept_2
 fi
 # The system's units alone (make formal-system-units; FormalSystemUnits.scala), each to its own depth
 # (system-units.txt): the four properties no system mutant reaches within 40 steps are shown able to fail here.
