@@ -15,7 +15,8 @@ import rtaccel.axi.{Axi4Addr, Axi4Params, Axi4R, BurstMath, ByteRotate}
   * cannot flood the slave's queues; 8 x 16 beats cover DRAM latency). Beats
   * of one ID arrive in order, so a line counter places them. Every beat that
   * reaches `r` must be one this fill asked for (the fabric routes the fill ID
-  * to the busy store): a beat while idle, or a non-OKAY one, sets `error`.
+  * to the busy store): a beat while idle, or a non-OKAY one, sets `error`
+  * (a non-OKAY beat still counts, so the fill ends).
   *
   * A beat wider than the base's 64-byte alignment (a 1024-bit m_axi: the
   * image's node array starts at offset 64) is read from the beat-aligned
@@ -116,8 +117,11 @@ class StoreFill(p: Axi4Params, capacityBytes: Int, wordBytes: Int, fillId: Int) 
     fillAddrReg := (if (realign) Cat(io.load.base(p.addrBits - 1, beatBits), 0.U(beatBits.W)) else io.load.base)
     arPendReg   := false.B
   }
-  private val beatOk = busyReg && receivedReg =/= issuedReg && io.r.bits.resp === 0.U
-  when(io.r.valid && !beatOk) { errorReg := true.B }
+  // A beat with a non-OKAY response is still counted and stored (its data is whatever the slave sent), so the
+  // fill completes and the load ends at once; `error` (STATUS.AXI_ERROR) says the store is not to be trusted.
+  // Left uncounted, the fill would wait for a beat that never comes, until the watchdog.
+  private val beatOk = busyReg && receivedReg =/= issuedReg
+  when(io.r.valid && (!beatOk || io.r.bits.resp =/= 0.U)) { errorReg := true.B }
   private val fillWrite = io.r.valid && beatOk
   burstsReg := burstsReg + io.ar.fire.asUInt - (fillWrite && io.r.bits.last).asUInt
   when(fillWrite) { receivedReg := receivedReg + 1.U }

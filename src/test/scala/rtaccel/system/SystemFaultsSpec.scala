@@ -14,7 +14,8 @@ import scala.util.Random
 
 /** Faults at the system top (docs/faults.md), through its ports only, on one
   * DUT in sequence: ABORT at random cycles under back-pressure, a read that
-  * never comes (the watchdog), an AXI SLVERR, and bursts outside the DMA
+  * never comes (the watchdog), an AXI SLVERR on ray reads and on the scene's
+  * store fills, and bursts outside the DMA
   * window; after each, the driver's recovery and a next batch that is exact
   * ray by ray against the golden model.
   */
@@ -86,7 +87,10 @@ class SystemFaultsSpec extends AnyFlatSpec with ChiselScalatestTester {
       def inRays(a: Long) = a >= lay.rayBase && a < rayEnd
       var lose = false
       var slverr = false
-      val params = AxiMemoryParams().harsh(rnd.nextLong()).copy(lostAt = a => lose && inRays(a), errorAt = a => slverr && inRays(a))
+      var sceneErr = false // SLVERR on the store fills' reads: the image past its header
+      def inFills(a: Long) = a >= lay.sceneBase + 64 && a < lay.sceneBase + img.bytes.length
+      val params = AxiMemoryParams().harsh(rnd.nextLong())
+        .copy(lostAt = a => lose && inRays(a), errorAt = a => (slverr && inRays(a)) || (sceneErr && inFills(a)))
       test(new SystemSimTop(sys, FieldDatapath)).withAnnotations(Backends.verilator) { dut =>
         val h = new SystemHarness(dut, params)
         h.put(lay.sceneBase, img.bytes)
@@ -145,6 +149,14 @@ class SystemFaultsSpec extends AnyFlatSpec with ChiselScalatestTester {
         slverr = false
         recover(h, lay, "after SLVERR")
         exactBatch(h, cfg, img, rays, lay, "after SLVERR")
+
+        // ---- SLVERR on the scene's store fills: the load still ends (IRQ SCENE), with AXI_ERROR, not by the watchdog ----
+        sceneErr = true
+        assert(h.loadScene(lay.sceneBase, limit = 20000) == 0 && h.status("AXI_ERROR") && !h.status("TIMEOUT"),
+          s"SLVERR on the store fills: STATUS 0x${h.read("STATUS").toHexString}")
+        sceneErr = false
+        recover(h, lay, "after SLVERR on the store fills")
+        exactBatch(h, cfg, img, rays, lay, "after SLVERR on the store fills")
 
         // ---- the DMA window: the hit buffer outside it ----
         var lo = 0L
