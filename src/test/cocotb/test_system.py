@@ -194,7 +194,8 @@ async def scene_errors(dut):
 @cocotb.test()
 async def abort_and_window(dut):
     """ABORT mid-batch (the rays handed out finish, the rest are not started), then the hit buffer outside the
-    DMA window (refused: nothing written there, WINDOW_ERROR), SOFT_RESET, and an exact batch after each."""
+    DMA window (refused: nothing written there, WINDOW_ERROR), then SOFT_RESET under a locked window that leaves
+    out address 0; an exact batch after each."""
     bench = Bench(dut, "abort_and_window")
     await bench.reset()
     image = _image(bench)
@@ -254,10 +255,21 @@ async def abort_and_window(dut):
     await bench.write("CTRL", bench.bit("CTRL", "START"))
     await ClockCycles(bench.dut.aclk, 20)
     assert not (await bench.read("STATUS")) & bench.bit("STATUS", "BUSY"), "START while WINDOW_ERROR is ignored"
-    await bench.write("WINDOW_LIMIT", 0)
+    # A locked window that holds the scene, the rays and the hits but not address 0 (where a core's root fetch
+    # points before a scene is loaded): SOFT_RESET keeps it, the load and the batch run inside it.
+    lo, hi = SCENE_BASE & ~63, (HIT_BASE + HIT_BYTES * len(rays) + 63) & ~63
+    await bench.write("WINDOW_BASE", lo)
+    await bench.write("WINDOW_LIMIT", hi)
+    await bench.write("WINDOW_LOCK", 1)
+    for reg in ("WINDOW_BASE", "WINDOW_LIMIT", "WINDOW_LOCK"):
+        bench.monitor.lite.slverr_expected += 1
+        assert await bench.write_resp(reg, 0) == 2, f"a write to {reg} while locked: SLVERR expected"
+    assert bench.monitor.lite.slverr_expected == 0, "the protocol monitor saw fewer SLVERR responses than refused writes"
     await bench.write("CTRL", bench.bit("CTRL", "SOFT_RESET"))
     assert await bench.read("STATUS") == 0, "STATUS after SOFT_RESET: no fault, no scene"
+    assert (await bench.read("WINDOW_BASE"), await bench.read("WINDOW_LIMIT")) == (lo, hi), "SOFT_RESET keeps the locked window"
     st, code = await bench.load_scene(image)
-    assert st["SCENE_READY"] and code == 0, f"LOAD_SCENE after SOFT_RESET: STATUS {st}, code {code}"
-    await _batch(bench, "after the window refusal", rays, want)
+    assert st["SCENE_READY"] and code == 0, f"LOAD_SCENE after SOFT_RESET in the locked window: STATUS {st}, code {code}"
+    await _batch(bench, "in the locked window", rays, want)
+    assert await bench.read("WINDOW_REFUSED") == 0, "a burst refused in the locked window"
     bench.monitor.check()

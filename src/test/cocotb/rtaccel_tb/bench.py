@@ -80,6 +80,11 @@ class Bench:
     async def write(self, reg, value):
         await self.lite.write_dword(self.regs.offset(reg), value)
 
+    async def write_resp(self, reg, value):
+        """A register write; returns its BRESP (0 OKAY, 2 SLVERR)."""
+        r = await self.lite.write(self.regs.offset(reg), value.to_bytes(4, "little"))
+        return int(r.resp)
+
     async def read(self, reg):
         return await self.lite.read_dword(self.regs.offset(reg))
 
