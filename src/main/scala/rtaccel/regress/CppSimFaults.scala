@@ -26,14 +26,19 @@ object CppSimFaults {
   def run(args: Seq[String]): Boolean = {
     val kv = args.grouped(2).collect { case Seq(k, v) => k -> v }.toMap
     def need(k: String) = kv.getOrElse(k, throw new IllegalArgumentException(s"CppSimFaults: $k is required"))
-    def count(k: String) = need(k).toIntOption.filter(_ >= 1).getOrElse(throw new IllegalArgumentException(s"CppSimFaults: $k '${kv(k)}'"))
+    def count(k: String) =
+      need(k).toIntOption.filter(_ >= 1).getOrElse(throw new IllegalArgumentException(s"CppSimFaults: $k '${kv(k)}'"))
     val pkgDir = Paths.get(need("--package"))
     if (!Files.exists(pkgDir.resolve("image.bin")))
-      throw new IllegalArgumentException(s"$pkgDir/image.bin: no package (make it with nori-bridge compile, as mk/faults.mk does)")
+      throw new IllegalArgumentException(
+        s"$pkgDir/image.bin: no package (make it with nori-bridge compile, as mk/faults.mk does)"
+      )
     val a = RegressArgs(pkgDir, Paths.get(need("--out")))
     val n = count("--rays")
     val trials = count("--trials")
-    val seed = need("--seed").toLongOption.getOrElse(throw new IllegalArgumentException(s"CppSimFaults: --seed '${kv("--seed")}'"))
+    val seed = need("--seed").toLongOption.getOrElse(
+      throw new IllegalArgumentException(s"CppSimFaults: --seed '${kv("--seed")}'")
+    )
     val report = Paths.get(need("--report")).toAbsolutePath
     val pkg = ScenePackage.load(pkgDir)
     val rays = pkg.rays.take(n)
@@ -45,13 +50,25 @@ object CppSimFaults {
       case c: Chosen[t, s] =>
         val cc = c.asInstanceOf[Chosen[Data, s]]
         val dir = CppSim.build(cfg, cc.dp)
-        val built = Seq("make", "-s", "-C", "sw", "faults", s"SIMDIR=$dir", s"VSRC=${dir.resolve("rtaccel_system.sv")}").!
-        if (built != 0) throw new IllegalStateException(s"faults: building rtaccel-faults in $dir failed (make -C sw faults, exit $built)")
-        val rc = Seq(dir.resolve("rtaccel-faults").toString, pkgDir.toAbsolutePath.toString, a.out.toAbsolutePath.toString,
-          rays.size.toString, trials.toString, seed.toString, report.toString).!
+        val built =
+          Seq("make", "-s", "-C", "sw", "faults", s"SIMDIR=$dir", s"VSRC=${dir.resolve("rtaccel_system.sv")}").!
+        if (built != 0) throw new IllegalStateException(
+          s"faults: building rtaccel-faults in $dir failed (make -C sw faults, exit $built)"
+        )
+        val rc = Seq(
+          dir.resolve("rtaccel-faults").toString,
+          pkgDir.toAbsolutePath.toString,
+          a.out.toAbsolutePath.toString,
+          rays.size.toString,
+          trials.toString,
+          seed.toString,
+          report.toString
+        ).!
         val hits = CppSim.readHits(a.out.resolve("hits.bin"), rays.size)
         val bad = Regress.goldenCheck(cfg, pkg, rays, cc, hits)
-        println(s"faults: the reference batch's ${rays.size} rays: ${bad.size} golden mismatches; rtaccel-faults exit $rc")
+        println(
+          s"faults: the reference batch's ${rays.size} rays: ${bad.size} golden mismatches; rtaccel-faults exit $rc"
+        )
         rc == 0 && bad.isEmpty
     }
   }

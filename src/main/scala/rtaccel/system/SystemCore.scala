@@ -27,8 +27,8 @@ import rtaccel.{Datapath, ErrorFlags, RtAccel}
   */
 class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends Module {
   val io = IO(new Bundle {
-    val ctl       = Flipped(new AxiLite(RegisterMap.AddrBits, 32))
-    val axi       = new Axi4Master(sys)
+    val ctl = Flipped(new AxiLite(RegisterMap.AddrBits, 32))
+    val axi = new Axi4Master(sys)
     val interrupt = Output(Bool())
   })
   private val cfg = sys.core
@@ -42,6 +42,7 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   private def bit(reg: String, field: String): Int = rm.field(reg, field).lsb
   private val ctrl = regs.io.pulse(rm.index("CTRL"))
   regs.io.lock := value("WINDOW_LOCK")(bit("WINDOW_LOCK", "LOCK"))
+
   /** SOFT_RESET: one cycle of synchronous reset for everything below but the register block. */
   private val softResetReg = RegNext(ctrl(bit("CTRL", "SOFT_RESET")), false.B)
   private val dpReset = reset.asBool || softResetReg
@@ -51,9 +52,14 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   private val loader = underSoftReset(new SceneLoader(sys))
   private val rayDma = underSoftReset(new RayDma(sys))
   private val hitDma = underSoftReset(new HitDma(sys))
-  private val readers = cores.flatMap(c => Seq(c.io.nodeMem.p, c.io.triMem.p)) ++ Seq(SceneLoader.port(sys), RayDma.port(sys))
-  private val fabric = underSoftReset(new MemoryFabric(sys, readers, cores.flatMap(_ => Seq(true, false)) ++ Seq(false, false),
-    cores.flatMap(_ => Seq(false, true)) ++ Seq(false, false)))
+  private val readers =
+    cores.flatMap(c => Seq(c.io.nodeMem.p, c.io.triMem.p)) ++ Seq(SceneLoader.port(sys), RayDma.port(sys))
+  private val fabric = underSoftReset(new MemoryFabric(
+    sys,
+    readers,
+    cores.flatMap(_ => Seq(true, false)) ++ Seq(false, false),
+    cores.flatMap(_ => Seq(false, true)) ++ Seq(false, false)
+  ))
   private val guard = underSoftReset(new WindowGuard(sys.axi))
   for ((c, i) <- cores.zipWithIndex) {
     fabric.io.readers(2 * i) <> c.io.nodeMem
@@ -80,18 +86,19 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
 
   // Batch state: cleared by SOFT_RESET like the modules above.
   private val activeReg = RegInit(false.B)
-  private val doneReg   = RegInit(false.B)
+  private val doneReg = RegInit(false.B)
   private val brokenReg = RegInit(false.B)
-  private val stopReg   = RegInit(false.B) // ABORT seen in this batch
+  private val stopReg = RegInit(false.B) // ABORT seen in this batch
   private val abortedReg = RegInit(false.B)
   private val timeoutReg = RegInit(false.B)
   private val windowErrReg = RegInit(false.B)
   private val refusedReg = RegInit(0.U(32.W))
   private val faultAddrReg = RegInit(0.U(32.W))
   private val writesBaseReg = RegInit(0.U(32.W))
-  private val countReg  = RegInit(0.U(32.W))
+  private val countReg = RegInit(0.U(32.W))
   private val issuedReg = RegInit(0.U(32.W))
   private val busy = activeReg || loader.io.busy
+
   /** A fault that only SOFT_RESET clears: START and LOAD_SCENE wait for it. */
   private val fault = brokenReg || fabric.io.axiError || timeoutReg || windowErrReg
   private val aligned = value("RAY_BASE")(5, 0) === 0.U && value("HIT_BASE")(5, 0) === 0.U
@@ -100,6 +107,7 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   private val clear = ctrl(bit("CTRL", "CLEAR_COUNTERS"))
   private val abort = ctrl(bit("CTRL", "ABORT")) && activeReg
   private val raysDone = fabric.io.writesDone - writesBaseReg
+
   /** The batch stops handing out rays: ABORT, or a fault that makes its hits untrustworthy. */
   private val stopping = stopReg || fabric.io.axiError || windowErrReg
   // Stopped: every ray handed out has its hit written (each ray handed out gives exactly one hit record).
@@ -149,7 +157,8 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   private val n = sys.cores
   private val ptrBits = log2Ceil(n).max(1)
   private val ptrReg = RegInit(0.U(ptrBits.W))
-  private val order = (0 until n).map(k => Mux(ptrReg +& k.U >= n.U, ptrReg +& k.U - n.U, ptrReg +& k.U)(ptrBits - 1, 0))
+  private val order =
+    (0 until n).map(k => Mux(ptrReg +& k.U >= n.U, ptrReg +& k.U - n.U, ptrReg +& k.U)(ptrBits - 1, 0))
   private val readyVec = VecInit(cores.map(_.io.rays.ready))
   private val anyReady = readyVec.asUInt.orR
   private val pick = if (n == 1) 0.U else PriorityMux(order.map(readyVec(_)), order)
@@ -173,9 +182,21 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
     (watchdogFired.asUInt << bit("IRQ_STATUS", "FAULT"))
   io.interrupt := RegNext((value("IRQ_STATUS") & value("IRQ_ENABLE")).orR, false.B)
   private def at(reg: String, field: String, b: Bool): UInt = b.asUInt << bit(reg, field)
-  hw("STATUS") := at("STATUS", "BUSY", busy) | at("STATUS", "DONE", doneReg) | at("STATUS", "SCENE_READY", loader.io.ready) |
-    at("STATUS", "SCENE_ERROR", loader.io.error) | at("STATUS", "BROKEN", brokenReg) | at("STATUS", "AXI_ERROR", fabric.io.axiError) |
-    at("STATUS", "ABORTED", abortedReg) | at("STATUS", "TIMEOUT", timeoutReg) | at("STATUS", "WINDOW_ERROR", windowErrReg)
+  hw("STATUS") := at("STATUS", "BUSY", busy) | at("STATUS", "DONE", doneReg) | at(
+    "STATUS",
+    "SCENE_READY",
+    loader.io.ready
+  ) |
+    at("STATUS", "SCENE_ERROR", loader.io.error) | at("STATUS", "BROKEN", brokenReg) | at(
+      "STATUS",
+      "AXI_ERROR",
+      fabric.io.axiError
+    ) |
+    at("STATUS", "ABORTED", abortedReg) | at("STATUS", "TIMEOUT", timeoutReg) | at(
+      "STATUS",
+      "WINDOW_ERROR",
+      windowErrReg
+    )
   hw("SCENE_ERROR_CODE") := loader.io.errorCode
   hw("CONFIG_CORES") := n.U
   hw("CONFIG_LAYOUT") := cfg.layout.code.U
@@ -201,13 +222,26 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   private val cyclesReg = RegInit(0.U(64.W))
   when(start || softResetReg) { cyclesReg := 0.U }.elsewhen(activeReg) { cyclesReg := cyclesReg + 1.U }
   private val running: Seq[(String, UInt)] = Seq(
-    "RAYS_IN" -> sum(_.raysIn), "HITS_OUT" -> sum(_.hitsOut), "NODE_FETCHES" -> sum(_.nodeFetches), "TRI_FETCHES" -> sum(_.triFetches),
-    "BOX_TESTS" -> sum(_.boxTests), "CHILD_BOX_TESTS" -> sum(_.childBoxTests), "TRI_TESTS" -> sum(_.triTests),
-    "DECISIONS" -> sum(_.decisions), "LEAF_RETURNS" -> sum(_.leafReturns),
-    "NODE_STORE_HITS" -> fabric.io.stats.nodeStoreHits, "NODE_STORE_MISSES" -> fabric.io.stats.nodeStoreMisses,
-    "AXI_READ_BEATS" -> count(a.r.fire), "AXI_WRITE_BEATS" -> count(a.w.fire), "AXI_READ_STALL" -> count(a.ar.valid && !a.ar.ready),
-    "IN_FLIGHT_SUM" -> sum(_.inFlightSum))
-  require(running.map(_._1).toSet + "CYCLES" == rm.counters.map(_._1).toSet, "SystemCore: every RegisterMap counter has a source")
+    "RAYS_IN" -> sum(_.raysIn),
+    "HITS_OUT" -> sum(_.hitsOut),
+    "NODE_FETCHES" -> sum(_.nodeFetches),
+    "TRI_FETCHES" -> sum(_.triFetches),
+    "BOX_TESTS" -> sum(_.boxTests),
+    "CHILD_BOX_TESTS" -> sum(_.childBoxTests),
+    "TRI_TESTS" -> sum(_.triTests),
+    "DECISIONS" -> sum(_.decisions),
+    "LEAF_RETURNS" -> sum(_.leafReturns),
+    "NODE_STORE_HITS" -> fabric.io.stats.nodeStoreHits,
+    "NODE_STORE_MISSES" -> fabric.io.stats.nodeStoreMisses,
+    "AXI_READ_BEATS" -> count(a.r.fire),
+    "AXI_WRITE_BEATS" -> count(a.w.fire),
+    "AXI_READ_STALL" -> count(a.ar.valid && !a.ar.ready),
+    "IN_FLIGHT_SUM" -> sum(_.inFlightSum)
+  )
+  require(
+    running.map(_._1).toSet + "CYCLES" == rm.counters.map(_._1).toSet,
+    "SystemCore: every RegisterMap counter has a source"
+  )
   private def show(name: String, v: UInt): Unit = { hw(s"${name}_LO") := v(31, 0); hw(s"${name}_HI") := v(63, 32) }
   show("CYCLES", cyclesReg)
   for ((name, v) <- running) {

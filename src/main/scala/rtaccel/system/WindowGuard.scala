@@ -35,16 +35,18 @@ import rtaccel.axi.{Axi4, Axi4Master, Axi4Params}
   */
 class WindowGuard(p: Axi4Params) extends Module {
   val io = IO(new Bundle {
-    val in    = Flipped(new Axi4Master(p))
-    val out   = new Axi4Master(p)
-    val base  = Input(UInt(p.addrBits.W))
+    val in = Flipped(new Axi4Master(p))
+    val out = new Axi4Master(p)
+    val base = Input(UInt(p.addrBits.W))
     val limit = Input(UInt(p.addrBits.W))
+
     /** Pulses for each refused burst (read or write), with its address. */
-    val refused     = Output(Bool())
+    val refused = Output(Bool())
     val refusedAddr = Output(UInt(p.addrBits.W))
   })
   private val beatShift = log2Ceil(p.beatBytes)
   private val limitTop = Mux(io.limit === 0.U, (BigInt(1) << p.addrBits).U, io.limit)
+
   /** The burst's bytes lie in the window. */
   def inside(addr: UInt, len: UInt): Bool = addr >= io.base && (addr +& ((len +& 1.U) << beatShift)) <= limitTop
   // Outstanding real bursts: at most the fabric's read slots plus fill bursts; 16 bits never wrap.
@@ -56,21 +58,21 @@ class WindowGuard(p: Axi4Params) extends Module {
 
   // ---- reads ----
   private val fakeRValidReg = RegInit(false.B)
-  private val fakeRIdReg    = Reg(UInt(p.idBits.W))
-  private val fakeRLeftReg  = Reg(UInt(8.W))
+  private val fakeRIdReg = Reg(UInt(p.idBits.W))
+  private val fakeRLeftReg = Reg(UInt(8.W))
   private val arOk = inside(io.in.ar.bits.addr, io.in.ar.bits.len)
   io.out.ar.valid := io.in.ar.valid && arOk && !fakeRValidReg
-  io.out.ar.bits  := io.in.ar.bits
-  io.in.ar.ready  := !fakeRValidReg && (io.out.ar.ready || !arOk)
+  io.out.ar.bits := io.in.ar.bits
+  io.in.ar.ready := !fakeRValidReg && (io.out.ar.ready || !arOk)
   private val arRefused = io.in.ar.fire && !arOk
   when(arRefused) { fakeRValidReg := true.B; fakeRIdReg := io.in.ar.bits.id; fakeRLeftReg := io.in.ar.bits.len }
   private val realReads = outstanding(io.out.ar.fire, io.out.r.fire && io.out.r.bits.last)
   private val fakeR = fakeRValidReg && realReads === 0.U
-  io.in.r.valid     := io.out.r.valid || fakeR
-  io.in.r.bits      := io.out.r.bits
-  io.out.r.ready    := io.in.r.ready && !fakeR
+  io.in.r.valid := io.out.r.valid || fakeR
+  io.in.r.bits := io.out.r.bits
+  io.out.r.ready := io.in.r.ready && !fakeR
   when(fakeR) {
-    io.in.r.bits.id   := fakeRIdReg
+    io.in.r.bits.id := fakeRIdReg
     io.in.r.bits.data := 0.U
     io.in.r.bits.resp := Axi4.RespOkay.U
     io.in.r.bits.last := fakeRLeftReg === 0.U
@@ -82,45 +84,45 @@ class WindowGuard(p: Axi4Params) extends Module {
 
   // ---- writes ----
   private val fakeBValidReg = RegInit(false.B)
-  private val fakeBIdReg    = Reg(UInt(p.idBits.W))
+  private val fakeBIdReg = Reg(UInt(p.idBits.W))
   // Refused W bursts taken and not yet answered: the fake B's own, and one more that ran ahead of its AW.
-  private val droppedReg    = RegInit(0.U(2.W))
+  private val droppedReg = RegInit(0.U(2.W))
   // Fates of accepted AWs whose W beats have not all passed. AWs lead their W
   // by at most the WriteEngine's W queue (2 records), so 4 entries never fill;
   // if they did, AW would wait (checked, not lost).
-  private val fates  = Module(new Queue(Bool(), 4))
+  private val fates = Module(new Queue(Bool(), 4))
   private val aheadReg = RegInit(false.B) // a W burst went before its AW
   private val awOk = inside(io.in.aw.bits.addr, io.in.aw.bits.len)
   private val awFree = !fakeBValidReg && (aheadReg || fates.io.enq.ready)
   io.out.aw.valid := io.in.aw.valid && awOk && awFree
-  io.out.aw.bits  := io.in.aw.bits
-  io.in.aw.ready  := awFree && (io.out.aw.ready || !awOk)
+  io.out.aw.bits := io.in.aw.bits
+  io.in.aw.ready := awFree && (io.out.aw.ready || !awOk)
   // The W head's fate: queued, or (running ahead) the AW on offer's.
   private val wAhead = !fates.io.deq.valid && !aheadReg && io.in.aw.valid
   private val wKnown = fates.io.deq.valid || wAhead
   private val wOk = Mux(fates.io.deq.valid, fates.io.deq.bits, awOk)
   io.out.w.valid := io.in.w.valid && wKnown && wOk
-  io.out.w.bits  := io.in.w.bits
-  io.in.w.ready  := wKnown && (!wOk || io.out.w.ready)
+  io.out.w.bits := io.in.w.bits
+  io.in.w.ready := wKnown && (!wOk || io.out.w.ready)
   private val wLast = io.in.w.fire && io.in.w.bits.last
   fates.io.deq.ready := wLast && fates.io.deq.valid
   private val aheadNow = wLast && wAhead
   fates.io.enq.valid := io.in.aw.fire && !aheadReg && !aheadNow
-  fates.io.enq.bits  := awOk
+  fates.io.enq.bits := awOk
   when(io.in.aw.fire && aheadReg) { aheadReg := false.B }.elsewhen(aheadNow && !io.in.aw.fire) { aheadReg := true.B }
   private val dropNow = wLast && !wOk
   private val awRefused = io.in.aw.fire && !awOk
   when(awRefused) { fakeBValidReg := true.B; fakeBIdReg := io.in.aw.bits.id }
   private val realWrites = outstanding(io.out.aw.fire, io.out.b.fire)
   private val fakeB = fakeBValidReg && realWrites === 0.U && (droppedReg =/= 0.U || dropNow)
-  io.in.b.valid  := io.out.b.valid || fakeB
-  io.in.b.bits   := io.out.b.bits
+  io.in.b.valid := io.out.b.valid || fakeB
+  io.in.b.bits := io.out.b.bits
   io.out.b.ready := io.in.b.ready && !fakeB
   when(fakeB) { io.in.b.bits.id := fakeBIdReg; io.in.b.bits.resp := Axi4.RespOkay.U }
   private val answered = fakeB && io.in.b.ready
   when(answered) { fakeBValidReg := false.B }
   droppedReg := droppedReg + dropNow.asUInt - answered.asUInt
 
-  io.refused     := arRefused || awRefused
+  io.refused := arRefused || awRefused
   io.refusedAddr := Mux(arRefused, io.in.ar.bits.addr, io.in.aw.bits.addr)
 }

@@ -22,12 +22,22 @@ import scala.util.Random
 class SystemFaultsSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "RtAccelSystem under faults"
 
-  private val fieldCfg = AccelConfig(numRayIds = 8, stackDepth = 12, maxNodes = 1 << 10, maxTriangles = 1 << 10, maxLeafSize = 4,
-    layout = BvhLayout.Wide(4))
+  private val fieldCfg = AccelConfig(
+    numRayIds = 8,
+    stackDepth = 12,
+    maxNodes = 1 << 10,
+    maxTriangles = 1 << 10,
+    maxLeafSize = 4,
+    layout = BvhLayout.Wide(4)
+  )
   private val Unwritten = 0xa5a5a5a5L
 
   /** Starts a batch of `rays` (hit buffer filled with 0xa5 first); returns at START. */
-  private def start[T <: chisel3.Data](h: SystemHarness[T], rays: IndexedSeq[RayRecord], lay: SystemHarness.Layout): Unit = {
+  private def start[T <: chisel3.Data](
+      h: SystemHarness[T],
+      rays: IndexedSeq[RayRecord],
+      lay: SystemHarness.Layout
+  ): Unit = {
     h.putRays(lay.rayBase, rays)
     h.mem.write(lay.hitBase, Array.fill(SystemConfig.HitBytes * rays.size)(0xa5.toByte))
     h.write("RAY_BASE", lay.rayBase); h.write("RAY_COUNT", rays.size); h.write("HIT_BASE", lay.hitBase)
@@ -46,25 +56,46 @@ class SystemFaultsSpec extends AnyFlatSpec with ChiselScalatestTester {
   }
 
   /** Every written hit record is the golden one; returns how many were written (unwritten ones keep 0xa5). */
-  private def written[T <: chisel3.Data](h: SystemHarness[T], cfg: AccelConfig, img: MemoryImage, rays: IndexedSeq[RayRecord],
-      lay: SystemHarness.Layout, what: String): Int = rays.indices.count { i =>
+  private def written[T <: chisel3.Data](
+      h: SystemHarness[T],
+      cfg: AccelConfig,
+      img: MemoryImage,
+      rays: IndexedSeq[RayRecord],
+      lay: SystemHarness.Layout,
+      what: String
+  ): Int = rays.indices.count { i =>
     val (hw, reserved) = h.hitRecord(lay.hitBase, i)
     if (hw.number == Unwritten) false
     else {
       val e = TraversalGolden.trace(cfg, img, FieldDatapath.Golden, rays(i)).hit
       assert(hw.number == i && reserved == 0, s"$what: hit record $i: number ${hw.number}")
-      assert(TraversalGolden.agrees(rays(i), hw, e), s"$what: ray $i: hardware $hw, golden $e (errors ${ErrorFlags.describe(hw.errors)})")
+      assert(
+        TraversalGolden.agrees(rays(i), hw, e),
+        s"$what: ray $i: hardware $hw, golden $e (errors ${ErrorFlags.describe(hw.errors)})"
+      )
       true
     }
   }
 
   /** A full batch after a fault: every ray exact, DONE, no fault bit. */
-  private def exactBatch[T <: chisel3.Data](h: SystemHarness[T], cfg: AccelConfig, img: MemoryImage, rays: IndexedSeq[RayRecord],
-      lay: SystemHarness.Layout, what: String): Unit = {
+  private def exactBatch[T <: chisel3.Data](
+      h: SystemHarness[T],
+      cfg: AccelConfig,
+      img: MemoryImage,
+      rays: IndexedSeq[RayRecord],
+      lay: SystemHarness.Layout,
+      what: String
+  ): Unit = {
     start(h, rays, lay)
     end(h, 2000000)
-    assert(h.status("DONE") && !h.status("ABORTED") && !h.status("TIMEOUT"), s"$what: STATUS ${h.read("STATUS").toHexString}")
-    assert(written(h, cfg, img, rays, lay, what) == rays.size && h.read("RAYS_DONE") == rays.size, s"$what: not every hit written")
+    assert(
+      h.status("DONE") && !h.status("ABORTED") && !h.status("TIMEOUT"),
+      s"$what: STATUS ${h.read("STATUS").toHexString}"
+    )
+    assert(
+      written(h, cfg, img, rays, lay, what) == rays.size && h.read("RAYS_DONE") == rays.size,
+      s"$what: not every hit written"
+    )
     assert(h.read("RAYS_ISSUED") == rays.size, s"$what: RAYS_ISSUED")
   }
 
@@ -115,7 +146,10 @@ class SystemFaultsSpec extends AnyFlatSpec with ChiselScalatestTester {
           assert(h.status("ABORTED") != h.status("DONE"), s"$what: exactly one of ABORTED and DONE")
           if (h.status("ABORTED")) aborted += 1
           assert(done == issued && issued <= rays.size, s"$what: RAYS_DONE $done, RAYS_ISSUED $issued")
-          assert(written(h, cfg, img, rays, lay, what) == done, s"$what: hit records written differ from RAYS_DONE $done")
+          assert(
+            written(h, cfg, img, rays, lay, what) == done,
+            s"$what: hit records written differ from RAYS_DONE $done"
+          )
           assert(!h.status("BROKEN") && !h.status("AXI_ERROR"), s"$what: fault bits")
           println(s"$what: ${if (h.status("ABORTED")) "ABORTED" else "DONE"} after $issued of ${rays.size} rays")
         }
@@ -130,8 +164,14 @@ class SystemFaultsSpec extends AnyFlatSpec with ChiselScalatestTester {
         start(h, rays, lay)
         val irq = end(h, 10 * limit)
         val took = h.cycle - t1
-        assert((irq & 4) == 4 && h.status("TIMEOUT") && !h.status("DONE"), s"lost read: IRQ $irq, STATUS ${h.read("STATUS").toHexString}")
-        assert(took >= limit && took <= limit + 200, s"lost read: the batch ended $took cycles after START, watchdog $limit")
+        assert(
+          (irq & 4) == 4 && h.status("TIMEOUT") && !h.status("DONE"),
+          s"lost read: IRQ $irq, STATUS ${h.read("STATUS").toHexString}"
+        )
+        assert(
+          took >= limit && took <= limit + 200,
+          s"lost read: the batch ended $took cycles after START, watchdog $limit"
+        )
         assert(h.model.lostBursts > 0, "the memory lost no burst")
         h.command("START")
         for (_ <- 0 until 10) h.step()
@@ -145,15 +185,20 @@ class SystemFaultsSpec extends AnyFlatSpec with ChiselScalatestTester {
         slverr = true
         start(h, rays, lay)
         end(h, 2000000)
-        assert(h.status("AXI_ERROR") && h.status("ABORTED") && h.read("RAYS_DONE") == h.read("RAYS_ISSUED"), "SLVERR on ray reads")
+        assert(
+          h.status("AXI_ERROR") && h.status("ABORTED") && h.read("RAYS_DONE") == h.read("RAYS_ISSUED"),
+          "SLVERR on ray reads"
+        )
         slverr = false
         recover(h, lay, "after SLVERR")
         exactBatch(h, cfg, img, rays, lay, "after SLVERR")
 
         // ---- SLVERR on the scene's store fills: the load still ends (IRQ SCENE), with AXI_ERROR, not by the watchdog ----
         sceneErr = true
-        assert(h.loadScene(lay.sceneBase, limit = 20000) == 0 && h.status("AXI_ERROR") && !h.status("TIMEOUT"),
-          s"SLVERR on the store fills: STATUS 0x${h.read("STATUS").toHexString}")
+        assert(
+          h.loadScene(lay.sceneBase, limit = 20000) == 0 && h.status("AXI_ERROR") && !h.status("TIMEOUT"),
+          s"SLVERR on the store fills: STATUS 0x${h.read("STATUS").toHexString}"
+        )
         sceneErr = false
         recover(h, lay, "after SLVERR on the store fills")
         exactBatch(h, cfg, img, rays, lay, "after SLVERR on the store fills")
@@ -163,7 +208,10 @@ class SystemFaultsSpec extends AnyFlatSpec with ChiselScalatestTester {
         var hi = 1L << 32
         h.onBurst = (read, a) => {
           val end = a.addr + (a.len + 1L) * sys.axiDataBytes
-          assert(a.addr >= lo && end <= hi, f"m_axi ${if (read) "read" else "write"} [0x${a.addr}%x, 0x$end%x) outside the window [0x$lo%x, 0x$hi%x)")
+          assert(
+            a.addr >= lo && end <= hi,
+            f"m_axi ${if (read) "read" else "write"} [0x${a.addr}%x, 0x$end%x) outside the window [0x$lo%x, 0x$hi%x)"
+          )
         }
         hi = lay.hitBase & ~63L
         h.write("WINDOW_LIMIT", hi)
@@ -171,11 +219,19 @@ class SystemFaultsSpec extends AnyFlatSpec with ChiselScalatestTester {
         end(h, 2000000)
         val refused = h.read("WINDOW_REFUSED")
         val faultAddr = h.read("WINDOW_FAULT_ADDR")
-        assert(h.status("WINDOW_ERROR") && h.status("ABORTED") && !h.status("AXI_ERROR"), s"window: STATUS ${h.read("STATUS").toHexString}")
-        assert(refused >= 1 && faultAddr >= hi && faultAddr < lay.hitBase + SystemConfig.HitBytes * rays.size, s"window: $refused refused, first at $faultAddr")
+        assert(
+          h.status("WINDOW_ERROR") && h.status("ABORTED") && !h.status("AXI_ERROR"),
+          s"window: STATUS ${h.read("STATUS").toHexString}"
+        )
+        assert(
+          refused >= 1 && faultAddr >= hi && faultAddr < lay.hitBase + SystemConfig.HitBytes * rays.size,
+          s"window: $refused refused, first at $faultAddr"
+        )
         assert(written(h, cfg, img, rays, lay, "window") == 0, "a hit record was written outside the window")
         assert(h.read("RAYS_DONE") == h.read("RAYS_ISSUED"), "window: every ray handed out answered")
-        println(s"window: $refused bursts refused, first at 0x${faultAddr.toHexString}, ${h.read("RAYS_ISSUED")} rays issued")
+        println(
+          s"window: $refused bursts refused, first at 0x${faultAddr.toHexString}, ${h.read("RAYS_ISSUED")} rays issued"
+        )
         // Lock a window that holds the batch: SOFT_RESET keeps it, writes are refused.
         recover(h, lay, "after the window refusal")
         lo = lay.sceneBase; hi = (lay.hitBase + SystemConfig.HitBytes * rays.size + 63) & ~63L
@@ -183,7 +239,10 @@ class SystemFaultsSpec extends AnyFlatSpec with ChiselScalatestTester {
         for (r <- Seq("WINDOW_BASE", "WINDOW_LIMIT", "WINDOW_LOCK"))
           assert(h.write(RegisterMap(r).offset, 0) == 2, s"a write to $r while locked: SLVERR")
         h.command("SOFT_RESET")
-        assert(h.read("WINDOW_BASE") == lo && h.read("WINDOW_LIMIT") == hi && h.read("WINDOW_LOCK") == 1, "SOFT_RESET keeps the locked window")
+        assert(
+          h.read("WINDOW_BASE") == lo && h.read("WINDOW_LIMIT") == hi && h.read("WINDOW_LOCK") == 1,
+          "SOFT_RESET keeps the locked window"
+        )
         assert(h.loadScene(lay.sceneBase) == 0)
         exactBatch(h, cfg, img, rays, lay, "in the locked window")
         // A scene outside the locked window: its header read is refused, so the header is not the image's.

@@ -25,11 +25,13 @@ class WindowGuardSpec extends AnyFlatSpec with ChiselScalatestTester {
     test(new WindowGuard(p)) { c =>
       idle(c)
       // Inside: passes the same cycle.
-      c.io.in.ar.valid.poke(true.B); c.io.in.ar.bits.addr.poke(0x1fc0.U); c.io.in.ar.bits.len.poke(0.U); c.io.in.ar.bits.id.poke(3.U)
+      c.io.in.ar.valid.poke(true.B); c.io.in.ar.bits.addr.poke(0x1fc0.U); c.io.in.ar.bits.len.poke(0.U);
+      c.io.in.ar.bits.id.poke(3.U)
       c.io.out.ar.valid.expect(true.B); c.io.in.ar.ready.expect(true.B); c.io.refused.expect(false.B)
       c.clock.step()
       // Its beat comes back; then a burst ending past the limit is refused.
-      c.io.out.r.valid.poke(true.B); c.io.out.r.bits.id.poke(3.U); c.io.out.r.bits.last.poke(true.B); c.io.out.r.bits.data.poke(7.U)
+      c.io.out.r.valid.poke(true.B); c.io.out.r.bits.id.poke(3.U); c.io.out.r.bits.last.poke(true.B);
+      c.io.out.r.bits.data.poke(7.U)
       c.io.in.ar.bits.addr.poke(0x1fc0.U); c.io.in.ar.bits.len.poke(1.U); c.io.in.ar.bits.id.poke(5.U)
       c.io.in.r.valid.expect(true.B); c.io.in.r.bits.data.expect(7.U)
       c.io.out.ar.valid.expect(false.B); c.io.in.ar.ready.expect(true.B); c.io.refused.expect(true.B)
@@ -37,15 +39,18 @@ class WindowGuardSpec extends AnyFlatSpec with ChiselScalatestTester {
       c.clock.step()
       c.io.out.r.valid.poke(false.B); c.io.in.ar.valid.poke(false.B)
       for (beat <- 0 until 2) {
-        c.io.in.r.valid.expect(true.B, s"fake beat $beat"); c.io.in.r.bits.id.expect(5.U); c.io.in.r.bits.data.expect(0.U)
+        c.io.in.r.valid.expect(true.B, s"fake beat $beat"); c.io.in.r.bits.id.expect(5.U);
+        c.io.in.r.bits.data.expect(0.U)
         c.io.in.r.bits.last.expect((beat == 1).B); c.io.in.r.bits.resp.expect(0.U)
         c.clock.step()
       }
       c.io.in.r.valid.expect(false.B)
       // A write below the base: AW not issued, W dropped, one B.
-      c.io.in.aw.valid.poke(true.B); c.io.in.aw.bits.addr.poke(0xfc0.U); c.io.in.aw.bits.len.poke(0.U); c.io.in.aw.bits.id.poke(0.U)
+      c.io.in.aw.valid.poke(true.B); c.io.in.aw.bits.addr.poke(0xfc0.U); c.io.in.aw.bits.len.poke(0.U);
+      c.io.in.aw.bits.id.poke(0.U)
       c.io.in.w.valid.poke(true.B); c.io.in.w.bits.last.poke(true.B)
-      c.io.out.aw.valid.expect(false.B); c.io.out.w.valid.expect(false.B); c.io.in.w.ready.expect(true.B); c.io.in.aw.ready.expect(true.B)
+      c.io.out.aw.valid.expect(false.B); c.io.out.w.valid.expect(false.B); c.io.in.w.ready.expect(true.B);
+      c.io.in.aw.ready.expect(true.B)
       c.clock.step()
       c.io.in.aw.valid.poke(false.B); c.io.in.w.valid.poke(false.B)
       var n = 0
