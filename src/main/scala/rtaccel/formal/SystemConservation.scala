@@ -59,7 +59,9 @@ object SystemConservation {
     val blockOfTagReg = Reg(Vec(nTags, UInt(kBits.W)))
     val queuedReg = RegInit(VecInit(Seq.fill(nTags)(false.B)))
     when(reqFire) {
-      blockOfTagReg(reqTag) := PriorityMux((0 until maxBlocks).map(j => (reqAddr === rayBase + (j * sys.rayBlockBytes).U) -> j.U(kBits.W)) :+
+      blockOfTagReg(reqTag) := PriorityMux((0 until maxBlocks).map(j =>
+        (reqAddr === rayBase + (j * sys.rayBlockBytes).U) -> j.U(kBits.W)
+      ) :+
         (true.B -> maxBlocks.U(kBits.W)))
     }
     when(deqFire) { queuedReg(deqTag) := false.B }
@@ -74,6 +76,9 @@ object SystemConservation {
     // RayDma's head block has handed out `sub` of its rays: fetched + sub == written + held.
     val lhs = fetchedReg +& Mux(deqValid, sub, 0.U)
     val rhs = writtenReg +& queued +& coreHeldReg +& inHitDma +& inWriter
-    assert(lhs === rhs, "system_ray_conservation: rays fetched != hits written + rays held by RayDma, the core, HitDma and WriteEngine")
+    assert(
+      lhs === rhs,
+      "system_ray_conservation: rays fetched != hits written + rays held by RayDma, the core, HitDma and WriteEngine"
+    )
   }
 }

@@ -11,19 +11,19 @@ import rtaccel.{ErrorFlags, HitOut}
   */
 class HitDma(sys: SystemConfig) extends Module {
   val io = IO(new Bundle {
-    val start    = Input(Bool())
-    val hitBase  = Input(UInt(sys.axiAddrBits.W))
+    val start = Input(Bool())
+    val hitBase = Input(UInt(sys.axiAddrBits.W))
     val rayCount = Input(UInt(32.W))
-    val hits     = Vec(sys.cores, Flipped(Decoupled(new HitOut(sys.core))))
-    val write    = Decoupled(new WriteRecord(sys))
+    val hits = Vec(sys.cores, Flipped(Decoupled(new HitOut(sys.core))))
+    val write = Decoupled(new WriteRecord(sys))
     val errCount = Output(Vec(ErrorFlags.width, UInt(32.W)))
-    val broken   = Output(Bool())
+    val broken = Output(Bool())
   })
   private val arb = Module(new RRArbiter(new HitOut(sys.core), sys.cores))
   arb.io.in <> io.hits
-  private val baseReg  = RegInit(0.U(sys.axiAddrBits.W))
+  private val baseReg = RegInit(0.U(sys.axiAddrBits.W))
   private val countReg = RegInit(0.U(32.W))
-  private val errReg   = RegInit(VecInit(Seq.fill(ErrorFlags.width)(0.U(32.W))))
+  private val errReg = RegInit(VecInit(Seq.fill(ErrorFlags.width)(0.U(32.W))))
   private val brokenReg = RegInit(false.B)
   when(io.start) { baseReg := io.hitBase; countReg := io.rayCount; errReg.foreach(_ := 0.U) }
 
@@ -45,6 +45,7 @@ class HitDma(sys: SystemConfig) extends Module {
 }
 
 object HitDma {
+
   /** The 32-byte record, little-endian: number, status (bit 0 hit, bits 8.. errors), t, u, v, prim, 0, 0. */
   def record(h: HitOut): UInt = {
     val status = Cat(h.errors, 0.U(7.W), h.hit)

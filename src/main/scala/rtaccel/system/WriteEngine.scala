@@ -17,21 +17,21 @@ class WriteEngine(p: Axi4Params) extends Module {
   private val B = p.beatBytes
   private val R = WriteRecord.Bytes
   val io = IO(new Bundle {
-    val write      = Flipped(Decoupled(new Bundle {
+    val write = Flipped(Decoupled(new Bundle {
       val addr = UInt(p.addrBits.W)
       val data = UInt((8 * R).W)
     }))
-    val aw         = Decoupled(new Axi4Addr(p))
-    val w          = Decoupled(new Axi4W(p))
-    val b          = Flipped(Decoupled(new Axi4B(p)))
+    val aw = Decoupled(new Axi4Addr(p))
+    val w = Decoupled(new Axi4W(p))
+    val b = Flipped(Decoupled(new Axi4B(p)))
     val writesDone = Output(UInt(32.W))
-    val error      = Output(Bool())
+    val error = Output(Bool())
   })
   private val awQ = Module(new Queue(new Axi4Addr(p), 2))
-  private val wQ  = Module(new Queue(new Axi4W(p), 2))
-  io.write.ready    := awQ.io.enq.ready && wQ.io.enq.ready
-  awQ.io.enq.valid  := io.write.valid && wQ.io.enq.ready
-  wQ.io.enq.valid   := io.write.valid && awQ.io.enq.ready
+  private val wQ = Module(new Queue(new Axi4W(p), 2))
+  io.write.ready := awQ.io.enq.ready && wQ.io.enq.ready
+  awQ.io.enq.valid := io.write.valid && wQ.io.enq.ready
+  wQ.io.enq.valid := io.write.valid && awQ.io.enq.ready
   private val beatAddr = Cat(io.write.bits.addr(p.addrBits - 1, log2Ceil(B)), 0.U(log2Ceil(B).W))
   awQ.io.enq.bits := Axi4Addr.incr(p, 0.U, beatAddr, 1.U)
   // The record's place in the beat: address bits log2(B)-1 .. 5.
@@ -42,7 +42,7 @@ class WriteEngine(p: Axi4Params) extends Module {
   io.aw <> awQ.io.deq
   io.w <> wQ.io.deq
 
-  private val doneReg  = RegInit(0.U(32.W))
+  private val doneReg = RegInit(0.U(32.W))
   private val errorReg = RegInit(false.B)
   io.b.ready := true.B
   when(io.b.fire) {
@@ -50,5 +50,5 @@ class WriteEngine(p: Axi4Params) extends Module {
     when(io.b.bits.resp =/= Axi4.RespOkay.U) { errorReg := true.B }
   }
   io.writesDone := doneReg
-  io.error      := errorReg
+  io.error := errorReg
 }

@@ -14,6 +14,7 @@ import rtaccel.sim.axi.{AxiMemoryHarness, AxiMemoryModel, AxiMemoryParams, Spars
   */
 final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
   import MemoryFabricSpec._
+
   /** The slave's beat is the fabric's m_axi width (MemoryFabricSpec.sys). */
   val mem = new AxiMemoryHarness(dut.io.axi, new AxiMemoryModel(params.copy(beatBytes = sys.axiDataBytes)))
   private val image = Array.fill(ReadSpan)(rnd.nextInt(256).toByte)
@@ -25,6 +26,7 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
   private val written = mutable.HashMap.empty[Long, BigInt] // 32-byte record address -> data
   var cycle = 0L
   var nodeRequests, otherRequests, storeRequests, straddles, writesSent = 0L
+
   /** Triangle-client reads, and those the triangle store was loaded to serve. */
   var triRequests, triStoreRequests = 0L
 
@@ -36,11 +38,15 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
   private def fail(msg: String): Nothing = throw new AssertionError(s"cycle $cycle: $msg")
 
   /** One cycle: `offer(c)` is client c's request (address, tag) if it drives one; `ready(c)` its resp.ready. */
-  private def cycleWith(offer: Int => Option[(Long, Int)], ready: Int => Boolean, write: Option[(Long, BigInt)] = None,
-      onResp: (Int, Pending) => Unit = (_, _) => ()): Unit = {
+  private def cycleWith(
+      offer: Int => Option[(Long, Int)],
+      ready: Int => Boolean,
+      write: Option[(Long, BigInt)] = None,
+      onResp: (Int, Pending) => Unit = (_, _) => ()
+  ): Unit = {
     val storeDone = dut.io.store.done.peek().litToBoolean
-    val stored    = dut.io.store.storedBytes.peek().litValue.toLong
-    val triDone   = dut.io.triStore.done.peek().litToBoolean
+    val stored = dut.io.store.storedBytes.peek().litValue.toLong
+    val triDone = dut.io.triStore.done.peek().litToBoolean
     val triStored = dut.io.triStore.storedBytes.peek().litValue.toLong
     val offers = readers.indices.map(offer)
     for ((r, c) <- dut.io.readers.zipWithIndex) {
@@ -51,17 +57,22 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
       r.resp.ready.poke(ready(c).B)
     }
     write match {
-      case Some((a, d)) => dut.io.write.valid.poke(true.B); dut.io.write.bits.addr.poke(a.U); dut.io.write.bits.data.poke(d.U)
-      case None         => dut.io.write.valid.poke(false.B)
+      case Some((a, d)) =>
+        dut.io.write.valid.poke(true.B); dut.io.write.bits.addr.poke(a.U); dut.io.write.bits.data.poke(d.U)
+      case None => dut.io.write.valid.poke(false.B)
     }
     mem.drive()
     for ((r, c) <- dut.io.readers.zipWithIndex) {
       if (r.resp.valid.peek().litToBoolean && ready(c)) {
-        val tag  = r.resp.bits.tag.peek().litValue.toInt
+        val tag = r.resp.bits.tag.peek().litValue.toInt
         val data = r.resp.bits.data.peek().litValue
-        val p = outstanding(c).remove(tag).getOrElse(fail(s"client $c: response with tag $tag, which has no request outstanding"))
+        val p = outstanding(c).remove(tag).getOrElse(
+          fail(s"client $c: response with tag $tag, which has no request outstanding")
+        )
         if (data != p.data)
-          fail(s"client $c tag $tag: ${readers(c).recordBytes} bytes at 0x${p.addr.toHexString}: got ${data.toString(16)}, expected ${p.data.toString(16)}")
+          fail(
+            s"client $c tag $tag: ${readers(c).recordBytes} bytes at 0x${p.addr.toHexString}: got ${data.toString(16)}, expected ${p.data.toString(16)}"
+          )
         onResp(c, p)
       }
       offers(c).foreach { case (addr, tag) =>
@@ -71,11 +82,13 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
           if (addr / 4096 != (addr + n - 1) / 4096) straddles += 1
           if (nodeFlags(c)) {
             nodeRequests += 1
-            if (storeDone && addr >= NodeBase && addr < NodeBase + stored && (addr - NodeBase) % n == 0) storeRequests += 1
+            if (storeDone && addr >= NodeBase && addr < NodeBase + stored && (addr - NodeBase) % n == 0)
+              storeRequests += 1
           } else if (triFlags(c)) {
             triRequests += 1
             // Served on chip: the whole record stored, 16-byte aligned in the array (TriStore).
-            if (triDone && addr >= TriBase && addr + n <= TriBase + triStored && (addr - TriBase) % 16 == 0) triStoreRequests += 1
+            if (triDone && addr >= TriBase && addr + n <= TriBase + triStored && (addr - TriBase) % 16 == 0)
+              triStoreRequests += 1
           } else otherRequests += 1
         }
       }
@@ -135,7 +148,10 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
       val sentBefore = writesSent
       cycleWith(offers, readies, offer)
       if (writesSent > sentBefore) offer = None
-      for (c <- readers.indices if offers(c).exists { case (a, t) => outstanding(c).get(t).exists(p => p.addr == a && p.cycle == cycle - 1) })
+      for (
+        c <- readers.indices
+        if offers(c).exists { case (a, t) => outstanding(c).get(t).exists(p => p.addr == a && p.cycle == cycle - 1) }
+      )
         left(c) -= 1
     }
     // All B responses in, then every written record must be in memory.
@@ -161,7 +177,10 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
       // Taken when its tag is outstanding afterwards (it was not before): a
       // count would miss it when an earlier answer of the same client leaves
       // in the same cycle (store latency 2, the client asking every other cycle).
-      require(o.forall(x => !outstanding(c).contains(x._2)), s"storeOnly: tag ${o.map(_._2)} of client $c is still outstanding")
+      require(
+        o.forall(x => !outstanding(c).contains(x._2)),
+        s"storeOnly: tag ${o.map(_._2)} of client $c is still outstanding"
+      )
       cycleWith(i => if (i == c) o else None, _ => true, onResp = (_, p) => lat += cycle - p.cycle)
       if (o.exists(x => outstanding(c).contains(x._2))) next += 1
     }

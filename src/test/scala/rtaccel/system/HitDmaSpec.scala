@@ -19,6 +19,7 @@ class HitDmaSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "HitDma"
 
   private final case class Hit(number: Int, hit: Boolean, t: Long, u: Long, v: Long, prim: Int, errors: Int) {
+
     /** The 32-byte record as docs/register-map.md gives it: number, status, t, u, v, prim, 0, 0. */
     def record: BigInt = {
       val status = BigInt(errors) << HitDma.StatusErrorShift | (if (hit) 1 else 0)
@@ -37,9 +38,15 @@ class HitDmaSpec extends AnyFlatSpec with ChiselScalatestTester {
           dut.io.errCount.foreach(_.expect(0.U, "a new batch starts with clear error counts"))
 
           val hits = (0 until count).map { n =>
-            Hit(n, rnd.nextBoolean(), rnd.nextLong() & 0xffffffffL, rnd.nextLong() & 0xffffffffL,
-              rnd.nextLong() & 0xffffffffL, rnd.nextInt(1 << sys.core.triIndexBits),
-              if (rnd.nextInt(4) == 0) rnd.nextInt(1 << ErrorFlags.width) else 0)
+            Hit(
+              n,
+              rnd.nextBoolean(),
+              rnd.nextLong() & 0xffffffffL,
+              rnd.nextLong() & 0xffffffffL,
+              rnd.nextLong() & 0xffffffffL,
+              rnd.nextInt(1 << sys.core.triIndexBits),
+              if (rnd.nextInt(4) == 0) rnd.nextInt(1 << ErrorFlags.width) else 0
+            )
           }
           // Each core gets a random share, in a random order (cores finish rays out of order).
           val perCore = Array.fill(sys.cores)(mutable.Queue.empty[Hit])
@@ -64,7 +71,10 @@ class HitDmaSpec extends AnyFlatSpec with ChiselScalatestTester {
               val addr = dut.io.write.bits.addr.peek().litValue.toLong
               val data = dut.io.write.bits.data.peek().litValue
               val expected = want.remove(addr)
-              assert(expected.isDefined, f"cycle $cycle: a record written at 0x$addr%x, not a pending ray's (duplicate or stray)")
+              assert(
+                expected.isDefined,
+                f"cycle $cycle: a record written at 0x$addr%x, not a pending ray's (duplicate or stray)"
+              )
               assert(expected.get == data, f"cycle $cycle: record at 0x$addr%x is 0x$data%x, want 0x${expected.get}%x")
             }
             for (c <- 0 until sys.cores) if (offering(c) && dut.io.hits(c).ready.peek().litToBoolean) {

@@ -30,7 +30,7 @@ class WriteEngineSpec extends AnyFlatSpec with ChiselScalatestTester {
           val offered = Seq.fill(records)((rnd.nextInt(1 << 20).toLong * R, BigInt(8 * R, rnd)))
           var next = 0
           val awWant = mutable.Queue.empty[(Long, BigInt)]
-          val wWant  = mutable.Queue.empty[(Long, BigInt)]
+          val wWant = mutable.Queue.empty[(Long, BigInt)]
           var awSeen, wSeen = 0
           val bQueue = mutable.Queue.empty[(Long, Int)] // (cycle due, resp)
           var bDone = 0
@@ -42,7 +42,9 @@ class WriteEngineSpec extends AnyFlatSpec with ChiselScalatestTester {
             // Master side: offer the next record on a coin toss; hold it until taken.
             offering = next < records && (offering || rnd.nextInt(4) > 0)
             dut.io.write.valid.poke(offering.B)
-            if (next < records) { dut.io.write.bits.addr.poke(offered(next)._1.U); dut.io.write.bits.data.poke(offered(next)._2.U) }
+            if (next < records) {
+              dut.io.write.bits.addr.poke(offered(next)._1.U); dut.io.write.bits.data.poke(offered(next)._2.U)
+            }
             val awReady = rnd.nextInt(3) > 0; val wReady = rnd.nextInt(3) > 0
             dut.io.aw.ready.poke(awReady.B); dut.io.w.ready.poke(wReady.B)
             // B: the oldest due response, if any.
@@ -84,8 +86,10 @@ class WriteEngineSpec extends AnyFlatSpec with ChiselScalatestTester {
             dut.io.writesDone.expect(bDone.U, s"cycle $cycle: writesDone")
             dut.io.error.expect(errorWant.B, s"cycle $cycle: error")
           }
-          assert(bDone == records && awSeen == records && wSeen == records,
-            s"after $cycle cycles: $awSeen AWs, $wSeen Ws, $bDone Bs of $records records")
+          assert(
+            bDone == records && awSeen == records && wSeen == records,
+            s"after $cycle cycles: $awSeen AWs, $wSeen Ws, $bDone Bs of $records records"
+          )
           dut.io.aw.valid.expect(false.B, "an AW left over")
           dut.io.w.valid.expect(false.B, "a W left over")
         }
