@@ -39,31 +39,39 @@ case class AccelConfig(
 
   /** Both units in one format (the `FLOAT=` shorthand). */
   def withFloat(f: FloatFormat): AccelConfig = copy(boxFloat = f, triFloat = f)
+
   /** `e8m23`, or `e8m10+e8m23` (box + triangle) when they differ: for reports. */
   def floatName: String = if (boxFloat == triFloat) boxFloat.name else s"${boxFloat.name}+${triFloat.name}"
 
   /** Width of a ray ID. At least 1 bit so that a 1-entry pool still has a wire. */
   val rayIdBits: Int = log2Ceil(numRayIds).max(1)
+
   /** Width of a stack pointer, which counts 0..stackDepth inclusive. */
   val stackPtrBits: Int = log2Ceil(stackDepth + 1)
   val nodeIndexBits: Int = log2Ceil(maxNodes).max(1)
   val triIndexBits: Int = log2Ceil(maxTriangles).max(1)
+
   /** Counts 0..maxLeafSize inclusive. */
   val leafCountBits: Int = log2Ceil(maxLeafSize + 1)
+
   /** A child reference holds a node index or a first triangle slot. */
   val refIndexBits: Int = nodeIndexBits.max(triIndexBits)
+
   /** Child boxes tested per node, in parallel. */
   val boxLanes: Int = layout.lanes
+
   /** RayStack banks: a decision's pushes land in consecutive slots, so with at
     * least as many banks as pushes each bank takes at most one write per cycle.
     * A power of two, so the bank of a slot is its low bits.
     */
   val stackBanks: Int = 1 << log2Ceil(layout.maxPushes)
+
   /** Stack rows per ray in each bank. */
   val stackRows: Int = (stackDepth + stackBanks - 1) / stackBanks
 }
 
 object AccelConfig {
+
   /** The generic configuration `make verilog` targets on the ZC706 (xc7z045). */
   val zc706: AccelConfig = AccelConfig()
 }

@@ -16,6 +16,7 @@ trait Datapath[T <: Data] {
   def rayPrep(cfg: AccelConfig): RayPrepUnit[T]
   def box(cfg: AccelConfig): BoxLane[T]
   def prim(cfg: AccelConfig): PrimIntersect[T]
+
   /** A triangle-format value (t, u, v) as FP32; exact, since formats are no wider than FP32. */
   def toFloat32(cfg: AccelConfig, x: UInt): UInt
 }

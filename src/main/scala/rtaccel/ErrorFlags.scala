@@ -7,17 +7,22 @@ import chisel3._
   * never comes back with a silently wrong hit.
   */
 object ErrorFlags {
+
   /** A push found the ray's stack full: the BVH is deeper than `stackDepth`. */
   val StackOverflow = 0
+
   /** A node or triangle index does not fit the generated index widths. */
   val IndexOverflow = 1
+
   /** A leaf holds more triangles than `maxLeafSize`. */
   val LeafTooBig = 2
+
   /** The ray has a NaN or infinite origin/direction component, a NaN tmin or
     * tmax, or an all-zero direction, judged after narrowing to the datapath
     * format (so an origin too large for a narrow format is an error too).
     */
   val InvalidRay = 3
+
   /** A node box or triangle vertex word the ray met in memory is NaN or
     * infinite: the host wrote the scene wrongly. The ray never returns a
     * silent miss or hit for it.
@@ -34,7 +39,12 @@ object ErrorFlags {
 
   /** Names of the set bits, for reports and failing tests. */
   def describe(bits: BigInt): String =
-    Seq(StackOverflow -> "stack-overflow", IndexOverflow -> "index-overflow", LeafTooBig -> "leaf-too-big", InvalidRay -> "invalid-ray",
-      BadSceneData -> "bad-scene-data")
+    Seq(
+      StackOverflow -> "stack-overflow",
+      IndexOverflow -> "index-overflow",
+      LeafTooBig -> "leaf-too-big",
+      InvalidRay -> "invalid-ray",
+      BadSceneData -> "bad-scene-data"
+    )
       .collect { case (i, n) if bits.testBit(i) => n }.mkString("|")
 }

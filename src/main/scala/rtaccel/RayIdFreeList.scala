@@ -20,43 +20,45 @@ class RayIdFreeList(numIds: Int) extends Module {
   private val idBits = log2Ceil(numIds)
 
   val io = IO(new Bundle {
-    val alloc      = Decoupled(UInt(idBits.W))
-    val free       = Flipped(Decoupled(UInt(idBits.W)))
+    val alloc = Decoupled(UInt(idBits.W))
+    val free = Flipped(Decoupled(UInt(idBits.W)))
+
     /** Number of IDs currently allocated. */
-    val inFlight   = Output(UInt(log2Ceil(numIds + 1).W))
+    val inFlight = Output(UInt(log2Ceil(numIds + 1).W))
+
     /** Sticky: some `free` named an ID that was not allocated. */
     val doubleFree = Output(Bool())
   })
   override def desiredName = s"RayIdFreeList_n$numIds"
 
   // IDs below freshReg have been issued at least once.
-  private val freshReg      = RegInit(0.U(log2Ceil(numIds + 1).W))
-  private val returned      = Module(new Queue(UInt(idBits.W), numIds))
+  private val freshReg = RegInit(0.U(log2Ceil(numIds + 1).W))
+  private val returned = Module(new Queue(UInt(idBits.W), numIds))
   // One bit per ID, a UInt rather than a Vec of Bools: the same flip-flops,
   // updated by two one-hot masks instead of one write port per bit (cheaper
   // for the C++ model to evaluate every cycle).
-  private val inUseReg      = RegInit(0.U(numIds.W))
-  private val inFlightReg   = RegInit(0.U(log2Ceil(numIds + 1).W))
+  private val inUseReg = RegInit(0.U(numIds.W))
+  private val inFlightReg = RegInit(0.U(log2Ceil(numIds + 1).W))
   private val doubleFreeReg = RegInit(false.B)
 
   private val haveFresh = freshReg =/= numIds.U
   io.alloc.valid := haveFresh || returned.io.deq.valid
-  io.alloc.bits  := Mux(haveFresh, freshReg(idBits - 1, 0), returned.io.deq.bits)
+  io.alloc.bits := Mux(haveFresh, freshReg(idBits - 1, 0), returned.io.deq.bits)
   returned.io.deq.ready := io.alloc.ready && !haveFresh
 
   // The FIFO holds at most numIds - inFlight entries, so it always has room.
   io.free.ready := true.B
   private val freeLegal = inUseReg(io.free.bits)
   returned.io.enq.valid := io.free.valid && freeLegal
-  returned.io.enq.bits  := io.free.bits
+  returned.io.enq.bits := io.free.bits
 
   private val allocFire = io.alloc.fire
-  private val freeFire  = io.free.valid && freeLegal
+  private val freeFire = io.free.valid && freeLegal
   when(allocFire && haveFresh) { freshReg := freshReg + 1.U }
   // Were the same ID freed and re-allocated in one cycle, the allocation would
   // win (its mask is applied last); it cannot be, because a freed ID enters the
   // FIFO and leaves it a cycle later.
-  private val freeMask  = Mux(freeFire, UIntToOH(io.free.bits, numIds), 0.U)
+  private val freeMask = Mux(freeFire, UIntToOH(io.free.bits, numIds), 0.U)
   private val allocMask = Mux(allocFire, UIntToOH(io.alloc.bits, numIds), 0.U)
   inUseReg := (inUseReg & ~freeMask) | allocMask
   when(io.free.valid && !freeLegal) { doubleFreeReg := true.B }
@@ -67,6 +69,6 @@ class RayIdFreeList(numIds: Int) extends Module {
   assert(!(allocFire && inUseReg(io.alloc.bits)), "id_allocated_once: an ID in flight was handed out again")
   assert(inFlightReg === PopCount(inUseReg), "id_count: the in-flight count disagrees with the IDs in use")
 
-  io.inFlight   := inFlightReg
+  io.inFlight := inFlightReg
   io.doubleFree := doubleFreeReg
 }

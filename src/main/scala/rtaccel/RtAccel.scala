@@ -18,35 +18,36 @@ import rtaccel.traversal.{InitTraversal, PrepFetch, RayBuffer, Traversal, Traver
 class RtAccel[T <: Data](val cfg: AccelConfig, val dp: Datapath[T]) extends Module {
   private val nodeArb = Module(new TaggedPortArbiter(PrepFetch.port(cfg), 2))
   val io = IO(new Bundle {
-    val rays     = Flipped(Decoupled(new RayIn))
-    val hits     = Decoupled(new HitOut(cfg))
+    val rays = Flipped(Decoupled(new RayIn))
+    val hits = Decoupled(new HitOut(cfg))
     val nodeBase = Input(UInt(cfg.addrBits.W))
-    val triBase  = Input(UInt(cfg.addrBits.W))
-    val nodeMem  = new MemPort(nodeArb.shared)
-    val triMem   = new MemPort(LeafIntersect.port(cfg))
-    val perf     = Output(new PerfCounters)
+    val triBase = Input(UInt(cfg.addrBits.W))
+    val nodeMem = new MemPort(nodeArb.shared)
+    val triMem = new MemPort(LeafIntersect.port(cfg))
+    val perf = Output(new PerfCounters)
+
     /** Sticky: a ray was lost or duplicated (an enqueue found its queue full, or
       * an ID was freed twice). Never set; the harnesses fail at once if it is. */
-    val broken   = Output(Bool())
+    val broken = Output(Bool())
   })
   override def desiredName = s"RtAccel_k${cfg.boxLanes}_${dp.name}_n${cfg.numRayIds}_d${cfg.stackDepth}"
 
-  private val fetch  = Module(new FetchBVH(cfg, dp))
-  private val init   = Module(new InitTraversal(cfg, dp.gen))
-  private val trav   = Module(new Traversal(cfg, dp))
-  private val leaf   = Module(new LeafIntersect(cfg, dp.gen, () => dp.prim(cfg)))
+  private val fetch = Module(new FetchBVH(cfg, dp))
+  private val init = Module(new InitTraversal(cfg, dp.gen))
+  private val trav = Module(new Traversal(cfg, dp))
+  private val leaf = Module(new LeafIntersect(cfg, dp.gen, () => dp.prim(cfg)))
   private val rayBuf = Module(new RayBuffer(cfg, dp.gen, readers = 2))
 
   fetch.io.rays <> io.rays
   fetch.io.nodeBase := io.nodeBase
-  trav.io.nodeBase  := io.nodeBase
-  leaf.io.triBase   := io.triBase
+  trav.io.nodeBase := io.nodeBase
+  leaf.io.triBase := io.triBase
   nodeArb.io.clients(0) <> fetch.io.mem
   nodeArb.io.clients(1) <> trav.io.mem
   io.nodeMem <> nodeArb.io.mem
   io.triMem <> leaf.io.mem
 
-  init.io.in   := fetch.io.prepared
+  init.io.in := fetch.io.prepared
   init.io.root := fetch.io.root
   rayBuf.io.enter <> init.io.enter
   rayBuf.io.update <> leaf.io.tmax
@@ -59,23 +60,23 @@ class RtAccel[T <: Data](val cfg: AccelConfig, val dp: Datapath[T]) extends Modu
 
   // ---- Output: one hit per finished ray, then its ID goes back ----
   private val done = trav.io.done
-  private val id   = done.bits.rayId
-  leaf.io.resultId  := id
+  private val id = done.bits.rayId
+  leaf.io.resultId := id
   fetch.io.numberId := id
-  private val ok   = done.bits.errors === 0.U
+  private val ok = done.bits.errors === 0.U
   private val best = leaf.io.result
-  private val h    = io.hits.bits
+  private val h = io.hits.bits
   h.number := fetch.io.number
-  h.hit    := ok && best.valid
-  h.t      := Mux(h.hit, dp.toFloat32(cfg, best.bits.t), 0.U)
-  h.u      := Mux(h.hit, dp.toFloat32(cfg, best.bits.u), 0.U)
-  h.v      := Mux(h.hit, dp.toFloat32(cfg, best.bits.v), 0.U)
-  h.prim   := Mux(h.hit, best.bits.prim, 0.U)
+  h.hit := ok && best.valid
+  h.t := Mux(h.hit, dp.toFloat32(cfg, best.bits.t), 0.U)
+  h.u := Mux(h.hit, dp.toFloat32(cfg, best.bits.u), 0.U)
+  h.v := Mux(h.hit, dp.toFloat32(cfg, best.bits.v), 0.U)
+  h.prim := Mux(h.hit, best.bits.prim, 0.U)
   h.errors := done.bits.errors
   io.hits.valid := done.valid
-  done.ready    := io.hits.ready
+  done.ready := io.hits.ready
   fetch.io.free.valid := io.hits.fire
-  fetch.io.free.bits  := id
+  fetch.io.free.bits := id
   io.broken := trav.io.overflow || fetch.io.doubleFree || init.io.broken || leaf.io.broken
   // Checked in every simulation and proved by `make formal` (docs/formal.md).
   // Here, not in the units: their own specs drive these flags on purpose.
@@ -96,24 +97,24 @@ class RtAccel[T <: Data](val cfg: AccelConfig, val dp: Datapath[T]) extends Modu
     r
   }
   private val p = io.perf
-  p.cycles        := count(true.B)
-  p.raysIn        := count(io.rays.fire)
-  p.hitsOut       := count(io.hits.fire)
-  p.nodeFetches   := count(io.nodeMem.req.fire)
-  p.triFetches    := count(io.triMem.req.fire)
-  p.boxTests      := count(trav.io.boxTests)
+  p.cycles := count(true.B)
+  p.raysIn := count(io.rays.fire)
+  p.hitsOut := count(io.hits.fire)
+  p.nodeFetches := count(io.nodeMem.req.fire)
+  p.triFetches := count(io.triMem.req.fire)
+  p.boxTests := count(trav.io.boxTests)
   private val childBoxesReg = RegInit(0.U(64.W))
   childBoxesReg := childBoxesReg + trav.io.childBoxes
   p.childBoxTests := childBoxesReg
-  p.leafReturns   := count(trav.io.control(1).valid)
-  p.triTests      := count(leaf.io.tested)
+  p.leafReturns := count(trav.io.control(1).valid)
+  p.triTests := count(leaf.io.tested)
   private val decisionsReg = RegInit(0.U(64.W))
   decisionsReg := decisionsReg + trav.io.control(0).valid.asUInt + trav.io.control(1).valid.asUInt
-  p.decisions     := decisionsReg
+  p.decisions := decisionsReg
   p.nodePortStall := count(io.nodeMem.req.valid && !io.nodeMem.req.ready)
-  p.triPortStall  := count(io.triMem.req.valid && !io.triMem.req.ready)
-  p.raysInStall   := count(io.rays.valid && !io.rays.ready)
-  p.hitsOutStall  := count(io.hits.valid && !io.hits.ready)
+  p.triPortStall := count(io.triMem.req.valid && !io.triMem.req.ready)
+  p.raysInStall := count(io.rays.valid && !io.rays.ready)
+  p.hitsOutStall := count(io.hits.valid && !io.hits.ready)
   private val inFlightSumReg = RegInit(0.U(64.W))
   inFlightSumReg := inFlightSumReg + fetch.io.inFlight
   p.inFlightSum := inFlightSumReg

@@ -39,7 +39,9 @@ class RayIdFreeListSpec extends AnyFlatSpec with ChiselScalatestTester {
       dut.io.inFlight.expect(0.U)
       // The pool still holds each ID once: 4 allocations, then empty.
       dut.io.alloc.ready.poke(true.B)
-      val ids = (0 until 4).map { _ => val id = dut.io.alloc.bits.peek().litValue; dut.clock.step(); id }
+      val ids = (0 until 4).map { _ =>
+        val id = dut.io.alloc.bits.peek().litValue; dut.clock.step(); id
+      }
       assert(ids.distinct.size == 4, s"IDs issued: $ids")
       dut.io.alloc.valid.expect(false.B)
     }
@@ -53,8 +55,8 @@ class RayIdFreeListSpec extends AnyFlatSpec with ChiselScalatestTester {
         var allocs = 0
         for (cycle <- 0 until cycles) {
           val wantAlloc = rnd.nextInt(4) != 0
-          val doFree    = held.nonEmpty && rnd.nextInt(3) == 0
-          val freeIdx   = if (doFree) rnd.nextInt(held.size) else 0
+          val doFree = held.nonEmpty && rnd.nextInt(3) == 0
+          val freeIdx = if (doFree) rnd.nextInt(held.size) else 0
           dut.io.alloc.ready.poke(wantAlloc.B)
           dut.io.free.valid.poke(doFree.B)
           if (doFree) dut.io.free.bits.poke(held(freeIdx).U)

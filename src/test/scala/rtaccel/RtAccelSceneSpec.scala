@@ -26,57 +26,99 @@ class RtAccelSceneSpec extends AnyFlatSpec with ChiselScalatestTester {
   private val bridge = Paths.get("nori-bridge/target/release/nori-bridge")
   private val root = Paths.get("build/test-scenes")
 
-  private def compiled(scene: String, rays: String, extra: Seq[String] = Nil, layout: BvhLayout = BvhLayout.Wide(4)): ScenePackage = {
+  private def compiled(
+      scene: String,
+      rays: String,
+      extra: Seq[String] = Nil,
+      layout: BvhLayout = BvhLayout.Wide(4)
+  ): ScenePackage = {
     val name = Paths.get(scene).getFileName.toString.stripSuffix(".xml")
     // Extra options' values name the package too, so two sizes of one ray set never share a directory.
-    val dir = root.resolve((Seq(name, rays) ++ extra.filterNot(_.startsWith("--")) :+ s"bvh${layout.name}").mkString("-"))
+    val dir =
+      root.resolve((Seq(name, rays) ++ extra.filterNot(_.startsWith("--")) :+ s"bvh${layout.name}").mkString("-"))
     Bridge.compile(bridge, Paths.get(scene), dir, rays, extra ++ Seq("--bvh", layout.name))
     ScenePackage.load(dir)
   }
 
-  private val cfg32 = AccelConfig(numRayIds = 16, stackDepth = 24, maxNodes = 1 << 14, maxTriangles = 1 << 13, maxLeafSize = 4,
-    layout = BvhLayout.Wide(4))
+  private val cfg32 = AccelConfig(
+    numRayIds = 16,
+    stackDepth = 24,
+    maxNodes = 1 << 14,
+    maxTriangles = 1 << 13,
+    maxLeafSize = 4,
+    layout = BvhLayout.Wide(4)
+  )
 
-  private def runScenes(cfg: AccelConfig, dp: FloatDatapath, cases: Seq[(String, () => ScenePackage, Environment)],
-      embreeStrict: Boolean, seed: String): Unit = Seeded(seed) { rnd =>
+  private def runScenes(
+      cfg: AccelConfig,
+      dp: FloatDatapath,
+      cases: Seq[(String, () => ScenePackage, Environment)],
+      embreeStrict: Boolean,
+      seed: String
+  ): Unit = Seeded(seed) { rnd =>
     val golden = FloatGolden(dp)
-    Waves.onFailure(Backends.verilator) { annos => test(new SimTop(cfg, dp)).withAnnotations(annos) { dut =>
-      for (((what, mk, env), k) <- cases.zipWithIndex) {
-        val pkg = mk()
-        assert(pkg.misfits(cfg).isEmpty, s"$what: ${pkg.misfits(cfg)}")
-        dut.reset.poke(true.B); dut.clock.step(); dut.reset.poke(false.B)
-        val run = AccelHarness.run(dut, pkg.image, pkg.rays, env.copy(seed = rnd.nextLong() + k))
-        val byNumber = pkg.rays.map(r => r.number -> r).toMap
-        for (h <- run.hits) {
-          val r = byNumber(h.number)
-          val e = TraversalGolden.trace(cfg, pkg.image, golden, r).hit
-          val same = TraversalGolden.agrees(r, h, e)
-          assert(same, s"$what: ray ${h.number}: hardware $h, golden $e")
+    Waves.onFailure(Backends.verilator) { annos =>
+      test(new SimTop(cfg, dp)).withAnnotations(annos) { dut =>
+        for (((what, mk, env), k) <- cases.zipWithIndex) {
+          val pkg = mk()
+          assert(pkg.misfits(cfg).isEmpty, s"$what: ${pkg.misfits(cfg)}")
+          dut.reset.poke(true.B); dut.clock.step(); dut.reset.poke(false.B)
+          val run = AccelHarness.run(dut, pkg.image, pkg.rays, env.copy(seed = rnd.nextLong() + k))
+          val byNumber = pkg.rays.map(r => r.number -> r).toMap
+          for (h <- run.hits) {
+            val r = byNumber(h.number)
+            val e = TraversalGolden.trace(cfg, pkg.image, golden, r).hit
+            val same = TraversalGolden.agrees(r, h, e)
+            assert(same, s"$what: ray ${h.number}: hardware $h, golden $e")
+          }
+          val out = pkg.dir.resolve(s"hits-${dp.name}")
+          HitsCsv.write(out.resolve("hits.csv"), run.hits)
+          val acc = Bridge.compare(bridge, pkg.dir, out, dp.triFmt.manBits + 1)
+          val bad = acc("mismatches").num.toLong
+          println(
+            f"$what (${dp.name}): ${pkg.rays.size} rays in ${run.cycles}%,d cycles, golden exact; vs Embree ${acc("counts")}"
+          )
+          if (embreeStrict) assert(
+            bad == 0,
+            s"$what: $bad rays disagree with Embree beyond ties and edge cases; see $out/accuracy.json"
+          )
         }
-        val out = pkg.dir.resolve(s"hits-${dp.name}")
-        HitsCsv.write(out.resolve("hits.csv"), run.hits)
-        val acc = Bridge.compare(bridge, pkg.dir, out, dp.triFmt.manBits + 1)
-        val bad = acc("mismatches").num.toLong
-        println(f"$what (${dp.name}): ${pkg.rays.size} rays in ${run.cycles}%,d cycles, golden exact; vs Embree ${acc("counts")}")
-        if (embreeStrict) assert(bad == 0, s"$what: $bad rays disagree with Embree beyond ties and edge cases; see $out/accuracy.json")
       }
-    } }
+    }
   }
 
   private val lat100 = Environment(MemoryParams(Latency.Fixed(100)), MemoryParams(Latency.Fixed(100)))
-  private val ooo = Environment(MemoryParams(Latency.Uniform(50, 300), maxOutstanding = 12), MemoryParams(Latency.Uniform(50, 300), maxOutstanding = 12),
-    rayGap = 0.2, hitRefuse = 0.3, memRefuse = 0.2)
-  private val cached = Environment(MemoryParams(Latency.Fixed(60), cache = Some(CacheParams())), MemoryParams(Latency.Fixed(60), cache = Some(CacheParams())))
+  private val ooo = Environment(
+    MemoryParams(Latency.Uniform(50, 300), maxOutstanding = 12),
+    MemoryParams(Latency.Uniform(50, 300), maxOutstanding = 12),
+    rayGap = 0.2,
+    hitRefuse = 0.3,
+    memRefuse = 0.2
+  )
+  private val cached = Environment(
+    MemoryParams(Latency.Fixed(60), cache = Some(CacheParams())),
+    MemoryParams(Latency.Fixed(60), cache = Some(CacheParams()))
+  )
 
   it should "match the golden model and Embree in FP32 (watertight, 4-wide nodes) on camera, shadow, AO and random rays" in {
     val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.Watertight, BoxRounding.Nearest)
-    runScenes(cfg32, dp, Seq(
-      ("cornell primary", () => compiled("scenes/cornell-box/cornell-box.xml", "primary"), lat100),
-      ("cornell shadow", () => compiled("scenes/cornell-box/cornell-box.xml", "shadow"), ooo),
-      ("cornell AO", () => compiled("scenes/cornell-box/cornell-box.xml", "ao"), cached),
-      ("icosphere random", () => compiled("scenes/icosphere/icosphere.xml", "random", Seq("--count", "3000")), ooo),
-      ("multi-mesh AO", () => compiled("scenes/multi-mesh/multi-mesh.xml", "ao", Seq("--width", "40", "--height", "30")), lat100)
-    ), embreeStrict = true, "RtAccelScene.fp32")
+    runScenes(
+      cfg32,
+      dp,
+      Seq(
+        ("cornell primary", () => compiled("scenes/cornell-box/cornell-box.xml", "primary"), lat100),
+        ("cornell shadow", () => compiled("scenes/cornell-box/cornell-box.xml", "shadow"), ooo),
+        ("cornell AO", () => compiled("scenes/cornell-box/cornell-box.xml", "ao"), cached),
+        ("icosphere random", () => compiled("scenes/icosphere/icosphere.xml", "random", Seq("--count", "3000")), ooo),
+        (
+          "multi-mesh AO",
+          () => compiled("scenes/multi-mesh/multi-mesh.xml", "ao", Seq("--width", "40", "--height", "30")),
+          lat100
+        )
+      ),
+      embreeStrict = true,
+      "RtAccelScene.fp32"
+    )
   }
 
   for (layout <- Seq(BvhLayout.Wide(2), BvhLayout.Wide(8), BvhLayout.Wide(4, quantized = true)))
@@ -85,23 +127,44 @@ class RtAccelSceneSpec extends AnyFlatSpec with ChiselScalatestTester {
       // Sized: the stack holds exactly the layout's bound (the header's bvhDepth), indices the node and triangle counts.
       val primary = compiled("scenes/cornell-box/cornell-box.xml", "primary", layout = layout)
       val cfg = primary.sized(cfg32)
-      assert(cfg.layout == layout && cfg.stackDepth == primary.image.bvhDepth && cfg.maxNodes == primary.needs.nodes, cfg)
-      runScenes(cfg, dp, Seq(
-        ("cornell primary", () => compiled("scenes/cornell-box/cornell-box.xml", "primary", layout = layout), ooo),
-        ("cornell AO", () => compiled("scenes/cornell-box/cornell-box.xml", "ao", layout = layout), lat100)
-      ), embreeStrict = true, s"RtAccelScene.wide${layout.name}")
+      assert(
+        cfg.layout == layout && cfg.stackDepth == primary.image.bvhDepth && cfg.maxNodes == primary.needs.nodes,
+        cfg
+      )
+      runScenes(
+        cfg,
+        dp,
+        Seq(
+          ("cornell primary", () => compiled("scenes/cornell-box/cornell-box.xml", "primary", layout = layout), ooo),
+          ("cornell AO", () => compiled("scenes/cornell-box/cornell-box.xml", "ao", layout = layout), lat100)
+        ),
+        embreeStrict = true,
+        s"RtAccelScene.wide${layout.name}"
+      )
     }
 
   it should "match the golden model bit for bit on hardware sized to the Cornell box (nori nodes, narrow, Moller-Trumbore, conservative boxes)" in {
     // Sized from e8m12: layout, stack, indices and leaf size from the BVH, exponent bits from the numeric range.
     val primary = compiled("scenes/cornell-box/cornell-box.xml", "primary", layout = BvhLayout.Nori)
     val cfg = primary.sized(cfg32.withFloat(FloatFormat(8, 12)))
-    assert(cfg.boxFloat == FloatFormat(7, 12) && cfg.triFloat == FloatFormat(7, 12) && cfg.stackDepth == primary.needs.bvhDepth && cfg.maxLeafSize == primary.needs.largestLeaf, cfg)
+    assert(
+      cfg.boxFloat == FloatFormat(7, 12) && cfg.triFloat == FloatFormat(
+        7,
+        12
+      ) && cfg.stackDepth == primary.needs.bvhDepth && cfg.maxLeafSize == primary.needs.largestLeaf,
+      cfg
+    )
     val dp = FloatDatapath.of(cfg, TriangleTest.Moller, BoxRounding.Conservative)
-    runScenes(cfg, dp, Seq(
-      ("cornell primary", () => primary, ooo),
-      ("cornell AO", () => compiled("scenes/cornell-box/cornell-box.xml", "ao", layout = BvhLayout.Nori), cached)
-    ), embreeStrict = false, "RtAccelScene.sized")
+    runScenes(
+      cfg,
+      dp,
+      Seq(
+        ("cornell primary", () => primary, ooo),
+        ("cornell AO", () => compiled("scenes/cornell-box/cornell-box.xml", "ao", layout = BvhLayout.Nori), cached)
+      ),
+      embreeStrict = false,
+      "RtAccelScene.sized"
+    )
   }
 
   it should "trace narrow conservative boxes (e8m10) with FP32 watertight triangles bit-exact with the golden model, and answer every ray as FP32 does (4q nodes, Cornell box)" in {
@@ -110,7 +173,8 @@ class RtAccelSceneSpec extends AnyFlatSpec with ChiselScalatestTester {
     // So, by construction, every answer equals the FP32 datapath's: checked per ray here.
     val layout = BvhLayout.Wide(4, quantized = true)
     // 32 x 32 camera rays: the Verilator build dominates; make test's budget for this check is about a minute.
-    val primary = compiled("scenes/cornell-box/cornell-box.xml", "primary", Seq("--width", "32", "--height", "32"), layout)
+    val primary =
+      compiled("scenes/cornell-box/cornell-box.xml", "primary", Seq("--width", "32", "--height", "32"), layout)
     val cfg = primary.sized(cfg32).copy(boxFloat = FloatFormat(8, 10), triFloat = FloatFormat.FP32)
     val dp = FloatDatapath.of(cfg, TriangleTest.Watertight, BoxRounding.Conservative)
     assert(dp.name == "e8m10e8m23_wt_cons" && FloatDatapath.parse(dp.name) == dp, dp.name)
@@ -119,15 +183,18 @@ class RtAccelSceneSpec extends AnyFlatSpec with ChiselScalatestTester {
     val split = FloatGolden(dp)
     var (falseMiss, falseHit, wrongPrim, tDiff, moreBoxTests) = (0, 0, 0, 0, 0L)
     for (r <- primary.rays) {
-      val (a, e) = (TraversalGolden.trace(cfg, primary.image, split, r), TraversalGolden.trace(cfg, primary.image, fp32, r))
+      val (a, e) =
+        (TraversalGolden.trace(cfg, primary.image, split, r), TraversalGolden.trace(cfg, primary.image, fp32, r))
       if (e.hit.hit && !a.hit.hit) falseMiss += 1
       if (!e.hit.hit && a.hit.hit) falseHit += 1
       if (e.hit.hit && a.hit.hit && e.hit.prim != a.hit.prim) wrongPrim += 1
       if (e.hit.hit && a.hit.hit && e.hit.prim == a.hit.prim && e.hit.t != a.hit.t) tDiff += 1
       moreBoxTests += a.boxTests - e.boxTests
     }
-    println(s"split e8m10 boxes / FP32 triangles against FP32, ${primary.rays.size} rays: $falseMiss false misses, $falseHit false hits, " +
-      s"$wrongPrim wrong prims, $tDiff t differences; ${moreBoxTests.toDouble / primary.rays.size} more box tests per ray")
+    println(
+      s"split e8m10 boxes / FP32 triangles against FP32, ${primary.rays.size} rays: $falseMiss false misses, $falseHit false hits, " +
+        s"$wrongPrim wrong prims, $tDiff t differences; ${moreBoxTests.toDouble / primary.rays.size} more box tests per ray"
+    )
     assert(falseMiss == 0 && falseHit == 0 && wrongPrim == 0 && tDiff == 0)
   }
 }

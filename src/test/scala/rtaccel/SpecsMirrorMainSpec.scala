@@ -48,8 +48,10 @@ class SpecsMirrorMainSpec extends AnyFlatSpec {
     val modules = packages.flatMap(modulesIn)
     assert(modules.size >= 20, s"found only ${modules.size} modules: the scan is broken")
     val missing = modules.filterNot { case (pkg, name) => allowed.contains(name) || Files.exists(specOf(pkg, name)) }
-    assert(missing.isEmpty,
-      s"modules without a spec of their own name: ${missing.map { case (p, n) => s"$p/$n (want ${specOf(p, n)})" }.mkString(", ")}")
+    assert(
+      missing.isEmpty,
+      s"modules without a spec of their own name: ${missing.map { case (p, n) => s"$p/$n (want ${specOf(p, n)})" }.mkString(", ")}"
+    )
   }
 
   it should "keep the allow-list to modules that exist and have no spec" in {
@@ -58,6 +60,9 @@ class SpecsMirrorMainSpec extends AnyFlatSpec {
     val stale = allowed.keys.filterNot(names.contains)
     assert(stale.isEmpty, s"allow-listed modules that no longer exist: ${stale.mkString(", ")}")
     val covered = modules.collect { case (p, n) if allowed.contains(n) && Files.exists(specOf(p, n)) => n }
-    assert(covered.isEmpty, s"allow-listed modules that now have a spec (drop them from the list): ${covered.mkString(", ")}")
+    assert(
+      covered.isEmpty,
+      s"allow-listed modules that now have a spec (drop them from the list): ${covered.mkString(", ")}"
+    )
   }
 }

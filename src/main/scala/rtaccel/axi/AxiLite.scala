@@ -22,13 +22,13 @@ class AxiLiteR(dataBits: Int) extends Bundle {
 /** An AXI4-Lite port from the master's side (the slave takes it Flipped). */
 class AxiLite(val addrBits: Int, val dataBits: Int) extends Bundle {
   val aw = Decoupled(new AxiLiteAddr(addrBits))
-  val w  = Decoupled(new AxiLiteW(dataBits))
-  val b  = Flipped(Decoupled(UInt(2.W)))
+  val w = Decoupled(new AxiLiteW(dataBits))
+  val b = Flipped(Decoupled(UInt(2.W)))
   val ar = Decoupled(new AxiLiteAddr(addrBits))
-  val r  = Flipped(Decoupled(new AxiLiteR(dataBits)))
+  val r = Flipped(Decoupled(new AxiLiteR(dataBits)))
 }
 
 object AxiResp {
-  val Okay   = 0
+  val Okay = 0
   val SlvErr = 2
 }

@@ -33,14 +33,21 @@ object Bench {
     // The second large scene, of another kind (docs/dram-traffic.md): fetched by make bridge-scenes-monastery.
     Run("monastery", "scenes/monastery/monastery.xml", "primary"),
     Run("monastery", "scenes/monastery/monastery.xml", "shadow"),
-    Run("monastery", "scenes/monastery/monastery.xml", "ao"))
+    Run("monastery", "scenes/monastery/monastery.xml", "ao")
+  )
   val Memories: Seq[String] = Seq("onchip", "ddr")
+
   /** nori-bridge's own layout: binary nodes of 32 bytes, what the RTL on this branch reads. */
   val DefaultLayout = "nori"
 
-  final case class Args(layouts: Seq[String] = Seq(DefaultLayout), runs: Seq[Run] = Runs, maxRays: Int = 2048,
-      out: Path = Paths.get("docs/reports/performance.md"), area: Path = Paths.get("build/bench/area.json"),
-      bridge: Path = Paths.get("nori-bridge/target/release/nori-bridge"), threads: Int = 2,
+  final case class Args(
+      layouts: Seq[String] = Seq(DefaultLayout),
+      runs: Seq[Run] = Runs,
+      maxRays: Int = 2048,
+      out: Path = Paths.get("docs/reports/performance.md"),
+      area: Path = Paths.get("build/bench/area.json"),
+      bridge: Path = Paths.get("nori-bridge/target/release/nori-bridge"),
+      threads: Int = 2,
       /** Only redraw the table from `rows` (after a run, e.g. with new area figures). */
       renderOnly: Boolean = false,
       /** The per-core rows of the last run (and beside it, `<name>-run.json`: its commit, time and seconds). A table
@@ -52,7 +59,8 @@ object Bench {
         * re-measuring only Embree (with the load average). */
       system: String = "1",
       /** What `make verilog` wrote: the cores that fit and the Fmax estimate (VerilogFigures). */
-      verilog: Path = Paths.get("build/verilog/resources.md"))
+      verilog: Path = Paths.get("build/verilog/resources.md")
+  )
 
   val usage = "usage: Bench [--out docs/reports/performance.md] [--layouts nori,2,4,8] [--runs cornell-box-primary,dragon-ao,...] " +
     "[--max-rays 2048] [--area build/bench/area.json] [--threads 2] [--render-only 0|1] [--system 0|1|cached|embree] " +
@@ -67,18 +75,24 @@ object Bench {
       def list = v.split(',').map(_.trim).filter(_.nonEmpty).toSeq
       def int = v.toIntOption.filter(_ >= 1).getOrElse(fail(s"$k: '$v' is not a whole number >= 1"))
       k match {
-        case "--out"      => a.copy(out = Paths.get(v))
-        case "--layouts"  => if (list.isEmpty) fail(s"--layouts: '$v' names no layout") else a.copy(layouts = list)
-        case "--runs"     => a.copy(runs = list.map(n => Runs.find(_.name == n)
-                               .getOrElse(fail(s"--runs: '$n' is not one of ${Runs.map(_.name).mkString(", ")}"))))
-        case "--max-rays" => a.copy(maxRays = int)
-        case "--area"     => a.copy(area = Paths.get(v))
-        case "--threads"  => a.copy(threads = int)
+        case "--out"     => a.copy(out = Paths.get(v))
+        case "--layouts" => if (list.isEmpty) fail(s"--layouts: '$v' names no layout") else a.copy(layouts = list)
+        case "--runs" => a.copy(runs =
+            list.map(n =>
+              Runs.find(_.name == n)
+                .getOrElse(fail(s"--runs: '$n' is not one of ${Runs.map(_.name).mkString(", ")}"))
+            )
+          )
+        case "--max-rays"    => a.copy(maxRays = int)
+        case "--area"        => a.copy(area = Paths.get(v))
+        case "--threads"     => a.copy(threads = int)
         case "--render-only" => a.copy(renderOnly = v == "1")
-        case "--system"   => if (SystemModes.contains(v)) a.copy(system = v) else fail(s"--system: '$v' (${SystemModes.mkString(", ")})")
-        case "--verilog"  => a.copy(verilog = Paths.get(v))
-        case "--rows"     => if (v.endsWith(".json")) a.copy(rows = Paths.get(v)) else fail(s"--rows: '$v' is not a .json file")
-        case other        => fail(s"unknown option '$other'")
+        case "--system" =>
+          if (SystemModes.contains(v)) a.copy(system = v) else fail(s"--system: '$v' (${SystemModes.mkString(", ")})")
+        case "--verilog" => a.copy(verilog = Paths.get(v))
+        case "--rows" =>
+          if (v.endsWith(".json")) a.copy(rows = Paths.get(v)) else fail(s"--rows: '$v' is not a .json file")
+        case other => fail(s"unknown option '$other'")
       }
     }
   }
@@ -88,7 +102,10 @@ object Bench {
 
   /** The hardware that reads `layout`'s nodes: the ZC706 configuration with its box lanes. */
   def configFor(layout: String): AccelConfig =
-    AccelConfig.zc706.copy(layout = try BvhLayout.parse(layout) catch { case e: IllegalArgumentException => throw new IllegalArgumentException(s"--layouts: ${e.getMessage}") })
+    AccelConfig.zc706.copy(layout =
+      try BvhLayout.parse(layout)
+      catch { case e: IllegalArgumentException => throw new IllegalArgumentException(s"--layouts: ${e.getMessage}") }
+    )
 
   private val root = Paths.get("build/bench")
 
@@ -104,7 +121,8 @@ object Bench {
     // measured now, or redrawn from build/bench/system.json (after re-measuring Embree alone with "embree").
     val systemJson = root.resolve("system.json")
     def cached() = {
-      if (!Files.exists(systemJson)) throw new IllegalArgumentException(s"--system ${a.system}: $systemJson is missing (run with --system 1)")
+      if (!Files.exists(systemJson))
+        throw new IllegalArgumentException(s"--system ${a.system}: $systemJson is missing (run with --system 1)")
       BenchSystem.fromJson(ujson.read(Files.readString(systemJson)))
     }
     def save(r: BenchSystem.Result) = {
@@ -113,24 +131,32 @@ object Bench {
       r
     }
     val system = a.system match {
-      case "0" => None
+      case "0"      => None
       case "cached" => Some(BenchSystem.redraw(a, dp, cached()))
       case "embree" => Some(BenchSystem.redraw(a, dp, save(BenchSystem.remeasureEmbree(a, cached(), root))))
-      case _ => Some(save(BenchSystem.run(a, dp, golden, root)))
+      case _        => Some(save(BenchSystem.run(a, dp, golden, root)))
     }
     val benchJson = a.rows
     // <rows>-run.json: the commit, time and wall seconds of the run that wrote the rows, for a redrawn table's header.
     val runJson = Paths.get(a.rows.toString.stripSuffix(".json") + "-run.json")
     val rows =
       if (a.renderOnly) {
-        if (!Files.exists(benchJson)) throw new IllegalArgumentException(s"--render-only 1: $benchJson is missing (run `make bench` with BENCH_RENDER_ONLY=0)")
+        if (!Files.exists(benchJson)) throw new IllegalArgumentException(
+          s"--render-only 1: $benchJson is missing (run `make bench` with BENCH_RENDER_ONLY=0)"
+        )
         ujson.read(Files.readString(benchJson)).arr.map(_.obj).map(o => ujson.Obj.from(o)).toSeq
       } else {
         val p = BenchSystem.provenance()
         val rs = for (layout <- a.layouts; row <- runLayout(a, layout, dp, golden)) yield row
         Files.createDirectories(benchJson.toAbsolutePath.getParent)
         Files.writeString(benchJson, ujson.write(ujson.Arr(rs: _*), indent = 2))
-        Files.writeString(runJson, ujson.write(ujson.Obj("commit" -> p.commit, "at" -> p.at, "seconds" -> (System.nanoTime() - t0) / 1e9), indent = 2))
+        Files.writeString(
+          runJson,
+          ujson.write(
+            ujson.Obj("commit" -> p.commit, "at" -> p.at, "seconds" -> (System.nanoTime() - t0) / 1e9),
+            indent = 2
+          )
+        )
         rs
       }
     val earlier = Option.when(a.renderOnly && Files.exists(runJson)) {
@@ -141,13 +167,27 @@ object Bench {
     // alone by Yosys (cached in build/area-cache with make verilog's results).
     val area = rows.map(_("layout").str).distinct.map { layout =>
       val cfg = configFor(layout).copy(boxFloat = dp.boxFmt, triFloat = dp.triFmt)
-      layout -> cfg.boxLanes * rtaccel.tools.AccelArea.boxLane(dp, cfg, rtaccel.tools.EmitVerilog.areaCache).lut.toDouble
+      layout -> cfg.boxLanes * rtaccel.tools.AccelArea.boxLane(
+        dp,
+        cfg,
+        rtaccel.tools.EmitVerilog.areaCache
+      ).lut.toDouble
     }.toMap
     Files.createDirectories(a.area.toAbsolutePath.getParent)
     Files.writeString(a.area, ujson.write(ujson.Obj.from(area.map { case (k, v) => k -> ujson.Num(v) }), indent = 2))
     Files.createDirectories(a.out.toAbsolutePath.getParent)
-    Files.writeString(a.out, BenchMarkdown(rows, area, a.maxRays, if (a.renderOnly) -1 else (System.nanoTime() - t0) / 1e9,
-      system.fold("")(BenchSystemMarkdown(_, a.maxRays)), earlier.getOrElse("an earlier run"), notesFor(a.out)))
+    Files.writeString(
+      a.out,
+      BenchMarkdown(
+        rows,
+        area,
+        a.maxRays,
+        if (a.renderOnly) -1 else (System.nanoTime() - t0) / 1e9,
+        system.fold("")(BenchSystemMarkdown(_, a.maxRays)),
+        earlier.getOrElse("an earlier run"),
+        notesFor(a.out)
+      )
+    )
     println(s"bench: wrote ${a.out}")
   }
 
@@ -167,8 +207,11 @@ object Bench {
       (run, p, g.hits.map(h => h.number -> h).toMap, embree)
     }
     val rows = collection.mutable.ArrayBuffer.empty[ujson.Obj]
-    val annos = Seq(VerilatorBackendAnnotation, chiseltest.internal.CachingAnnotation,
-      TargetDirAnnotation(Regress.simDir(dp.name, cfg, if (layout == DefaultLayout) "" else s"_$layout").toString))
+    val annos = Seq(
+      VerilatorBackendAnnotation,
+      chiseltest.internal.CachingAnnotation,
+      TargetDirAnnotation(Regress.simDir(dp.name, cfg, if (layout == DefaultLayout) "" else s"_$layout").toString)
+    )
     RawTester.test(new SimTop(cfg, dp), annos) { dut =>
       for ((run, p, goldenHits, embree) <- packages; memory <- Memories) {
         val rays = SpeedRuns.sample(p.rays, a.maxRays)
@@ -183,8 +226,10 @@ object Bench {
         s("layout") = layout; s("run") = run.name; s("memoryKind") = memory
         s("raySetSize") = p.rays.size; s("embreeMismatches") = embree.toDouble
         rows += s
-        println(f"bench: ${run.name}%-20s $layout%-5s $memory%-6s ${rays.size}%5d rays ${r.cycles}%,9d cycles " +
-          f"${s("raysPerCycle").num}%.4f r/c (${s("efficiency").num}%.2f of ${s("boundRaysPerCycle").num}%.4f, ${s("boundLimitedBy").str})")
+        println(
+          f"bench: ${run.name}%-20s $layout%-5s $memory%-6s ${rays.size}%5d rays ${r.cycles}%,9d cycles " +
+            f"${s("raysPerCycle").num}%.4f r/c (${s("efficiency").num}%.2f of ${s("boundRaysPerCycle").num}%.4f, ${s("boundLimitedBy").str})"
+        )
       }
     }
     rows.toSeq

@@ -21,10 +21,13 @@ import scala.sys.process._
   * same ray sets (`nori-bridge bench`, 2 threads).
   */
 object BenchSystem {
+
   /** The core every system row instantiates: the ZC706 configuration, 4-wide nodes (what make verilog builds by default). */
   val Layout = "4"
+
   /** Core counts always measured; the cores that fit are added. */
   val Cores: Seq[Int] = Seq(1, 2, 4)
+
   /** Words resources.md's title must hold for its figures to be this core's. */
   def expectTitle(dp: FloatDatapath, cfg: AccelConfig): Seq[String] =
     Seq(s"RtAccel ${dp.name},", s"(${cfg.boxLanes} box lanes)", s"${cfg.numRayIds} ray IDs")
@@ -32,9 +35,16 @@ object BenchSystem {
   /** One Embree figure and the conditions it was taken under: the 1-minute load average (/proc/loadavg) just before
     * the try that gave it (the machine is shared, so a high load understates Embree), when (UTC), and the host
     * ([[host]]: Embree's speed varies up to 2x from one host of these shared VMs to the next). */
-  final case class Embree(packetsMrays: Double, singleMrays: Double, threads: Int, load1: Double = Double.NaN, at: String = "unknown",
-      host: String = "unknown")
-  private val embreeRe = """Embree(?: ROBUST)? ([\d.]+) Mrays/s in packets of 8, ([\d.]+) Mrays/s one by one, on (\d+) threads""".r
+  final case class Embree(
+      packetsMrays: Double,
+      singleMrays: Double,
+      threads: Int,
+      load1: Double = Double.NaN,
+      at: String = "unknown",
+      host: String = "unknown"
+  )
+  private val embreeRe =
+    """Embree(?: ROBUST)? ([\d.]+) Mrays/s in packets of 8, ([\d.]+) Mrays/s one by one, on (\d+) threads""".r
 
   /** The 1-minute load average, or NaN where /proc/loadavg is missing. */
   def load1(): Double = {
@@ -62,8 +72,12 @@ object BenchSystem {
   def embree(bridge: Path, pkg: Path, tries: Int = 3): Embree = (1 to tries).map { _ =>
     val (load, at) = (load1(), utcNow())
     val out = Process(Seq(bridge.toString, "bench", "--package", pkg.toString)).!!
-    embreeRe.findFirstMatchIn(out).map(m => Embree(m.group(1).toDouble, m.group(2).toDouble, m.group(3).toInt, load, at, host()))
-      .getOrElse(throw new IllegalStateException(s"nori-bridge bench --package $pkg: no Embree figure in its output:\n$out"))
+    embreeRe.findFirstMatchIn(out).map(m =>
+      Embree(m.group(1).toDouble, m.group(2).toDouble, m.group(3).toInt, load, at, host())
+    )
+      .getOrElse(throw new IllegalStateException(
+        s"nori-bridge bench --package $pkg: no Embree figure in its output:\n$out"
+      ))
   }.maxBy(_.packetsMrays)
 
   /** The package of `run` that the system rows simulate (its whole ray set): Embree runs on it too. */
@@ -77,7 +91,9 @@ object BenchSystem {
       val dir = packageDir(root, run)
       Bridge.compile(a.bridge, Paths.get(run.xml), dir, run.rays, bvh = Some(Layout))
       val e = embree(a.bridge, dir)
-      println(f"bench: ${run.name}: Embree ${e.packetsMrays}%.2f Mrays/s (packets of 8, ${e.threads} threads, load ${e.load1}%.2f)")
+      println(
+        f"bench: ${run.name}: Embree ${e.packetsMrays}%.2f Mrays/s (packets of 8, ${e.threads} threads, load ${e.load1}%.2f)"
+      )
       run.name -> e
     }.toMap)
   }
@@ -89,7 +105,16 @@ object BenchSystem {
   def provenance(): Provenance = {
     def git(args: String*) = scala.util.Try(Process("git" +: args).!!.trim).toOption
     val head = git("rev-parse", "--short", "HEAD").getOrElse("unknown")
-    val dirty = scala.util.Try(Process(Seq("git", "diff", "--quiet", "HEAD", "--", ".", ":(exclude)docs", ":(exclude)README.md")).! != 0)
+    val dirty = scala.util.Try(Process(Seq(
+      "git",
+      "diff",
+      "--quiet",
+      "HEAD",
+      "--",
+      ".",
+      ":(exclude)docs",
+      ":(exclude)README.md"
+    )).! != 0)
       .getOrElse(false)
     Provenance(head + (if (dirty) "-dirty" else ""), utcNow())
   }
@@ -112,10 +137,18 @@ object BenchSystem {
     * (the whole MHz of `verilog`'s Fmax estimate) at `sim`, with the Embree speeds. `now` is what make verilog's
     * resources.md says when the section is redrawn from the cache, where it differs from `verilog`: the estimate
     * then takes its cores and Fmax, and the markdown says so. */
-  final case class Result(rows: Seq[ujson.Obj], embree: Map[String, Embree], verilog: VerilogFigures, fabricMhz: Int,
-      sim: Provenance = Provenance("unknown", "unknown"), now: Option[(VerilogFigures, Provenance)] = None) {
+  final case class Result(
+      rows: Seq[ujson.Obj],
+      embree: Map[String, Embree],
+      verilog: VerilogFigures,
+      fabricMhz: Int,
+      sim: Provenance = Provenance("unknown", "unknown"),
+      now: Option[(VerilogFigures, Provenance)] = None
+  ) {
+
     /** The figures the estimate uses: the redrawn ones if any, else those of the simulation. */
     def estimateFigures: VerilogFigures = now.fold(verilog)(_._1)
+
     /** The clock of the estimate, whole MHz rounded down (as the simulation's DDR model clock). */
     def estimateMhz: Int = BenchSystem.wholeMhz(estimateFigures)
   }
@@ -125,32 +158,62 @@ object BenchSystem {
 
   private def verilogJson(v: VerilogFigures) =
     ujson.Obj("title" -> v.title, "coresFit" -> v.coresFit, "fmaxNs" -> v.fmaxNs, "slowestUnit" -> v.slowestUnit)
-  private def verilogOf(v: ujson.Value) = VerilogFigures(v("title").str, v("coresFit").num.toInt, v("fmaxNs").num, v("slowestUnit").str)
+  private def verilogOf(v: ujson.Value) =
+    VerilogFigures(v("title").str, v("coresFit").num.toInt, v("fmaxNs").num, v("slowestUnit").str)
   private def nanOr(x: Double): ujson.Value = if (x.isNaN) ujson.Null else ujson.Num(x)
 
   /** The cache (build/bench/system.json) holds what was simulated; `now` is never stored (re-read at each redraw). */
-  def toJson(r: Result): ujson.Obj = ujson.Obj("rows" -> ujson.Arr(r.rows: _*), "fabricMhz" -> r.fabricMhz,
-    "commit" -> r.sim.commit, "at" -> r.sim.at, "verilog" -> verilogJson(r.verilog),
+  def toJson(r: Result): ujson.Obj = ujson.Obj(
+    "rows" -> ujson.Arr(r.rows: _*),
+    "fabricMhz" -> r.fabricMhz,
+    "commit" -> r.sim.commit,
+    "at" -> r.sim.at,
+    "verilog" -> verilogJson(r.verilog),
     "embree" -> ujson.Obj.from(r.embree.map { case (k, e) =>
-      k -> ujson.Obj("packetsMrays" -> e.packetsMrays, "singleMrays" -> e.singleMrays, "threads" -> e.threads,
-        "load1" -> nanOr(e.load1), "at" -> e.at, "host" -> e.host) }))
+      k -> ujson.Obj(
+        "packetsMrays" -> e.packetsMrays,
+        "singleMrays" -> e.singleMrays,
+        "threads" -> e.threads,
+        "load1" -> nanOr(e.load1),
+        "at" -> e.at,
+        "host" -> e.host
+      )
+    })
+  )
 
   /** Reads the cache; a cache written before the load average and commit were recorded reads them as unknown. */
   def fromJson(j: ujson.Value): Result = {
     def str(o: ujson.Value, k: String) = o.obj.get(k).map(_.str).getOrElse("unknown")
-    Result(j("rows").arr.map(x => ujson.Obj.from(x.obj)).toSeq,
-      j("embree").obj.map { case (k, e) => k -> Embree(e("packetsMrays").num, e("singleMrays").num, e("threads").num.toInt,
-        e.obj.get("load1").flatMap(_.numOpt).getOrElse(Double.NaN), str(e, "at"), str(e, "host")) }.toMap,
-      verilogOf(j("verilog")), j("fabricMhz").num.toInt, Provenance(str(j, "commit"), str(j, "at")))
+    Result(
+      j("rows").arr.map(x => ujson.Obj.from(x.obj)).toSeq,
+      j("embree").obj.map { case (k, e) =>
+        k -> Embree(
+          e("packetsMrays").num,
+          e("singleMrays").num,
+          e("threads").num.toInt,
+          e.obj.get("load1").flatMap(_.numOpt).getOrElse(Double.NaN),
+          str(e, "at"),
+          str(e, "host")
+        )
+      }.toMap,
+      verilogOf(j("verilog")),
+      j("fabricMhz").num.toInt,
+      Provenance(str(j, "commit"), str(j, "at"))
+    )
   }
 
   /** A cached result redrawn against what resources.md says now (make verilog may have run since). */
   def redraw(a: Bench.Args, dp: FloatDatapath, r: Result): Result = {
-    val v = VerilogFigures.read(a.verilog, expectTitle(dp, Bench.configFor(Layout).copy(boxFloat = dp.boxFmt, triFloat = dp.triFmt)))
+    val v = VerilogFigures.read(
+      a.verilog,
+      expectTitle(dp, Bench.configFor(Layout).copy(boxFloat = dp.boxFmt, triFloat = dp.triFmt))
+    )
     val cores = r.rows.map(_("cores").num.toInt).distinct.sorted
     if (!cores.contains(v.coresFit))
-      throw new IllegalArgumentException(s"${a.verilog}: ${v.coresFit} cores fit now, but build/bench/system.json " +
-        s"(simulated at ${r.sim.commit}) holds rows for ${cores.mkString(", ")} cores only: run `make bench` (BENCH_SYSTEM=1)")
+      throw new IllegalArgumentException(
+        s"${a.verilog}: ${v.coresFit} cores fit now, but build/bench/system.json " +
+          s"(simulated at ${r.sim.commit}) holds rows for ${cores.mkString(", ")} cores only: run `make bench` (BENCH_SYSTEM=1)"
+      )
     if (v == r.verilog) r
     else {
       val written = java.time.Instant.ofEpochMilli(Files.getLastModifiedTime(a.verilog).toMillis)
@@ -167,12 +230,16 @@ object BenchSystem {
     val mhz = wholeMhz(v)
     val sim = provenance()
     val cores = (Cores :+ v.coresFit).distinct.sorted
-    println(s"bench: system: ${v.coresFit} cores fit, Fmax estimate ${"%.1f".format(v.fmaxMhz)} MHz (${v.slowestUnit}); " +
-      s"simulating ${cores.mkString(", ")} cores at $mhz MHz")
+    println(
+      s"bench: system: ${v.coresFit} cores fit, Fmax estimate ${"%.1f".format(v.fmaxMhz)} MHz (${v.slowestUnit}); " +
+        s"simulating ${cores.mkString(", ")} cores at $mhz MHz"
+    )
     val packages = a.runs.map { run =>
       val x = prepare(a, cfg, golden, root, run)
       val e = embree(a.bridge, packageDir(root, run))
-      println(f"bench: ${run.name}: Embree ${e.packetsMrays}%.2f Mrays/s (packets of 8, ${e.threads} threads, load ${e.load1}%.2f)")
+      println(
+        f"bench: ${run.name}: Embree ${e.packetsMrays}%.2f Mrays/s (packets of 8, ${e.threads} threads, load ${e.load1}%.2f)"
+      )
       (x, e)
     }
     val rows = for (n <- cores; dir = CppSim.build(cfg, dp, n); (x, _) <- packages)
@@ -182,9 +249,21 @@ object BenchSystem {
 
   /** A ray set ready to simulate: its package, the sample simulated, the golden model's hits for it (by ray number)
     * and the subset package rtaccel-sim reads. */
-  final case class Prepared(run: Bench.Run, p: ScenePackage, rays: IndexedSeq[RayRecord], golden: Map[Long, HitRecord], sub: Path)
+  final case class Prepared(
+      run: Bench.Run,
+      p: ScenePackage,
+      rays: IndexedSeq[RayRecord],
+      golden: Map[Long, HitRecord],
+      sub: Path
+  )
 
-  def prepare(a: Bench.Args, cfg: AccelConfig, golden: rtaccel.datapath.FloatGolden, root: Path, run: Bench.Run): Prepared = {
+  def prepare(
+      a: Bench.Args,
+      cfg: AccelConfig,
+      golden: rtaccel.datapath.FloatGolden,
+      root: Path,
+      run: Bench.Run
+  ): Prepared = {
     val dir = packageDir(root, run)
     Bridge.compile(a.bridge, Paths.get(run.xml), dir, run.rays, bvh = Some(Layout))
     val p = ScenePackage.load(dir)
@@ -213,16 +292,28 @@ object BenchSystem {
     val axi = simMem("axi")
     // DRAM bytes per ray by the image region they touched (whole 64-byte bursts, the DDR model's charge).
     val regions = ujson.Obj.from(simMem.obj.get("regions").toSeq.flatMap(_.obj).map { case (k, v) =>
-      k -> ujson.Num((v("readBytes").num + v("writeBytes").num) / rays.size) })
+      k -> ujson.Num((v("readBytes").num + v("writeBytes").num) / rays.size)
+    })
     val readBeats = axi("readBeats").num
     val beatBytes = axi("beatBytes").num
-    val row = ujson.Obj("run" -> run.name, "cores" -> n, "rays" -> rays.size, "raySetSize" -> p.rays.size,
-      "cycles" -> r.cycles.toDouble, "raysPerCycle" -> rays.size.toDouble / r.cycles,
+    val row = ujson.Obj(
+      "run" -> run.name,
+      "cores" -> n,
+      "rays" -> rays.size,
+      "raySetSize" -> p.rays.size,
+      "cycles" -> r.cycles.toDouble,
+      "raysPerCycle" -> rays.size.toDouble / r.cycles,
       "nodeStoreHitRate" -> (if (storeReads > 0) perf("nodeStoreHits") / storeReads else 0.0),
-      "dramBytesPerRay" -> r.dram.fold(0.0)(_.bytes.toDouble / rays.size), "readBytesPerRay" -> beatBytes * readBeats / rays.size,
-      "readBeatsPerCycle" -> readBeats / r.cycles, "axiDataBits" -> 8 * beatBytes,
-      "dramBusy" -> r.dram.fold(0.0)(_.busyCycles.toDouble / r.cycles), "goldenMismatches" -> bad, "dramRegionBytesPerRay" -> regions,
-      "simCyclesPerSecond" -> speed("cyclesPerSecond").num, "simCyclesPerCpuSecond" -> speed("cyclesPerCpuSecond").num)
+      "dramBytesPerRay" -> r.dram.fold(0.0)(_.bytes.toDouble / rays.size),
+      "readBytesPerRay" -> beatBytes * readBeats / rays.size,
+      "readBeatsPerCycle" -> readBeats / r.cycles,
+      "axiDataBits" -> 8 * beatBytes,
+      "dramBusy" -> r.dram.fold(0.0)(_.busyCycles.toDouble / r.cycles),
+      "goldenMismatches" -> bad,
+      "dramRegionBytesPerRay" -> regions,
+      "simCyclesPerSecond" -> speed("cyclesPerSecond").num,
+      "simCyclesPerCpuSecond" -> speed("cyclesPerCpuSecond").num
+    )
     println(f"bench: system ${run.name}%-20s $n cores ${8 * beatBytes}%.0f-bit m_axi ${rays.size}%5d rays ${r.cycles}%,9d cycles " +
       f"${rays.size.toDouble / r.cycles}%.4f r/c")
     row

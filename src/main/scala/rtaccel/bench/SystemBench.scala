@@ -23,7 +23,10 @@ import java.nio.file.{Files, Paths, StandardOpenOption}
 object SystemBench {
   def main(args: Array[String]): Unit = {
     val kv = args.grouped(2).collect { case Array(k, v) => k -> v }.toMap
-    val dir = Paths.get(kv.getOrElse("--package", throw new IllegalArgumentException("--package DIR (a compiled 4-wide package) is required")))
+    val dir = Paths.get(kv.getOrElse(
+      "--package",
+      throw new IllegalArgumentException("--package DIR (a compiled 4-wide package) is required")
+    ))
     val pkg = ScenePackage.load(dir)
     val cores = kv.getOrElse("--cores", "1").toInt
     val rays = pkg.rays.take(kv.get("--rays").map(_.toInt).getOrElse(pkg.rays.size))
@@ -50,13 +53,17 @@ object SystemBench {
       val cycles = h.read64("CYCLES").toDouble
       val (hits, misses) = (h.read64("NODE_STORE_HITS").toDouble, h.read64("NODE_STORE_MISSES").toDouble)
       val beats = h.read64("AXI_READ_BEATS").toDouble
-      val row = f"| ${dir.getFileName} | $cores | ${cfg.numRayIds} | ${rays.size} | $cycles%,.0f | ${rays.size / cycles}%.4f | " +
-        f"${100 * hits / (hits + misses).max(1)}%.1f%% | ${beats / cycles}%.3f | $bad |"
+      val row =
+        f"| ${dir.getFileName} | $cores | ${cfg.numRayIds} | ${rays.size} | $cycles%,.0f | ${rays.size / cycles}%.4f | " +
+          f"${100 * hits / (hits + misses).max(1)}%.1f%% | ${beats / cycles}%.3f | $bad |"
       println(s"system-bench: $row")
       val out = Paths.get("build/bench/system.md")
       Files.createDirectories(out.getParent)
-      if (!Files.exists(out)) Files.writeString(out, "# System rays/cycle (chiseltest, AXI model: 100 ns, 12.8 GB/s at 200 MHz; cycle counts, estimates of nothing else)\n\n" +
-        "| package | cores | ray IDs/core | rays | cycles | rays/cycle | node store hit rate | R beats/cycle (max 1) | golden mismatches |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n")
+      if (!Files.exists(out)) Files.writeString(
+        out,
+        "# System rays/cycle (chiseltest, AXI model: 100 ns, 12.8 GB/s at 200 MHz; cycle counts, estimates of nothing else)\n\n" +
+          "| package | cores | ray IDs/core | rays | cycles | rays/cycle | node store hit rate | R beats/cycle (max 1) | golden mismatches |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n"
+      )
       Files.writeString(out, row + "\n", StandardOpenOption.APPEND)
       require(bad == 0, s"$bad rays differ from the golden model")
     }

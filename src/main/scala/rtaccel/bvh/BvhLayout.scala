@@ -16,16 +16,22 @@ package rtaccel.bvh
   *    the wide layout's.
   */
 sealed trait BvhLayout {
+
   /** The image header's `layout` word. */
   def code: Int
+
   /** Boxes per node record: the box lanes of BboxIntersect. */
   def lanes: Int
+
   /** Bytes of one node record: one memory request. */
   def nodeBytes: Int = 32 * lanes
+
   /** Most stack pushes one decision makes. */
   def maxPushes: Int
+
   /** What `make regress BVH=` and `nori-bridge compile --bvh` call it. */
   def name: String
+
   /** Child boxes stored quantized (4q, 8q). */
   def quantized: Boolean
 }
@@ -43,6 +49,7 @@ object BvhLayout {
     require(!quantized || k >= 4, s"BvhLayout.Wide: quantized nodes are 4- or 8-wide, got $k")
     def code: Int = if (quantized) 16 + k else k
     def lanes: Int = k
+
     /** Quantized: 24 fixed bytes + 7 per slot, padded to a multiple of 16 (64, 80). */
     override def nodeBytes: Int = if (quantized) (24 + 7 * k + 15) / 16 * 16 else 32 * k
     def maxPushes: Int = k - 1
@@ -52,9 +59,13 @@ object BvhLayout {
   val all: Seq[BvhLayout] = Seq(Nori, Wide(2), Wide(4), Wide(8), Wide(4, quantized = true), Wide(8, quantized = true))
 
   def parse(s: String): BvhLayout = all.find(_.name == s.trim)
-    .getOrElse(throw new IllegalArgumentException(s"BVH layout '$s': expected one of ${all.map(_.name).mkString(", ")}"))
+    .getOrElse(throw new IllegalArgumentException(
+      s"BVH layout '$s': expected one of ${all.map(_.name).mkString(", ")}"
+    ))
 
   /** From an image header's `layout` word; `source` names the file for the error. */
   def fromCode(code: Long, source: String): BvhLayout = all.find(_.code == code)
-    .getOrElse(throw new IllegalArgumentException(s"$source: header layout = $code, expected 0 (nori), 2, 4, 8, 20 (4q) or 24 (8q)"))
+    .getOrElse(throw new IllegalArgumentException(
+      s"$source: header layout = $code, expected 0 (nori), 2, 4, 8, 20 (4q) or 24 (8q)"
+    ))
 }

@@ -9,10 +9,12 @@ import rtaccel.{AccelConfig, ErrorFlags}
   */
 class ChildRef(cfg: AccelConfig) extends Bundle {
   val isLeaf = Bool()
+
   /** Node index (inner child) or first triangle slot (leaf). */
-  val index  = UInt(cfg.refIndexBits.W)
+  val index = UInt(cfg.refIndexBits.W)
+
   /** Triangles in the leaf (leaf only). */
-  val count  = UInt(cfg.leafCountBits.W)
+  val count = UInt(cfg.leafCountBits.W)
 }
 
 /** One child slot of a decoded node: its box (raw FP32 bits; BboxIntersect
@@ -20,9 +22,9 @@ class ChildRef(cfg: AccelConfig) extends Bundle {
   */
 class NodeSlot(cfg: AccelConfig) extends Bundle {
   val present = Bool()
-  val child   = new ChildRef(cfg)
-  val boxMin  = Vec(3, UInt(32.W))
-  val boxMax  = Vec(3, UInt(32.W))
+  val child = new ChildRef(cfg)
+  val boxMin = Vec(3, UInt(32.W))
+  val boxMax = Vec(3, UInt(32.W))
 }
 
 /** A decoded node record (docs/memory-format.md, version 2).
@@ -33,14 +35,17 @@ class NodeSlot(cfg: AccelConfig) extends Bundle {
   *  - Wide layout: `cfg.boxLanes` slots, one per child, used slots first.
   */
 class BvhNode(cfg: AccelConfig) extends Bundle {
-  val slots  = Vec(cfg.boxLanes, new NodeSlot(cfg))
+  val slots = Vec(cfg.boxLanes, new NodeSlot(cfg))
+
   /** Nori layout only: split axis of an inner node. */
-  val axis   = UInt(2.W)
+  val axis = UInt(2.W)
+
   /** The record does not fit this hardware, or is corrupt: see ErrorFlags. */
   val errors = ErrorFlags()
 }
 
 object BvhNode {
+
   /** Slot `word0` of an empty wide-node slot. */
   val EmptySlot: Long = 0x40000000L
 
@@ -57,7 +62,9 @@ object BvhNode {
     // A quantized node is first decoded into the slot words a 32-byte slot would hold.
     val raw: Seq[SlotWords[UInt]] = cfg.layout match {
       case w: BvhLayout.Wide if w.quantized => QuantNode.decode(w.k, record)
-      case _ => (0 until cfg.boxLanes).map(s => SlotWords(word(s, 0), word(s, 1), (2 until 5).map(word(s, _)), (5 until 8).map(word(s, _))))
+      case _ => (0 until cfg.boxLanes).map(s =>
+          SlotWords(word(s, 0), word(s, 1), (2 until 5).map(word(s, _)), (5 until 8).map(word(s, _)))
+        )
     }
     val n = Wire(new BvhNode(cfg))
     val slotErrors = for (s <- 0 until cfg.boxLanes) yield {
@@ -65,8 +72,8 @@ object BvhNode {
       val slot = n.slots(s)
       val leaf = w0(31)
       slot.child.isLeaf := leaf
-      slot.child.index  := w1(cfg.refIndexBits - 1, 0)
-      slot.child.count  := w0(cfg.leafCountBits - 1, 0)
+      slot.child.index := w1(cfg.refIndexBits - 1, 0)
+      slot.child.count := w0(cfg.leafCountBits - 1, 0)
       for (a <- 0 until 3) {
         slot.boxMin(a) := raw(s).boxMin(a)
         slot.boxMax(a) := raw(s).boxMax(a)
@@ -87,7 +94,7 @@ object BvhNode {
         Mux(present && leafTooBig, ErrorFlags.bit(ErrorFlags.LeafTooBig), 0.U) |
         Mux(present && badBox, ErrorFlags.bit(ErrorFlags.BadSceneData), 0.U)
     }
-    n.axis   := raw(0).word0(1, 0)
+    n.axis := raw(0).word0(1, 0)
     n.errors := slotErrors.reduce(_ | _)
     n
   }

@@ -30,7 +30,8 @@ object QuantNode {
   val ExpMax = 247
   val MetaEmpty = 0x00
   val MetaInner = 0x01
-  val MetaLeaf  = 0x80
+  val MetaLeaf = 0x80
+
   /** The canonical quiet NaN a bad scale decodes to. */
   val NaN32: Long = 0x7fc00000L
 
@@ -58,8 +59,11 @@ object QuantNode {
       val m = byte(FixedBytes + s)
       val (isEmpty, isInner, isLeaf) = (m === MetaEmpty.U, m === MetaInner.U, m(7))
       val count = m(6, 0)
-      val w0 = Mux(isEmpty, BvhNode.EmptySlot.U(32.W), Mux(isInner, 0.U(32.W),
-        Mux(isLeaf, Cat(1.U(1.W), 0.U(24.W), count), m.pad(32))))
+      val w0 = Mux(
+        isEmpty,
+        BvhNode.EmptySlot.U(32.W),
+        Mux(isInner, 0.U(32.W), Mux(isLeaf, Cat(1.U(1.W), 0.U(24.W), count), m.pad(32)))
+      )
       val w1 = Mux(isInner, childBase +% innerBefore, Mux(isLeaf, triBase +% trisBefore, 0.U))
       innerBefore = innerBefore +& isInner.asUInt
       trisBefore = trisBefore +& Mux(isLeaf, count, 0.U)

@@ -44,7 +44,8 @@ object GoldenCsv {
       r => r.copy(tmax = NaN),
       r => r.copy(dir = Seq(0L, 0L, 0L)),
       r => r.copy(dir = Seq(0x80000000L, 0L, 0x80000000L)),
-      r => r.copy(origin = r.origin.updated(2, Inf | 0x80000000L)))
+      r => r.copy(origin = r.origin.updated(2, Inf | 0x80000000L))
+    )
     require(from.size >= spoil.size, s"invalidRays: need ${spoil.size} rays to spoil, got ${from.size}")
     spoil.zipWithIndex.flatMap { case (f, i) => Seq(f(from(i)), from(i)) }
   }

@@ -55,8 +55,14 @@ object BoxKernel {
   def narrowTmax[F, B](ar: KernelArith[F, B], rounding: BoxRounding, tmax: F, from: rtaccel.fp.FloatFormat): F =
     ar.convert(tmax, from, if (rounding == BoxRounding.Conservative) RUP else RNE)
 
-  def apply[F, B](ar: KernelArith[F, B], rounding: BoxRounding, ray: RayK[F, B], tmax: F,
-      bmin32: Seq[F], bmax32: Seq[F]): Out[F, B] = {
+  def apply[F, B](
+      ar: KernelArith[F, B],
+      rounding: BoxRounding,
+      ray: RayK[F, B],
+      tmax: F,
+      bmin32: Seq[F],
+      bmax32: Seq[F]
+  ): Out[F, B] = {
     import ar._
     val cons = rounding == BoxRounding.Conservative
     def dn: RoundingMode = if (cons) RDN else RNE

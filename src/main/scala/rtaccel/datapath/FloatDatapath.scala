@@ -25,8 +25,10 @@ final case class FloatDatapath(boxFmt: FloatFormat, triFmt: FloatFormat, test: T
     require(f.expBits <= 8 && f.manBits <= 23, s"FloatDatapath: $f is wider than FP32 in some field")
     require(f.manBits >= 3, s"FloatDatapath: $f needs manBits >= 3 (the conservative box bound uses it)")
   }
+
   /** `e8m23_wt_cons`; split formats name the box format first: `e8m10e8m23_wt_cons`. */
   val name: String = s"${FloatDatapath.formatsName(boxFmt, triFmt)}_${test.tag}_${rounding.tag}"
+
   /** The one format of a single-format datapath (tests and tools that build one). */
   def fmt: FloatFormat = {
     require(boxFmt == triFmt, s"FloatDatapath $name: box and triangle formats differ; ask for boxFmt or triFmt")
@@ -34,11 +36,14 @@ final case class FloatDatapath(boxFmt: FloatFormat, triFmt: FloatFormat, test: T
   }
   def split: Boolean = boxFmt != triFmt
   def gen: RayConsts = new RayConsts(boxFmt, triFmt, test, rounding)
+
   /** `cfg` with this datapath's formats. */
   def configure(cfg: AccelConfig): AccelConfig = cfg.copy(boxFloat = boxFmt, triFloat = triFmt)
   private def check(cfg: AccelConfig): Unit =
-    require(cfg.boxFloat == boxFmt && cfg.triFloat == triFmt,
-      s"FloatDatapath $name used with AccelConfig formats box ${cfg.boxFloat}, triangle ${cfg.triFloat}")
+    require(
+      cfg.boxFloat == boxFmt && cfg.triFloat == triFmt,
+      s"FloatDatapath $name used with AccelConfig formats box ${cfg.boxFloat}, triangle ${cfg.triFloat}"
+    )
 
   def rayPrep(cfg: AccelConfig): RayPrepUnit[RayConsts] = { check(cfg); new FloatRayPrep(cfg, this) }
   def box(cfg: AccelConfig): BoxLane[RayConsts] = { check(cfg); new FloatBox(cfg, this) }
@@ -58,14 +63,18 @@ final case class FloatDatapath(boxFmt: FloatFormat, triFmt: FloatFormat, test: T
 }
 
 object FloatDatapath {
+
   /** One format for both units: the `FLOAT=` shorthand. */
-  def apply(fmt: FloatFormat, test: TriangleTest, rounding: BoxRounding): FloatDatapath = FloatDatapath(fmt, fmt, test, rounding)
+  def apply(fmt: FloatFormat, test: TriangleTest, rounding: BoxRounding): FloatDatapath =
+    FloatDatapath(fmt, fmt, test, rounding)
+
   /** The datapath of `cfg`'s formats. */
   def of(cfg: AccelConfig, test: TriangleTest, rounding: BoxRounding): FloatDatapath =
     FloatDatapath(cfg.boxFloat, cfg.triFloat, test, rounding)
   def formatsName(box: FloatFormat, tri: FloatFormat): String = if (box == tri) box.name else s"${box.name}${tri.name}"
 
   private val Name = """e(\d+)m(\d+)(?:e(\d+)m(\d+))?""".r
+
   /** Parses names as produced by `name`, e.g. `e8m23_wt_cons` or `e8m10e8m23_wt_cons`. */
   def parse(s: String): FloatDatapath = s.split('_') match {
     case Array(f, t, r) =>
@@ -74,11 +83,19 @@ object FloatDatapath {
         case Name(e, m, e2, m2)     => (FloatFormat(e.toInt, m.toInt), FloatFormat(e2.toInt, m2.toInt))
         case _ => throw new IllegalArgumentException(s"datapath '$s': not a format '$f' (expected e8m23 or e8m10e8m23)")
       }
-      FloatDatapath(box, tri,
-        TriangleTest.all.find(_.tag == t).getOrElse(throw new IllegalArgumentException(s"datapath '$s': unknown test '$t'")),
-        BoxRounding.all.find(_.tag == r).getOrElse(throw new IllegalArgumentException(s"datapath '$s': unknown rounding '$r'")))
+      FloatDatapath(
+        box,
+        tri,
+        TriangleTest.all.find(_.tag == t).getOrElse(throw new IllegalArgumentException(
+          s"datapath '$s': unknown test '$t'"
+        )),
+        BoxRounding.all.find(_.tag == r).getOrElse(throw new IllegalArgumentException(
+          s"datapath '$s': unknown rounding '$r'"
+        ))
+      )
     case _ => throw new IllegalArgumentException(s"not a datapath name: '$s' (expected e.g. e8m23_wt_cons)")
   }
+
   /** Cycle at which the last of `outs` is ready: the unit's latency. */
   private[datapath] def readyOf(outs: Seq[Timed[_ <: Data]]): Int = outs.filterNot(_.constant).map(_.ready).max
 }
@@ -91,8 +108,16 @@ class FloatRayPrep(cfg: AccelConfig, dp: FloatDatapath) extends RayPrepUnit[RayC
   // One arithmetic for both when the formats agree: the setup is shared, built once.
   private val triAr = if (dp.split) new HwArith(dp.triFmt, valid) else boxAr
   private val r = io.in.bits
-  private val (k, tmax, err) = RayKernel.split(boxAr, triAr, r.origin.map(boxAr.input), r.dir.map(boxAr.input),
-    boxAr.input(r.tmin), boxAr.input(r.tmax), dp.rounding, dp.test)
+  private val (k, tmax, err) = RayKernel.split(
+    boxAr,
+    triAr,
+    r.origin.map(boxAr.input),
+    r.dir.map(boxAr.input),
+    boxAr.input(r.tmin),
+    boxAr.input(r.tmax),
+    dp.rounding,
+    dp.test
+  )
   private def outs(x: RayK[Timed[UInt], Timed[Bool]]): Seq[Timed[_ <: Data]] =
     x.o ++ x.oHi.toSeq.flatten ++ x.d ++ x.rcpLo ++ x.rcpHi ++ Seq(x.tmin, x.err) ++
       x.shear.toSeq.flatMap(s => s.kx ++ s.ky ++ s.kz ++ Seq(s.sx, s.sy, s.sz))
@@ -110,8 +135,14 @@ class FloatBox(cfg: AccelConfig, dp: FloatDatapath) extends BoxLane[RayConsts](c
   override def desiredName: String = s"BoxLane_${dp.name}"
   private val ar = new HwArith(dp.boxFmt, new ValidChain(io.in.valid))
   private val q = io.in.bits
-  private val out = BoxKernel(ar, dp.rounding, RayConsts.readBox(ar, q.ray),
-    BoxKernel.narrowTmax(ar, dp.rounding, ar.input(q.tmax), dp.triFmt), q.boxMin.map(ar.input), q.boxMax.map(ar.input))
+  private val out = BoxKernel(
+    ar,
+    dp.rounding,
+    RayConsts.readBox(ar, q.ray),
+    BoxKernel.narrowTmax(ar, dp.rounding, ar.input(q.tmax), dp.triFmt),
+    q.boxMin.map(ar.input),
+    q.boxMax.map(ar.input)
+  )
   private val lat = FloatDatapath.readyOf(Seq(out.hit, out.near))
   def latency: Int = lat
   io.out.bits.hit := out.hit.at(lat)

@@ -36,7 +36,8 @@ final case class FloatGolden(dp: FloatDatapath) extends ArithGolden[SplitRay[Big
 
   /** Box test on FP32 bounds, `tmax` in the triangle format: (hit, near in the box format). */
   def boxTest(s: Ray, tmax: BigInt, bmin: Seq[BigInt], bmax: Seq[BigInt]): (Boolean, BigInt) = {
-    val o = BoxKernel(boxArith, dp.rounding, s.box, BoxKernel.narrowTmax(boxArith, dp.rounding, tmax, dp.triFmt), bmin, bmax)
+    val o =
+      BoxKernel(boxArith, dp.rounding, s.box, BoxKernel.narrowTmax(boxArith, dp.rounding, tmax, dp.triFmt), bmin, bmax)
     (o.hit, o.near)
   }
   def box(s: Ray, tmax: BigInt, node: NodeRecord): (Boolean, BigInt) =

@@ -24,8 +24,10 @@ import rtaccel.fp.RoundingMode.{RDN, RUP}
   * [-diffHi, -diffLo] / 2^s.
   */
 object GridKernel {
+
   /** `cLo`, `cHi`: bounds on c 2^s, c the grid coordinate (in q') of the ray's point at t0. */
   final case class Axis[F, B](flat: B, neg: B, diffLo: F, diffHi: F, cLo: F, cHi: F)
+
   /** `tminR`/`tmaxR`: the ray's interval relative to `t0` (down, up). */
   final case class Node[F, B](axes: Seq[Axis[F, B]], t0: F, tminR: F, tmaxR: F, err: B)
 

@@ -90,15 +90,18 @@ final class HwArith(val fmt: FloatFormat, val valid: ValidChain) extends KernelA
 
   /** One comparator per operand pair, shared by every min/max/lt/le/eq on it. */
   private val compares = mutable.Map.empty[(F, F), Timed[FpCompareOut]]
-  private def compare(a: F, b: F): Timed[FpCompareOut] = compares.getOrElseUpdate((a, b), {
-    val u = Module(new FpCompare(fmt))
-    val c = when2(a, b)
-    u.io.in.valid := valid.at(c)
-    u.io.in.bits.a := a.at(c)
-    u.io.in.bits.b := b.at(c)
-    new Timed(u.io.out.bits, c + u.latency, valid)
-  })
-  private def field[T <: Data](t: Timed[FpCompareOut], f: FpCompareOut => T): Timed[T] = new Timed(f(t.value), t.ready, valid)
+  private def compare(a: F, b: F): Timed[FpCompareOut] = compares.getOrElseUpdate(
+    (a, b), {
+      val u = Module(new FpCompare(fmt))
+      val c = when2(a, b)
+      u.io.in.valid := valid.at(c)
+      u.io.in.bits.a := a.at(c)
+      u.io.in.bits.b := b.at(c)
+      new Timed(u.io.out.bits, c + u.latency, valid)
+    }
+  )
+  private def field[T <: Data](t: Timed[FpCompareOut], f: FpCompareOut => T): Timed[T] =
+    new Timed(f(t.value), t.ready, valid)
   def min(a: F, b: F): F = field(compare(a, b), _.min)
   def max(a: F, b: F): F = field(compare(a, b), _.max)
   def lt(a: F, b: F): B = field(compare(a, b), _.lt)

@@ -18,10 +18,13 @@ trait KernelArith[F, B] {
   def sub(a: F, b: F, rm: RoundingMode): F
   def mul(a: F, b: F, rm: RoundingMode): F
   def recip(a: F, rm: RoundingMode): F
+
   /** FP32 bits to `fmt`, rounded in `rm` (the identity when `fmt` is FP32). */
   def fromF32(a: F, rm: RoundingMode): F
+
   /** A value of `from` to `fmt`, rounded in `rm` (the identity when they are equal). */
   def convert(a: F, from: FloatFormat, rm: RoundingMode): F
+
   /** maximumNumber/minimumNumber (a NaN operand loses). */
   def min(a: F, b: F): F
   def max(a: F, b: F): F
@@ -48,8 +51,10 @@ trait KernelArith[F, B] {
   def ge(a: F, b: F): B = le(b, a)
   def all(bs: Seq[B]): B = bs.reduce(and)
   def any(bs: Seq[B]): B = bs.reduce(or)
+
   /** Picks `vs(i)` for the one-hot `sel(i)`; `sel` has one more entry than needed. */
   def select(sel: Seq[B], vs: Seq[F]): F = vs.indices.init.foldRight(vs.last)((i, rest) => mux(sel(i), vs(i), rest))
+
   /** IEEE `a < 0` and `a > 0` from the bits alone (false for NaN and for either zero). */
   def ltZero(a: F): B = and(signBit(a), not(or(isZero(a), isNaN(a))))
   def gtZero(a: F): B = and(not(signBit(a)), not(or(isZero(a), isNaN(a))))

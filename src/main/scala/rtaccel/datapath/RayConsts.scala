@@ -8,21 +8,29 @@ import rtaccel.fp.FloatFormat
   * upper ones only in Conservative mode), the shear only where a watertight
   * triangle test does, so a datapath carries what it uses.
   */
-class RayConstsPart(val fmt: FloatFormat, rcp: Boolean, rcpUpper: Boolean, withShear: Boolean, originBounds: Boolean = false)
-    extends Bundle {
+class RayConstsPart(
+    val fmt: FloatFormat,
+    rcp: Boolean,
+    rcpUpper: Boolean,
+    withShear: Boolean,
+    originBounds: Boolean = false
+) extends Bundle {
   private def f = UInt(fmt.width.W)
   val origin = Vec(3, f)
+
   /** Upper origin bound ([[RayK.oHi]]): split Conservative box constants only. */
   val originHi = Option.when(originBounds)(Vec(3, f))
-  val dir    = Vec(3, f)
-  val tmin   = f
-  val err    = Bool()
-  val rcpLo  = Option.when(rcp)(Vec(3, f))
-  val rcpHi  = Option.when(rcp && rcpUpper)(Vec(3, f))
+  val dir = Vec(3, f)
+  val tmin = f
+  val err = Bool()
+  val rcpLo = Option.when(rcp)(Vec(3, f))
+  val rcpHi = Option.when(rcp && rcpUpper)(Vec(3, f))
+
   /** One-hot kx, ky, kz. */
-  val axes   = Option.when(withShear)(Vec(3, Vec(3, Bool())))
+  val axes = Option.when(withShear)(Vec(3, Vec(3, Bool())))
+
   /** Sx, Sy, Sz. */
-  val shear  = Option.when(withShear)(Vec(3, f))
+  val shear = Option.when(withShear)(Vec(3, f))
 }
 
 /** A ray's per-ray constants as a hardware bundle (the `statics` of
@@ -36,11 +44,13 @@ class RayConsts(val boxFmt: FloatFormat, val triFmt: FloatFormat, val test: Tria
   private val shared = boxFmt == triFmt
   private val cons = rounding == BoxRounding.Conservative
   private val wt = test == TriangleTest.Watertight
-  val box = new RayConstsPart(boxFmt, rcp = true, rcpUpper = cons, withShear = shared && wt, originBounds = !shared && cons)
+  val box =
+    new RayConstsPart(boxFmt, rcp = true, rcpUpper = cons, withShear = shared && wt, originBounds = !shared && cons)
   val tri = Option.when(!shared)(new RayConstsPart(triFmt, rcp = false, rcpUpper = false, withShear = wt))
 }
 
 object RayConsts {
+
   /** Drives `b` from a computed ray, every field at `cycle`. */
   def drive(b: RayConsts, k: SplitRay[Timed[UInt], Timed[Bool]], cycle: Int): Unit = {
     drivePart(b.box, k.box, cycle)
@@ -50,7 +60,8 @@ object RayConsts {
   private def drivePart(b: RayConstsPart, k: RayK[Timed[UInt], Timed[Bool]], cycle: Int): Unit = {
     def at(xs: Seq[Timed[UInt]]) = VecInit(xs.map(_.at(cycle)))
     b.origin := at(k.o)
-    for (hi <- b.originHi) hi := at(k.oHi.getOrElse(throw new IllegalArgumentException("RayConsts: originHi without bounds")))
+    for (hi <- b.originHi)
+      hi := at(k.oHi.getOrElse(throw new IllegalArgumentException("RayConsts: originHi without bounds")))
     b.dir := at(k.d)
     b.tmin := k.tmin.at(cycle)
     b.err := k.err.at(cycle)
@@ -64,6 +75,7 @@ object RayConsts {
 
   /** The box lanes' constants as kernel inputs valid at cycle 0 (`ar` in the box format). */
   def readBox(ar: HwArith, b: RayConsts): RayK[Timed[UInt], Timed[Bool]] = readPart(ar, b.box)
+
   /** The triangle unit's constants as kernel inputs valid at cycle 0 (`ar` in the triangle format). */
   def readTri(ar: HwArith, b: RayConsts): RayK[Timed[UInt], Timed[Bool]] = readPart(ar, b.tri.getOrElse(b.box))
 
@@ -74,7 +86,15 @@ object RayConsts {
       val Seq(kx, ky, kz) = ax.map(_.map(ar.inputB))
       Shear(kx, ky, kz, ar.input(sh(0)), ar.input(sh(1)), ar.input(sh(2)))
     }
-    RayK(b.origin.map(ar.input), b.dir.map(ar.input), ar.input(b.tmin), ar.inputB(b.err), lo,
-      b.rcpHi.map(_.map(ar.input).toSeq).getOrElse(lo), shear, b.originHi.map(_.map(ar.input).toSeq))
+    RayK(
+      b.origin.map(ar.input),
+      b.dir.map(ar.input),
+      ar.input(b.tmin),
+      ar.inputB(b.err),
+      lo,
+      b.rcpHi.map(_.map(ar.input).toSeq).getOrElse(lo),
+      shear,
+      b.originHi.map(_.map(ar.input).toSeq)
+    )
   }
 }

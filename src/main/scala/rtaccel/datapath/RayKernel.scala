@@ -13,8 +13,16 @@ final case class Shear[F, B](kx: Seq[B], ky: Seq[B], kz: Seq[B], sx: F, sy: F, s
   * @param oHi   the box lanes' upper origin bound when `o` is a lower one (split formats,
   *              Conservative: the FP32 origin narrowed down and up); None: `o` is the origin
   */
-final case class RayK[F, B](o: Seq[F], d: Seq[F], tmin: F, err: B, rcpLo: Seq[F], rcpHi: Seq[F],
-    shear: Option[Shear[F, B]], oHi: Option[Seq[F]] = None)
+final case class RayK[F, B](
+    o: Seq[F],
+    d: Seq[F],
+    tmin: F,
+    err: B,
+    rcpLo: Seq[F],
+    rcpHi: Seq[F],
+    shear: Option[Shear[F, B]],
+    oHi: Option[Seq[F]] = None
+)
 
 /** A ray's constants for both units: `box` in the box format, `tri` in the
   * triangle format. With one format for both they are the same object (one
@@ -28,6 +36,7 @@ final case class SplitRay[F, B](box: RayK[F, B], tri: RayK[F, B]) {
 
 /** Per-ray setup (docs/kernels.md section 2), written once for every interpretation. */
 object RayKernel {
+
   /** The constants of both units and the ray's tmax in the triangle format.
     * With `boxAr.fmt == triAr.fmt` this is [[apply]], shared. Otherwise each
     * side narrows the FP32 ray itself, with the same rules as [[apply]]: the
@@ -37,14 +46,22 @@ object RayKernel {
     * triangles) holds relative to the ray it is given. The error bit is either
     * side's (a ray one unit cannot trace is flagged).
     */
-  def split[F, B](boxAr: KernelArith[F, B], triAr: KernelArith[F, B], o32: Seq[F], d32: Seq[F], tmin32: F, tmax32: F,
-      rounding: BoxRounding, test: TriangleTest): (SplitRay[F, B], F, B) =
+  def split[F, B](
+      boxAr: KernelArith[F, B],
+      triAr: KernelArith[F, B],
+      o32: Seq[F],
+      d32: Seq[F],
+      tmin32: F,
+      tmax32: F,
+      rounding: BoxRounding,
+      test: TriangleTest
+  ): (SplitRay[F, B], F, B) =
     if (boxAr.fmt == triAr.fmt) {
       val (k, tmax) = apply(triAr, o32, d32, tmin32, tmax32, rounding, test)
       (SplitRay(k, k), tmax, k.err)
     } else {
       val box = if (rounding == BoxRounding.Conservative) outward(boxAr, o32, d32, tmin32, tmax32)
-        else narrowed(boxAr, o32, d32, tmin32, tmax32, rounding, withRcp = true)._1
+      else narrowed(boxAr, o32, d32, tmin32, tmax32, rounding, withRcp = true)._1
       val (tri, tmax) = narrowed(triAr, o32, d32, tmin32, tmax32, rounding, withRcp = false)
       // R4 without the box's reciprocals: 1/d[kz] (RNE) on its own, the same bits as -(1/|d|) picked by sign.
       val shear = Option.when(test == TriangleTest.Watertight)(shearOf(triAr, tri.d, tri.d.map(triAr.abs), None))
@@ -59,11 +76,19 @@ object RayKernel {
     * Errors are judged on the narrowed values: an origin that overflows the
     * format, or a direction that underflows to zero, cannot be traced in it.
     */
-  def apply[F, B](ar: KernelArith[F, B], o32: Seq[F], d32: Seq[F], tmin32: F, tmax32: F,
-      rounding: BoxRounding, test: TriangleTest): (RayK[F, B], F) = {
+  def apply[F, B](
+      ar: KernelArith[F, B],
+      o32: Seq[F],
+      d32: Seq[F],
+      tmin32: F,
+      tmax32: F,
+      rounding: BoxRounding,
+      test: TriangleTest
+  ): (RayK[F, B], F) = {
     val (k, tmax) = narrowed(ar, o32, d32, tmin32, tmax32, rounding, withRcp = true)
     val cons = rounding == BoxRounding.Conservative
-    val shear = Option.when(test == TriangleTest.Watertight)(shearOf(ar, k.d, k.d.map(ar.abs), if (cons) None else Some(k.rcpLo)))
+    val shear =
+      Option.when(test == TriangleTest.Watertight)(shearOf(ar, k.d, k.d.map(ar.abs), if (cons) None else Some(k.rcpLo)))
     (k.copy(shear = shear), tmax)
   }
 
@@ -91,8 +116,10 @@ object RayKernel {
     val dAway = d32.zip(dToward).map { case (x, t) => mux(signBit(t), fromF32(x, RDN), fromF32(x, RUP)) }
     val tmin = fromF32(tmin32, RDN)
     val tmax = fromF32(tmax32, RUP)
-    val err = or(any(oLo.map(isNonFinite) ++ oHi.map(isNonFinite) ++ dAway.map(isNonFinite) ++ Seq(isNaN(tmin), isNaN(tmax))),
-      all(dAway.map(isZero)))
+    val err = or(
+      any(oLo.map(isNonFinite) ++ oHi.map(isNonFinite) ++ dAway.map(isNonFinite) ++ Seq(isNaN(tmin), isNaN(tmax))),
+      all(dAway.map(isZero))
+    )
     val rcpLo = dAway.map(x => recip(abs(x), RTZ))
     val rcpHi = dToward.map(x => recip(abs(x), RUP))
     RayK(oLo, dAway, tmin, err, rcpLo, rcpHi, None, Some(oHi))
@@ -101,8 +128,15 @@ object RayKernel {
   /** The narrowing of [[apply]] for one unit: o, d, tmin, the error bit, tmax
     * and (`withRcp`: for the box lanes) the reciprocals.
     */
-  private def narrowed[F, B](ar: KernelArith[F, B], o32: Seq[F], d32: Seq[F], tmin32: F, tmax32: F,
-      rounding: BoxRounding, withRcp: Boolean): (RayK[F, B], F) = {
+  private def narrowed[F, B](
+      ar: KernelArith[F, B],
+      o32: Seq[F],
+      d32: Seq[F],
+      tmin32: F,
+      tmax32: F,
+      rounding: BoxRounding,
+      withRcp: Boolean
+  ): (RayK[F, B], F) = {
     import ar._
     val cons = rounding == BoxRounding.Conservative
     val o = o32.map(fromF32(_, RNE))

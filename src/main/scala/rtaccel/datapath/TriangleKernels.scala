@@ -8,6 +8,7 @@ final case class PrimOut[F, B](hit: B, t: F, u: F, v: F)
 
 /** Shared pieces of both triangle tests. */
 object TriangleCommon {
+
   /** Vertices narrowed to nearest: a shared FP32 vertex narrows to the same
     * value in every triangle, which keeps a closed mesh closed in any format.
     */
@@ -32,6 +33,7 @@ object TriangleCommon {
   * operation order for cross and dot. All steps RNE.
   */
 object MollerKernel {
+
   /** Nori's |det| cut-off, the float nearest 1e-8 (bits 322bcc77), narrowed to
     * nearest. It is Nori's constant, not an error bound; in a format whose
     * smallest subnormal exceeds it, it becomes 0 and only det = 0 is parallel.
@@ -64,10 +66,16 @@ object MollerKernel {
     val t = mul(dot(edge2, qvec), invDet, RNE) // M12
     val one = const(fmt.one(false))
     val hit = all(Seq( // M13
-      not(ray.err), not(TriangleCommon.coincident(ar, p)), not(parallel),
-      not(or(ltZero(u), gt(u, one))), not(isNaN(u)),
-      not(or(ltZero(v), gt(s, one))), not(isNaN(v)),
-      ge(t, ray.tmin), le(t, tmax)))
+      not(ray.err),
+      not(TriangleCommon.coincident(ar, p)),
+      not(parallel),
+      not(or(ltZero(u), gt(u, one))),
+      not(isNaN(u)),
+      not(or(ltZero(v), gt(s, one))),
+      not(isNaN(v)),
+      ge(t, ray.tmin),
+      le(t, tmax)
+    ))
     TriangleCommon.answer(ar, hit, t, u, v)
   }
 }
@@ -102,8 +110,14 @@ object WatertightKernel {
     def scale(x: F) = mux(isZero(x), posZero, mul(x, rcpDet, RNE))
     val (t, uu, vv) = (scale(tScaled), scale(v), scale(w))
     val hit = all(Seq( // W10
-      not(ray.err), not(TriangleCommon.coincident(ar, p)), not(outside), not(isZero(det)), not(isNonFinite(det)),
-      ge(t, ray.tmin), le(t, tmax)))
+      not(ray.err),
+      not(TriangleCommon.coincident(ar, p)),
+      not(outside),
+      not(isZero(det)),
+      not(isNonFinite(det)),
+      ge(t, ray.tmin),
+      le(t, tmax)
+    ))
     TriangleCommon.answer(ar, hit, t, uu, vv)
   }
 }

@@ -9,9 +9,9 @@ import rtaccel.bvh.BvhNode
 
 /** A ray with its ID, out of RayPrep. */
 class PreparedEntry[T <: Data](cfg: AccelConfig, gen: T) extends Bundle {
-  val rayId  = UInt(cfg.rayIdBits.W)
+  val rayId = UInt(cfg.rayIdBits.W)
   val shadow = Bool()
-  val ray    = new PreparedRay(cfg, gen)
+  val ray = new PreparedRay(cfg, gen)
 }
 
 /** Where rays come in.
@@ -28,22 +28,28 @@ class PreparedEntry[T <: Data](cfg: AccelConfig, gen: T) extends Bundle {
 class FetchBVH[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   val port: MemPortParams = PrepFetch.port(cfg)
   val io = IO(new Bundle {
-    val rays     = Flipped(Decoupled(new RayIn))
+    val rays = Flipped(Decoupled(new RayIn))
     val nodeBase = Input(UInt(cfg.addrBits.W))
-    val mem      = new MemPort(port)
+    val mem = new MemPort(port)
     val prepared = Valid(new PreparedEntry(cfg, dp.gen))
+
     /** The on-chip root, valid whenever a ray can have entered. */
-    val root     = Output(new BvhNode(cfg))
+    val root = Output(new BvhNode(cfg))
+
     /** A ray took this ID: LeafIntersect forgets the ID's previous hit. */
-    val started  = Valid(UInt(cfg.rayIdBits.W))
+    val started = Valid(UInt(cfg.rayIdBits.W))
+
     /** IDs coming back from the output stage. */
-    val free     = Flipped(Decoupled(UInt(cfg.rayIdBits.W)))
+    val free = Flipped(Decoupled(UInt(cfg.rayIdBits.W)))
+
     /** Host ray number of an ID, read by the output stage. */
     val numberId = Input(UInt(cfg.rayIdBits.W))
-    val number   = Output(UInt(32.W))
+    val number = Output(UInt(32.W))
     val inFlight = Output(UInt(log2Ceil(cfg.numRayIds + 1).W))
+
     /** Rays this unit holds now (RtAccel's ray_conservation assertion). */
-    val held     = Output(UInt(log2Ceil(cfg.numRayIds + 1).W))
+    val held = Output(UInt(log2Ceil(cfg.numRayIds + 1).W))
+
     /** Sticky: an ID was freed twice (a lost-or-duplicated-ray bug). */
     val doubleFree = Output(Bool())
   })
@@ -52,25 +58,25 @@ class FetchBVH[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   // ---- Root node, fetched once per scene base ----
   // Requests carry a generation number, so a late answer for an old base is
   // never taken for the new root.
-  private val rootReg      = Reg(new BvhNode(cfg))
+  private val rootReg = Reg(new BvhNode(cfg))
   private val rootValidReg = RegInit(false.B)
   private val rootAskedReg = RegInit(false.B)
-  private val baseReg      = RegInit(0.U(cfg.addrBits.W))
-  private val genReg       = RegInit(0.U(cfg.rayIdBits.W))
-  private val baseChanged  = io.nodeBase =/= baseReg
+  private val baseReg = RegInit(0.U(cfg.addrBits.W))
+  private val genReg = RegInit(0.U(cfg.rayIdBits.W))
+  private val baseChanged = io.nodeBase =/= baseReg
   when(baseChanged) {
-    baseReg      := io.nodeBase
-    genReg       := genReg + 1.U
+    baseReg := io.nodeBase
+    genReg := genReg + 1.U
     rootValidReg := false.B
     rootAskedReg := false.B
   }
-  io.mem.req.valid     := !rootAskedReg && !baseChanged
+  io.mem.req.valid := !rootAskedReg && !baseChanged
   io.mem.req.bits.addr := baseReg
-  io.mem.req.bits.tag  := genReg
+  io.mem.req.bits.tag := genReg
   when(io.mem.req.fire) { rootAskedReg := true.B }
   io.mem.resp.ready := true.B
   when(io.mem.resp.fire && io.mem.resp.bits.tag === genReg && !baseChanged) {
-    rootReg      := BvhNode.decode(cfg, io.mem.resp.bits.data)
+    rootReg := BvhNode.decode(cfg, io.mem.resp.bits.data)
     rootValidReg := true.B
   }
   io.root := rootReg
@@ -78,34 +84,34 @@ class FetchBVH[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   // ---- IDs and ray constants ----
   private val ids = Module(new RayIdFreeList(cfg.numRayIds))
   ids.io.free <> io.free
-  io.inFlight   := ids.io.inFlight
+  io.inFlight := ids.io.inFlight
   io.doubleFree := ids.io.doubleFree
 
   private val numbers = Mem(cfg.numRayIds, UInt(32.W))
   io.number := numbers.read(io.numberId)
 
-  io.rays.ready      := ids.io.alloc.valid && rootValidReg
+  io.rays.ready := ids.io.alloc.valid && rootValidReg
   ids.io.alloc.ready := io.rays.valid && rootValidReg
   private val id = ids.io.alloc.bits
   when(io.rays.fire) { numbers.write(id, io.rays.bits.number) }
   io.started.valid := io.rays.fire
-  io.started.bits  := id
+  io.started.bits := id
 
   private val prep = Module(dp.rayPrep(cfg))
   prep.io.in.valid := io.rays.fire
-  prep.io.in.bits  := io.rays.bits.ray
+  prep.io.in.bits := io.rays.bits.ray
   class Carry extends Bundle {
-    val rayId  = UInt(cfg.rayIdBits.W)
+    val rayId = UInt(cfg.rayIdBits.W)
     val shadow = Bool()
   }
   private val carryIn = Wire(new Carry)
-  carryIn.rayId  := id
+  carryIn.rayId := id
   carryIn.shadow := io.rays.bits.shadow
   private val carry = Pipe(io.rays.fire, carryIn, prep.latency)
   // The rays in RayPrep: one per valid stage of the carry pipe (the same registers).
   io.held := PopCount(ShiftRegisters(io.rays.fire, prep.latency, false.B, true.B))
-  io.prepared.valid       := prep.io.out.valid
-  io.prepared.bits.rayId  := carry.bits.rayId
+  io.prepared.valid := prep.io.out.valid
+  io.prepared.bits.rayId := carry.bits.rayId
   io.prepared.bits.shadow := carry.bits.shadow
-  io.prepared.bits.ray    := prep.io.out.bits
+  io.prepared.bits.ray := prep.io.out.bits
 }

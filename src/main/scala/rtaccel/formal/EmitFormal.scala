@@ -10,16 +10,34 @@ import java.nio.file.{Files, Paths}
 /** One proof: a small configuration, its datapath latencies, its environment
   * and BMC depth; `deep` cases run in `make formal-deep`, not `make formal`.
   */
-final case class FormalCase(name: String, cfg: AccelConfig, dp: FormalDatapath, env: FormalEnv, depth: Int, deep: Boolean = false) {
+final case class FormalCase(
+    name: String,
+    cfg: AccelConfig,
+    dp: FormalDatapath,
+    env: FormalEnv,
+    depth: Int,
+    deep: Boolean = false
+) {
+
   /** Derived, never chosen: ResponseBound. */
   val responseBound: Int = ResponseBound(cfg, dp, env)
 }
 
 object FormalCase {
+
   /** Narrow everything the properties do not depend on: 2 nodes, 2 triangle
     * slots, leaves of up to 2 triangles, a 6-bit float, 8-bit addresses. */
-  private def small(ids: Int): AccelConfig = AccelConfig(numRayIds = ids, stackDepth = 2, maxNodes = 2, maxTriangles = 2,
-    maxLeafSize = 2, boxFloat = FloatFormat(3, 2), triFloat = FloatFormat(3, 2), addrBits = 8, layout = BvhLayout.Wide(2))
+  private def small(ids: Int): AccelConfig = AccelConfig(
+    numRayIds = ids,
+    stackDepth = 2,
+    maxNodes = 2,
+    maxTriangles = 2,
+    maxLeafSize = 2,
+    boxFloat = FloatFormat(3, 2),
+    triFloat = FloatFormat(3, 2),
+    addrBits = 8,
+    layout = BvhLayout.Wide(2)
+  )
   private val dp = new FormalDatapath(prepLatency = 1, boxLatency = 2, primLatency = 2)
   private val env = FormalEnv(memLatency = 3, memStall = 1, hitStall = 2)
 
@@ -53,7 +71,14 @@ object FormalCase {
 }
 
 /** A per-unit bounded-response proof: its harness, derived bound and depth. */
-final case class UnitCase(name: String, top: () => chisel3.RawModule, bound: Int, depth: Int, deep: Boolean = false, terms: String = "")
+final case class UnitCase(
+    name: String,
+    top: () => chisel3.RawModule,
+    bound: Int,
+    depth: Int,
+    deep: Boolean = false,
+    terms: String = ""
+)
 
 /** Writes each proof's SystemVerilog (formal_<name>.sv), FormalAnySeq.v and
   * cases.txt (name, depth per line) for mk/formal.mk.
@@ -88,11 +113,19 @@ object EmitFormal {
     }
     def list(cs: Seq[FormalCase]) = cs.map(c => s"${c.name} ${c.depth} ${c.responseBound}\n").mkString
     def unitList(us: Seq[UnitCase]) = us.map(u => s"${u.name} ${u.depth} ${u.bound}\n").mkString
-    Files.writeString(out.resolve("cases.txt"), list(FormalCase.all.filterNot(_.deep)) + unitList(units.filterNot(_.deep)))
-    Files.writeString(out.resolve("cases-deep.txt"), list(FormalCase.all.filter(_.deep)) + unitList(units.filter(_.deep)))
+    Files.writeString(
+      out.resolve("cases.txt"),
+      list(FormalCase.all.filterNot(_.deep)) + unitList(units.filterNot(_.deep))
+    )
+    Files.writeString(
+      out.resolve("cases-deep.txt"),
+      list(FormalCase.all.filter(_.deep)) + unitList(units.filter(_.deep))
+    )
     for (c <- FormalCase.all) {
       val ts = ResponseBound.terms(c.cfg, c.dp, c.env)
-      println(s"EmitFormal: ${c.name} responseBound = ${c.responseBound} = " + ts.map(t => s"${t.name} ${t.cycles}").mkString(" + "))
+      println(s"EmitFormal: ${c.name} responseBound = ${c.responseBound} = " + ts.map(t =>
+        s"${t.name} ${t.cycles}"
+      ).mkString(" + "))
     }
   }
 }

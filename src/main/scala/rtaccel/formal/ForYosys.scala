@@ -21,21 +21,26 @@ import scala.util.matching.Regex
   */
 object ForYosys {
   private val str = "\"(?:[^\"\\\\]|\\\\.)*\""
-  private val error: Regex = ("""\$error\("Assertion failed: ([A-Za-z_][A-Za-z_0-9]*)""" + "(?:[^\"\\\\]|\\\\.)*\"\\);").r
+  private val error: Regex =
+    ("""\$error\("Assertion failed: ([A-Za-z_][A-Za-z_0-9]*)""" + "(?:[^\"\\\\]|\\\\.)*\"\\);").r
   private val fatal: Regex = """\$fatal;""".r
   private val fwrite: Regex = ("""\$fwrite\(32'h[0-9a-fA-F]+,\s*""" + str + """\);""").r
 
   def apply(sv: String): String = {
     val seen = scala.collection.mutable.Map[String, Int]().withDefaultValue(0)
-    val asserts = error.replaceAllIn(sv, m => {
-      val name = m.group(1)
-      seen(name) += 1
-      Regex.quoteReplacement(s"${name}_${seen(name)}: assert(1'b0);")
-    })
+    val asserts = error.replaceAllIn(
+      sv,
+      m => {
+        val name = m.group(1)
+        seen(name) += 1
+        Regex.quoteReplacement(s"${name}_${seen(name)}: assert(1'b0);")
+      }
+    )
     require(!asserts.contains("$error"), "ForYosys: an $error without an 'Assertion failed: <name>:' message")
     fwrite.replaceAllIn(fatal.replaceAllIn(asserts, ";"), ";")
   }
 
   /** The property names in a converted file, in order. */
-  def names(sv: String): Seq[String] = """([A-Za-z_][A-Za-z_0-9]*): assert\(1'b0\);""".r.findAllMatchIn(sv).map(_.group(1)).toSeq
+  def names(sv: String): Seq[String] =
+    """([A-Za-z_][A-Za-z_0-9]*): assert\(1'b0\);""".r.findAllMatchIn(sv).map(_.group(1)).toSeq
 }

@@ -13,6 +13,7 @@ class FormalAnySeq(width: Int) extends BlackBox(Map("W" -> IntParam(width))) {
 }
 
 object FormalAnySeq {
+
   /** A free value of type `gen`. */
   def apply[T <: Data](gen: T): T = Module(new FormalAnySeq(gen.getWidth)).io.out.asTypeOf(gen)
 

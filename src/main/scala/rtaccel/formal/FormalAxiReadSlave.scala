@@ -17,12 +17,12 @@ import rtaccel.axi.{Axi4, Axi4Addr, Axi4Params, Axi4R}
 class FormalAxiReadSlave(p: Axi4Params, readLatency: Int, stall: Int, bursts: Int) extends Module {
   require(isPow2(bursts), "FormalAxiReadSlave: bursts must be a power of two")
   val io = IO(new Bundle {
-    val ar        = Flipped(Decoupled(new Axi4Addr(p)))
-    val r         = Decoupled(new Axi4R(p))
-    val data      = Input(UInt(p.dataBits.W))
-    val beatAddr  = Output(UInt(p.addrBits.W))
+    val ar = Flipped(Decoupled(new Axi4Addr(p)))
+    val r = Decoupled(new Axi4R(p))
+    val data = Input(UInt(p.dataBits.W))
+    val beatAddr = Output(UInt(p.addrBits.W))
     val burstAddr = Output(UInt(p.addrBits.W))
-    val burstLen  = Output(UInt(8.W))
+    val burstLen = Output(UInt(8.W))
   })
   private val K = bursts
   private val L = readLatency
@@ -41,8 +41,11 @@ class FormalAxiReadSlave(p: Axi4Params, readLatency: Int, stall: Int, bursts: In
     bLenRegs(slot) := io.ar.bits.len; bCntRegs(slot) := 0.U; bAgeRegs(slot) := 0.U
   }
   // The head of its ID: no older burst of the same ID waits (one AR a cycle, so ages differ).
-  private val head = VecInit((0 until K).map(e => bValidRegs(e) && (0 until K).filter(_ != e).map(f =>
-    !(bValidRegs(f) && bIdRegs(f) === bIdRegs(e) && bAgeRegs(f) > bAgeRegs(e))).foldLeft(true.B)(_ && _)))
+  private val head = VecInit((0 until K).map(e =>
+    bValidRegs(e) && (0 until K).filter(_ != e).map(f =>
+      !(bValidRegs(f) && bIdRegs(f) === bIdRegs(e) && bAgeRegs(f) > bAgeRegs(e))
+    ).foldLeft(true.B)(_ && _)
+  ))
   private val sel = FormalAnySeq(UInt(log2Ceil(K).max(1).W))
   private val rValid = FormalAnySeq(Bool()) && head(sel)
   private val overdue = VecInit((0 until K).map(e => bValidRegs(e) && bAgeRegs(e) >= L.U))
@@ -64,6 +67,7 @@ class FormalAxiReadSlave(p: Axi4Params, readLatency: Int, stall: Int, bursts: In
 }
 
 object FormalAxiReadSlave {
+
   /** A refusal the model checker may choose, unless `stall` refusals in a row came before. */
   def stalled(valid: Bool, ready: Bool, stall: Int): Bool = {
     val stallReg = RegInit(0.U(log2Ceil(stall + 1).max(1).W))

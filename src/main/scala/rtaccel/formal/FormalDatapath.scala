@@ -16,6 +16,7 @@ import rtaccel.{AccelConfig, Datapath}
 class FormalDatapath(val prepLatency: Int, val boxLatency: Int, val primLatency: Int) extends Datapath[UInt] {
   require(Seq(prepLatency, boxLatency, primLatency).forall(_ >= 1), "FormalDatapath: latencies must be >= 1")
   val name = s"formal_p${prepLatency}b${boxLatency}t$primLatency"
+
   /** A ray's constants do not matter: one bit. */
   def gen: UInt = UInt(1.W)
 

@@ -12,6 +12,6 @@ class FormalFreeList(numIds: Int) extends Module {
   override def desiredName = s"FormalTop_ids$numIds"
   private val ids = Module(new RayIdFreeList(numIds))
   ids.io.alloc.ready := FormalAnySeq(Bool())
-  ids.io.free.valid  := FormalAnySeq(Bool())
-  ids.io.free.bits   := FormalAnySeq(chiselTypeOf(ids.io.free.bits))
+  ids.io.free.valid := FormalAnySeq(Bool())
+  ids.io.free.bits := FormalAnySeq(chiselTypeOf(ids.io.free.bits))
 }

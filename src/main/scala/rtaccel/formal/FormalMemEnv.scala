@@ -13,18 +13,22 @@ import rtaccel.mem.{MemPort, MemPortParams}
   * accelerator never back-pressures an answer is an assertion.
   */
 class FormalMemEnv(p: MemPortParams, maxLatency: Int, maxStall: Int) extends Module {
-  require(maxLatency >= 1 && maxStall >= 0, s"FormalMemEnv: maxLatency >= 1, maxStall >= 0 (got $maxLatency, $maxStall)")
+  require(
+    maxLatency >= 1 && maxStall >= 0,
+    s"FormalMemEnv: maxLatency >= 1, maxStall >= 0 (got $maxLatency, $maxStall)"
+  )
   private val slots = maxLatency + 1
   val io = IO(new Bundle {
     val mem = Flipped(new MemPort(p))
+
     /** The address of the request being answered, for assumptions on the data. */
     val respAddr = Output(UInt(p.addrBits.W))
   })
 
-  private val busyReg  = RegInit(VecInit(Seq.fill(slots)(false.B)))
-  private val tagReg   = Reg(Vec(slots, UInt(p.tagBits.W)))
-  private val addrReg  = Reg(Vec(slots, UInt(p.addrBits.W)))
-  private val ageReg   = Reg(Vec(slots, UInt(log2Ceil(maxLatency + 1).W)))
+  private val busyReg = RegInit(VecInit(Seq.fill(slots)(false.B)))
+  private val tagReg = Reg(Vec(slots, UInt(p.tagBits.W)))
+  private val addrReg = Reg(Vec(slots, UInt(p.addrBits.W)))
+  private val ageReg = Reg(Vec(slots, UInt(log2Ceil(maxLatency + 1).W)))
   private val stallReg = RegInit(0.U(log2Ceil(maxStall + 1).max(1).W))
 
   // ---- Requests: refused at will, but never more than maxStall cycles running ----
@@ -36,16 +40,18 @@ class FormalMemEnv(p: MemPortParams, maxLatency: Int, maxStall: Int) extends Mod
 
   // ---- Answers: any outstanding request, data free, the oldest by its deadline ----
   private val respond = FormalAnySeq(Bool())
-  private val choice  = FormalAnySeq(UInt(log2Ceil(slots).W))
-  private val chosen  = respond && choice < slots.U && busyReg(choice)
-  io.mem.resp.valid     := chosen
-  io.mem.resp.bits.tag  := tagReg(choice)
+  private val choice = FormalAnySeq(UInt(log2Ceil(slots).W))
+  private val chosen = respond && choice < slots.U && busyReg(choice)
+  io.mem.resp.valid := chosen
+  io.mem.resp.bits.tag := tagReg(choice)
   io.mem.resp.bits.data := FormalAnySeq(UInt(p.dataBits.W))
-  io.respAddr           := addrReg(choice)
+  io.respAddr := addrReg(choice)
   assert(!io.mem.resp.valid || io.mem.resp.ready, "mem_resp_ready: the accelerator back-pressured a memory answer")
   for (i <- 0 until slots) {
-    assume(!(busyReg(i) && ageReg(i) === (maxLatency - 1).U) || (chosen && choice === i.U),
-      s"mem_env_deadline: slot $i answers by its latency bound")
+    assume(
+      !(busyReg(i) && ageReg(i) === (maxLatency - 1).U) || (chosen && choice === i.U),
+      s"mem_env_deadline: slot $i answers by its latency bound"
+    )
     when(busyReg(i)) { ageReg(i) := ageReg(i) + 1.U }
   }
   when(io.mem.resp.fire) { busyReg(choice) := false.B }
@@ -53,8 +59,8 @@ class FormalMemEnv(p: MemPortParams, maxLatency: Int, maxStall: Int) extends Mod
   private val free = PriorityEncoder(busyReg.map(!_))
   when(io.mem.req.fire) {
     busyReg(free) := true.B
-    tagReg(free)  := io.mem.req.bits.tag
+    tagReg(free) := io.mem.req.bits.tag
     addrReg(free) := io.mem.req.bits.addr
-    ageReg(free)  := 0.U
+    ageReg(free) := 0.U
   }
 }

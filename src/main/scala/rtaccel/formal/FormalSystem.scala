@@ -27,21 +27,48 @@ final case class SystemEnv(readLatency: Int, stall: Int, bLatency: Int, maxRays:
 final case class SystemCase(name: String, sys: SystemConfig, env: SystemEnv, depth: Int)
 
 object SystemCase {
+
   /** 1 core of 2 ray IDs, 12-bit addresses (the AXI minimum), 2 AXI ID bits (3 read slots + the store's fill),
     * a 64-byte node store (one node), no triangle store, 2 ray blocks in flight, a 2-deep hit queue, 2 pair slots. */
   val sys2: SystemConfig = {
-    val core = AccelConfig(numRayIds = 2, stackDepth = 2, maxNodes = 2, maxTriangles = 2, maxLeafSize = 2,
-      boxFloat = FloatFormat(3, 2), triFloat = FloatFormat(3, 2), addrBits = 12, layout = BvhLayout.Wide(2))
-    SystemConfig(core = core, cores = 1, axiDataBits = 512, axiAddrBits = 12, axiIdBits = 2, nodeStoreBytes = 64, triStoreBytes = 0,
-      raysPerBlock = 4, rayBlockTags = 2, hitQueue = 2, hitPairSlots = 2)
+    val core = AccelConfig(
+      numRayIds = 2,
+      stackDepth = 2,
+      maxNodes = 2,
+      maxTriangles = 2,
+      maxLeafSize = 2,
+      boxFloat = FloatFormat(3, 2),
+      triFloat = FloatFormat(3, 2),
+      addrBits = 12,
+      layout = BvhLayout.Wide(2)
+    )
+    SystemConfig(
+      core = core,
+      cores = 1,
+      axiDataBits = 512,
+      axiAddrBits = 12,
+      axiIdBits = 2,
+      nodeStoreBytes = 64,
+      triStoreBytes = 0,
+      raysPerBlock = 4,
+      rayBlockTags = 2,
+      hitQueue = 2,
+      hitPairSlots = 2
+    )
   }
   val env: SystemEnv = SystemEnv(readLatency = 3, stall = 1, bLatency = 2, maxRays = 8, bursts = 4)
   val all: Seq[SystemCase] = Seq(SystemCase("s1", sys2, env, depth = 42))
 
   /** The units' environment, from s1's: memory and AXI slave as env (L = 3, S = 1, 4 bursts), the core and
     * the read clients refusing at most env.stall = 1 cycle in a row. */
-  val unitEnv: UnitEnv = UnitEnv(memLatency = env.readLatency, stall = env.stall, takeStall = env.stall,
-    readLatency = env.readLatency, bursts = env.bursts)
+  val unitEnv: UnitEnv = UnitEnv(
+    memLatency = env.readLatency,
+    stall = env.stall,
+    takeStall = env.stall,
+    readLatency = env.readLatency,
+    bursts = env.bursts
+  )
+
   /** Each system unit alone (FormalSystemUnits), in s1's configuration, checked by BMC 8 steps past its bound. */
   val units: Seq[UnitCase] = {
     val e = unitEnv
@@ -51,14 +78,35 @@ object SystemCase {
     val beats = FormalReadEngineTop.maxBeats(sys2)
     val re = SystemUnitBound.readEngine(beats, FormalReadEngineTop.slots(sys2), e)
     Seq(
-      UnitCase("raydma", () => new FormalRayDmaTop(sys2, e, rays, "raydma"), rd, rd + 8, deep = true,
-        terms = (1 to rays).map(r => s"$r rays: ${SystemUnitBound.rayDma(sys2, e, r)}").mkString(", ")),
-      UnitCase("hitdma", () => new FormalHitDmaTop(sys2, e, rays, "hitdma"), hd, hd + 8, deep = true,
-        terms = s"after the batch's last hit: (hit queue ${sys2.hitQueue} + pair slots ${sys2.hitPairSlots}) x (writer refusals ${SystemUnitBound.writeStall(e)} + 1) + 2"),
+      UnitCase(
+        "raydma",
+        () => new FormalRayDmaTop(sys2, e, rays, "raydma"),
+        rd,
+        rd + 8,
+        deep = true,
+        terms = (1 to rays).map(r => s"$r rays: ${SystemUnitBound.rayDma(sys2, e, r)}").mkString(", ")
+      ),
+      UnitCase(
+        "hitdma",
+        () => new FormalHitDmaTop(sys2, e, rays, "hitdma"),
+        hd,
+        hd + 8,
+        deep = true,
+        terms =
+          s"after the batch's last hit: (hit queue ${sys2.hitQueue} + pair slots ${sys2.hitPairSlots}) x (writer refusals ${SystemUnitBound.writeStall(e)} + 1) + 2"
+      ),
       // bmc3's frames on this harness double from frame 15 (frame 18: 130 s of CPU), so BMC stops at 18, short of
       // the bound (its bounded response is VACUOUS there, the log says so); the safety properties hold to 18.
-      UnitCase("readeng", () => new FormalReadEngineTop(sys2, e, "readeng"), re, 18, deep = true,
-        terms = s"slots ${FormalReadEngineTop.slots(sys2)}, max beats $beats, L ${e.readLatency}, S ${e.stall}, H ${e.takeStall}"))
+      UnitCase(
+        "readeng",
+        () => new FormalReadEngineTop(sys2, e, "readeng"),
+        re,
+        18,
+        deep = true,
+        terms =
+          s"slots ${FormalReadEngineTop.slots(sys2)}, max beats $beats, L ${e.readLatency}, S ${e.stall}, H ${e.takeStall}"
+      )
+    )
   }
 }
 
@@ -80,21 +128,21 @@ class FormalCoreStub(cfg: AccelConfig, name: String, stall: Int) extends Module 
   // RtAccel's node port: PrepFetch's and the traversal's requests share it, one tag bit says whose (TaggedPortArbiter.shared).
   private val nodePort: MemPortParams = PrepFetch.port(cfg).copy(tagBits = PrepFetch.port(cfg).tagBits + 1)
   val io = IO(new Bundle {
-    val rays     = Flipped(Decoupled(new RayIn))
-    val hits     = Decoupled(new HitOut(cfg))
+    val rays = Flipped(Decoupled(new RayIn))
+    val hits = Decoupled(new HitOut(cfg))
     val nodeBase = Input(UInt(cfg.addrBits.W))
-    val triBase  = Input(UInt(cfg.addrBits.W))
-    val nodeMem  = new MemPort(nodePort)
-    val triMem   = new MemPort(LeafIntersect.port(cfg))
-    val perf     = Output(new PerfCounters)
-    val broken   = Output(Bool())
+    val triBase = Input(UInt(cfg.addrBits.W))
+    val nodeMem = new MemPort(nodePort)
+    val triMem = new MemPort(LeafIntersect.port(cfg))
+    val perf = Output(new PerfCounters)
+    val broken = Output(Bool())
   })
   private val n = cfg.numRayIds
-  private val busyReg   = RegInit(VecInit(Seq.fill(n)(false.B)))
+  private val busyReg = RegInit(VecInit(Seq.fill(n)(false.B)))
   private val numberReg = Reg(Vec(n, UInt(32.W)))
   // Per port and slot: the read still to issue, the read waiting for its answer.
   private val issueRegs = Seq.fill(2)(RegInit(VecInit(Seq.fill(n)(false.B))))
-  private val waitRegs  = Seq.fill(2)(RegInit(VecInit(Seq.fill(n)(false.B))))
+  private val waitRegs = Seq.fill(2)(RegInit(VecInit(Seq.fill(n)(false.B))))
   private val ports = Seq(io.nodeMem, io.triMem)
 
   private val free = PriorityEncoder(busyReg.map(!_))
@@ -109,7 +157,10 @@ class FormalCoreStub(cfg: AccelConfig, name: String, stall: Int) extends Module 
     port.resp.ready := (if (stall == 0) true.B else !FormalAnySeq(Bool()) || stallReg === stall.U)
     when(port.resp.valid && !port.resp.ready) { stallReg := stallReg + 1.U }.otherwise { stallReg := 0.U }
     val t = port.resp.bits.tag
-    assert(!port.resp.fire || (t < n.U && wait(t(log2Ceil(n) - 1, 0))), "core_read_answer_once: a memory answer for no waiting read")
+    assert(
+      !port.resp.fire || (t < n.U && wait(t(log2Ceil(n) - 1, 0))),
+      "core_read_answer_once: a memory answer for no waiting read"
+    )
     when(port.resp.fire) { wait(t(log2Ceil(n) - 1, 0)) := false.B }
     when(io.rays.fire) { issue(free) := FormalAnySeq(Bool()) }
   }
@@ -171,19 +222,30 @@ class FormalSystemTop(c: SystemCase, bound: Int => Int, dp: FormalDatapath) exte
   private val rbReg = Reg(UInt(addrBits.W))
   private val hbReg = Reg(UInt(addrBits.W))
   private val countReg = Reg(UInt(4.W))
-  private val (rbFree, hbFree, countFree) = (FormalAnySeq(UInt(addrBits.W)), FormalAnySeq(UInt(addrBits.W)), FormalAnySeq(UInt(4.W)))
+  private val (rbFree, hbFree, countFree) =
+    (FormalAnySeq(UInt(addrBits.W)), FormalAnySeq(UInt(addrBits.W)), FormalAnySeq(UInt(4.W)))
   when(!loadedReg) { rbReg := rbFree; hbReg := hbFree; countReg := countFree; loadedReg := true.B }
-  assume(loadedReg || (rbFree(5, 0) === 0.U && rbFree <= (space - maxBlocks * sys.rayBlockBytes).U &&
-    hbFree(5, 0) === 0.U && hbFree <= (space - env.maxRays * SystemConfig.HitBytes).U &&
-    countFree >= 1.U && countFree <= env.maxRays.U), "host_batch: aligned buffers inside the address space, 1..maxRays rays")
+  assume(
+    loadedReg || (rbFree(5, 0) === 0.U && rbFree <= (space - maxBlocks * sys.rayBlockBytes).U &&
+      hbFree(5, 0) === 0.U && hbFree <= (space - env.maxRays * SystemConfig.HitBytes).U &&
+      countFree >= 1.U && countFree <= env.maxRays.U),
+    "host_batch: aligned buffers inside the address space, 1..maxRays rays"
+  )
   private val blocks = (countReg +& (rpb - 1).U) >> log2Ceil(rpb)
 
   // ---- Host: the AXI-Lite script ----
   private def reg(name: String) = RegisterMap.regs(RegisterMap.index(name)).offset
   // LOAD_SCENE first, the batch's registers while the scene loads; START on the scene interrupt, then the
   // interrupt is switched to DONE (IRQ_ENABLE) so that it rises only when the batch ends.
-  private val script: Seq[(Int, UInt)] = Seq(reg("CTRL") -> 2.U, reg("IRQ_ENABLE") -> 2.U, reg("RAY_BASE") -> rbReg,
-    reg("HIT_BASE") -> hbReg, reg("RAY_COUNT") -> countReg, reg("CTRL") -> 1.U, reg("IRQ_ENABLE") -> 1.U)
+  private val script: Seq[(Int, UInt)] = Seq(
+    reg("CTRL") -> 2.U,
+    reg("IRQ_ENABLE") -> 2.U,
+    reg("RAY_BASE") -> rbReg,
+    reg("HIT_BASE") -> hbReg,
+    reg("RAY_COUNT") -> countReg,
+    reg("CTRL") -> 1.U,
+    reg("IRQ_ENABLE") -> 1.U
+  )
   private val stepReg = RegInit(0.U(3.W))
   private val running = stepReg === script.size.U
   private val gate = MuxLookup(stepReg, true.B)(Seq(5.U -> dut.io.interrupt))
@@ -217,7 +279,8 @@ class FormalSystemTop(c: SystemCase, bound: Int => Int, dp: FormalDatapath) exte
   require(sys.rayBlockBytes == 3 * sys.axiDataBytes, "FormalSystemTop: ray blocks are told apart as 3-beat bursts")
   private val blockReadRegs = RegInit(VecInit(Seq.fill(maxBlocks)(false.B)))
   for (k <- 0 until maxBlocks) {
-    val isBlock = a.r.fire && last && slave.io.burstLen === 2.U && slave.io.burstAddr === rbReg + (k * sys.rayBlockBytes).U && k.U < blocks
+    val isBlock =
+      a.r.fire && last && slave.io.burstLen === 2.U && slave.io.burstAddr === rbReg + (k * sys.rayBlockBytes).U && k.U < blocks
     assert(!isBlock || !blockReadRegs(k), s"ray_block_read_once: ray block $k read twice")
     when(isBlock) { blockReadRegs(k) := true.B }
   }
@@ -234,7 +297,9 @@ class FormalSystemTop(c: SystemCase, bound: Int => Int, dp: FormalDatapath) exte
   awQ.io.deq.ready := a.w.fire
   // A W beat carries whole 32-byte hit records (HitDma writes a record alone or two neighbours as one line):
   // strobe group g (32 bytes) all set or all clear, at least one set, record (beat - HIT_BASE) / 32 + g in the batch.
-  private val groups = (0 until sys.axiDataBytes / SystemConfig.HitBytes).map(g => a.w.bits.strb(SystemConfig.HitBytes * (g + 1) - 1, SystemConfig.HitBytes * g))
+  private val groups = (0 until sys.axiDataBytes / SystemConfig.HitBytes).map(g =>
+    a.w.bits.strb(SystemConfig.HitBytes * (g + 1) - 1, SystemConfig.HitBytes * g)
+  )
   private val groupOn = groups.map(_.andR)
   private val offset = awQ.io.deq.bits - hbReg
   private val firstIndex = offset(addrBits - 1, log2Ceil(SystemConfig.HitBytes))
@@ -262,7 +327,8 @@ class FormalSystemTop(c: SystemCase, bound: Int => Int, dp: FormalDatapath) exte
 
   // ---- The batch: DONE (the interrupt after START) ----
   private val done = running && dut.io.interrupt
-  private val all = VecInit(inBatch.zip(writtenRegs).zip(fetched).map { case ((in, w), f) => in === w && in === f }).asUInt.andR
+  private val all =
+    VecInit(inBatch.zip(writtenRegs).zip(fetched).map { case ((in, w), f) => in === w && in === f }).asUInt.andR
   assert(!done || all, "batch_conservation: DONE with a ray of the batch not read or its hit not written once")
   private val ageBits = log2Ceil((1 to env.maxRays).map(bound).max + 2)
   private val ageReg = RegInit(0.U(ageBits.W))
@@ -270,10 +336,14 @@ class FormalSystemTop(c: SystemCase, bound: Int => Int, dp: FormalDatapath) exte
   when(done) { doneSeenReg := true.B }
   when(running && !doneSeenReg) { ageReg := ageReg + 1.U }
   private val limit = MuxLookup(countReg, 0.U)((1 to env.maxRays).map(r => r.U -> bound(r).U(ageBits.W)))
-  assert(!(running && !doneSeenReg && !done && ageReg >= limit), "batch_bounded_response: no DONE within the derived bound after START")
+  assert(
+    !(running && !doneSeenReg && !done && ageReg >= limit),
+    "batch_bounded_response: no DONE within the derived bound after START"
+  )
 }
 
 object FormalSystemTop {
+
   /** The core's datapath in the system's SystemVerilog (replaced by the stub in the model; it names the core's module). */
   val datapath = new FormalDatapath(prepLatency = 1, boxLatency = 2, primLatency = 2)
 
@@ -320,7 +390,9 @@ object EmitFormalSystem {
       val props = (ForYosys.names(sv).filterNot(coreOnly) ++ ForYosys.names(stub)).distinct
       java.nio.file.Files.writeString(out.resolve(s"formal_${c.name}.props"), props.mkString("", "\n", "\n"))
       for (r <- 1 to c.env.maxRays)
-        println(s"EmitFormalSystem: ${c.name} RAY_COUNT $r: bound ${b(r)} = " + SystemBound(c, r).map(t => s"${t.name} ${t.cycles}").mkString(" + "))
+        println(s"EmitFormalSystem: ${c.name} RAY_COUNT $r: bound ${b(r)} = " + SystemBound(c, r).map(t =>
+          s"${t.name} ${t.cycles}"
+        ).mkString(" + "))
       s"${c.name} ${c.depth} ${b(1)}\n"
     }
     java.nio.file.Files.writeString(out.resolve("system-cases.txt"), lines.mkString)
@@ -328,7 +400,10 @@ object EmitFormalSystem {
     val units = for (u <- SystemCase.units) yield {
       val sv = ForYosys(rtaccel.tools.Synth.emit(u.top()))
       java.nio.file.Files.writeString(out.resolve(s"formal_${u.name}.sv"), sv)
-      java.nio.file.Files.writeString(out.resolve(s"formal_${u.name}.props"), ForYosys.names(sv).mkString("", "\n", "\n"))
+      java.nio.file.Files.writeString(
+        out.resolve(s"formal_${u.name}.props"),
+        ForYosys.names(sv).mkString("", "\n", "\n")
+      )
       println(s"EmitFormalSystem: unit ${u.name} bound ${u.bound} (${u.terms}), depth ${u.depth}")
       s"${u.name} ${u.depth} ${u.bound}\n"
     }
@@ -361,8 +436,12 @@ object SystemBound {
       // A hit waiting in HitDma's pair buffer for its neighbour leaves with it (the neighbour's trip, above) or, once
       // the batch's last hit is taken, alone: one line per slot, each through the hit queue 1, WriteEngine queues 1,
       // AW and W refusals s + 1 and the slave's B after at most bLatency refusals + 1.
-      ResponseBound.Term(s"pair buffer flush (${c.sys.hitPairSlots} slots)", c.sys.hitPairSlots * (2 + (s + 1) + e.bLatency + 1)),
+      ResponseBound.Term(
+        s"pair buffer flush (${c.sys.hitPairSlots} slots)",
+        c.sys.hitPairSlots * (2 + (s + 1) + e.bLatency + 1)
+      ),
       // writesDone reaches RAY_COUNT: finish 1, IRQ_STATUS 1, the interrupt register 1.
-      ResponseBound.Term("done", 3))
+      ResponseBound.Term("done", 3)
+    )
   }
 }

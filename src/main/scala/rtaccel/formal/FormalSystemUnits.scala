@@ -17,24 +17,32 @@ final case class UnitEnv(memLatency: Int, stall: Int, takeStall: Int, readLatenc
 
 /** Each system unit's bounded response, derived term by term (docs/formal.md, "System units"), never chosen. */
 object SystemUnitBound {
+
   /** RayDma, from the cycle after START to the last ray handed out, for `rays` rays in `blocks` <= rayBlockTags blocks:
     * START latched 1; each block request taken within S + 1 (no tag waits: blocks <= tags); the last answer L;
     * the block queue 1; then each ray one after the other, each refused at most H times: H + 1; the monitor 1.
     * Sequential, so loose: hand-out overlaps the reads. */
   def rayDma(sys: SystemConfig, e: UnitEnv, rays: Int): Int = {
     val blocks = (rays + sys.raysPerBlock - 1) / sys.raysPerBlock
-    require(blocks <= sys.rayBlockTags, "SystemUnitBound.rayDma: more blocks than tags (a request would wait for a tag)")
+    require(
+      blocks <= sys.rayBlockTags,
+      "SystemUnitBound.rayDma: more blocks than tags (a request would wait for a tag)"
+    )
     1 + blocks * (e.stall + 1) + e.memLatency + 1 + rays * (e.takeStall + 1) + 1
   }
+
   /** The writer refuses a record at most S + 1 cycles in a row: its AW and W queues' heads leave within S + 1. */
   def writeStall(e: UnitEnv): Int = e.stall + 1
+
   /** HitDma, the batch's last hit taken -> every record handed to the writer (a hit may wait in the pair buffer
     * for its neighbour until then): the hit queue's lines (FIFO, <= hitQueue - 1 ahead) and the pair buffer's
     * flush, one line per slot, each line leaving within W + 1 (W: writeStall); the queue's register 1; the
     * monitor 1. */
   def hitDma(sys: SystemConfig, e: UnitEnv): Int = (sys.hitQueue + sys.hitPairSlots) * (writeStall(e) + 1) + 2
+
   /** HitDma takes a hit offered within W + 1 cycles (a full queue's head leaves by then) + 1. */
   def hitTake(e: UnitEnv): Int = writeStall(e) + 2
+
   /** ReadEngine, a request taken -> its record taken by the client:
     *  AR register 1, AR refusals S (the slave never fills: one burst per record, records <= slots <= bursts);
     *  the burst overdue after L; then at most every beat of every record outstanding, one per cycle (slots x maxBeats);
@@ -55,11 +63,14 @@ class BatchChoice(addrBits: Int, bufBytes: Int, maxRays: Int) {
   val count = FormalAnySeq(UInt(4.W))
   val baseReg = Reg(UInt(addrBits.W))
   val countReg = RegInit(0.U(4.W))
-  assume(!start || (base(5, 0) === 0.U && base <= ((1 << addrBits) - bufBytes).U && count >= 1.U && count <= maxRays.U),
-    "batch_env: an aligned buffer inside the address space, 1..maxRays rays")
+  assume(
+    !start || (base(5, 0) === 0.U && base <= ((1 << addrBits) - bufBytes).U && count >= 1.U && count <= maxRays.U),
+    "batch_env: an aligned buffer inside the address space, 1..maxRays rays"
+  )
   when(start) { startedReg := true.B; baseReg := base; countReg := count }
   private val ageReg = RegInit(0.U(8.W))
   when(startedReg && ageReg =/= 255.U) { ageReg := ageReg + 1.U }
+
   /** Cycles since the cycle after START. */
   val age: UInt = ageReg
 }
@@ -98,12 +109,17 @@ class FormalRayDmaTop(sys: SystemConfig, e: UnitEnv, maxRays: Int, name: String)
 
   private val kBits = log2Ceil(maxBlocks + 1)
   private val req = dut.io.mem.req
-  private val k = PriorityMux((0 until maxBlocks).map(j => (req.bits.addr === batch.baseReg + (j * sys.rayBlockBytes).U && j.U < blocks) -> j.U(kBits.W)) :+
+  private val k = PriorityMux((0 until maxBlocks).map(j =>
+    (req.bits.addr === batch.baseReg + (j * sys.rayBlockBytes).U && j.U < blocks) -> j.U(kBits.W)
+  ) :+
     (true.B -> maxBlocks.U(kBits.W)))
   private val readRegs = RegInit(VecInit(Seq.fill(maxBlocks + 1)(false.B)))
   private val blockOfTagReg = Reg(Vec(sys.rayBlockTags, UInt(kBits.W)))
   private val cameRegs = RegInit(VecInit(Seq.fill(maxBlocks + 1)(false.B)))
-  assert(!req.fire || (k =/= maxBlocks.U && !readRegs(k)), "raydma_read_once: a request for no block of the batch, or a block read twice")
+  assert(
+    !req.fire || (k =/= maxBlocks.U && !readRegs(k)),
+    "raydma_read_once: a request for no block of the batch, or a block read twice"
+  )
   when(req.fire) { readRegs(k) := true.B; blockOfTagReg(req.bits.tag) := k }
   when(dut.io.mem.resp.fire) { cameRegs(blockOfTagReg(dut.io.mem.resp.bits.tag)) := true.B }
 
@@ -113,11 +129,17 @@ class FormalRayDmaTop(sys: SystemConfig, e: UnitEnv, maxRays: Int, name: String)
   private val ray = dut.io.rays
   assert(!ray.fire || number < count, "raydma_in_batch: a ray handed out whose number is not in the batch")
   assert(!(ray.fire && number < count) || !outRegs(idx), "raydma_once: a ray handed out twice")
-  assert(!(ray.fire && number < count) || cameRegs(idx >> log2Ceil(rpb)), "raydma_after_block: a ray handed out before its block came")
+  assert(
+    !(ray.fire && number < count) || cameRegs(idx >> log2Ceil(rpb)),
+    "raydma_after_block: a ray handed out before its block came"
+  )
   when(ray.fire && number < count) { outRegs(idx) := true.B }
   private val all = VecInit((0 until maxRays).map(i => outRegs(i) || i.U >= count)).asUInt.andR
   private val limit = MuxLookup(count, 0.U)((1 to maxRays).map(r => r.U -> SystemUnitBound.rayDma(sys, e, r).U(8.W)))
-  assert(!(batch.startedReg && !all && batch.age >= limit), "raydma_bounded_response: a ray of the batch not handed out within the derived bound")
+  assert(
+    !(batch.startedReg && !all && batch.age >= limit),
+    "raydma_bounded_response: a ray of the batch not handed out within the derived bound"
+  )
   assert(!dut.io.broken, "raydma_not_broken: RayDma's sticky broken rose")
 }
 
@@ -143,7 +165,10 @@ class FormalHitDmaTop(sys: SystemConfig, e: UnitEnv, maxRays: Int, name: String)
   hit.valid := FormalAnySeq(Bool()) && batch.startedReg
   hit.bits := FormalAnySeq(new HitOut(sys.core))
   private val n = hit.bits.number
-  assume(!hit.valid || (n < batch.countReg && !takenRegs(n(log2Ceil(maxRays) - 1, 0))), "hitdma_env: a hit of the batch, each number once")
+  assume(
+    !hit.valid || (n < batch.countReg && !takenRegs(n(log2Ceil(maxRays) - 1, 0))),
+    "hitdma_env: a hit of the batch, each number once"
+  )
   private val w = dut.io.write
   w.ready := TakeWithin(w.valid, SystemUnitBound.writeStall(e))
 
@@ -155,11 +180,14 @@ class FormalHitDmaTop(sys: SystemConfig, e: UnitEnv, maxRays: Int, name: String)
   private val first = offset(w.bits.addr.getWidth - 1, log2Ceil(SystemConfig.HitBytes))
   private val halves = (0 until WriteRecord.Records).map(k => w.bits.halves(k))
   private val index = halves.indices.map(k => first + k.U)
-  private val ok = w.bits.addr >= batch.baseReg && offset(log2Ceil(WriteRecord.Bytes) - 1, 0) === 0.U && halves.reduce(_ || _) &&
-    halves.zip(index).map { case (on, i) => !on || i < batch.countReg }.reduce(_ && _)
+  private val ok =
+    w.bits.addr >= batch.baseReg && offset(log2Ceil(WriteRecord.Bytes) - 1, 0) === 0.U && halves.reduce(_ || _) &&
+      halves.zip(index).map { case (on, i) => !on || i < batch.countReg }.reduce(_ && _)
   private val wi = index.map(_(log2Ceil(maxRays) - 1, 0))
-  assert(!w.fire || (ok && halves.zip(wi).map { case (on, i) => !on || pendingRegs(i) }.reduce(_ && _)),
-    "hitdma_once: a record written for no hit taken and waiting")
+  assert(
+    !w.fire || (ok && halves.zip(wi).map { case (on, i) => !on || pendingRegs(i) }.reduce(_ && _)),
+    "hitdma_once: a record written for no hit taken and waiting"
+  )
   private val allTaken = VecInit((0 until maxRays).map(i => takenRegs(i) || i.U >= batch.countReg)).asUInt.andR
   for (i <- 0 until maxRays) {
     val in = hit.fire && n === i.U
@@ -168,7 +196,10 @@ class FormalHitDmaTop(sys: SystemConfig, e: UnitEnv, maxRays: Int, name: String)
     when(out) { pendingRegs(i) := false.B }
     // The age runs once the batch's last hit is taken: until then a record may wait for its neighbour.
     when(pendingRegs(i) && !out && allTaken && ageRegs(i) <= bound.U) { ageRegs(i) := ageRegs(i) + 1.U }
-    assert(!pendingRegs(i) || ageRegs(i) < bound.U, s"hitdma_bounded_response: hit $i's record not handed to the writer within $bound cycles of the batch's last hit")
+    assert(
+      !pendingRegs(i) || ageRegs(i) < bound.U,
+      s"hitdma_bounded_response: hit $i's record not handed to the writer within $bound cycles of the batch's last hit"
+    )
   }
   private val waitReg = RegInit(0.U(4.W))
   waitReg := Mux(hit.valid && !hit.ready, waitReg + 1.U, 0.U)
@@ -207,11 +238,20 @@ class FormalReadEngineTop(sys: SystemConfig, e: UnitEnv, name: String) extends M
   private val req = dut.io.req
   req.valid := FormalAnySeq(Bool())
   req.bits := FormalAnySeq(new ReadReq(sys.axiAddrBits, log2Ceil(n), tagBits))
-  private val bytes = MuxLookup(req.bits.client, 0.U)(ports.zipWithIndex.map { case (p, c) => c.U -> p.recordBytes.U(13.W) })
-  private val tagOk = MuxLookup(req.bits.client, false.B)(ports.zipWithIndex.map { case (p, c) => c.U -> (req.bits.tag >> p.tagBits === 0.U) })
+  private val bytes = MuxLookup(req.bits.client, 0.U)(ports.zipWithIndex.map { case (p, c) =>
+    c.U -> p.recordBytes.U(13.W)
+  })
+  private val tagOk = MuxLookup(req.bits.client, false.B)(ports.zipWithIndex.map { case (p, c) =>
+    c.U -> (req.bits.tag >> p.tagBits === 0.U)
+  })
   private val pageEnd = req.bits.addr(11, 0) +& bytes
-  assume(!req.valid || (req.bits.client < n.U && tagOk && pageEnd <= 4096.U && !waitRegs(Cat(req.bits.client, req.bits.tag))),
-    "read_env: a client's record, its tag free, inside one 4 KB page")
+  assume(
+    !req.valid || (req.bits.client < n.U && tagOk && pageEnd <= 4096.U && !waitRegs(Cat(
+      req.bits.client,
+      req.bits.tag
+    ))),
+    "read_env: a client's record, its tag free, inside one 4 KB page"
+  )
   for (i <- 0 until keys) {
     val c = i >> tagBits
     val t = i & ((1 << tagBits) - 1)
@@ -225,20 +265,31 @@ class FormalReadEngineTop(sys: SystemConfig, e: UnitEnv, name: String) extends M
   for (c <- 0 until n) {
     val r = dut.io.resp(c)
     r.ready := (if (refuses(c)) TakeWithin(r.valid, e.takeStall) else true.B)
-    assert(!r.fire || waitRegs(Cat(c.U(log2Ceil(n).W), r.bits.tag)), s"read_answer_once: client $c got a record for no waiting request")
+    assert(
+      !r.fire || waitRegs(Cat(c.U(log2Ceil(n).W), r.bits.tag)),
+      s"read_answer_once: client $c got a record for no waiting request"
+    )
   }
   assert(!dut.io.error, "read_no_error: the engine flagged an error against a well-behaved slave")
 }
 
 object FormalReadEngineTop {
+
   /** SystemCore's read clients, in MemoryFabric's order: the core's node port (PrepFetch's and the traversal's
     * requests, one tag bit says whose), its triangle port, the scene loader, RayDma. */
   def ports(sys: SystemConfig): Seq[rtaccel.mem.MemPortParams] = {
     val cfg = sys.core
-    Seq(PrepFetch.port(cfg).copy(tagBits = PrepFetch.port(cfg).tagBits + 1), LeafIntersect.port(cfg), SceneLoader.port(sys), RayDma.port(sys))
+    Seq(
+      PrepFetch.port(cfg).copy(tagBits = PrepFetch.port(cfg).tagBits + 1),
+      LeafIntersect.port(cfg),
+      SceneLoader.port(sys),
+      RayDma.port(sys)
+    )
   }
+
   /** MemoryFabric's read slots: every AXI ID but the store fill's. */
   def slots(sys: SystemConfig): Int = (1 << sys.axi.idBits) - 1
+
   /** Beats of the largest record at its worst alignment (as ReadEngine counts them). */
   def maxBeats(sys: SystemConfig): Int = {
     val b = sys.axi.beatBytes

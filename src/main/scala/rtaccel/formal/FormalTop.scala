@@ -43,31 +43,31 @@ class FormalTop(cfg: AccelConfig, dp: FormalDatapath, env: FormalEnv, responseBo
 
   private val accel = Module(new RtAccel(cfg, dp))
   accel.io.nodeBase := 0.U
-  accel.io.triBase  := 0.U
+  accel.io.triBase := 0.U
 
   private val nodeMem = Module(new FormalMemEnv(accel.io.nodeMem.p, env.memLatency, env.memStall))
-  private val triMem  = Module(new FormalMemEnv(accel.io.triMem.p, env.memLatency, env.memStall))
+  private val triMem = Module(new FormalMemEnv(accel.io.triMem.p, env.memLatency, env.memStall))
   nodeMem.io.mem <> accel.io.nodeMem
   triMem.io.mem <> accel.io.triMem
 
   // ---- Scene rule: node k's inner children are nodes > k (node base is 0) ----
   private val nodeIdx = nodeMem.io.respAddr >> log2Ceil(cfg.layout.nodeBytes)
-  private val record  = nodeMem.io.mem.resp.bits.data
+  private val record = nodeMem.io.mem.resp.bits.data
   for (s <- 0 until cfg.boxLanes) {
     val (w0, w1) = (record(256 * s + 31, 256 * s), record(256 * s + 63, 256 * s + 32))
     assume(!(nodeMem.io.mem.resp.valid && w0 === 0.U && w1 <= nodeIdx), s"scene_children_follow: slot $s")
   }
 
   // ---- Host: free rays, numbers unique among the rays in flight ----
-  private val slots   = 2 * cfg.numRayIds
+  private val slots = 2 * cfg.numRayIds
   private val numBits = log2Ceil(slots)
-  private val rays    = accel.io.rays
-  private val number  = FormalAnySeq(UInt(numBits.W))
-  rays.valid       := FormalAnySeq(Bool())
-  rays.bits        := FormalAnySeq(new RayIn)
+  private val rays = accel.io.rays
+  private val number = FormalAnySeq(UInt(numBits.W))
+  rays.valid := FormalAnySeq(Bool())
+  rays.bits := FormalAnySeq(new RayIn)
   rays.bits.number := number
   private val inFlightReg = RegInit(VecInit(Seq.fill(slots)(false.B)))
-  private val ageReg      = RegInit(VecInit(Seq.fill(slots)(0.U(log2Ceil(responseBound + 2).W))))
+  private val ageReg = RegInit(VecInit(Seq.fill(slots)(0.U(log2Ceil(responseBound + 2).W))))
   assume(!(rays.valid && inFlightReg(number)), "host_numbers_unique")
 
   // ---- Host: takes a hit after at most hitStall refusals in a row ----
@@ -79,14 +79,20 @@ class FormalTop(cfg: AccelConfig, dp: FormalDatapath, env: FormalEnv, responseBo
 
   // ---- Monitor ----
   private val hitNum = hits.bits.number
-  assert(!hits.fire || (hitNum < slots.U && inFlightReg(hitNum(numBits - 1, 0))), "exactly_once: a hit for a ray not in flight")
+  assert(
+    !hits.fire || (hitNum < slots.U && inFlightReg(hitNum(numBits - 1, 0))),
+    "exactly_once: a hit for a ray not in flight"
+  )
   for (i <- 0 until slots) {
-    val in  = rays.fire && number === i.U
+    val in = rays.fire && number === i.U
     val out = hits.fire && hitNum === i.U
     when(in) { inFlightReg(i) := true.B; ageReg(i) := 0.U }
     when(out) { inFlightReg(i) := false.B }
     when(inFlightReg(i) && !out && ageReg(i) <= responseBound.U) { ageReg(i) := ageReg(i) + 1.U }
-    assert(!inFlightReg(i) || ageReg(i) < responseBound.U, s"bounded_response: ray number $i in flight for ${responseBound} cycles")
+    assert(
+      !inFlightReg(i) || ageReg(i) < responseBound.U,
+      s"bounded_response: ray number $i in flight for ${responseBound} cycles"
+    )
   }
   assert(PopCount(inFlightReg) <= cfg.numRayIds.U, "in_flight_bound: more rays inside than IDs")
 }

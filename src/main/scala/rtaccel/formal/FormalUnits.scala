@@ -12,6 +12,7 @@ import rtaccel.traversal.{PrepFetch, TraversalToken}
   * that BMC checks past the bound itself.
   */
 object UnitBound {
+
   /** PrepFetch: token in -> node out. The queue is FIFO with at most n - 1
     * tokens ahead, each taking <= S + 1 cycles to be taken by memory; then
     * the answer (<= L) and the output register (1).
@@ -62,12 +63,12 @@ class FormalFetchTop(cfg: AccelConfig, env: FormalEnv, bound: Int, tag: String) 
   val io = IO(new Bundle {})
   override def desiredName = s"FormalTop_$tag"
   private val fetch = Module(new PrepFetch(cfg))
-  private val mem   = Module(new FormalMemEnv(fetch.io.mem.p, env.memLatency, env.memStall))
+  private val mem = Module(new FormalMemEnv(fetch.io.mem.p, env.memLatency, env.memStall))
   mem.io.mem <> fetch.io.mem
   fetch.io.nodeBase := 0.U
   private val mon = new UnitMonitor(cfg.numRayIds, bound, "fetch")
   fetch.io.in.valid := FormalAnySeq(Bool())
-  fetch.io.in.bits  := FormalAnySeq(new TraversalToken(cfg))
+  fetch.io.in.bits := FormalAnySeq(new TraversalToken(cfg))
   assume(!(fetch.io.in.valid && mon.insideReg(fetch.io.in.bits.rayId)), "fetch_env_one_place")
   // The queue holds numRayIds: with each ray in one place it is never full.
   assert(!fetch.io.in.valid || fetch.io.in.ready, "fetch_in_ready: PrepFetch refused a ray")
@@ -86,20 +87,20 @@ class FormalLeafTop(cfg: AccelConfig, dp: FormalDatapath, env: FormalEnv, bound:
   val io = IO(new Bundle {})
   override def desiredName = s"FormalTop_$tag"
   private val leaf = Module(new LeafIntersect(cfg, dp.gen, () => dp.prim(cfg)))
-  private val mem  = Module(new FormalMemEnv(leaf.io.mem.p, env.memLatency, env.memStall))
+  private val mem = Module(new FormalMemEnv(leaf.io.mem.p, env.memLatency, env.memStall))
   mem.io.mem <> leaf.io.mem
   leaf.io.triBase := 0.U
   leaf.io.rayRead.statics := FormalAnySeq(chiselTypeOf(leaf.io.rayRead.statics))
-  leaf.io.rayRead.tmax    := FormalAnySeq(chiselTypeOf(leaf.io.rayRead.tmax))
+  leaf.io.rayRead.tmax := FormalAnySeq(chiselTypeOf(leaf.io.rayRead.tmax))
   leaf.io.resultId := FormalAnySeq(chiselTypeOf(leaf.io.resultId))
   leaf.io.out.ready := true.B
   private val mon = new UnitMonitor(cfg.numRayIds, bound, "leaf")
   leaf.io.in.valid := FormalAnySeq(Bool())
-  leaf.io.in.bits  := FormalAnySeq(new LeafJob(cfg))
+  leaf.io.in.bits := FormalAnySeq(new LeafJob(cfg))
   assume(!(leaf.io.in.valid && mon.insideReg(leaf.io.in.bits.token.rayId)), "leaf_env_one_place")
   assume(leaf.io.in.bits.count <= cfg.maxLeafSize.U, "leaf_env_size")
   leaf.io.clear.valid := FormalAnySeq(Bool())
-  leaf.io.clear.bits  := FormalAnySeq(chiselTypeOf(leaf.io.clear.bits))
+  leaf.io.clear.bits := FormalAnySeq(chiselTypeOf(leaf.io.clear.bits))
   assume(!(leaf.io.clear.valid && mon.insideReg(leaf.io.clear.bits)), "leaf_env_clear")
   private val tmaxRefusedReg = RegInit(false.B)
   leaf.io.tmax.ready := FormalAnySeq(Bool()) || tmaxRefusedReg

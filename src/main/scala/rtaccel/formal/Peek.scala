@@ -11,9 +11,13 @@ import chisel3.util.experimental.BoringUtils
   */
 object Peek {
   def apply[T](obj: AnyRef, name: String): T = {
-    def fields(c: Class[_]): Seq[java.lang.reflect.Field] = if (c == null) Nil else c.getDeclaredFields.toSeq ++ fields(c.getSuperclass)
+    def fields(c: Class[_]): Seq[java.lang.reflect.Field] =
+      if (c == null) Nil else c.getDeclaredFields.toSeq ++ fields(c.getSuperclass)
     val f = fields(obj.getClass).find(f => f.getName == name || f.getName.endsWith("$$" + name)).getOrElse(
-      throw new IllegalStateException(s"Peek: ${obj.getClass.getName} has no field '$name' (renamed? update the formal monitor)"))
+      throw new IllegalStateException(
+        s"Peek: ${obj.getClass.getName} has no field '$name' (renamed? update the formal monitor)"
+      )
+    )
     f.setAccessible(true)
     f.get(obj).asInstanceOf[T]
   }

@@ -8,11 +8,13 @@ import rtaccel.bvh.BvhLayout
   * ray, which ResponseBound needs.
   */
 sealed trait SceneRule {
+
   /** (node fetches, leaf visits) a ray can make at most under this rule. */
   def visits(cfg: AccelConfig): (Int, Int)
 }
 
 object SceneRule {
+
   /** An inner child's index is greater than its parent's, as in every image
     * nori-bridge writes (children follow their parent): traversal ends, but a
     * node can be reached along many paths (a DAG), so visits grow fast with
@@ -44,7 +46,10 @@ object ResponseBound {
   final case class Term(name: String, cycles: Int)
 
   def terms(cfg: AccelConfig, dp: FormalDatapath, env: FormalEnv): Seq[Term] = {
-    require(cfg.layout.isInstanceOf[BvhLayout.Wide], "ResponseBound: derived for the wide layouts (rank stage, 2-cycle control)")
+    require(
+      cfg.layout.isInstanceOf[BvhLayout.Wide],
+      "ResponseBound: derived for the wide layouts (rank stage, 2-cycle control)"
+    )
     val (p, b, q) = (dp.prepLatency, dp.boxLatency, dp.primLatency)
     val (l, s, h, m) = (env.memLatency, env.memStall, env.hitStall, cfg.maxLeafSize)
     val others = cfg.numRayIds - 1
@@ -70,7 +75,10 @@ object ResponseBound {
       // -> leaf-return lane 1. Others: <= n - 1 leaves ahead in the job queue,
       // each issuing m requests (<= S + 1 cycles each) or an empty leaf's
       // exit (1), <= n - 1 exits ahead (<= 2 cycles each), one merge cycle.
-      Term(s"leaf visits ($leaves)", leaves * (2 + m * (s + 1) + l + 1 + q + 1 + 1 + 1 + others * ((m * (s + 1)).max(1) + 2 + 1))),
+      Term(
+        s"leaf visits ($leaves)",
+        leaves * (2 + m * (s + 1) + l + 1 + q + 1 + 1 + 1 + others * ((m * (s + 1)).max(1) + 2 + 1))
+      ),
       // control out -> Traversal done queue 1 -> hit, the host refusing <= H
       // times. Others: <= n - 1 hits ahead (each <= H + 1), one merge cycle.
       Term("exit", 1 + h + others * (h + 2)),

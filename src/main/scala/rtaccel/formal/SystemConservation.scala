@@ -62,10 +62,12 @@ object SystemConservation {
       inReg
     }
     def beatRecords(strb: UInt): UInt = PopCount((0 until strb.getWidth / SystemConfig.HitBytes).map(g =>
-      strb(SystemConfig.HitBytes * (g + 1) - 1, SystemConfig.HitBytes * g).orR))
+      strb(SystemConfig.HitBytes * (g + 1) - 1, SystemConfig.HitBytes * g).orR
+    ))
     val inHitDma = PopCount(held.map(x => b(x))) +&
       records(hitQ.io.enq, PopCount(b(hitQ.io.enq.bits.halves)), hitQ.io.deq, PopCount(b(hitQ.io.deq.bits.halves)))
-    val inWriter = records(wQ.io.enq, beatRecords(b(wQ.io.enq.bits.strb)), wQ.io.deq, beatRecords(b(wQ.io.deq.bits.strb)))
+    val inWriter =
+      records(wQ.io.enq, beatRecords(b(wQ.io.enq.bits.strb)), wQ.io.deq, beatRecords(b(wQ.io.deq.bits.strb)))
 
     // The batch's rays in block k (0 when the block is past RAY_COUNT or unknown: k = maxBlocks).
     def present(k: UInt): UInt = MuxLookup(k, 0.U(w.W))((0 until maxBlocks).map { j =>
@@ -75,7 +77,9 @@ object SystemConservation {
     val blockOfTagReg = Reg(Vec(nTags, UInt(kBits.W)))
     val queuedReg = RegInit(VecInit(Seq.fill(nTags)(false.B)))
     when(reqFire) {
-      blockOfTagReg(reqTag) := PriorityMux((0 until maxBlocks).map(j => (reqAddr === rayBase + (j * sys.rayBlockBytes).U) -> j.U(kBits.W)) :+
+      blockOfTagReg(reqTag) := PriorityMux((0 until maxBlocks).map(j =>
+        (reqAddr === rayBase + (j * sys.rayBlockBytes).U) -> j.U(kBits.W)
+      ) :+
         (true.B -> maxBlocks.U(kBits.W)))
     }
     when(deqFire) { queuedReg(deqTag) := false.B }
@@ -90,6 +94,9 @@ object SystemConservation {
     // RayDma's head block has handed out `sub` of its rays: fetched + sub == written + held.
     val lhs = fetchedReg +& Mux(deqValid, sub, 0.U)
     val rhs = writtenReg +& queued +& coreHeldReg +& inHitDma +& inWriter
-    assert(lhs === rhs, "system_ray_conservation: rays fetched != hits written + rays held by RayDma, the core, HitDma and WriteEngine")
+    assert(
+      lhs === rhs,
+      "system_ray_conservation: rays fetched != hits written + rays held by RayDma, the core, HitDma and WriteEngine"
+    )
   }
 }

@@ -28,16 +28,22 @@ case class FloatFormat(expBits: Int, manBits: Int) {
 
   /** Total encoded width in bits. */
   val width: Int = 1 + expBits + manBits
+
   /** Exponent bias, as in IEEE-754. */
   val bias: Int = (1 << (expBits - 1)) - 1
+
   /** Significand precision including the hidden bit. */
   val precision: Int = manBits + 1
+
   /** Exponent field of infinities and NaNs (all ones). */
   val maxExpField: Int = (1 << expBits) - 1
+
   /** Unbiased exponent of the smallest normal number (and of all subnormals). */
   val emin: Int = 1 - bias
+
   /** Unbiased exponent of the largest finite number. */
   val emax: Int = bias
+
   /** Stable short name for Verilog module names and reports, e.g. `e8m23`. */
   val name: String = s"e${expBits}m$manBits"
 
@@ -57,6 +63,7 @@ case class FloatFormat(expBits: Int, manBits: Int) {
   def maxSubnormal(sign: Boolean): BigInt = pack(sign, 0, fracMask)
   def minSubnormal(sign: Boolean): BigInt = pack(sign, 0, 1)
   def one(sign: Boolean): BigInt = pack(sign, bias, 0)
+
   /** The only NaN units and model ever produce (see the NaN policy above). */
   val canonicalNaN: BigInt = pack(sign = false, maxExpField, BigInt(1) << (manBits - 1))
 
@@ -89,6 +96,7 @@ case class FloatFormat(expBits: Int, manBits: Int) {
   /** Significand including the hidden bit (an integer), for a finite value. */
   def significand(bits: BigInt): BigInt =
     if (expField(bits) == 0) frac(bits) else frac(bits).setBit(manBits)
+
   /** Exponent of the significand's LSB: a finite value is `significand * 2^lsbExponent`. */
   def lsbExponent(bits: BigInt): Int = math.max(expField(bits), 1) - bias - manBits
 

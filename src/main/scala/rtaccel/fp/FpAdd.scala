@@ -13,8 +13,12 @@ import chisel3.util._
   * @param rm      Some(mode) fixes the mode at elaboration; None adds an `rm` input
   * @param latency cycles from `in` to `out`
   */
-class FpAdd(val fmt: FloatFormat, val rm: Option[RoundingMode], val latency: Int = FpAdd.defaultLatency,
-    val subtract: Boolean = false) extends Module {
+class FpAdd(
+    val fmt: FloatFormat,
+    val rm: Option[RoundingMode],
+    val latency: Int = FpAdd.defaultLatency,
+    val subtract: Boolean = false
+) extends Module {
   val io = IO(new FpUnitIO(new FpBinaryIn(fmt, rm.isEmpty), UInt(fmt.width.W)))
   override def desiredName: String = FpUnitIO.name(if (subtract) "FpSub" else "FpAdd", fmt, rm, latency)
 
@@ -31,6 +35,7 @@ class FpAdd(val fmt: FloatFormat, val rm: Option[RoundingMode], val latency: Int
   if (subtract) ub.sign := !ub0.sign // exact; NaN signs do not matter (canonical NaN out)
 
   private val dynamicRm = rm.isEmpty
+
   /** The front's state between its cuts. */
   class Front extends Bundle {
     val big = new FpUnpacked(fmt)
@@ -92,30 +97,36 @@ class FpAdd(val fmt: FloatFormat, val rm: Option[RoundingMode], val latency: Int
   raw.isInf := f3.isInf
   // Exact zero: (-0)+(-0) = -0, x+(-x) = +0 except -0 in RDN (IEEE 754 6.3).
   raw.isZero := mag === 0.U && !f3.sticky
-  raw.sign := MuxCase(f3.big.sign ^ (f3.effSub && negative), Seq(
-    f3.isInf -> f3.infSign,
-    (mag === 0.U && f3.effSub) -> (FpUnitIO.roundingMode(rm, f3.rm) === RoundingMode.RDN.code.U)
-  ))
+  raw.sign := MuxCase(
+    f3.big.sign ^ (f3.effSub && negative),
+    Seq(
+      f3.isInf -> f3.infSign,
+      (mag === 0.U && f3.effSub) -> (FpUnitIO.roundingMode(rm, f3.rm) === RoundingMode.RDN.code.U)
+    )
+  )
   raw.sig := mag
   raw.exp := f3.big.exp -& extra.S
   raw.sticky := f3.sticky
 
   private val mid = stages(front)
-  private val rounded = FpRound(fmt, mid.raw, FpUnitIO.roundingMode(rm, mid.rm),
-    minExp = Some(FpAdd.minExp(fmt)), stages = Some(stages))
+  private val rounded =
+    FpRound(fmt, mid.raw, FpUnitIO.roundingMode(rm, mid.rm), minExp = Some(FpAdd.minExp(fmt)), stages = Some(stages))
   io.out := pipe.cut(stages.valid, rounded)
   pipe.done()
 }
 
 object FpAdd {
+
   /** Guard, round and sticky positions below the aligned LSB. Two would do
     * (FpRaw needs precision+1 bits when sticky; an effective subtraction with
     * d > extra loses at most one leading bit); three keeps a margin.
     */
   val extra: Int = 3
   def minExp(fmt: FloatFormat): Int = fmt.emin - fmt.manBits - extra
+
   /** Swap, align, add, the rounder's cut points, the output. */
   def cuts(fmt: FloatFormat): Int = 3 + FpRound.cuts(fmt, fmt.precision + extra + 1, Some(minExp(fmt))) + 1
+
   /** One register per cut point (docs/fmax.md). */
   def defaultLatency: Int = cuts(FloatFormat.FP32)
 }

@@ -5,14 +5,19 @@ import chisel3.util._
 
 /** Results of comparing `a` with `b`. */
 class FpCompareOut(val fmt: FloatFormat) extends Bundle {
+
   /** IEEE a < b (false when unordered; -0 < +0 is false). */
   val lt = Bool()
+
   /** IEEE a == b (false when unordered; -0 == +0). */
   val eq = Bool()
+
   /** Either operand is NaN. */
   val unordered = Bool()
+
   /** minimumNumber(a, b): a NaN loses; -0 < +0; NaN only if both are NaN. */
   val min = UInt(fmt.width.W)
+
   /** maximumNumber(a, b), same rules. */
   val max = UInt(fmt.width.W)
 }
@@ -29,6 +34,7 @@ class FpCompare(val fmt: FloatFormat, val latency: Int = FpCompare.defaultLatenc
   private val (a, b) = (io.in.bits.a, io.in.bits.b)
   private val ua = FpUnpack(fmt, a)
   private val ub = FpUnpack(fmt, b)
+
   /** Maps sign-magnitude to an unsigned order in which -0 sits just below +0. */
   private def key(x: UInt): UInt = {
     val s = x(fmt.width - 1)

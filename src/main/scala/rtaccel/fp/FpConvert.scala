@@ -8,8 +8,12 @@ import chisel3.util._
   * Some(RDN))` narrows lower box bounds outward, `Some(RUP)` upper ones.
   * NaN becomes `to`'s canonical NaN. Cuts: after decoding and at the output.
   */
-class FpConvert(val from: FloatFormat, val to: FloatFormat, val rm: Option[RoundingMode],
-    val latency: Int = FpConvert.defaultLatency) extends Module {
+class FpConvert(
+    val from: FloatFormat,
+    val to: FloatFormat,
+    val rm: Option[RoundingMode],
+    val latency: Int = FpConvert.defaultLatency
+) extends Module {
   val io = IO(new FpUnitIO(new FpUnaryIn(from, rm.isEmpty), UInt(to.width.W)))
   override def desiredName: String = s"FpConvert_${from.name}_to_${to.name}_${RoundingMode.tag(rm)}_l$latency"
 
@@ -26,8 +30,10 @@ class FpConvert(val from: FloatFormat, val to: FloatFormat, val rm: Option[Round
   front.raw.sticky := false.B
 
   private val mid = pipe.cut(io.in.valid, front)
-  io.out := pipe.cut(mid.valid, FpRound(to, mid.bits.raw, FpUnitIO.roundingMode(rm, mid.bits.rm),
-    minExp = Some(from.emin - from.manBits)))
+  io.out := pipe.cut(
+    mid.valid,
+    FpRound(to, mid.bits.raw, FpUnitIO.roundingMode(rm, mid.bits.rm), minExp = Some(from.emin - from.manBits))
+  )
   pipe.done()
 }
 

@@ -8,6 +8,7 @@ import chisel3.util._
   */
 class FpDivState(fmt: FloatFormat, dynamicRm: Boolean) extends Bundle {
   private val p = fmt.precision
+
   /** Partial remainder; always < 2 * divisor. */
   val rem = UInt((p + 1).W)
   val divisor = UInt(p.W)
@@ -32,12 +33,20 @@ class FpDivState(fmt: FloatFormat, dynamicRm: Boolean) extends Bundle {
   */
 object FpDivCore {
   def cuts(fmt: FloatFormat): Int = 1 + (fmt.precision + 2) + FpRound.cuts(fmt, fmt.precision + 2) + 1
+
   /** One register per cut point: one recurrence step per cycle (docs/fmax.md). */
   def defaultLatency(fmt: FloatFormat): Int = cuts(fmt)
 
   /** Builds the divider for dividend `a` and divisor `b` (bits of `fmt`). */
-  def apply(fmt: FloatFormat, rm: Option[RoundingMode], latency: Int, valid: Bool, a: UInt, b: UInt,
-      rmPort: Option[UInt]): Valid[UInt] = {
+  def apply(
+      fmt: FloatFormat,
+      rm: Option[RoundingMode],
+      latency: Int,
+      valid: Bool,
+      a: UInt,
+      b: UInt,
+      rmPort: Option[UInt]
+  ): Valid[UInt] = {
     val p = fmt.precision
     val pipe = new FpPipeline(latency, cuts(fmt))
     val ua = FpUnpack(fmt, a)

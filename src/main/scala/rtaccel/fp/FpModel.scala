@@ -54,8 +54,14 @@ object FpModel {
       if (fmt.isZero(a) || fmt.isZero(b)) fmt.canonicalNaN else fmt.infinity(sign)
     } else if (fmt.isZero(a) || fmt.isZero(b)) fmt.zero(sign)
     else
-      FpRounding.round(fmt, rm, sign, fmt.significand(a) * fmt.significand(b),
-        fmt.lsbExponent(a) + fmt.lsbExponent(b), sticky = false)
+      FpRounding.round(
+        fmt,
+        rm,
+        sign,
+        fmt.significand(a) * fmt.significand(b),
+        fmt.lsbExponent(a) + fmt.lsbExponent(b),
+        sticky = false
+      )
   }
 
   /** a / b, correctly rounded in `rm`. */
@@ -98,14 +104,17 @@ object FpModel {
   private def key(fmt: FloatFormat, a: BigInt): BigInt = if (fmt.sign(a)) -fmt.abs(a) else a
   def unordered(fmt: FloatFormat, a: BigInt, b: BigInt): Boolean =
     fmt.isNaN(fmt.checkBits(a)) || fmt.isNaN(fmt.checkBits(b))
+
   /** IEEE `a < b`: false if either is NaN; -0 < +0 is false. */
   def lt(fmt: FloatFormat, a: BigInt, b: BigInt): Boolean = !unordered(fmt, a, b) && key(fmt, a) < key(fmt, b)
+
   /** IEEE `a == b`: false if either is NaN; -0 == +0. */
   def equal(fmt: FloatFormat, a: BigInt, b: BigInt): Boolean = !unordered(fmt, a, b) && key(fmt, a) == key(fmt, b)
   def le(fmt: FloatFormat, a: BigInt, b: BigInt): Boolean = lt(fmt, a, b) || equal(fmt, a, b)
 
   /** minimumNumber: NaN loses; min(-0, +0) = -0. */
   def min(fmt: FloatFormat, a: BigInt, b: BigInt): BigInt = pick(fmt, a, b, takeMin = true)
+
   /** maximumNumber: NaN loses; max(-0, +0) = +0. */
   def max(fmt: FloatFormat, a: BigInt, b: BigInt): BigInt = pick(fmt, a, b, takeMin = false)
   private def pick(fmt: FloatFormat, a: BigInt, b: BigInt, takeMin: Boolean): BigInt = {
@@ -124,6 +133,7 @@ object FpModel {
 
   /** Bits of a JVM Float, every NaN mapped to the canonical one (`floatToIntBits` semantics). */
   def f32Bits(f: Float): BigInt = BigInt(java.lang.Float.floatToIntBits(f)) & 0xffffffffL
+
   /** Raw bits of a JVM Float (NaN payload kept); for building operands. */
   def f32RawBits(f: Float): BigInt = BigInt(java.lang.Float.floatToRawIntBits(f)) & 0xffffffffL
   def f32(bits: BigInt): Float = java.lang.Float.intBitsToFloat(FloatFormat.FP32.checkBits(bits).toInt)

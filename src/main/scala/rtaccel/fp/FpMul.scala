@@ -9,7 +9,8 @@ import chisel3.util._
   * DSP48 output register), the rounder's, the output; the default latency
   * puts one register on each.
   */
-class FpMul(val fmt: FloatFormat, val rm: Option[RoundingMode], val latency: Int = FpMul.defaultLatency) extends Module {
+class FpMul(val fmt: FloatFormat, val rm: Option[RoundingMode], val latency: Int = FpMul.defaultLatency)
+    extends Module {
   val io = IO(new FpUnitIO(new FpBinaryIn(fmt, rm.isEmpty), UInt(fmt.width.W)))
   override def desiredName: String = FpUnitIO.name("FpMul", fmt, rm, latency)
 
@@ -38,8 +39,10 @@ class FpMul(val fmt: FloatFormat, val rm: Option[RoundingMode], val latency: Int
 }
 
 object FpMul {
+
   /** The multiply, the rounder's cut points, the output. */
   def cuts(fmt: FloatFormat): Int = 1 + FpRound.cuts(fmt, 2 * fmt.precision) + 1
+
   /** One register per cut point (the same for every format: the product always takes the full rounder). */
   def defaultLatency: Int = cuts(FloatFormat.FP32)
 }

@@ -11,6 +11,7 @@ object FpOrder {
     require(x.getWidth == fmt.width, s"FpOrder.key: expected ${fmt.width} bits for $fmt, got ${x.getWidth}")
     Mux(x(fmt.width - 1), ~x, x | (BigInt(1) << (fmt.width - 1)).U(fmt.width.W))
   }
+
   /** Scala twin of `key`, for golden models. */
   def keyOf(fmt: FloatFormat, x: BigInt): BigInt = {
     val mask = (BigInt(1) << fmt.width) - 1

@@ -10,8 +10,10 @@ import chisel3._
   */
 class FpRaw(val sigWidth: Int, val expWidth: Int) extends Bundle {
   val isNaN = Bool()
+
   /** Infinity of sign `sign` (ignored if `isNaN`). */
   val isInf = Bool()
+
   /** Zero of sign `sign` (an exact zero result; `sig` is ignored). */
   val isZero = Bool()
   val sign = Bool()

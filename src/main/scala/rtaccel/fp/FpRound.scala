@@ -48,12 +48,14 @@ object FpRound {
     val sticky = Bool()
     val sig = UInt(w.W)
     val lz = UInt(lzw.W)
+
     /** Biased exponent of the MSB position, and one less. */
     val eTop = SInt(ew.W)
     val eTopM1 = SInt(ew.W)
     val biasedExp = SInt(ew.W)
     val tiny = Bool()
     val subShift = UInt(ew.W)
+
     /** The kept p bits, guard and round (`window`); any 1 below them (`tail`). */
     val window = UInt((p + 2).W)
     val tail = Bool()
@@ -66,7 +68,13 @@ object FpRound {
     val rm = Option.when(dynamicRm)(UInt(RoundingMode.width.W))
   }
 
-  def apply(fmt: FloatFormat, raw: FpRaw, rm: UInt, minExp: Option[Int] = None, stages: Option[FpStages] = None): UInt = {
+  def apply(
+      fmt: FloatFormat,
+      raw: FpRaw,
+      rm: UInt,
+      minExp: Option[Int] = None,
+      stages: Option[FpStages] = None
+  ): UInt = {
     val p = fmt.precision
     // At least a guard bit and one more below the kept bits.
     val pd = pad(fmt, raw.sigWidth)
@@ -159,11 +167,14 @@ object FpRound {
     val overflow = Mux(carry, s5.ovInc, rounded(p - 1) && s5.ovSame)
     val sign = s5.sign
     val signBit = Cat(sign, 0.U((fmt.width - 1).W))
-    MuxCase(Cat(sign, expOut(fmt.expBits - 1, 0), fracOut), Seq(
-      s5.isNaN -> fmt.canonicalNaN.U(fmt.width.W),
-      s5.isInf -> (signBit | fmt.infinity(false).U),
-      s5.zero -> signBit,
-      overflow -> (signBit | Mux(s5.overflowToInf, fmt.infinity(false).U, fmt.maxFinite(false).U))
-    ))
+    MuxCase(
+      Cat(sign, expOut(fmt.expBits - 1, 0), fracOut),
+      Seq(
+        s5.isNaN -> fmt.canonicalNaN.U(fmt.width.W),
+        s5.isInf -> (signBit | fmt.infinity(false).U),
+        s5.zero -> signBit,
+        overflow -> (signBit | Mux(s5.overflowToInf, fmt.infinity(false).U, fmt.maxFinite(false).U))
+      )
+    )
   }
 }

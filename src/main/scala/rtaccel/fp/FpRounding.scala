@@ -19,7 +19,10 @@ object FpRounding {
       require(!sticky, "round: sticky bit set on a zero magnitude")
       return fmt.zero(sign)
     }
-    require(!sticky || mag.bitLength >= fmt.precision + 1, s"round: sticky needs >= ${fmt.precision + 1} bits, got ${mag.bitLength}")
+    require(
+      !sticky || mag.bitLength >= fmt.precision + 1,
+      s"round: sticky needs >= ${fmt.precision + 1} bits, got ${mag.bitLength}"
+    )
     val msbExp = exp + mag.bitLength - 1
     // Weight of the result's LSB: precision bits below the MSB, but never
     // below the subnormal quantum 2^(emin - manBits).

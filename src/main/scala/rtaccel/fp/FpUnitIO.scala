@@ -7,6 +7,7 @@ import chisel3.util._
 class FpBinaryIn(val fmt: FloatFormat, dynamicRm: Boolean) extends Bundle {
   val a = UInt(fmt.width.W)
   val b = UInt(fmt.width.W)
+
   /** Runtime rounding mode ([[RoundingMode.code]]); present only for `rm = None` units. */
   val rm = Option.when(dynamicRm)(UInt(RoundingMode.width.W))
 }
@@ -27,6 +28,7 @@ class FpUnitIO[I <: Data, O <: Data](inGen: I, outGen: O) extends Bundle {
 }
 
 object FpUnitIO {
+
   /** The rounding-mode signal of a unit: the fixed mode, or its runtime port. */
   def roundingMode(fixed: Option[RoundingMode], port: Option[UInt]): UInt =
     fixed.map(_.code.U(RoundingMode.width.W)).getOrElse(port.get)

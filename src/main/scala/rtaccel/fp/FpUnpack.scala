@@ -13,11 +13,13 @@ class FpUnpacked(val fmt: FloatFormat) extends Bundle {
   val isInf = Bool()
   val isZero = Bool()
   val sig = UInt(fmt.precision.W)
+
   /** Exponent of `sig`'s LSB (unbiased). */
   val exp = SInt(FpUnpack.expWidth(fmt).W)
 }
 
 object FpUnpack {
+
   /** Signed width that holds every LSB exponent of `fmt`, from `emin - manBits` to `emax`. */
   def expWidth(fmt: FloatFormat): Int = log2Ceil(fmt.bias + fmt.manBits + 1) + 2
 

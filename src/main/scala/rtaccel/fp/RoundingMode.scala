@@ -19,6 +19,7 @@ object RoundingMode {
   case object RUP extends RoundingMode(3, "rup")
 
   val all: Seq[RoundingMode] = Seq(RNE, RTZ, RDN, RUP)
+
   /** Width of a runtime rounding-mode port. */
   val width: Int = 2
 

@@ -15,10 +15,12 @@ object ControlGolden {
 
   /** Where a child leads (an inner node, or a leaf's triangles); what a stack holds. */
   final case class Ref(isLeaf: Boolean, index: Long, count: Int)
+
   /** A node as decoded for `cfg`: each slot's reference (nori: the node
     * itself), the split axis (nori) and the decode errors of the used slots.
     */
   final case class NodeView(refs: IndexedSeq[Ref], axis: Int, errors: Int)
+
   /** BboxIntersect's answer for one slot: hit, and the entry distance's order key. */
   final case class SlotHit(hit: Boolean, nearKey: BigInt)
   final case class Token(rayId: Int, nodeIdx: Long, sp: Int, dirNeg: Seq[Boolean], shadow: Boolean, errors: Int)
@@ -31,8 +33,16 @@ object ControlGolden {
   /** One decision. `stack` is the ray's stack (index 0 = bottom), updated in
     * place. `hits` is ignored for a ray back from a leaf.
     */
-  def step(layout: BvhLayout, stackDepth: Int, stack: scala.collection.mutable.ArrayBuffer[Ref], tok: Token,
-      fromLeaf: Boolean, occluded: Boolean, hits: Seq[SlotHit], node: NodeView): Out = {
+  def step(
+      layout: BvhLayout,
+      stackDepth: Int,
+      stack: scala.collection.mutable.ArrayBuffer[Ref],
+      tok: Token,
+      fromLeaf: Boolean,
+      occluded: Boolean,
+      hits: Seq[SlotHit],
+      node: NodeView
+  ): Out = {
     require(stack.size == tok.sp, s"ray ${tok.rayId}: stack holds ${stack.size} entries but sp = ${tok.sp}")
     val errorsIn = tok.errors | (if (fromLeaf) 0 else node.errors)
     // The child visited next, and the entries pushed (bottom first).

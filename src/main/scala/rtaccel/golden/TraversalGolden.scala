@@ -18,13 +18,17 @@ final case class PreparedGolden[S](statics: S, tmax: BigInt, dirNeg: Seq[Boolean
 
 /** The golden model of a datapath's arithmetic, bit for bit with its units. */
 trait ArithGolden[S] {
+
   /** Format of the box tests' entry distances. */
   def boxFormat: FloatFormat
+
   /** Format of t, u, v and of the ray's tmax. */
   def triFormat: FloatFormat
   def prep(ray: RayRecord): PreparedGolden[S]
+
   /** One box (a nori node's, or one child slot's), `tmax` in the triangle format: (hit, entry distance in the box format). */
   def box(s: S, tmax: BigInt, node: NodeRecord): (Boolean, BigInt)
+
   /** (t, u, v) in the triangle format, or None. Includes tmin <= t <= tmax. */
   def prim(s: S, tmax: BigInt, tri: TriangleRecord): Option[(BigInt, BigInt, BigInt)]
   def toFloat32(x: BigInt): Long
@@ -41,8 +45,15 @@ object TraversalGolden {
   /** `onNode` is told the index of every node the walk fetches, in order (the root first): the node reads the hardware makes.
     * `onLeaf` is told each leaf the walk enters (its first triangle slot and count), before `onTri` is told the slot of
     * each triangle it tests there (a shadow ray stops testing at its first occluder). */
-  def trace[S](cfg: AccelConfig, img: MemoryImage, arith: ArithGolden[S], ray: RayRecord, onNode: Long => Unit = _ => (),
-      onLeaf: (Long, Int) => Unit = (_, _) => (), onTri: Long => Unit = _ => ()): Trace = {
+  def trace[S](
+      cfg: AccelConfig,
+      img: MemoryImage,
+      arith: ArithGolden[S],
+      ray: RayRecord,
+      onNode: Long => Unit = _ => (),
+      onLeaf: (Long, Int) => Unit = (_, _) => (),
+      onTri: Long => Unit = _ => ()
+  ): Trace = {
     val fmt = arith.triFormat
     val p = arith.prep(ray)
     val stack = mutable.ArrayBuffer.empty[ControlGolden.Ref]
@@ -97,8 +108,20 @@ object TraversalGolden {
     val ok = tok.errors == 0
     val hit = ok && best.isDefined
     val h = best.filter(_ => hit)
-    Trace(HitRecord(ray.number, hit, h.fold(0L)(b => arith.toFloat32(b._1)), h.fold(0L)(b => arith.toFloat32(b._2)),
-      h.fold(0L)(b => arith.toFloat32(b._3)), h.fold(0L)(_._4), tok.errors), boxTests, triTests, decisions)
+    Trace(
+      HitRecord(
+        ray.number,
+        hit,
+        h.fold(0L)(b => arith.toFloat32(b._1)),
+        h.fold(0L)(b => arith.toFloat32(b._2)),
+        h.fold(0L)(b => arith.toFloat32(b._3)),
+        h.fold(0L)(_._4),
+        tok.errors
+      ),
+      boxTests,
+      triTests,
+      decisions
+    )
   }
 
   /** Does the hardware's answer for `ray` agree with the golden one? For a
@@ -113,8 +136,13 @@ object TraversalGolden {
   /** BboxIntersect's answer for each slot of `node` (an empty slot never
     * hits), and the node as TraversalControl sees it.
     */
-  def testNode[S](cfg: AccelConfig, arith: ArithGolden[S], statics: S, tmax: BigInt,
-      node: IndexedSeq[NodeRecord]): (Seq[ControlGolden.SlotHit], ControlGolden.NodeView) = {
+  def testNode[S](
+      cfg: AccelConfig,
+      arith: ArithGolden[S],
+      statics: S,
+      tmax: BigInt,
+      node: IndexedSeq[NodeRecord]
+  ): (Seq[ControlGolden.SlotHit], ControlGolden.NodeView) = {
     val d = nodeView(cfg, node)
     val hits = node.indices.map { i =>
       val (hit, near) = if (d.present(i)) arith.box(statics, tmax, node(i)) else (false, BigInt(0))
@@ -131,20 +159,24 @@ object TraversalGolden {
     def fits(w: Long, bits: Int) = bits >= 32 || (w >> bits) == 0
     val decoded = slots.map { n =>
       val (present, badKind) = cfg.layout match {
-        case BvhLayout.Nori    => (true, !n.isLeaf && n.low31 > 2)
-        case _: BvhLayout.Wide => (n.word0 != BvhNode.EmptySlot, !n.isLeaf && n.word0 != 0 && n.word0 != BvhNode.EmptySlot)
+        case BvhLayout.Nori => (true, !n.isLeaf && n.low31 > 2)
+        case _: BvhLayout.Wide =>
+          (n.word0 != BvhNode.EmptySlot, !n.isLeaf && n.word0 != 0 && n.word0 != BvhNode.EmptySlot)
       }
       val tooWide = badKind || !fits(n.word1, if (n.isLeaf) cfg.triIndexBits else cfg.nodeIndexBits)
       val leafBig = n.isLeaf && n.low31 > cfg.maxLeafSize
       val badBox = (n.boxMin ++ n.boxMax).exists(ErrorFlags.nonFiniteWord)
-      val errors = if (!present) 0 else
+      val errors = if (!present) 0
+      else
         (if (tooWide) 1 << ErrorFlags.IndexOverflow else 0) | (if (leafBig) 1 << ErrorFlags.LeafTooBig else 0) |
           (if (badBox) 1 << ErrorFlags.BadSceneData else 0)
       val mask = (1L << cfg.leafCountBits) - 1
       val index = if (n.isLeaf) n.word1 & ((1L << cfg.triIndexBits) - 1) else n.word1 & ((1L << cfg.nodeIndexBits) - 1)
       (ControlGolden.Ref(n.isLeaf, index, (n.word0 & mask).toInt), present, errors)
     }
-    Decoded(ControlGolden.NodeView(decoded.map(_._1), (slots(0).word0 & 3).toInt, decoded.map(_._3).foldLeft(0)(_ | _)),
-      decoded.map(_._2))
+    Decoded(
+      ControlGolden.NodeView(decoded.map(_._1), (slots(0).word0 & 3).toInt, decoded.map(_._3).foldLeft(0)(_ | _)),
+      decoded.map(_._2)
+    )
   }
 }

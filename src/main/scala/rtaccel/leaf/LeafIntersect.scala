@@ -8,6 +8,7 @@ import rtaccel.traversal.{RayBufferRead, TmaxUpdate, TraversalToken}
 import rtaccel.{AccelConfig, ErrorFlags}
 
 object LeafIntersect {
+
   /** Triangle requests are tagged with the ray ID. */
   def port(cfg: AccelConfig): MemPortParams = MemPortParams(cfg.addrBits, cfg.rayIdBits, TriangleRecord.RecordBytes)
 }
@@ -19,15 +20,16 @@ class LeafJob(cfg: AccelConfig) extends Bundle {
 }
 
 class LeafExit(cfg: AccelConfig) extends Bundle {
-  val token    = new TraversalToken(cfg)
+  val token = new TraversalToken(cfg)
+
   /** A shadow ray found an occluder: its traversal is over. */
   val occluded = Bool()
 }
 
 class BestHit(cfg: AccelConfig) extends Bundle {
-  val t    = UInt(cfg.triFloat.width.W)
-  val u    = UInt(cfg.triFloat.width.W)
-  val v    = UInt(cfg.triFloat.width.W)
+  val t = UInt(cfg.triFloat.width.W)
+  val u = UInt(cfg.triFloat.width.W)
+  val v = UInt(cfg.triFloat.width.W)
   val prim = UInt(cfg.triIndexBits.W)
 }
 
@@ -60,43 +62,48 @@ class BestHit(cfg: AccelConfig) extends Bundle {
 class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimIntersect[T]) extends Module {
   val port: MemPortParams = LeafIntersect.port(cfg)
   val io = IO(new Bundle {
-    val in      = Flipped(Decoupled(new LeafJob(cfg)))
+    val in = Flipped(Decoupled(new LeafJob(cfg)))
     val triBase = Input(UInt(cfg.addrBits.W))
-    val mem     = new MemPort(port)
+    val mem = new MemPort(port)
     val rayRead = Flipped(new RayBufferRead(cfg, gen))
-    val out     = Decoupled(new LeafExit(cfg))
-    val tmax    = Decoupled(new TmaxUpdate(cfg))
+    val out = Decoupled(new LeafExit(cfg))
+    val tmax = Decoupled(new TmaxUpdate(cfg))
+
     /** A ray enters the accelerator: forget any hit of the ID's previous ray. */
-    val clear   = Flipped(Valid(UInt(cfg.rayIdBits.W)))
+    val clear = Flipped(Valid(UInt(cfg.rayIdBits.W)))
+
     /** The best hit of a finished ray, read combinationally by the output stage. */
     val resultId = Input(UInt(cfg.rayIdBits.W))
-    val result   = Output(Valid(new BestHit(cfg)))
+    val result = Output(Valid(new BestHit(cfg)))
+
     /** Triangle tests done (performance counter input). */
-    val tested  = Output(Bool())
+    val tested = Output(Bool())
+
     /** Sticky: an answer's exit found the exit queue full (a lost ray; cannot happen, see above). */
-    val broken  = Output(Bool())
+    val broken = Output(Bool())
+
     /** Rays this unit holds now (RtAccel's ray_conservation assertion). */
-    val held    = Output(UInt(log2Ceil(3 * cfg.numRayIds + 1).W))
+    val held = Output(UInt(log2Ceil(3 * cfg.numRayIds + 1).W))
   })
   override def desiredName = s"LeafIntersect_n${cfg.numRayIds}"
 
   private val n = cfg.numRayIds
-  private val jobs  = Module(new Queue(new LeafJob(cfg), n))
+  private val jobs = Module(new Queue(new LeafJob(cfg), n))
   private val exits = Module(new Queue(new LeafExit(cfg), n))
   jobs.io.enq <> io.in
 
-  private val parked         = Mem(n, new TraversalToken(cfg))
-  private val best           = Mem(n, new BestHit(cfg))
-  private val hasHitReg      = RegInit(VecInit(Seq.fill(n)(false.B)))
-  private val occludedReg    = RegInit(VecInit(Seq.fill(n)(false.B)))
-  private val leafErrorsReg  = RegInit(VecInit(Seq.fill(n)(0.U(ErrorFlags.width.W))))
+  private val parked = Mem(n, new TraversalToken(cfg))
+  private val best = Mem(n, new BestHit(cfg))
+  private val hasHitReg = RegInit(VecInit(Seq.fill(n)(false.B)))
+  private val occludedReg = RegInit(VecInit(Seq.fill(n)(false.B)))
+  private val leafErrorsReg = RegInit(VecInit(Seq.fill(n)(0.U(ErrorFlags.width.W))))
   private val outstandingReg = RegInit(VecInit(Seq.fill(n)(0.U(cfg.leafCountBits.W))))
 
   // ---- Issue ----
-  private val busyReg      = RegInit(false.B)
-  private val stoppingReg  = RegInit(false.B) // done issuing, owes an exit from the issue side
-  private val issueIdReg   = Reg(UInt(cfg.rayIdBits.W))
-  private val nextTriReg   = Reg(UInt(cfg.triIndexBits.W))
+  private val busyReg = RegInit(false.B)
+  private val stoppingReg = RegInit(false.B) // done issuing, owes an exit from the issue side
+  private val issueIdReg = Reg(UInt(cfg.rayIdBits.W))
+  private val nextTriReg = Reg(UInt(cfg.triIndexBits.W))
   private val remainingReg = Reg(UInt(cfg.leafCountBits.W))
 
   // The issuing ray's view of the per-ID tables, kept beside issueIdReg so
@@ -108,12 +115,12 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   private val issueOutReg = RegInit(0.U(cfg.leafCountBits.W)) // outstandingReg(issueIdReg)
 
   private val stopEarly = busyReg && issueOccReg
-  io.mem.req.valid     := busyReg && !stopEarly
+  io.mem.req.valid := busyReg && !stopEarly
   io.mem.req.bits.addr := io.triBase + nextTriReg * TriangleRecord.RecordBytes.U
-  io.mem.req.bits.tag  := issueIdReg
+  io.mem.req.bits.tag := issueIdReg
   private val lastIssue = io.mem.req.fire && remainingReg === 1.U
   when(io.mem.req.fire) {
-    nextTriReg   := nextTriReg + 1.U
+    nextTriReg := nextTriReg + 1.U
     remainingReg := remainingReg - 1.U
     when(lastIssue) { busyReg := false.B }
   }
@@ -123,37 +130,39 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   when(jobs.io.deq.fire) {
     val j = jobs.io.deq.bits
     parked.write(j.token.rayId, j.token)
-    issueIdReg   := j.token.rayId
-    nextTriReg   := j.first
+    issueIdReg := j.token.rayId
+    nextTriReg := j.first
     remainingReg := j.count
-    busyReg      := j.count =/= 0.U
-    stoppingReg  := j.count === 0.U // an empty leaf: straight out
+    busyReg := j.count =/= 0.U
+    stoppingReg := j.count === 0.U // an empty leaf: straight out
   }
   when(stopEarly) { busyReg := false.B; stoppingReg := true.B }
 
   // ---- Answer: memory -> RayBuffer read -> PrimIntersect -> reduce ----
   io.mem.resp.ready := true.B
-  io.rayRead.en    := io.mem.resp.valid
+  io.rayRead.en := io.mem.resp.valid
   io.rayRead.rayId := io.mem.resp.bits.tag
   private val respValidReg = RegNext(io.mem.resp.valid, false.B)
-  private val respReg      = RegEnable(io.mem.resp.bits, io.mem.resp.valid)
+  private val respReg = RegEnable(io.mem.resp.bits, io.mem.resp.valid)
 
   private val prim = Module(mkPrim())
-  prim.io.in.valid         := respValidReg
-  prim.io.in.bits.ray      := io.rayRead.statics
-  prim.io.in.bits.tmax     := io.rayRead.tmax
+  prim.io.in.valid := respValidReg
+  prim.io.in.bits.ray := io.rayRead.statics
+  prim.io.in.bits.tmax := io.rayRead.tmax
   prim.io.in.bits.triangle := respReg.data
 
   class Carry extends Bundle {
     val rayId = UInt(cfg.rayIdBits.W)
-    val prim  = UInt(32.W)
+    val prim = UInt(32.W)
+
     /** A vertex word is NaN or infinite: the scene in memory is bad. */
-    val bad   = Bool()
+    val bad = Bool()
   }
   private val carryIn = Wire(new Carry)
   carryIn.rayId := respReg.tag
-  carryIn.prim  := TriangleRecord.prim(respReg.data)
-  carryIn.bad   := (for (v <- 0 until 3; a <- 0 until 3) yield ErrorFlags.nonFinite(TriangleRecord.vertexWord(respReg.data, v, a))).reduce(_ || _)
+  carryIn.prim := TriangleRecord.prim(respReg.data)
+  carryIn.bad := (for (v <- 0 until 3; a <- 0 until 3)
+    yield ErrorFlags.nonFinite(TriangleRecord.vertexWord(respReg.data, v, a))).reduce(_ || _)
   // `pre`: the answer pipe one stage before `carry`, where the reduce stage's
   // per-ID table reads are made (registered, with the cycle's own writes forwarded).
   private val (preValid, preId, carry) =
@@ -161,19 +170,19 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
     else { val p = Pipe(respValidReg, carryIn, prim.latency - 1); (p.valid, p.bits.rayId, Pipe(p, 1)) }
   io.tested := prim.io.out.valid
 
-  private val doneId  = carry.bits.rayId
-  private val ans     = prim.io.out.bits
+  private val doneId = carry.bits.rayId
+  private val ans = prim.io.out.bits
   private val primIdx = carry.bits.prim(cfg.triIndexBits - 1, 0)
   private val primTooWide = if (cfg.triIndexBits >= 32) false.B else carry.bits.prim(31, cfg.triIndexBits).orR
   // One read port per consumer: every extra `read` replicates the memory.
-  private val doneTok  = parked.read(doneId)
+  private val doneTok = parked.read(doneId)
   private val issueTok = parked.read(issueIdReg)
   // The tables as they stand for `doneId` (read a cycle ahead, below).
-  private val doneHasHitReg = Reg(Bool())                     // hasHitReg(doneId)
-  private val doneOldReg    = Reg(new BestHit(cfg))           // best(doneId)
-  private val doneOccReg    = Reg(Bool())                     // occludedReg(doneId)
-  private val doneErrReg    = Reg(UInt(ErrorFlags.width.W))   // leafErrorsReg(doneId)
-  private val doneLastReg   = Reg(Bool())                     // outstandingReg(doneId) === 1
+  private val doneHasHitReg = Reg(Bool()) // hasHitReg(doneId)
+  private val doneOldReg = Reg(new BestHit(cfg)) // best(doneId)
+  private val doneOccReg = Reg(Bool()) // occludedReg(doneId)
+  private val doneErrReg = Reg(UInt(ErrorFlags.width.W)) // leafErrorsReg(doneId)
+  private val doneLastReg = Reg(Bool()) // outstandingReg(doneId) === 1
   private val old = doneOldReg
   private val (tKey, oldKey) = (FpOrder.key(cfg.triFloat, ans.t), FpOrder.key(cfg.triFloat, old.t))
   private val closer = !doneHasHitReg || tKey < oldKey || (tKey === oldKey && primIdx < old.prim)
@@ -182,6 +191,7 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   private val occludes = update && doneTok.shadow
   private val b = Wire(new BestHit(cfg))
   b.t := ans.t; b.u := ans.u; b.v := ans.v; b.prim := primIdx
+
   /** This cycle's error flags for `doneId`. */
   private val errNow = Mux(reduce && primTooWide, ErrorFlags.bit(ErrorFlags.IndexOverflow), 0.U) |
     Mux(reduce && carry.bits.bad, ErrorFlags.bit(ErrorFlags.BadSceneData), 0.U)
@@ -200,7 +210,7 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
     val dec = reduce && doneId === i.U
     outstandingReg(i) := outstandingReg(i) + inc.asUInt - dec.asUInt
   }
-  private val issuing    = busyReg || stoppingReg
+  private val issuing = busyReg || stoppingReg
   private val doneIssuing = reduce && doneId === issueIdReg
   private val lastAnswer = reduce && doneLastReg && !(issuing && issueIdReg === doneId)
   private val issueDrained = issueOutReg === 0.U || (issueOutReg === 1.U && doneIssuing)
@@ -210,14 +220,15 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   // `preId`; a clear is applied last, as above: `when(io.clear.valid)` comes
   // after the reduce's writes). `preValid` now means `reduce` next cycle for
   // that ID; otherwise the registers are not read. ----
-  private val toPre  = doneId === preId
+  private val toPre = doneId === preId
   private val clrPre = io.clear.valid && io.clear.bits === preId
-  private val outPre = outstandingReg(preId) + (io.mem.req.fire && issueIdReg === preId).asUInt - (reduce && toPre).asUInt
-  doneLastReg   := outPre === 1.U
+  private val outPre =
+    outstandingReg(preId) + (io.mem.req.fire && issueIdReg === preId).asUInt - (reduce && toPre).asUInt
+  doneLastReg := outPre === 1.U
   doneHasHitReg := !clrPre && (hasHitReg(preId) || (update && toPre))
-  doneOldReg    := Mux(update && toPre, b, best.read(preId))
-  doneOccReg    := !clrPre && (occludedReg(preId) || (occludes && toPre))
-  doneErrReg    := Mux(clrPre, 0.U, leafErrorsReg(preId) | Mux(reduce && toPre, errNow, 0.U))
+  doneOldReg := Mux(update && toPre, b, best.read(preId))
+  doneOccReg := !clrPre && (occludedReg(preId) || (occludes && toPre))
+  doneErrReg := Mux(clrPre, 0.U, leafErrorsReg(preId) | Mux(reduce && toPre, errNow, 0.U))
 
   // ---- The issuing ray's view (see issueOccReg): a job's ray has no request
   // outstanding (it left its last leaf drained, and is in one place), so no
@@ -232,14 +243,21 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
     issueOccReg := occludedReg(id)
     issueErrReg := leafErrorsReg(id)
   }
-  assert(!jobs.io.deq.fire || outstandingReg(jobs.io.deq.bits.token.rayId) === 0.U,
-    "leaf_job_drained: a ray's job was taken while it still had triangle requests outstanding")
-  assert(!issuing || (issueOutReg === outstandingReg(issueIdReg) && issueOccReg === occludedReg(issueIdReg) &&
-    issueErrReg === leafErrorsReg(issueIdReg)), "leaf_issue_view: the issuing ray's registers differ from its table entries")
-  assert(!reduce || (doneLastReg === (outstandingReg(doneId) === 1.U) && doneHasHitReg === hasHitReg(doneId) &&
-    doneOccReg === occludedReg(doneId) && doneErrReg === leafErrorsReg(doneId)),
+  assert(
+    !jobs.io.deq.fire || outstandingReg(jobs.io.deq.bits.token.rayId) === 0.U,
+    "leaf_job_drained: a ray's job was taken while it still had triangle requests outstanding"
+  )
+  assert(
+    !issuing || (issueOutReg === outstandingReg(issueIdReg) && issueOccReg === occludedReg(issueIdReg) &&
+      issueErrReg === leafErrorsReg(issueIdReg)),
+    "leaf_issue_view: the issuing ray's registers differ from its table entries"
+  )
+  assert(
+    !reduce || (doneLastReg === (outstandingReg(doneId) === 1.U) && doneHasHitReg === hasHitReg(doneId) &&
+      doneOccReg === occludedReg(doneId) && doneErrReg === leafErrorsReg(doneId)),
     // (not `best`: a fourth read port would replicate the memory; the specs compare every hit)
-    "leaf_done_view: the reduce stage's registers differ from the answered ray's table entries")
+    "leaf_done_view: the reduce stage's registers differ from the answered ray's table entries"
+  )
 
   // ---- Exit: the answer side first (it cannot wait), then the issue side ----
   // A ray's exit in the cycle of its last answer also carries that answer's
@@ -253,8 +271,11 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   }
   private val issueExit = stoppingReg && issueDrained && !lastAnswer
   exits.io.enq.valid := lastAnswer || issueExit
-  exits.io.enq.bits  := Mux(lastAnswer, exitOf(doneTok, doneErrReg, doneOccReg, reduce),
-    exitOf(issueTok, issueErrReg, issueOccReg, doneIssuing))
+  exits.io.enq.bits := Mux(
+    lastAnswer,
+    exitOf(doneTok, doneErrReg, doneOccReg, reduce),
+    exitOf(issueTok, issueErrReg, issueOccReg, doneIssuing)
+  )
   when(issueExit && exits.io.enq.ready) { stoppingReg := false.B }
   private val brokenReg = RegInit(false.B)
   when(lastAnswer && !exits.io.enq.ready) { brokenReg := true.B }
@@ -266,27 +287,27 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   // sees the new tmax. tmax.valid never waits on a ready; out.valid waits on
   // the RayBuffer arbiter's grant, whose ready does not depend on out. A ray
   // with no hit yet keeps the tmax it entered with and writes nothing.
-  private val exitHead   = exits.io.deq
-  private val headId     = exitHead.bits.token.rayId
+  private val exitHead = exits.io.deq
+  private val headId = exitHead.bits.token.rayId
   private val writtenReg = RegInit(false.B)
-  private val needWrite  = hasHitReg(headId) && !writtenReg
-  private val written    = !needWrite || io.tmax.ready
-  io.tmax.valid      := exitHead.valid && needWrite
+  private val needWrite = hasHitReg(headId) && !writtenReg
+  private val written = !needWrite || io.tmax.ready
+  io.tmax.valid := exitHead.valid && needWrite
   io.tmax.bits.rayId := headId
-  io.tmax.bits.tmax  := best.read(headId).t
-  io.out.valid   := exitHead.valid && written
-  io.out.bits    := exitHead.bits
+  io.tmax.bits.tmax := best.read(headId).t
+  io.out.valid := exitHead.valid && written
+  io.out.bits := exitHead.bits
   exitHead.ready := io.out.ready && written
   when(io.tmax.fire && !io.out.fire) { writtenReg := true.B }
   when(io.out.fire) { writtenReg := false.B }
 
   when(io.clear.valid) {
-    hasHitReg(io.clear.bits)     := false.B
-    occludedReg(io.clear.bits)   := false.B
+    hasHitReg(io.clear.bits) := false.B
+    occludedReg(io.clear.bits) := false.B
     leafErrorsReg(io.clear.bits) := 0.U
   }
   io.result.valid := hasHitReg(io.resultId)
-  io.result.bits  := best.read(io.resultId)
+  io.result.bits := best.read(io.resultId)
 
   // Waiting jobs, exits, and between them each ray issuing or owed answers.
   // The rays between are counted as they pass (taken from `jobs`; put into
@@ -297,6 +318,9 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   private val betweenReg = RegInit(0.U(log2Ceil(n + 1).W))
   private val leaves = lastAnswer || (issueExit && exits.io.enq.ready)
   betweenReg := betweenReg + jobs.io.deq.fire.asUInt - leaves.asUInt
-  assert(betweenReg === PopCount(working), "leaf_between_count: the rays counted between jobs and exits differ from the IDs issuing or owed answers")
+  assert(
+    betweenReg === PopCount(working),
+    "leaf_between_count: the rays counted between jobs and exits differ from the IDs issuing or owed answers"
+  )
   io.held := jobs.io.count +& betweenReg +& exits.io.count
 }

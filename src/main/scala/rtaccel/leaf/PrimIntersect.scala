@@ -13,13 +13,13 @@ object TriangleRecord {
     val w = 3 * vertex + axis
     record(32 * w + 31, 32 * w)
   }
-  def prim(record: UInt): UInt  = record(9 * 32 + 31, 9 * 32)
+  def prim(record: UInt): UInt = record(9 * 32 + 31, 9 * 32)
   def flags(record: UInt): UInt = record(10 * 32 + 31, 10 * 32)
 }
 
 class PrimQuery[T <: Data](cfg: AccelConfig, gen: T) extends Bundle {
-  val ray      = gen.cloneType
-  val tmax     = UInt(cfg.triFloat.width.W)
+  val ray = gen.cloneType
+  val tmax = UInt(cfg.triFloat.width.W)
   val triangle = UInt((TriangleRecord.RecordBytes * 8).W)
 }
 
@@ -28,9 +28,9 @@ class PrimQuery[T <: Data](cfg: AccelConfig, gen: T) extends Bundle {
   */
 class PrimAnswer(cfg: AccelConfig) extends Bundle {
   val hit = Bool()
-  val t   = UInt(cfg.triFloat.width.W)
-  val u   = UInt(cfg.triFloat.width.W)
-  val v   = UInt(cfg.triFloat.width.W)
+  val t = UInt(cfg.triFloat.width.W)
+  val u = UInt(cfg.triFloat.width.W)
+  val v = UInt(cfg.triFloat.width.W)
 }
 
 /** What LeafIntersect needs of a ray/triangle unit: one query per cycle in,
@@ -39,7 +39,7 @@ class PrimAnswer(cfg: AccelConfig) extends Bundle {
 abstract class PrimIntersect[T <: Data](val cfg: AccelConfig, val gen: T) extends Module {
   def latency: Int
   val io = IO(new Bundle {
-    val in  = Flipped(Valid(new PrimQuery(cfg, gen)))
+    val in = Flipped(Valid(new PrimQuery(cfg, gen)))
     val out = Valid(new PrimAnswer(cfg))
   })
 }

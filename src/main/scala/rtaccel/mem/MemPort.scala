@@ -20,17 +20,17 @@ case class MemPortParams(addrBits: Int, tagBits: Int, recordBytes: Int) {
 
 class MemRequest(p: MemPortParams) extends Bundle {
   val addr = UInt(p.addrBits.W)
-  val tag  = UInt(p.tagBits.W)
+  val tag = UInt(p.tagBits.W)
 }
 
 /** `data` holds the record little-endian: byte 0 of the record is bits 7..0. */
 class MemResponse(p: MemPortParams) extends Bundle {
   val data = UInt(p.dataBits.W)
-  val tag  = UInt(p.tagBits.W)
+  val tag = UInt(p.tagBits.W)
 }
 
 /** The accelerator's side of a port: it drives requests and takes responses. */
 class MemPort(val p: MemPortParams) extends Bundle {
-  val req  = Decoupled(new MemRequest(p))
+  val req = Decoupled(new MemRequest(p))
   val resp = Flipped(Decoupled(new MemResponse(p)))
 }

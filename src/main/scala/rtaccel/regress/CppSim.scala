@@ -22,13 +22,18 @@ import scala.sys.process._
   * by the same code as the chiseltest path's.
   */
 object CppSim {
+
   /** Where the simulator of a configuration is built (make reuses an unchanged build): one directory per
     * datapath, cores, ray IDs, stack depth and node layout. */
   def simDir(dp: String, cfg: AccelConfig, cores: Int, axiDataBits: Int = SystemConfig.defaultAxiDataBits): Path =
-    Paths.get("build", "cppsim", s"system_${dp}_c${cores}_n${cfg.numRayIds}_d${cfg.stackDepth}_k${cfg.boxLanes}" +
-      // 4q nodes have the 4-wide's lanes but another decode: their own build, not the 4-wide one rebuilt.
-      (if (cfg.layout.quantized) "q" else "") +
-      (if (axiDataBits == 512) "" else s"_w$axiDataBits")).toAbsolutePath
+    Paths.get(
+      "build",
+      "cppsim",
+      s"system_${dp}_c${cores}_n${cfg.numRayIds}_d${cfg.stackDepth}_k${cfg.boxLanes}" +
+        // 4q nodes have the 4-wide's lanes but another decode: their own build, not the 4-wide one rebuilt.
+        (if (cfg.layout.quantized) "q" else "") +
+        (if (axiDataBits == 512) "" else s"_w$axiDataBits")
+    ).toAbsolutePath
 
   /** make cppsim-test's build, under a name that does not spell its configuration: `make render RTL=1` and
     * the Nori drop-in's rtl mode (mk/render.mk, scripts/render.sh) link against it, so the configuration
@@ -49,13 +54,23 @@ object CppSim {
     * clang's model executes 10.6% fewer instructions per simulated cycle than gcc's build and 5.3% fewer than
     * gcc's profile-guided one, and builds in less time (docs/cppsim.md "Speed").
     */
-  def build[T <: Data](cfg: AccelConfig, dp: Datapath[T], cores: Int = 1, clang: Boolean = false,
-      axiDataBits: Int = SystemConfig.defaultAxiDataBits): Path = {
+  def build[T <: Data](
+      cfg: AccelConfig,
+      dp: Datapath[T],
+      cores: Int = 1,
+      clang: Boolean = false,
+      axiDataBits: Int = SystemConfig.defaultAxiDataBits
+  ): Path = {
     val plain = simDir(dp.name, cfg, cores, axiDataBits)
     val dir = if (clang) plain.resolveSibling(plain.getFileName.toString + "_clang") else plain
     Files.createDirectories(dir)
-    def gen = new RtAccelSystem(SystemConfig(core = cfg, cores = cores, axiDataBits = axiDataBits), dp)  // by name: elaborated inside the emitter
-    val sv = if (clang) circt.stage.ChiselStage.emitSystemVerilog(gen, firtoolOpts = ClangModelFirtoolOpts) else Synth.emit(gen)
+    def gen =
+      new RtAccelSystem(
+        SystemConfig(core = cfg, cores = cores, axiDataBits = axiDataBits),
+        dp
+      ) // by name: elaborated inside the emitter
+    val sv = if (clang) circt.stage.ChiselStage.emitSystemVerilog(gen, firtoolOpts = ClangModelFirtoolOpts)
+    else Synth.emit(gen)
     val svPath = dir.resolve("rtaccel_system.sv")
     // Rewritten only when it changed, so make keeps a build of the same hardware.
     if (!Files.exists(svPath) || Files.readString(svPath) != sv) Files.writeString(svPath, sv)
@@ -63,7 +78,8 @@ object CppSim {
     println(s"cppsim: building the simulator in $dir (Verilator; a few minutes the first time" +
       (if (clang) ", clang; CPPSIM_CLANG=0 for the gcc build make cppsim-test makes)" else ")"))
     val rc = (Seq("make", "-s", "-C", "sw", "sim", s"SIMDIR=$dir", s"VSRC=$svPath") ++ cxx).!
-    if (rc != 0) throw new IllegalStateException(s"cppsim: building the simulator in $dir failed (make -C sw sim, exit $rc)")
+    if (rc != 0)
+      throw new IllegalStateException(s"cppsim: building the simulator in $dir failed (make -C sw sim, exit $rc)")
     dir
   }
 
@@ -90,36 +106,67 @@ object CppSim {
     (0 until rays).map { i =>
       val o = 32 * i
       val status = u32(o + 4)
-      HitRecord(u32(o), (status & 1) == 1, u32(o + 8), u32(o + 12), u32(o + 16), u32(o + 20),
-        ((status >> 8) & ((1 << ErrorFlags.width) - 1)).toInt)
+      HitRecord(
+        u32(o),
+        (status & 1) == 1,
+        u32(o + 8),
+        u32(o + 12),
+        u32(o + 16),
+        u32(o + 20),
+        ((status >> 8) & ((1 << ErrorFlags.width) - 1)).toInt
+      )
     }
   }
 
   /** The rtaccel-sim options that carry `a`'s memory settings; refuses what the system has not got. */
   def memoryOptions(a: RegressArgs): Seq[String] = {
     if (a.memoryKind == MemoryKind.OnChip)
-      throw new IllegalArgumentException("SIM=cpp: MEMORY=onchip: the system top reads DDR through m_axi (use MEMORY=ddr)")
+      throw new IllegalArgumentException(
+        "SIM=cpp: MEMORY=onchip: the system top reads DDR through m_axi (use MEMORY=ddr)"
+      )
     if (a.cache.isDefined)
-      throw new IllegalArgumentException("SIM=cpp: CACHE=: the system has its own node store; the DDR model has no cache")
+      throw new IllegalArgumentException(
+        "SIM=cpp: CACHE=: the system has its own node store; the DDR model has no cache"
+      )
     val lat = a.memLatency.getOrElse(MemoryKind.Ddr.DefaultLatency)
-    Seq("--mem-latency", s"${lat.lo}-${lat.hi}", "--fabric-mhz", a.fabricMhz.toString, "--outstanding", a.outstanding.toString,
-      "--seed", a.seed.toString)
+    Seq(
+      "--mem-latency",
+      s"${lat.lo}-${lat.hi}",
+      "--fabric-mhz",
+      a.fabricMhz.toString,
+      "--outstanding",
+      a.outstanding.toString,
+      "--seed",
+      a.seed.toString
+    )
   }
 
   /** Runs `rays` (the package's first `rays`) through rtaccel-sim; returns the run and the simulation's speed. */
   def run(a: RegressArgs, dir: Path, nodeBytes: Int, triBytes: Int, rays: Int): (RunResult, ujson.Obj) = {
     val out = a.out.toAbsolutePath
-    val cmd = Seq(dir.resolve("rtaccel-sim").toString, "--package", a.pkg.toAbsolutePath.toString, "--out", out.toString,
-      "--rays", rays.toString) ++ memoryOptions(a) ++ (if (a.waves) Seq("--vcd", out.resolve("waves.vcd").toString) else Nil)
+    val cmd = Seq(
+      dir.resolve("rtaccel-sim").toString,
+      "--package",
+      a.pkg.toAbsolutePath.toString,
+      "--out",
+      out.toString,
+      "--rays",
+      rays.toString
+    ) ++ memoryOptions(a) ++ (if (a.waves) Seq("--vcd", out.resolve("waves.vcd").toString) else Nil)
     println(s"cppsim: ${cmd.mkString(" ")}")
     // rtaccel-sim's progress lines (stderr, "rtaccel sim: ...") to stdout: sbt tags a forked JVM's stderr "[error]".
-    val rc = cmd.!(scala.sys.process.ProcessLogger(println(_), l => if (l.startsWith("rtaccel sim: ")) println(l) else System.err.println(l)))
+    val rc = cmd.!(scala.sys.process.ProcessLogger(
+      println(_),
+      l => if (l.startsWith("rtaccel sim: ")) println(l) else System.err.println(l)
+    ))
     if (rc != 0) throw new IllegalStateException(s"cppsim: rtaccel-sim failed (exit $rc)")
     val sim = ujson.read(Files.readString(out.resolve("sim.json"))).obj
     val mem = ujson.read(Files.readString(out.resolve("sim-memory.json"))).obj
     val violations = mem("violations").arr
     if (violations.nonEmpty)
-      throw new IllegalStateException(s"cppsim: AXI protocol violations by rtaccel_system:\n  ${violations.map(_.str).mkString("\n  ")}")
+      throw new IllegalStateException(
+        s"cppsim: AXI protocol violations by rtaccel_system:\n  ${violations.map(_.str).mkString("\n  ")}"
+      )
     (result(sim, mem, out.resolve("hits.bin"), nodeBytes, triBytes, rays), ujson.Obj.from(sim("simulation").obj))
   }
 
@@ -128,8 +175,14 @@ object CppSim {
     * of bursts that fell in the node and triangle arrays; cache and per-port
     * stall fields do not apply (0).
     */
-  def result(sim: collection.Map[String, ujson.Value], mem: collection.Map[String, ujson.Value], hits: Path,
-      nodeBytes: Int, triBytes: Int, rays: Int): RunResult = {
+  def result(
+      sim: collection.Map[String, ujson.Value],
+      mem: collection.Map[String, ujson.Value],
+      hits: Path,
+      nodeBytes: Int,
+      triBytes: Int,
+      rays: Int
+  ): RunResult = {
     val counters = sim("counters").obj
     val cycles = counters("cycles").num.toLong
     val perf = counters.map { case (k, v) => k -> BigInt(v.num.toLong) }.toMap
@@ -137,9 +190,19 @@ object CppSim {
     def port(name: String, recordBytes: Int, fetches: Long, dramBytes: Long) =
       MemStats(name, cycles, recordBytes, fetches, fetches, dramBytes, 0, 0, 0, 0, 0, 0, 0, 0)
     val d = mem("dram").obj
-    RunResult(readHits(hits, rays), cycles, perf,
+    RunResult(
+      readHits(hits, rays),
+      cycles,
+      perf,
       port("node", nodeBytes, counters("nodeFetches").num.toLong, regionRead("nodes")),
       port("triangle", triBytes, counters("triFetches").num.toLong, regionRead("triangles")),
-      Some(DramStats(cycles, d("bytes").num.toLong, d("bytesPerCycle").num, d("burstBytes").num.toInt, d("busyCycles").num.toLong)))
+      Some(DramStats(
+        cycles,
+        d("bytes").num.toLong,
+        d("bytesPerCycle").num,
+        d("burstBytes").num.toInt,
+        d("busyCycles").num.toLong
+      ))
+    )
   }
 }

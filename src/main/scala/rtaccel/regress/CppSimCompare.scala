@@ -24,6 +24,7 @@ import scala.sys.process._
   * usage: CppSimCompare --package DIR --out DIR [--rays N] [--reorder 0|1]
   */
 object CppSimCompare {
+
   /** CPU time of this process (every thread: the JVM's and the Verilated model's, which chiseltest loads in-process). */
   private def cpuNanos(): Long = java.lang.management.ManagementFactory.getOperatingSystemMXBean match {
     case b: com.sun.management.OperatingSystemMXBean => b.getProcessCpuTime
@@ -46,8 +47,17 @@ object CppSimCompare {
         // The build `make regress SIM=cpp` uses (clang), so the speeds compared are the regression's.
         val dir = CppSim.build(cfg, dp, clang = CppSim.useClang)
         // C++ first (quick), then chiseltest.
-        val cmd = Seq(dir.resolve("rtaccel-sim").toString, "--package", a.pkg.toAbsolutePath.toString, "--out",
-          a.out.toAbsolutePath.toString, "--rays", rays.size.toString, "--reorder", if (reorder) "1" else "0")
+        val cmd = Seq(
+          dir.resolve("rtaccel-sim").toString,
+          "--package",
+          a.pkg.toAbsolutePath.toString,
+          "--out",
+          a.out.toAbsolutePath.toString,
+          "--rays",
+          rays.size.toString,
+          "--reorder",
+          if (reorder) "1" else "0"
+        )
         if (cmd.! != 0) throw new IllegalStateException("rtaccel-sim failed")
         val cppHits = CppSim.readHits(a.out.resolve("hits.bin"), rays.size)
         val sim = ujson.read(Files.readString(a.out.resolve("sim.json")))
@@ -55,8 +65,13 @@ object CppSimCompare {
         def up(x: Long) = (x + 63) / 64 * 64
         val rayBase = base + up(pkg.image.bytes.length.toLong)
         val lay = SystemHarness.Layout(base, rayBase, up(rayBase + SystemConfig.RayBytes.toLong * rays.size))
-        val annos = Seq(VerilatorBackendAnnotation, chiseltest.internal.CachingAnnotation,
-          TargetDirAnnotation(Paths.get("").toAbsolutePath.relativize(CppSim.simDir(dp.name, cfg, 1).resolve("chiseltest")).toString))
+        val annos = Seq(
+          VerilatorBackendAnnotation,
+          chiseltest.internal.CachingAnnotation,
+          TargetDirAnnotation(
+            Paths.get("").toAbsolutePath.relativize(CppSim.simDir(dp.name, cfg, 1).resolve("chiseltest")).toString
+          )
+        )
         var line = ""
         var ok = false
         RawTester.test(new SystemSimTop(SystemConfig(core = cfg, cores = 1), dp), annos) { dut =>
@@ -78,14 +93,32 @@ object CppSimCompare {
           val same = hits.zip(cppHits).count { case (x, y) => x == y }
           val cppCycles = sim("batchCycles").num.toLong
           val simulated = h.cycle - c0
-          line = s"chiseltest: batch CYCLES $cycles, $simulated cycles simulated (the batch's register accesses included) in " +
-            f"$secs%.2f s wall, $cpu%.2f s CPU: ${simulated / secs}%.0f cycles/s, ${simulated / cpu}%.0f cycles per CPU second\n" +
-            s"cpp:        batch CYCLES $cppCycles, ${sim("simulation").obj.mkString(", ")}\n" +
-            s"hit records equal: $same of ${rays.size}; batch CYCLES ${if (cycles == cppCycles) "equal" else s"differ by ${cppCycles - cycles}"}; reorder=$reorder"
-          Files.writeString(a.out.resolve("compare.json"), ujson.write(ujson.Obj("rays" -> rays.size, "reorder" -> reorder,
-            "hitRecordsEqual" -> same, "chiseltest" -> ujson.Obj("batchCycles" -> cycles.toDouble, "simulatedCycles" -> simulated.toDouble,
-              "wallSeconds" -> secs, "cpuSeconds" -> cpu, "cyclesPerSecond" -> simulated / secs, "cyclesPerCpuSecond" -> simulated / cpu),
-            "cpp" -> ujson.Obj("batchCycles" -> cppCycles.toDouble, "simulation" -> sim("simulation"))), indent = 2))
+          line =
+            s"chiseltest: batch CYCLES $cycles, $simulated cycles simulated (the batch's register accesses included) in " +
+              f"$secs%.2f s wall, $cpu%.2f s CPU: ${simulated / secs}%.0f cycles/s, ${simulated / cpu}%.0f cycles per CPU second\n" +
+              s"cpp:        batch CYCLES $cppCycles, ${sim("simulation").obj.mkString(", ")}\n" +
+              s"hit records equal: $same of ${rays.size}; batch CYCLES ${if (cycles == cppCycles) "equal"
+                else s"differ by ${cppCycles - cycles}"}; reorder=$reorder"
+          Files.writeString(
+            a.out.resolve("compare.json"),
+            ujson.write(
+              ujson.Obj(
+                "rays" -> rays.size,
+                "reorder" -> reorder,
+                "hitRecordsEqual" -> same,
+                "chiseltest" -> ujson.Obj(
+                  "batchCycles" -> cycles.toDouble,
+                  "simulatedCycles" -> simulated.toDouble,
+                  "wallSeconds" -> secs,
+                  "cpuSeconds" -> cpu,
+                  "cyclesPerSecond" -> simulated / secs,
+                  "cyclesPerCpuSecond" -> simulated / cpu
+                ),
+                "cpp" -> ujson.Obj("batchCycles" -> cppCycles.toDouble, "simulation" -> sim("simulation"))
+              ),
+              indent = 2
+            )
+          )
           ok = same == rays.size && cycles == cppCycles
         }
         println(line)

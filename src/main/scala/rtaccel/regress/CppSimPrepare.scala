@@ -20,7 +20,8 @@ import java.nio.file.{Files, Path, Paths}
 object CppSimPrepare {
   def main(args: Array[String]): Unit = {
     val i = args.indexOf("--prepared")
-    if (i < 0 || i + 1 >= args.length) Cli.orExit(throw new IllegalArgumentException("CppSimPrepare: --prepared DIR is required"))
+    if (i < 0 || i + 1 >= args.length)
+      Cli.orExit(throw new IllegalArgumentException("CppSimPrepare: --prepared DIR is required"))
     val dir = Paths.get(args(i + 1))
     Cli.orExit(prepare(RegressArgs.parse(args.toSeq.patch(i, Nil, 2)), dir))
   }
@@ -29,7 +30,12 @@ object CppSimPrepare {
     * conservative boxes, stack 64, leaves of at most 16 triangles, a layout of 32-byte slots.
     */
   def cppGoldenCovers(cfg: rtaccel.AccelConfig, dp: rtaccel.Datapath[_ <: chisel3.Data]): Boolean =
-    dp == FloatDatapath(FloatFormat.FP32, FloatFormat.FP32, TriangleTest.parse("watertight"), BoxRounding.parse("conservative")) &&
+    dp == FloatDatapath(
+      FloatFormat.FP32,
+      FloatFormat.FP32,
+      TriangleTest.parse("watertight"),
+      BoxRounding.parse("conservative")
+    ) &&
       cfg.stackDepth == 64 && cfg.maxLeafSize == 16 && !cfg.layout.quantized
 
   def prepare(a: RegressArgs, dir: Path): Unit = {
@@ -48,11 +54,19 @@ object CppSimPrepare {
       "triBytes" -> MemoryImage.TriBytes.toDouble,
       "memoryKind" -> a.memoryKind.name,
       "precisionBits" -> (cfg.triFloat.manBits + 1),
-      "configuration" -> Report.configuration(a, cfg, chosen.dp.name))
+      "configuration" -> Report.configuration(a, cfg, chosen.dp.name)
+    )
     Files.writeString(dir.resolve("regress.json"), ujson.write(out, indent = 2))
     // The same for the driver script, which reads no JSON (sourced by scripts/regress-cpp.sh).
-    Files.writeString(dir.resolve("driver.env"), Seq(s"sim_dir='$sim'", s"sim_options='${memory.mkString(" ")}'",
-      s"golden=${if (cppGoldenCovers(cfg, chosen.dp)) "cpp" else "scala"}", s"precision_bits=${cfg.triFloat.manBits + 1}").mkString("", "\n", "\n"))
+    Files.writeString(
+      dir.resolve("driver.env"),
+      Seq(
+        s"sim_dir='$sim'",
+        s"sim_options='${memory.mkString(" ")}'",
+        s"golden=${if (cppGoldenCovers(cfg, chosen.dp)) "cpp" else "scala"}",
+        s"precision_bits=${cfg.triFloat.manBits + 1}"
+      ).mkString("", "\n", "\n")
+    )
     println(s"cppsim: prepared $dir (simulator $sim)")
   }
 }

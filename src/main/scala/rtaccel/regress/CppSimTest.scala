@@ -25,9 +25,13 @@ object CppSimTest {
     def need(k: String) = kv.getOrElse(k, throw new IllegalArgumentException(s"CppSimTest: $k is required"))
     val pkgDir = Paths.get(need("--package"))
     if (!Files.exists(pkgDir.resolve("image.bin")))
-      throw new IllegalArgumentException(s"$pkgDir/image.bin: no package (make it with nori-bridge compile, as mk/cppsim.mk does)")
+      throw new IllegalArgumentException(
+        s"$pkgDir/image.bin: no package (make it with nori-bridge compile, as mk/cppsim.mk does)"
+      )
     val a = RegressArgs(pkgDir, Paths.get(need("--out")))
-    val n = need("--rays").toIntOption.filter(_ >= 1).getOrElse(throw new IllegalArgumentException(s"--rays '${kv("--rays")}'"))
+    val n = need("--rays").toIntOption.filter(_ >= 1).getOrElse(throw new IllegalArgumentException(
+      s"--rays '${kv("--rays")}'"
+    ))
     val pkg = ScenePackage.load(pkgDir)
     val rays = pkg.rays.take(n)
     val cfg = Regress.config(a, pkg)
@@ -38,12 +42,18 @@ object CppSimTest {
         val cc = c.asInstanceOf[Chosen[Data, s]]
         val dir = CppSim.build(cfg, cc.dp)
         CppSim.linkTestSystem(dir)
-        val rc = Seq(dir.resolve("test-librtaccel").toString, pkgDir.toAbsolutePath.toString, a.out.toAbsolutePath.toString,
-          rays.size.toString).!
+        val rc = Seq(
+          dir.resolve("test-librtaccel").toString,
+          pkgDir.toAbsolutePath.toString,
+          a.out.toAbsolutePath.toString,
+          rays.size.toString
+        ).!
         if (rc != 0) { println(s"cppsim-test: test-librtaccel failed (exit $rc)"); return false }
         val hits = CppSim.readHits(a.out.resolve("hits.bin"), rays.size)
         val bad = Regress.goldenCheck(cfg, pkg, rays, cc, hits)
-        println(s"cppsim-test: ${rays.size} rays through librtaccel and the Verilated system, ${bad.size} golden mismatches")
+        println(
+          s"cppsim-test: ${rays.size} rays through librtaccel and the Verilated system, ${bad.size} golden mismatches"
+        )
         bad.isEmpty
     }
   }

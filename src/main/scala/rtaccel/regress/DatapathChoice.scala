@@ -11,16 +11,23 @@ import rtaccel.sim.FieldDatapath
 final case class Chosen[T <: Data, S](dp: Datapath[T], golden: ArithGolden[S])
 
 object DatapathChoice {
+
   /** Resolves `make regress` FLOAT / TRIANGLE / ROUNDING to a datapath.
     * FLOAT=field selects the control-path test datapath (no real geometry).
     */
-  def resolve(float: String, triangle: String, rounding: String): Chosen[_ <: Data, _] = resolve(float, float, triangle, rounding)
+  def resolve(float: String, triangle: String, rounding: String): Chosen[_ <: Data, _] =
+    resolve(float, float, triangle, rounding)
 
   /** Split formats: `box` for the box lanes, `tri` for the triangle test. */
   def resolve(box: String, tri: String, triangle: String, rounding: String): Chosen[_ <: Data, _] =
     if (box == "field" || tri == "field") Chosen(FieldDatapath, FieldDatapath.Golden)
     else {
-      val dp = FloatDatapath(FloatFormat.parse(box), FloatFormat.parse(tri), TriangleTest.parse(triangle), BoxRounding.parse(rounding))
+      val dp = FloatDatapath(
+        FloatFormat.parse(box),
+        FloatFormat.parse(tri),
+        TriangleTest.parse(triangle),
+        BoxRounding.parse(rounding)
+      )
       Chosen(dp, FloatGolden(dp))
     }
 }

@@ -71,7 +71,8 @@ object Progress {
   def line(label: String, done: Long, total: Long, seconds: Double, bar: Boolean): String = {
     val d = done.min(total)
     val frac = if (total > 0) d.toDouble / total else 1.0
-    val b = if (bar) { val w = 24; val full = (frac * w).toInt; "[" + "#" * full + "-" * (w - full) + "] " } else ""
+    val b = if (bar) { val w = 24; val full = (frac * w).toInt; "[" + "#" * full + "-" * (w - full) + "] " }
+    else ""
     val eta = if (done > 0) clock(seconds * (total - d) / done) else "?"
     f"$label $b${100 * frac}%5.1f%%  $done%,d/$total%,d rays  ${clock(seconds)} elapsed, ETA $eta"
   }

@@ -28,7 +28,8 @@ object Regress {
     def fmt(f: String) = if (f == "field") rtaccel.fp.FloatFormat.FP32 else rtaccel.fp.FloatFormat.parse(f)
     val (boxFmt, triFmt) = (fmt(RegressArgs.formats(a)._1), fmt(RegressArgs.formats(a)._2))
     // The node layout is the image's: nori-bridge chose it (make regress BVH=).
-    val generic = AccelConfig.zc706.copy(numRayIds = a.numRayIds, boxFloat = boxFmt, triFloat = triFmt, layout = pkg.image.layout)
+    val generic =
+      AccelConfig.zc706.copy(numRayIds = a.numRayIds, boxFloat = boxFmt, triFloat = triFmt, layout = pkg.image.layout)
     val base = if (a.sized) pkg.sized(generic) else generic
     a.stackDepth.fold(base)(d => base.copy(stackDepth = d))
   }
@@ -37,8 +38,13 @@ object Regress {
     * shadow rays: the occlusion answer and error bits). Returns the mismatching
     * hits, and prints the first few.
     */
-  def goldenCheck[S](cfg: AccelConfig, pkg: ScenePackage, rays: IndexedSeq[rtaccel.golden.RayRecord], c: Chosen[Data, S],
-      hits: Seq[HitRecord]): Seq[HitRecord] = {
+  def goldenCheck[S](
+      cfg: AccelConfig,
+      pkg: ScenePackage,
+      rays: IndexedSeq[rtaccel.golden.RayRecord],
+      c: Chosen[Data, S],
+      hits: Seq[HitRecord]
+  ): Seq[HitRecord] = {
     val byNumber = rays.map(r => r.number -> r).toMap
     val bad = hits.flatMap { h =>
       val r = byNumber(h.number)
@@ -55,11 +61,18 @@ object Regress {
     Paths.get("build", "sim", s"RtAccel_${datapath}_n${cfg.numRayIds}_d${cfg.stackDepth}$suffix")
 
   /** The core under chiseltest (Verilator backend) with the memory-system model on both ports. */
-  private def runChiseltest[S](a: RegressArgs, pkg: ScenePackage, rays: IndexedSeq[rtaccel.golden.RayRecord], cfg: AccelConfig,
-      c: Chosen[Data, S], t0: Long): (RunResult, ujson.Obj) = {
+  private def runChiseltest[S](
+      a: RegressArgs,
+      pkg: ScenePackage,
+      rays: IndexedSeq[rtaccel.golden.RayRecord],
+      cfg: AccelConfig,
+      c: Chosen[Data, S],
+      t0: Long
+  ): (RunResult, ujson.Obj) = {
     val simDir = Regress.simDir(c.dp.name, cfg)
-    val annos = Seq(VerilatorBackendAnnotation, chiseltest.internal.CachingAnnotation, TargetDirAnnotation(simDir.toString)) ++
-      (if (a.waves) Seq(WriteVcdAnnotation) else Nil)
+    val annos =
+      Seq(VerilatorBackendAnnotation, chiseltest.internal.CachingAnnotation, TargetDirAnnotation(simDir.toString)) ++
+        (if (a.waves) Seq(WriteVcdAnnotation) else Nil)
     var result: RunResult = null
     var simStart = 0L
     RawTester.test(new SimTop(cfg, c.dp), annos) { dut =>
@@ -70,8 +83,14 @@ object Regress {
     }
     val simSeconds = (System.nanoTime() - simStart) / 1e9
     if (a.waves) println(s"regress: waveform under $simDir")
-    (result, ujson.Obj("seconds" -> simSeconds, "cyclesPerSecond" -> result.cycles / simSeconds.max(1e-9),
-      "wallSeconds" -> (System.nanoTime() - t0) / 1e9))
+    (
+      result,
+      ujson.Obj(
+        "seconds" -> simSeconds,
+        "cyclesPerSecond" -> result.cycles / simSeconds.max(1e-9),
+        "wallSeconds" -> (System.nanoTime() - t0) / 1e9
+      )
+    )
   }
 
   /** Returns false when the run found a real problem (a golden mismatch, or any compare mismatch under --strict 1). */
@@ -92,21 +111,30 @@ object Regress {
     val cfg = config(a, pkg)
     val misfits = pkg.misfits(cfg)
     if (misfits.nonEmpty)
-      throw new IllegalArgumentException(s"${a.pkg}: the scene does not fit the generated hardware:\n  " + misfits.mkString("\n  ") +
-        "\n(raise the limits, e.g. STACK=<n>, or size the hardware to the scene)")
+      throw new IllegalArgumentException(
+        s"${a.pkg}: the scene does not fit the generated hardware:\n  " + misfits.mkString("\n  ") +
+          "\n(raise the limits, e.g. STACK=<n>, or size the hardware to the scene)"
+      )
     // Sized hardware may have fewer exponent bits than asked for: build the datapath in the sized format.
     val (box, tri) = RegressArgs.formats(a)
-    val chosen = if (a.sized && a.float != "field") DatapathChoice.resolve(cfg.boxFloat.name, cfg.triFloat.name, a.triangle, a.rounding)
-      else DatapathChoice.resolve(box, tri, a.triangle, a.rounding)
+    val chosen = if (a.sized && a.float != "field")
+      DatapathChoice.resolve(cfg.boxFloat.name, cfg.triFloat.name, a.triangle, a.rounding)
+    else DatapathChoice.resolve(box, tri, a.triangle, a.rounding)
     (cfg, chosen)
   }
 
-  private def runWith[S](a: RegressArgs, pkg: ScenePackage, rays: IndexedSeq[rtaccel.golden.RayRecord], cfg: AccelConfig,
-      c: Chosen[Data, S]): Boolean = {
+  private def runWith[S](
+      a: RegressArgs,
+      pkg: ScenePackage,
+      rays: IndexedSeq[rtaccel.golden.RayRecord],
+      cfg: AccelConfig,
+      c: Chosen[Data, S]
+  ): Boolean = {
     val t0 = System.nanoTime()
     val (result, simulation) = if (a.sim == "cpp") {
       val dir = CppSim.build(cfg, c.dp, clang = CppSim.useClang)
-      val (r, speed) = CppSim.run(a, dir, pkg.image.nodeBytes.toInt, rtaccel.scene.MemoryImage.TriBytes.toInt, rays.size)
+      val (r, speed) =
+        CppSim.run(a, dir, pkg.image.nodeBytes.toInt, rtaccel.scene.MemoryImage.TriBytes.toInt, rays.size)
       speed("wallSeconds") = (System.nanoTime() - t0) / 1e9
       (r, speed)
     } else runChiseltest(a, pkg, rays, cfg, c, t0)
@@ -114,8 +142,17 @@ object Regress {
     val goldenMismatches = goldenCheck(cfg, pkg, rays, c, result.hits)
 
     HitsCsv.write(a.out.resolve("hits.csv"), result.hits)
-    val stats = Report.stats(a, cfg, c.dp.name, rays.size, result, simulation("seconds").num, simulation("wallSeconds").num,
-      goldenMismatches.size, result.hits.count(_.errors != 0))
+    val stats = Report.stats(
+      a,
+      cfg,
+      c.dp.name,
+      rays.size,
+      result,
+      simulation("seconds").num,
+      simulation("wallSeconds").num,
+      goldenMismatches.size,
+      result.hits.count(_.errors != 0)
+    )
     // The harness's own count of what it simulated (SIM=cpp: every cycle, the scene load and register accesses too).
     stats("simulation") = simulation
     Files.writeString(a.out.resolve("stats.json"), ujson.write(stats, indent = 2))

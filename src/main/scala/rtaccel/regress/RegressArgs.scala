@@ -41,6 +41,7 @@ final case class RegressArgs(
     case "onchip" => MemoryKind.OnChip
     case _        => MemoryKind.Ddr(clock)
   }
+
   /** Per-port latency in cycles: the DRAM's ns at the fabric clock, or BRAM's fixed cycles. */
   def latencyCycles: Latency = memoryKind match {
     case MemoryKind.OnChip => Latency.Fixed(MemoryKind.OnChip.LatencyCycles)
@@ -48,16 +49,18 @@ final case class RegressArgs(
   }
   def port(seedOffset: Long): MemoryParams =
     MemoryParams(latencyCycles, outstanding, inOrder = false, cache, seed + seedOffset)
+
   /** Both ports and the store behind them, seeded from `seed`. */
   def environment: Environment = Environment(port(0), port(1), memoryKind, seed = seed)
   def describeMemory: String = memoryKind match {
     case MemoryKind.OnChip => s"${MemoryKind.OnChip.describe}; ${port(0).describe}"
-    case d                 =>
+    case d =>
       s"${d.describe}; latency ${memLatency.getOrElse(MemoryKind.Ddr.DefaultLatency).describe}; ${port(0).describe}"
   }
 }
 
 object RegressArgs {
+
   /** The box and triangle formats `a` asks for: BOX_FLOAT= / TRI_FLOAT= where given, FLOAT= otherwise. */
   def formats(a: RegressArgs): (String, String) =
     (if (a.boxFloat.nonEmpty) a.boxFloat else a.float, if (a.triFloat.nonEmpty) a.triFloat else a.float)
@@ -77,44 +80,53 @@ object RegressArgs {
     def flag(k: String, v: String): Boolean = v match {
       case "1" | "true" => true; case "0" | "false" | "" => false; case _ => fail(s"$k: '$v' (0 or 1)")
     }
-    var a = RegressArgs(Paths.get(kv.getOrElse("--package", fail("--package is required"))),
-      Paths.get(kv.getOrElse("--out", fail("--out is required"))))
+    var a = RegressArgs(
+      Paths.get(kv.getOrElse("--package", fail("--package is required"))),
+      Paths.get(kv.getOrElse("--out", fail("--out is required")))
+    )
     for ((k, v) <- kv) k match {
       case "--package" | "--out" => ()
-      case "--float"           => a = a.copy(float = v)
-      case "--box-float"       => a = a.copy(boxFloat = v)
-      case "--tri-float"       => a = a.copy(triFloat = v)
-      case "--triangle"        => a = a.copy(triangle = v)
-      case "--rounding"        => a = a.copy(rounding = v)
-      case "--memory"          => a = a.copy(memory = wrap(k)(MemoryKind.parse(v)).name)
-      case "--mem-latency"     => a = a.copy(memLatency = if (v.isEmpty) None else Some(wrap(k)(LatencyNs.parse(v))))
-      case "--fabric-mhz"      => a = a.copy(fabricMhz = v.toDoubleOption.filter(x => x > 0 && !x.isInfinite)
-                                    .getOrElse(fail(s"$k: '$v' is not a clock frequency in MHz (a number > 0, e.g. 200)")))
-      case "--outstanding"     => a = a.copy(outstanding = int(k, v, 1))
-      case "--cache"           => a = a.copy(cache = if (v == "0" || v.isEmpty) None else Some(CacheParams(capacityBytes = int(k, v, 1) * 1024)))
-      case "--ids"             => a = a.copy(numRayIds = int(k, v, 2))
-      case "--stack"           => a = a.copy(stackDepth = if (v.isEmpty) None else Some(int(k, v, 1)))
-      case "--rays"            => a = a.copy(maxRays = if (v.isEmpty) None else Some(int(k, v, 1)))
-      case "--bridge"          => a = a.copy(bridge = Paths.get(v))
-      case "--waves"           => a = a.copy(waves = flag(k, v))
-      case "--strict"          => a = a.copy(strict = flag(k, v))
-      case "--size"            => a = a.copy(sized = flag(k, v))
-      case "--sim"             => a = a.copy(sim = v match {
-                                    case "chiseltest" | "cpp" | "" => if (v.isEmpty) "chiseltest" else v
-                                    case _ => fail(s"$k: '$v' (chiseltest or cpp)")
-                                  })
-      case "--seed"            => a = a.copy(seed = v.toLongOption.getOrElse(fail(s"--seed: '$v'")))
-      case other               => fail(s"unknown option '$other'")
+      case "--float"             => a = a.copy(float = v)
+      case "--box-float"         => a = a.copy(boxFloat = v)
+      case "--tri-float"         => a = a.copy(triFloat = v)
+      case "--triangle"          => a = a.copy(triangle = v)
+      case "--rounding"          => a = a.copy(rounding = v)
+      case "--memory"            => a = a.copy(memory = wrap(k)(MemoryKind.parse(v)).name)
+      case "--mem-latency"       => a = a.copy(memLatency = if (v.isEmpty) None else Some(wrap(k)(LatencyNs.parse(v))))
+      case "--fabric-mhz" => a = a.copy(fabricMhz =
+          v.toDoubleOption.filter(x => x > 0 && !x.isInfinite)
+            .getOrElse(fail(s"$k: '$v' is not a clock frequency in MHz (a number > 0, e.g. 200)"))
+        )
+      case "--outstanding" => a = a.copy(outstanding = int(k, v, 1))
+      case "--cache" =>
+        a = a.copy(cache = if (v == "0" || v.isEmpty) None else Some(CacheParams(capacityBytes = int(k, v, 1) * 1024)))
+      case "--ids"    => a = a.copy(numRayIds = int(k, v, 2))
+      case "--stack"  => a = a.copy(stackDepth = if (v.isEmpty) None else Some(int(k, v, 1)))
+      case "--rays"   => a = a.copy(maxRays = if (v.isEmpty) None else Some(int(k, v, 1)))
+      case "--bridge" => a = a.copy(bridge = Paths.get(v))
+      case "--waves"  => a = a.copy(waves = flag(k, v))
+      case "--strict" => a = a.copy(strict = flag(k, v))
+      case "--size"   => a = a.copy(sized = flag(k, v))
+      case "--sim" => a = a.copy(sim = v match {
+          case "chiseltest" | "cpp" | "" => if (v.isEmpty) "chiseltest" else v
+          case _                         => fail(s"$k: '$v' (chiseltest or cpp)")
+        })
+      case "--seed" => a = a.copy(seed = v.toLongOption.getOrElse(fail(s"--seed: '$v'")))
+      case other    => fail(s"unknown option '$other'")
     }
     if (a.memoryKind == MemoryKind.OnChip) {
-      if (a.memLatency.isDefined) fail(s"--mem-latency ${a.memLatency.get.describe}: with --memory onchip the latency is fixed at " +
-        s"${MemoryKind.OnChip.LatencyCycles} cycles (the option applies to --memory ddr)")
-      if (a.cache.isDefined) fail("--cache: with --memory onchip there is no cache (on-chip memory; the option applies to --memory ddr)")
+      if (a.memLatency.isDefined)
+        fail(s"--mem-latency ${a.memLatency.get.describe}: with --memory onchip the latency is fixed at " +
+          s"${MemoryKind.OnChip.LatencyCycles} cycles (the option applies to --memory ddr)")
+      if (a.cache.isDefined)
+        fail("--cache: with --memory onchip there is no cache (on-chip memory; the option applies to --memory ddr)")
     }
     a
   }
 
-  private def wrap[A](k: String)(f: => A): A = try f catch { case e: IllegalArgumentException => fail(s"$k: ${e.getMessage}") }
+  private def wrap[A](k: String)(f: => A): A =
+    try f
+    catch { case e: IllegalArgumentException => fail(s"$k: ${e.getMessage}") }
 
   private def fail(why: String): Nothing = throw new IllegalArgumentException(s"$why\n$usage")
 }

@@ -7,6 +7,7 @@ import rtaccel.sim.RunResult
   * plus nori-bridge's accuracy), report.md and a console table.
   */
 object Report {
+
   /** The throughput bound of a run, from what the hardware is and what the
     * run asked of it: each term is a resource's capacity per cycle over the
     * run's use of it per ray, and the smallest term is the bound.
@@ -30,15 +31,25 @@ object Report {
     def apply(rays: Int, perf: Map[String, BigInt], dram: Option[rtaccel.sim.mem.DramStats], dramBytes: Long): Bound = {
       def perRay(x: Double) = (x / rays.max(1)).max(1e-9) // a resource a run never used bounds nothing
       Bound(Seq(
-        "boxLanes"      -> 1.0 / perRay(perf("boxTests").toDouble),
+        "boxLanes" -> 1.0 / perRay(perf("boxTests").toDouble),
         "triangleLanes" -> 1.0 / perRay(perf("triTests").toDouble),
-        "control"       -> 1.0 / perRay((perf("decisions") - perf("leafReturns")).toDouble max perf("leafReturns").toDouble)) ++
+        "control" -> 1.0 / perRay((perf("decisions") - perf("leafReturns")).toDouble max perf("leafReturns").toDouble)
+      ) ++
         dram.map(d => "dram" -> d.bytesPerCycle / perRay(dramBytes.toDouble)))
     }
   }
 
-  def stats(a: RegressArgs, cfg: AccelConfig, datapath: String, rays: Int, r: RunResult, simSeconds: Double,
-      wallSeconds: Double, goldenMismatches: Int, errorRays: Int): ujson.Obj = {
+  def stats(
+      a: RegressArgs,
+      cfg: AccelConfig,
+      datapath: String,
+      rays: Int,
+      r: RunResult,
+      simSeconds: Double,
+      wallSeconds: Double,
+      goldenMismatches: Int,
+      errorRays: Int
+  ): ujson.Obj = {
     val p = r.perf.map { case (k, v) => k -> v.toDouble }
     def perRay(k: String) = p(k) / rays.max(1)
     // Every byte the DRAM moved: nodes and triangles, and in the system (SIM=cpp) also
@@ -61,26 +72,53 @@ object Report {
       "meanRaysInFlight" -> p("inFlightSum") / r.cycles.toDouble,
       "goldenMismatches" -> goldenMismatches,
       "errorRays" -> errorRays,
-      "memory" -> ujson.Obj("kind" -> a.memoryKind.name, "node" -> ujson.read(r.node.toJson), "triangle" -> ujson.read(r.tri.toJson),
-        "dramBytes" -> dramBytes.toDouble, "dram" -> r.dram.fold[ujson.Value](ujson.Null)(_.toJson)),
+      "memory" -> ujson.Obj(
+        "kind" -> a.memoryKind.name,
+        "node" -> ujson.read(r.node.toJson),
+        "triangle" -> ujson.read(r.tri.toJson),
+        "dramBytes" -> dramBytes.toDouble,
+        "dram" -> r.dram.fold[ujson.Value](ujson.Null)(_.toJson)
+      ),
       "counters" -> ujson.Obj.from(p.toSeq.sortBy(_._1).map { case (k, v) => k -> ujson.Num(v) }),
-      "simulation" -> ujson.Obj("seconds" -> simSeconds, "cyclesPerSecond" -> r.cycles / simSeconds.max(1e-9), "wallSeconds" -> wallSeconds),
+      "simulation" -> ujson.Obj(
+        "seconds" -> simSeconds,
+        "cyclesPerSecond" -> r.cycles / simSeconds.max(1e-9),
+        "wallSeconds" -> wallSeconds
+      ),
       "configuration" -> configuration(a, cfg, datapath)
     )
   }
 
   /** stats.json's `configuration`: the hardware and the memory settings of a run. */
   def configuration(a: RegressArgs, cfg: AccelConfig, datapath: String): ujson.Obj = ujson.Obj(
-    "datapath" -> datapath, "float" -> cfg.floatName, "triangle" -> a.triangle, "rounding" -> a.rounding,
-    "numRayIds" -> cfg.numRayIds, "stackDepth" -> cfg.stackDepth, "nodeIndexBits" -> cfg.nodeIndexBits,
-    "triIndexBits" -> cfg.triIndexBits, "maxLeafSize" -> cfg.maxLeafSize,
-    "memory" -> a.describeMemory, "fabricMhz" -> a.fabricMhz, "seed" -> a.seed.toDouble)
+    "datapath" -> datapath,
+    "float" -> cfg.floatName,
+    "triangle" -> a.triangle,
+    "rounding" -> a.rounding,
+    "numRayIds" -> cfg.numRayIds,
+    "stackDepth" -> cfg.stackDepth,
+    "nodeIndexBits" -> cfg.nodeIndexBits,
+    "triIndexBits" -> cfg.triIndexBits,
+    "maxLeafSize" -> cfg.maxLeafSize,
+    "memory" -> a.describeMemory,
+    "fabricMhz" -> a.fabricMhz,
+    "seed" -> a.seed.toDouble
+  )
 
-  private val classes = Seq("false_miss" -> "falseMiss", "false_hit" -> "falseHit", "wrong_prim" -> "wrongPrim",
-    "t_error" -> "tOutOfTolerance", "tie" -> "ties", "edge" -> "edgeCases", "reference_wrong" -> "referenceWrong", "agree" -> "agree")
+  private val classes = Seq(
+    "false_miss" -> "falseMiss",
+    "false_hit" -> "falseHit",
+    "wrong_prim" -> "wrongPrim",
+    "t_error" -> "tOutOfTolerance",
+    "tie" -> "ties",
+    "edge" -> "edgeCases",
+    "reference_wrong" -> "referenceWrong",
+    "agree" -> "agree"
+  )
 
   def combine(stats: ujson.Obj, accuracy: ujson.Value): ujson.Obj = {
-    val counts = accuracy.obj.get("counts").map(_.obj).getOrElse(collection.mutable.LinkedHashMap.empty[String, ujson.Value])
+    val counts =
+      accuracy.obj.get("counts").map(_.obj).getOrElse(collection.mutable.LinkedHashMap.empty[String, ujson.Value])
     val mismatches = ujson.Obj.from(classes.map { case (k, name) => name -> counts.getOrElse(k, ujson.Num(0)) })
     mismatches("total") = accuracy.obj.get("mismatches").getOrElse(ujson.Num(0))
     val out = ujson.Obj.from(stats.obj)
@@ -91,14 +129,15 @@ object Report {
 
   private def n(v: ujson.Value, digits: Int = 4): String = v match {
     case ujson.Num(x) if x == x.round.toDouble && math.abs(x) < 1e15 => f"${x.toLong}%,d"
-    case ujson.Num(x) => s"%.${digits}f".format(x)
-    case other => other.toString
+    case ujson.Num(x)                                                => s"%.${digits}f".format(x)
+    case other                                                       => other.toString
   }
 
   def table(r: ujson.Obj): String = {
     val m = r("mismatches").obj
     Seq(
-      "rays" -> n(r("rays")), "cycles" -> n(r("cycles")),
+      "rays" -> n(r("rays")),
+      "cycles" -> n(r("cycles")),
       "rays/cycle" -> s"${n(r("raysPerCycle"))} (bound ${n(r("boundRaysPerCycle"))}, ${n(r("efficiency"), 2)} of it; limited by ${r("boundLimitedBy").str})",
       "bound terms (rays/cycle)" -> r("boundTerms").obj.map { case (k, v) => s"$k ${n(v)}" }.mkString(", "),
       "DRAM bytes per ray" -> (r("dramBytesPerRay") match {
@@ -106,23 +145,39 @@ object Report {
         case v =>
           val Seq(node, tri) = Seq("node", "triangle").map(k => r("memory")(k)("dramBytes").num / r("rays").num)
           val other = v.num - node - tri // the system's rays and hits
-          s"${n(v, 1)} (node ${n(node, 1)}, triangle ${n(tri, 1)}" + (if (other > 0.05) s", rays and hits ${n(other, 1)}" else "") +
+          s"${n(v, 1)} (node ${n(node, 1)}, triangle ${n(tri, 1)}" + (if (other > 0.05)
+                                                                        s", rays and hits ${n(other, 1)}"
+                                                                      else "") +
             s"; DRAM busy ${n(r("memory")("dram")("busyShare"), 2)})"
       }),
       "node / triangle tests per ray" -> s"${n(r("nodeTestsPerRay"), 2)} / ${n(r("triangleTestsPerRay"), 2)}",
       "node bytes per ray" -> n(r("nodeBytesPerRay"), 1),
       "mean rays in flight" -> n(r("meanRaysInFlight"), 1),
       "golden mismatches" -> n(r("goldenMismatches")),
-      "vs Embree" -> s"${n(m("total"))} mismatches (false miss ${n(m("falseMiss"))}, false hit ${n(m("falseHit"))}, wrong prim ${n(m("wrongPrim"))}, t ${n(m("tOutOfTolerance"))}); ties ${n(m("ties"))}, edge ${n(m("edgeCases"))}, reference wrong ${n(m("referenceWrong"))}",
+      "vs Embree" -> s"${n(m("total"))} mismatches (false miss ${n(m("falseMiss"))}, false hit ${n(m("falseHit"))}, wrong prim ${n(
+          m("wrongPrim")
+        )}, t ${n(m("tOutOfTolerance"))}); ties ${n(m("ties"))}, edge ${n(m("edgeCases"))}, reference wrong ${n(m("referenceWrong"))}",
       "rays with errors" -> n(r("errorRays")),
       "simulator" -> s"${n(r("simulation")("cyclesPerSecond"), 0)} cycles/s, ${n(r("simulation")("wallSeconds"), 1)} s"
     ).map { case (k, v) => f"  $k%-30s $v" }.mkString("\n")
   }
 
   def markdown(r: ujson.Obj): String = {
-    val cfg = r("configuration").obj.map { case (k, v) => s"| $k | ${v match { case ujson.Str(s) => s; case o => n(o) }} |" }
+    val cfg = r("configuration").obj.map { case (k, v) =>
+      s"| $k | ${v match { case ujson.Str(s) => s; case o => n(o) }} |"
+    }
     // Built line by line: stripMargin would eat the leading `|` of interpolated rows.
-    (Seq("# Regression report", "", "Generated by `make regress`; do not edit.", "", "```", table(r), "```", "",
-      "| configuration | value |", "| --- | --- |") ++ cfg ++ Seq("")).mkString("\n")
+    (Seq(
+      "# Regression report",
+      "",
+      "Generated by `make regress`; do not edit.",
+      "",
+      "```",
+      table(r),
+      "```",
+      "",
+      "| configuration | value |",
+      "| --- | --- |"
+    ) ++ cfg ++ Seq("")).mkString("\n")
   }
 }

@@ -14,8 +14,10 @@ final case class VerilogFigures(title: String, coresFit: Int, fmaxNs: Double, sl
 object VerilogFigures {
   // The system's own lines (cores beside MemoryFabric, the node store, the DMAs and the registers; the
   // slowest unit of core and system) when make verilog built the system top; else the core's alone.
-  private val systemFitsRe = """Cores that fit beside the system's own units \(by the scarcest resource\): \*\*(\d+)\*\*""".r
-  private val systemFmaxRe = """\*\*Estimated Fmax of the system\*\* \(its slowest unit, core or system, \*\*(.+?)\*\*\): \*\*[\d.]+ MHz\*\* \(([\d.]+) ns\)""".r
+  private val systemFitsRe =
+    """Cores that fit beside the system's own units \(by the scarcest resource\): \*\*(\d+)\*\*""".r
+  private val systemFmaxRe =
+    """\*\*Estimated Fmax of the system\*\* \(its slowest unit, core or system, \*\*(.+?)\*\*\): \*\*[\d.]+ MHz\*\* \(([\d.]+) ns\)""".r
   private val fitsRe = """Instances that fit on the device \(by its scarcest resource\): \*\*(\d+)\*\*""".r
   private val fmaxRe = """Estimated system Fmax \(slowest unit, \*\*(.+?)\*\*\): \*\*[\d.]+ MHz\*\* \(([\d.]+) ns\)""".r
 
@@ -28,11 +30,17 @@ object VerilogFigures {
       .getOrElse(throw new IllegalArgumentException(s"$path: no '# Resources:' title line; $how"))
     val missing = expect.filterNot(title.contains)
     if (missing.nonEmpty)
-      throw new IllegalArgumentException(s"$path: made for '$title', not the bench's configuration (no ${missing.mkString(", ")}); $how")
+      throw new IllegalArgumentException(
+        s"$path: made for '$title', not the bench's configuration (no ${missing.mkString(", ")}); $how"
+      )
     val fits = systemFitsRe.findFirstMatchIn(text).orElse(fitsRe.findFirstMatchIn(text)).map(_.group(1).toInt)
       .getOrElse(throw new IllegalArgumentException(s"$path: no 'Instances that fit on the device' line; $how"))
-    val (unit, ns) = systemFmaxRe.findFirstMatchIn(text).orElse(fmaxRe.findFirstMatchIn(text)).map(m => (m.group(1), m.group(2).toDouble))
-      .getOrElse(throw new IllegalArgumentException(s"$path: no 'Estimated system Fmax' line (the Fmax estimate); $how"))
+    val (unit, ns) = systemFmaxRe.findFirstMatchIn(text).orElse(fmaxRe.findFirstMatchIn(text)).map(m =>
+      (m.group(1), m.group(2).toDouble)
+    )
+      .getOrElse(throw new IllegalArgumentException(
+        s"$path: no 'Estimated system Fmax' line (the Fmax estimate); $how"
+      ))
     if (fits < 1) throw new IllegalArgumentException(s"$path: $fits instances fit: nothing to simulate")
     VerilogFigures(title, fits, ns, unit)
   }

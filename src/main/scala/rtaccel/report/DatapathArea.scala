@@ -35,7 +35,8 @@ object DatapathArea {
       Job(fmt, "mt", "PrimIntersect", () => dp(TriangleTest.Moller, BoxRounding.Nearest).prim(cfg)),
       Job(fmt, "wt", "PrimIntersect", () => dp(TriangleTest.Watertight, BoxRounding.Nearest).prim(cfg)),
       Job(fmt, "mt_rne", "RayPrep", () => dp(TriangleTest.Moller, BoxRounding.Nearest).rayPrep(cfg)),
-      Job(fmt, "wt_cons", "RayPrep", () => dp(TriangleTest.Watertight, BoxRounding.Conservative).rayPrep(cfg)))
+      Job(fmt, "wt_cons", "RayPrep", () => dp(TriangleTest.Watertight, BoxRounding.Conservative).rayPrep(cfg))
+    )
   }
   val formats: Seq[FloatFormat] = Seq(FloatFormat.FP32, FloatFormat(8, 15), FloatFormat(8, 10), FloatFormat(6, 9))
 
@@ -61,10 +62,10 @@ object DatapathArea {
 
   /** The unit's derived latency, read from the elaborated module. */
   def latencyOf(m: RawModule): Int = m match {
-    case b: BoxLane[_]     => b.latency
-    case p: PrimIntersect[_]    => p.latency
-    case r: RayPrepUnit[_] => r.latency
-    case other             => throw new IllegalArgumentException(s"not a datapath unit: ${other.name}")
+    case b: BoxLane[_]       => b.latency
+    case p: PrimIntersect[_] => p.latency
+    case r: RayPrepUnit[_]   => r.latency
+    case other               => throw new IllegalArgumentException(s"not a datapath unit: ${other.name}")
   }
 
   private def row(dir: Path, j: Job, top: String, sv: String, latency: Int): String = {

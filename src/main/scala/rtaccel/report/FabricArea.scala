@@ -16,7 +16,8 @@ object FabricArea extends App {
   val kib = args.headOption.map(_.toInt).getOrElse(0)
   val sys = SystemConfig(nodeStoreBytes = kib * 1024)
   val node = PrepFetch.port(sys.core).copy(tagBits = sys.core.rayIdBits + 1)
-  val ports = Seq.fill(sys.cores)(Seq(node, LeafIntersect.port(sys.core))).flatten :+ MemPortParams(sys.axiAddrBits, 4, 64)
+  val ports =
+    Seq.fill(sys.cores)(Seq(node, LeafIntersect.port(sys.core))).flatten :+ MemPortParams(sys.axiAddrBits, 4, 64)
   val flags = Seq.fill(sys.cores)(Seq(true, false)).flatten :+ false
   val dir = Paths.get("build/fabric-area")
   Files.createDirectories(dir)

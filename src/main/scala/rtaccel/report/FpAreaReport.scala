@@ -16,6 +16,7 @@ import scala.concurrent.{Await, ExecutionContext, Future}
   * Usage: FpAreaReport <build dir> <output .md> [parallel jobs]
   */
 object FpAreaReport {
+
   /** One unit to synthesise: table label, latency, and its generator. */
   final case class AreaUnit(fmt: FloatFormat, label: String, latency: Int, gen: () => RawModule)
 
@@ -32,7 +33,12 @@ object FpAreaReport {
     )
     val conv =
       if (fmt == f32) Nil
-      else Seq(AreaUnit(fmt, s"convert e8m23 -> $fmt (RDN)", FpConvert.defaultLatency, () => new FpConvert(f32, fmt, Some(RoundingMode.RDN))))
+      else Seq(AreaUnit(
+        fmt,
+        s"convert e8m23 -> $fmt (RDN)",
+        FpConvert.defaultLatency,
+        () => new FpConvert(f32, fmt, Some(RoundingMode.RDN))
+      ))
     base ++ conv
   }
 

@@ -24,7 +24,9 @@ object LeakCount {
     val verts = mesh.vertices.map(_.map(x => FpModel.f32Bits(x)))
     val vFmt = verts.map(_.map(g.triArith.fromF32(_, rtaccel.fp.RoundingMode.RNE)))
     val tri = mesh.faces.map(f => f.flatMap(verts))
-    val zeroArea = mesh.faces.count { f => val Seq(a, b, c) = f.map(vFmt); a == b || b == c || a == c }
+    val zeroArea = mesh.faces.count { f =>
+      val Seq(a, b, c) = f.map(vFmt); a == b || b == c || a == c
+    }
     val centre = mesh.faces.map(f => (0 until 3).map(k => f.map(mesh.vertices(_)(k).toDouble).sum / 3))
     val rad = mesh.faces.indices.map(i => mesh.faces(i).map(v => dist(mesh.vertices(v).map(_.toDouble), centre(i))).max)
     val margin = math.pow(2, -(fmt.precision - 4))
@@ -33,10 +35,13 @@ object LeakCount {
       val o = inBall(rng, radius / 2).map(x => (x + offset).toFloat)
       def leaks(target: Seq[Float], near: Seq[Int]): Boolean = {
         val d = target.zip(o).map { case (t, oo) => t - oo }
-        val (ray, tmax) = g.setup(o.map(FpModel.f32Bits), d.map(FpModel.f32Bits), BigInt(0), FpModel.f32Bits(Float.PositiveInfinity))
+        val (ray, tmax) =
+          g.setup(o.map(FpModel.f32Bits), d.map(FpModel.f32Bits), BigInt(0), FpModel.f32Bits(Float.PositiveInfinity))
         def hits(i: Int) = g.primTest(ray, tmax, tri(i)).hit
         !(near.exists(hits) || mesh.faces.indices.exists { i =>
-          !near.contains(i) && passesNear(o, d, centre(i), 1.5 * rad(i) + margin * (norm(centre(i)) + radius)) && hits(i)
+          !near.contains(i) && passesNear(o, d, centre(i), 1.5 * rad(i) + margin * (norm(centre(i)) + radius)) && hits(
+            i
+          )
         })
       }
       for ((v, i) <- mesh.vertices.zipWithIndex) { vRays += 1; if (leaks(v, mesh.vertexFaces(i))) vLeaks += 1 }
@@ -56,6 +61,7 @@ object LeakCount {
   }
   private def norm(p: Seq[Double]) = math.sqrt(p.map(x => x * x).sum)
   private def dist(a: Seq[Double], b: Seq[Double]) = norm(a.zip(b).map { case (x, y) => x - y })
+
   /** Distance from `c` to the half-line o + t d (t >= 0) is at most `r`. */
   private def passesNear(o: Seq[Float], d: Seq[Float], c: Seq[Double], r: Double): Boolean = {
     val (od, dd) = (o.map(_.toDouble), d.map(_.toDouble))

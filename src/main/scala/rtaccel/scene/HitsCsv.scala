@@ -14,7 +14,9 @@ object HitsCsv {
   def write(path: Path, hits: Seq[HitRecord]): Unit = {
     val sb = new StringBuilder(Header).append('\n')
     for (h <- hits.sortBy(_.number)) {
-      if (h.hit) sb.append(s"${h.number},1,${FloatText.format(h.t)},${FloatText.format(h.u)},${FloatText.format(h.v)},${h.prim},${h.errors}\n")
+      if (h.hit) sb.append(
+        s"${h.number},1,${FloatText.format(h.t)},${FloatText.format(h.u)},${FloatText.format(h.v)},${h.prim},${h.errors}\n"
+      )
       else sb.append(s"${h.number},0,inf,0,0,-1,${h.errors}\n")
     }
     Files.createDirectories(path.toAbsolutePath.getParent)

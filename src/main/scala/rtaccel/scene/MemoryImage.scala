@@ -16,34 +16,41 @@ final class MemoryImage private (val source: String, val bytes: Array[Byte]) {
   private val header = ByteBuffer.wrap(bytes, 0, HeaderBytes).order(ByteOrder.LITTLE_ENDIAN)
   private def u32(offset: Int): Long = header.getInt(offset).toLong & 0xffffffffL
 
-  val version: Long     = u32(8)
-  val nodeCount: Long   = u32(12)
-  val triCount: Long    = u32(16)
-  val nodeOffset: Long  = u32(20)
-  val triOffset: Long   = u32(24)
-  val nodeBytes: Long   = u32(28)
-  val triBytes: Long    = u32(32)
+  val version: Long = u32(8)
+  val nodeCount: Long = u32(12)
+  val triCount: Long = u32(16)
+  val nodeOffset: Long = u32(20)
+  val triOffset: Long = u32(24)
+  val nodeBytes: Long = u32(28)
+  val triBytes: Long = u32(32)
   val maxLeafSize: Long = u32(36)
+
   /** The largest stack the layout's traversal can need. */
-  val bvhDepth: Long    = u32(40)
+  val bvhDepth: Long = u32(40)
   val layout: rtaccel.bvh.BvhLayout = rtaccel.bvh.BvhLayout.fromCode(u32(44), source)
 
   private def fail(what: String): Nothing = throw new IllegalArgumentException(s"$source: $what")
   if (version != Version) fail(s"format version $version, this build reads version $Version")
-  if (nodeBytes != layout.nodeBytes) fail(s"nodeBytes = $nodeBytes, expected ${layout.nodeBytes} for layout ${layout.name}")
+  if (nodeBytes != layout.nodeBytes)
+    fail(s"nodeBytes = $nodeBytes, expected ${layout.nodeBytes} for layout ${layout.name}")
   if (triBytes != TriBytes) fail(s"triBytes = $triBytes, expected $TriBytes")
   if (nodeCount < 1) fail("nodeCount = 0: an image needs at least a root node")
-  if (nodeOffset % 64 != 0 || triOffset % 64 != 0) fail(s"sections not 64-byte aligned (nodeOffset=$nodeOffset, triOffset=$triOffset)")
-  if (nodeOffset + nodeCount * nodeBytes > bytes.length) fail(s"node section [$nodeOffset, +${nodeCount * nodeBytes}) runs past the file end (${bytes.length} bytes)")
-  if (triOffset + triCount * TriBytes > bytes.length) fail(s"triangle section [$triOffset, +${triCount * TriBytes}) runs past the file end (${bytes.length} bytes)")
+  if (nodeOffset % 64 != 0 || triOffset % 64 != 0)
+    fail(s"sections not 64-byte aligned (nodeOffset=$nodeOffset, triOffset=$triOffset)")
+  if (nodeOffset + nodeCount * nodeBytes > bytes.length)
+    fail(s"node section [$nodeOffset, +${nodeCount * nodeBytes}) runs past the file end (${bytes.length} bytes)")
+  if (triOffset + triCount * TriBytes > bytes.length)
+    fail(s"triangle section [$triOffset, +${triCount * TriBytes}) runs past the file end (${bytes.length} bytes)")
 
   def nodeAddr(index: Long): Long = nodeOffset + index * nodeBytes
-  def triAddr(index: Long): Long  = triOffset + index * TriBytes
+  def triAddr(index: Long): Long = triOffset + index * TriBytes
 
   /** `n` bytes at `addr` as an unsigned little-endian integer (byte 0 in bits 7..0). */
   def readLE(addr: Long, n: Int): BigInt = {
     if (addr < 0 || addr + n > bytes.length)
-      throw new IndexOutOfBoundsException(s"$source: read of $n bytes at address $addr is outside the image (${bytes.length} bytes)")
+      throw new IndexOutOfBoundsException(
+        s"$source: read of $n bytes at address $addr is outside the image (${bytes.length} bytes)"
+      )
     var v = BigInt(0)
     var i = n - 1
     while (i >= 0) { v = (v << 8) | (bytes(addr.toInt + i) & 0xff); i -= 1 }
@@ -55,20 +62,26 @@ object MemoryImage {
   val Magic: Array[Byte] = "RTACCEL\u0000".getBytes("US-ASCII")
   val Version = 2L
   val HeaderBytes = 64
+
   /** Bytes of a nori node, and of one wide-node slot. */
   val NodeBytes = 32
   val TriBytes = 48
 
   def load(path: Path): MemoryImage = {
     if (!Files.exists(path))
-      throw new IllegalArgumentException(s"$path: no such memory image (make one with `nori-bridge compile <scene.xml> --out <dir>`)")
+      throw new IllegalArgumentException(
+        s"$path: no such memory image (make one with `nori-bridge compile <scene.xml> --out <dir>`)"
+      )
     fromBytes(path.toString, Files.readAllBytes(path))
   }
 
   def fromBytes(source: String, bytes: Array[Byte]): MemoryImage = {
-    if (bytes.length < HeaderBytes) throw new IllegalArgumentException(s"$source: ${bytes.length} bytes is shorter than the $HeaderBytes-byte header")
+    if (bytes.length < HeaderBytes)
+      throw new IllegalArgumentException(s"$source: ${bytes.length} bytes is shorter than the $HeaderBytes-byte header")
     if (!bytes.take(8).sameElements(Magic))
-      throw new IllegalArgumentException(s"$source: bad magic ${bytes.take(8).map(b => f"${b & 0xff}%02x").mkString} (expected 'RTACCEL\\0')")
+      throw new IllegalArgumentException(
+        s"$source: bad magic ${bytes.take(8).map(b => f"${b & 0xff}%02x").mkString} (expected 'RTACCEL\\0')"
+      )
     new MemoryImage(source, bytes)
   }
 }
@@ -85,17 +98,20 @@ final case class NodeRecord(word0: Long, word1: Long, boxMin: Seq[Long], boxMax:
 final case class TriangleRecord(vertexWords: Seq[Long], prim: Long, flags: Long)
 
 object Records {
+
   /** Node `i`'s 32-byte records: the node itself (nori), or its K slots (wide;
     * a quantized node decoded as the hardware decodes it, rtaccel.bvh.QuantNode).
     */
   def node(img: MemoryImage, i: Long): IndexedSeq[NodeRecord] = img.layout match {
     case w: rtaccel.bvh.BvhLayout.Wide if w.quantized =>
       val bytes = (0 until w.nodeBytes).map(b => img.readLE(img.nodeAddr(i) + b, 1).toInt)
-      rtaccel.bvh.QuantNode.decodeSoft(w.k, bytes).map(s => NodeRecord(s.word0, s.word1, s.boxMin, s.boxMax)).toIndexedSeq
+      rtaccel.bvh.QuantNode.decodeSoft(w.k, bytes).map(s =>
+        NodeRecord(s.word0, s.word1, s.boxMin, s.boxMax)
+      ).toIndexedSeq
     case _ => (0 until img.layout.lanes).map { s =>
-      val w = (0 until 8).map(k => img.readLE(img.nodeAddr(i) + 32 * s + 4 * k, 4).toLong)
-      NodeRecord(w(0), w(1), w.slice(2, 5), w.slice(5, 8))
-    }
+        val w = (0 until 8).map(k => img.readLE(img.nodeAddr(i) + 32 * s + 4 * k, 4).toLong)
+        NodeRecord(w(0), w(1), w.slice(2, 5), w.slice(5, 8))
+      }
   }
   def triangle(img: MemoryImage, i: Long): TriangleRecord = {
     val w = (0 until 11).map(k => img.readLE(img.triAddr(i) + 4 * k, 4).toLong)

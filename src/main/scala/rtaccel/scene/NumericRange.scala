@@ -12,6 +12,7 @@ import rtaccel.golden.RayRecord
   * @param dirMax       largest |direction component| of any ray
   */
 final case class NumericRange(maxAbs: Double, smallestEdge: Double, dirMin: Double, dirMax: Double) {
+
   /** D: every vertex-minus-origin component is at most 2 maxAbs. */
   def span: Double = 2 * maxAbs
 
@@ -38,7 +39,8 @@ final case class NumericRange(maxAbs: Double, smallestEdge: Double, dirMin: Doub
   def neededEmin: Int = math.floor(log2(smallestIntermediate)).toInt
 
   /** Fewest exponent bits (at least 3) whose emax and emin cover the range. */
-  def expBits: Int = Iterator.from(3).find(e => FloatFormat(e, 2).emax >= neededEmax && FloatFormat(e, 2).emin <= neededEmin).get
+  def expBits: Int =
+    Iterator.from(3).find(e => FloatFormat(e, 2).emax >= neededEmax && FloatFormat(e, 2).emin <= neededEmin).get
 
   /** Stored mantissa bits that keep the shortest edge at least two units in the last place at the
     * largest coordinate: with fewer, rounding the FP32 inputs into the format can merge a
@@ -53,7 +55,8 @@ final case class NumericRange(maxAbs: Double, smallestEdge: Double, dirMin: Doub
   def misfit(fmt: FloatFormat): Option[String] =
     Option.when(fmt.emax < neededEmax || fmt.emin > neededEmin)(
       f"coordinates up to $maxAbs%.4g and edges down to $smallestEdge%.3g need exponents $neededEmin..$neededEmax " +
-        s"(${expBits} exponent bits); ${fmt.name} reaches ${fmt.emin}..${fmt.emax}, so kernel intermediates would overflow or underflow")
+        s"(${expBits} exponent bits); ${fmt.name} reaches ${fmt.emin}..${fmt.emax}, so kernel intermediates would overflow or underflow"
+    )
 
   private def log2(x: Double) = math.log(x.max(Double.MinPositiveValue)) / math.log(2)
 }
@@ -68,6 +71,7 @@ object NumericRange {
       maxAbs = (extentAbs +: origins).max,
       smallestEdge = if (smallestEdge > 0 && !smallestEdge.isInfinite) smallestEdge else 1.0,
       dirMin = if (dirMax.isEmpty) 1.0 else dirMax.min.max(Double.MinPositiveValue),
-      dirMax = if (dirMax.isEmpty) 1.0 else dirMax.max)
+      dirMax = if (dirMax.isEmpty) 1.0 else dirMax.max
+    )
   }
 }

@@ -7,12 +7,20 @@ import java.nio.file.{Files, Path}
 import scala.jdk.CollectionConverters._
 
 /** What a scene needs of the hardware (`scene.json`, written by nori-bridge). */
-final case class SceneNeeds(triangles: Long, nodes: Long, bvhDepth: Int, largestLeaf: Int, maxPrim: Long,
+final case class SceneNeeds(
+    triangles: Long,
+    nodes: Long,
+    bvhDepth: Int,
+    largestLeaf: Int,
+    maxPrim: Long,
     /** Largest |coordinate| of the scene's extent, and its shortest triangle edge. */
-    extentAbs: Double, smallestEdge: Double)
+    extentAbs: Double,
+    smallestEdge: Double
+)
 
 /** A compiled scene package (docs/memory-format.md): memory image, rays, needs. */
 final case class ScenePackage(dir: Path, image: MemoryImage, rays: IndexedSeq[RayRecord], needs: SceneNeeds) {
+
   /** The magnitudes this scene and its rays put through the kernels. */
   lazy val range: NumericRange = NumericRange(needs.extentAbs, needs.smallestEdge, rays)
 
@@ -30,13 +38,20 @@ final case class ScenePackage(dir: Path, image: MemoryImage, rays: IndexedSeq[Ra
     // Each unit's format is sized alone, by the same rule.
     def size(f: rtaccel.fp.FloatFormat) =
       rtaccel.fp.FloatFormat(if (f == rtaccel.fp.FloatFormat.FP32) 8 else range.expBits.min(8), f.manBits)
-    base.copy(layout = image.layout, stackDepth = needs.bvhDepth.max(1), maxNodes = needs.nodes.toInt.max(1),
-      maxTriangles = needs.triangles.toInt.max(1), maxLeafSize = needs.largestLeaf.max(1),
-      boxFloat = size(base.boxFloat), triFloat = size(base.triFloat))
+    base.copy(
+      layout = image.layout,
+      stackDepth = needs.bvhDepth.max(1),
+      maxNodes = needs.nodes.toInt.max(1),
+      maxTriangles = needs.triangles.toInt.max(1),
+      maxLeafSize = needs.largestLeaf.max(1),
+      boxFloat = size(base.boxFloat),
+      triFloat = size(base.triFloat)
+    )
   }
 
   /** Why `cfg` cannot run this scene, one line per reason; empty if it can. */
-  def misfits(cfg: AccelConfig): Seq[String] = structuralMisfits(cfg) ++ Seq(cfg.boxFloat, cfg.triFloat).distinct.flatMap(range.misfit)
+  def misfits(cfg: AccelConfig): Seq[String] =
+    structuralMisfits(cfg) ++ Seq(cfg.boxFloat, cfg.triFloat).distinct.flatMap(range.misfit)
 
   /** The misfits of stack, indices, leaf size and addresses (the numeric range apart). */
   def structuralMisfits(cfg: AccelConfig): Seq[String] = Seq(
@@ -53,7 +68,9 @@ final case class ScenePackage(dir: Path, image: MemoryImage, rays: IndexedSeq[Ra
 object ScenePackage {
   def load(dir: Path): ScenePackage = {
     if (!Files.isDirectory(dir))
-      throw new IllegalArgumentException(s"$dir: not a scene package directory (make one with `nori-bridge compile <scene.xml> --out $dir`)")
+      throw new IllegalArgumentException(
+        s"$dir: not a scene package directory (make one with `nori-bridge compile <scene.xml> --out $dir`)"
+      )
     val image = MemoryImage.load(dir.resolve("image.bin"))
     val rays = readRays(dir.resolve("rays.csv"))
     val needs = readNeeds(dir.resolve("scene.json"), image)
@@ -75,8 +92,15 @@ object ScenePackage {
     val extentAbs = (nums("extent_min") ++ nums("extent_max")).map(math.abs).maxOption.getOrElse(0.0)
     // serde writes an infinite smallest_edge (no triangles) as null.
     val smallestEdge = js.obj.get("smallest_edge").flatMap(_.numOpt).getOrElse(Double.PositiveInfinity)
-    SceneNeeds(num("triangles"), num("nodes"), num("bvh_depth").toInt, num("largest_leaf").toInt, num("triangles") - 1,
-      extentAbs, smallestEdge)
+    SceneNeeds(
+      num("triangles"),
+      num("nodes"),
+      num("bvh_depth").toInt,
+      num("largest_leaf").toInt,
+      num("triangles") - 1,
+      extentAbs,
+      smallestEdge
+    )
   }
 
   /** Parses `rays.csv` (header `ray,ox,oy,oz,dx,dy,dz,tmin,tmax,shadow`). */
@@ -100,13 +124,14 @@ object ScenePackage {
 /** Float text as nori-bridge writes it (Rust `{}`: `inf`, `-inf`, `NaN`, shortest round-trip). */
 object FloatText {
   def parse(s: String): Option[Float] = s match {
-    case "inf" | "+inf"        => Some(Float.PositiveInfinity)
-    case "-inf"                => Some(Float.NegativeInfinity)
-    case "NaN" | "nan"         => Some(Float.NaN)
-    case _                     => s.toFloatOption
+    case "inf" | "+inf" => Some(Float.PositiveInfinity)
+    case "-inf"         => Some(Float.NegativeInfinity)
+    case "NaN" | "nan"  => Some(Float.NaN)
+    case _              => s.toFloatOption
   }
   def bits(x: Float): Long = java.lang.Float.floatToRawIntBits(x).toLong & 0xffffffffL
   def fromBits(b: Long): Float = java.lang.Float.intBitsToFloat(b.toInt)
+
   /** Shortest text that reads back to the same float (Java's algorithm), Rust-readable. */
   def format(b: Long): String = {
     val x = fromBits(b)

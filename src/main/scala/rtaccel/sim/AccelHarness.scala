@@ -25,8 +25,14 @@ final case class Environment(
 )
 
 /** `dram` is the shared DRAM's account (None on chip). */
-final case class RunResult(hits: Seq[HitRecord], cycles: Long, perf: Map[String, BigInt], node: MemStats, tri: MemStats,
-    dram: Option[DramStats])
+final case class RunResult(
+    hits: Seq[HitRecord],
+    cycles: Long,
+    perf: Map[String, BigInt],
+    node: MemStats,
+    tri: MemStats,
+    dram: Option[DramStats]
+)
 
 /** Runs rays through an RtAccel (in its SimTop wrapper) cycle by cycle (single-threaded, no `fork`),
   * with memory models on both ports, sharing one DRAM (or each on chip). Each
@@ -37,17 +43,31 @@ final case class RunResult(hits: Seq[HitRecord], cycles: Long, perf: Map[String,
   * count of rays answered every 2^12 cycles (seconds under chiseltest).
   */
 object AccelHarness {
-  def run[T <: Data](dut: SimTop[T], img: MemoryImage, rays: IndexedSeq[RayRecord], env: Environment,
-      maxCycles: Long = 10000000L, stallLimit: Int = 20000, progress: Long => Unit = _ => ()): RunResult = {
+  def run[T <: Data](
+      dut: SimTop[T],
+      img: MemoryImage,
+      rays: IndexedSeq[RayRecord],
+      env: Environment,
+      maxCycles: Long = 10000000L,
+      stallLimit: Int = 20000,
+      progress: Long => Unit = _ => ()
+  ): RunResult = {
     val rnd = new Random(env.seed)
     // Each port serves whole records of its width: a node (32 B nori, 32 K B wide) or a triangle.
     val (nodeBytes, triBytes) = (dut.accel.io.nodeMem.p.dataBits / 8, dut.accel.io.triMem.p.dataBits / 8)
-    require(nodeBytes == img.nodeBytes, s"${img.source}: ${img.layout.name} nodes of ${img.nodeBytes} bytes, but the hardware reads $nodeBytes-byte nodes")
+    require(
+      nodeBytes == img.nodeBytes,
+      s"${img.source}: ${img.layout.name} nodes of ${img.nodeBytes} bytes, but the hardware reads $nodeBytes-byte nodes"
+    )
     val (backing, dram) = Backing.forPorts(env.memory)
     def driver(p: MemoryParams, recordBytes: Int, name: String) =
-      new MemPortDriver(new MemorySystemModel(img, recordBytes, p, name, backing), env.memRefuse, new Random(rnd.nextLong()))
+      new MemPortDriver(
+        new MemorySystemModel(img, recordBytes, p, name, backing),
+        env.memRefuse,
+        new Random(rnd.nextLong())
+      )
     val node = driver(env.node, nodeBytes, "node")
-    val tri  = driver(env.tri, triBytes, "triangle")
+    val tri = driver(env.tri, triBytes, "triangle")
     val st = new SimTop.Status(dut.accel)
     val io = dut.io
     io.nodeBase.poke(img.nodeOffset.U)
@@ -67,7 +87,8 @@ object AccelHarness {
     def set(word: UInt, value: BigInt, now: BigInt): BigInt = { if (value != now) word.poke(value.U); value }
     val (tagN, tagT) = (dut.accel.io.nodeMem.p.tagBits, dut.accel.io.triMem.p.tagBits)
     while (hits.size < rays.size) {
-      if (cycle >= maxCycles) throw new AssertionError(s"no finish after $maxCycles cycles: ${hits.size}/${rays.size} hits")
+      if (cycle >= maxCycles)
+        throw new AssertionError(s"no finish after $maxCycles cycles: ${hits.size}/${rays.size} hits")
       if (cycle - lastProgress > stallLimit)
         throw new AssertionError(s"deadlock: no ray entered or left for $stallLimit cycles at cycle $cycle " +
           s"(${hits.size}/${rays.size} hits, in flight: ${inFlight.toSeq.sorted.take(16).mkString(",")})")
@@ -79,10 +100,19 @@ object AccelHarness {
       val hitReady = !(env.hitRefuse > 0 && rnd.nextDouble() < env.hitRefuse)
       if (bit("hitsValid") && hitReady) {
         val w = io.hit.peek().litValue
-        val h = HitRecord(st(w, "hitNumber").toLong, st(w, "hitHit") == 1, st(w, "hitT").toLong, st(w, "hitU").toLong,
-          st(w, "hitV").toLong, st(w, "hitPrim").toLong, st(w, "hitErrors").toInt)
+        val h = HitRecord(
+          st(w, "hitNumber").toLong,
+          st(w, "hitHit") == 1,
+          st(w, "hitT").toLong,
+          st(w, "hitU").toLong,
+          st(w, "hitV").toLong,
+          st(w, "hitPrim").toLong,
+          st(w, "hitErrors").toInt
+        )
         if (!inFlight.remove(h.number))
-          throw new AssertionError(s"cycle $cycle: hit for ray ${h.number}, which is not in flight (lost or duplicated)")
+          throw new AssertionError(
+            s"cycle $cycle: hit for ray ${h.number}, which is not in flight (lost or duplicated)"
+          )
         hits += h
         lastProgress = cycle
       }

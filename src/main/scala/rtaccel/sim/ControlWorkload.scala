@@ -18,11 +18,23 @@ object ControlWorkload {
     val bad = rnd.nextInt(50) == 0 // NaN or inf: must come back with InvalidRay
     val o = Seq.fill(3)(rnd.nextInt().toLong & 0xffffffffL).map(w => w & 0x7f7fffffL | (w & 0x80000000L))
     val d = Seq.fill(3)(rnd.nextInt().toLong & 0xff7fffffL)
-    RayRecord(i.toLong * 3 + 7, if (bad) o.updated(1, f(Float.NaN)) else o, if (bad && rnd.nextBoolean()) d.updated(2, f(Float.PositiveInfinity)) else d,
-      f(0f), f((1 + rnd.nextInt(9)).toFloat), rnd.nextInt(4) == 0)
+    RayRecord(
+      i.toLong * 3 + 7,
+      if (bad) o.updated(1, f(Float.NaN)) else o,
+      if (bad && rnd.nextBoolean()) d.updated(2, f(Float.PositiveInfinity)) else d,
+      f(0f),
+      f((1 + rnd.nextInt(9)).toFloat),
+      rnd.nextInt(4) == 0
+    )
   }
 
-  def check(cfg: AccelConfig, img: MemoryImage, rays: IndexedSeq[RayRecord], got: Seq[HitRecord], what: String): Unit = {
+  def check(
+      cfg: AccelConfig,
+      img: MemoryImage,
+      rays: IndexedSeq[RayRecord],
+      got: Seq[HitRecord],
+      what: String
+  ): Unit = {
     assert(got.size == rays.size, s"$what: ${got.size} hits for ${rays.size} rays")
     assert(got.map(_.number).toSet == rays.map(_.number).toSet, s"$what: the set of ray numbers differs")
     val byNumber = got.map(h => h.number -> h).toMap
@@ -30,7 +42,10 @@ object ControlWorkload {
       val e = TraversalGolden.trace(cfg, img, FieldDatapath.Golden, r).hit
       val h = byNumber(r.number)
       val same = TraversalGolden.agrees(r, h, e)
-      assert(same, s"$what: ray ${r.number} (shadow=${r.shadow}): hardware $h, golden $e (errors ${ErrorFlags.describe(h.errors)})")
+      assert(
+        same,
+        s"$what: ray ${r.number} (shadow=${r.shadow}): hardware $h, golden $e (errors ${ErrorFlags.describe(h.errors)})"
+      )
     }
   }
 

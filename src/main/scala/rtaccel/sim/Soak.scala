@@ -32,9 +32,19 @@ object Soak {
     val rnd = new Random(seed)
     val rows = for (layout <- layouts; ids <- idCounts) yield {
       val (_, stack) = ControlWorkload.treeOf(layout, new Random(0))
-      val cfg = AccelConfig(numRayIds = ids, stackDepth = stack, maxNodes = 4096, maxTriangles = 4096, maxLeafSize = 4, layout = layout)
-      val annos = Seq(VerilatorBackendAnnotation, chiseltest.internal.CachingAnnotation,
-        TargetDirAnnotation(s"build/soak/SimTop_field_k${cfg.boxLanes}_n$ids"))
+      val cfg = AccelConfig(
+        numRayIds = ids,
+        stackDepth = stack,
+        maxNodes = 4096,
+        maxTriangles = 4096,
+        maxLeafSize = 4,
+        layout = layout
+      )
+      val annos = Seq(
+        VerilatorBackendAnnotation,
+        chiseltest.internal.CachingAnnotation,
+        TargetDirAnnotation(s"build/soak/SimTop_field_k${cfg.boxLanes}_n$ids")
+      )
       var (simCycles, rays, batches, errors) = (0L, 0L, 0, 0L)
       val t0 = System.nanoTime()
       RawTester.test(new SimTop(cfg, FieldDatapath), annos) { dut =>
@@ -43,10 +53,21 @@ object Soak {
           val batch = ControlWorkload.makeRays(rnd, 200 + rnd.nextInt(800))
           // On chip a port has a fixed latency; behind the shared DRAM any range.
           val onChip = rnd.nextBoolean()
-          def mem() = MemoryParams(if (onChip || rnd.nextBoolean()) Latency.Fixed(1 + rnd.nextInt(300)) else Latency.Uniform(1, 1 + rnd.nextInt(300)),
-            maxOutstanding = 1 + rnd.nextInt(64), inOrder = rnd.nextInt(4) == 0)
-          val env = Environment(mem(), mem(), if (onChip) MemoryKind.OnChip else MemoryKind.Ddr(),
-            rayGap = rnd.nextDouble() * 0.6, hitRefuse = rnd.nextDouble() * 0.8, memRefuse = rnd.nextDouble() * 0.5, seed = rnd.nextLong())
+          def mem() = MemoryParams(
+            if (onChip || rnd.nextBoolean()) Latency.Fixed(1 + rnd.nextInt(300))
+            else Latency.Uniform(1, 1 + rnd.nextInt(300)),
+            maxOutstanding = 1 + rnd.nextInt(64),
+            inOrder = rnd.nextInt(4) == 0
+          )
+          val env = Environment(
+            mem(),
+            mem(),
+            if (onChip) MemoryKind.OnChip else MemoryKind.Ddr(),
+            rayGap = rnd.nextDouble() * 0.6,
+            hitRefuse = rnd.nextDouble() * 0.8,
+            memRefuse = rnd.nextDouble() * 0.5,
+            seed = rnd.nextLong()
+          )
           dut.reset.poke(true.B); dut.clock.step(); dut.reset.poke(false.B)
           // 64 rays sharing one outstanding request at 300 cycles of latency can go
           // 10^5 cycles with no ray leaving: the deadlock alarm waits far longer.
@@ -57,13 +78,25 @@ object Soak {
         }
       }
       val secs = (System.nanoTime() - t0) / 1e9
-      println(f"soak: layout ${layout.name}%-4s ids $ids%2d: $simCycles%,d cycles, $rays%,d rays in $batches batches, " +
-        f"every ray answered once and golden-exact ($errors%,d with error flags), $secs%.0f s")
-      ujson.Obj("layout" -> layout.name, "ids" -> ids, "cycles" -> simCycles.toDouble, "rays" -> rays.toDouble,
-        "batches" -> batches, "errorRays" -> errors.toDouble, "seconds" -> secs)
+      println(
+        f"soak: layout ${layout.name}%-4s ids $ids%2d: $simCycles%,d cycles, $rays%,d rays in $batches batches, " +
+          f"every ray answered once and golden-exact ($errors%,d with error flags), $secs%.0f s"
+      )
+      ujson.Obj(
+        "layout" -> layout.name,
+        "ids" -> ids,
+        "cycles" -> simCycles.toDouble,
+        "rays" -> rays.toDouble,
+        "batches" -> batches,
+        "errorRays" -> errors.toDouble,
+        "seconds" -> secs
+      )
     }
     Files.createDirectories(Paths.get("build/soak"))
-    Files.writeString(Paths.get("build/soak/soak.json"), ujson.write(ujson.Obj("seed" -> seed.toDouble, "runs" -> ujson.Arr(rows: _*)), indent = 2))
+    Files.writeString(
+      Paths.get("build/soak/soak.json"),
+      ujson.write(ujson.Obj("seed" -> seed.toDouble, "runs" -> ujson.Arr(rows: _*)), indent = 2)
+    )
     println("soak: wrote build/soak/soak.json")
   }
 }

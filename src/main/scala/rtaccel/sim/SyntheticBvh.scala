@@ -21,13 +21,19 @@ import scala.util.Random
   */
 object SyntheticBvh {
   private def f(x: Float): Int = java.lang.Float.floatToRawIntBits(x)
+
   /** A random word that is a finite FP32 value (exponent bit 30 clear): scene data is never NaN or infinite. */
   private def finite(w: Int): Int = w & ~(1 << 30)
 
-  def apply(rnd: Random, maxDepth: Int, maxLeaf: Int, leafChance: Double = 0.3,
-      layout: BvhLayout = BvhLayout.Nori): MemoryImage = {
+  def apply(
+      rnd: Random,
+      maxDepth: Int,
+      maxLeaf: Int,
+      leafChance: Double = 0.3,
+      layout: BvhLayout = BvhLayout.Nori
+  ): MemoryImage = {
     val nodes = mutable.ArrayBuffer.empty[Array[Int]]
-    val tris  = mutable.ArrayBuffer.empty[Array[Int]]
+    val tris = mutable.ArrayBuffer.empty[Array[Int]]
     val k = layout.lanes
     def box(n: Array[Int], at: Int): Unit = {
       n(at + 2) = finite(rnd.nextInt())
@@ -39,7 +45,8 @@ object SyntheticBvh {
       val first = tris.size
       for (_ <- 0 until count) {
         val t = Array.fill(12)(0)
-        t(0) = f((1 + rnd.nextInt(8)).toFloat); t(1) = finite(rnd.nextInt()); t(2) = finite(rnd.nextInt()); t(3) = finite(rnd.nextInt())
+        t(0) = f((1 + rnd.nextInt(8)).toFloat); t(1) = finite(rnd.nextInt()); t(2) = finite(rnd.nextInt());
+        t(3) = finite(rnd.nextInt())
         tris += t
       }
       ((1 << 31) | count, first)
@@ -92,11 +99,21 @@ object SyntheticBvh {
     }
     def align64(x: Int) = (x + 63) / 64 * 64
     val nodeOffset = MemoryImage.HeaderBytes
-    val triOffset  = align64(nodeOffset + nodes.size * layout.nodeBytes)
+    val triOffset = align64(nodeOffset + nodes.size * layout.nodeBytes)
     val buf = ByteBuffer.allocate(triOffset + tris.size * 48).order(ByteOrder.LITTLE_ENDIAN)
     buf.put(MemoryImage.Magic)
-    Seq(MemoryImage.Version.toInt, nodes.size, tris.size, nodeOffset, triOffset, layout.nodeBytes, 48, maxLeaf, stackBound,
-      layout.code).foreach(buf.putInt)
+    Seq(
+      MemoryImage.Version.toInt,
+      nodes.size,
+      tris.size,
+      nodeOffset,
+      triOffset,
+      layout.nodeBytes,
+      48,
+      maxLeaf,
+      stackBound,
+      layout.code
+    ).foreach(buf.putInt)
     buf.position(nodeOffset)
     quantNodes match {
       case Some(q) => q.foreach(b => buf.put(b))
@@ -115,8 +132,10 @@ object SyntheticBvh {
     val bytes = img.bytes.clone()
     val buf = ByteBuffer.wrap(bytes).order(ByteOrder.LITTLE_ENDIAN)
     val bad = Seq(0x7fc00000, 0xffc00001, 0x7f800000, 0xff800000) // quiet NaN, NaN, +inf, -inf
-    val slots = for (i <- 0L until img.nodeCount; s <- 0 until img.layout.lanes
-      if buf.getInt((img.nodeAddr(i) + 32 * s).toInt) != rtaccel.bvh.BvhNode.EmptySlot.toInt) yield (img.nodeAddr(i) + 32 * s).toInt
+    val slots = for (
+      i <- 0L until img.nodeCount; s <- 0 until img.layout.lanes
+      if buf.getInt((img.nodeAddr(i) + 32 * s).toInt) != rtaccel.bvh.BvhNode.EmptySlot.toInt
+    ) yield (img.nodeAddr(i) + 32 * s).toInt
     val boxes = slots.filter(_ => rnd.nextDouble() < share) :+ slots(rnd.nextInt(slots.size))
     for (at <- boxes) buf.putInt(at + 8 + 4 * rnd.nextInt(6), bad(rnd.nextInt(4)))
     require(img.triCount > 0, s"${img.source}: no triangles to corrupt")

@@ -15,8 +15,14 @@ import rtaccel.bvh.QuantNode
   * the hardware does.
   */
 object SyntheticQuant {
+
   /** (node records as bytes, triangle records) from wide slot words (8 k ints per node). */
-  def apply(rnd: Random, wide: IndexedSeq[Array[Int]], tris: IndexedSeq[Array[Int]], k: Int): (IndexedSeq[Array[Byte]], IndexedSeq[Array[Int]]) = {
+  def apply(
+      rnd: Random,
+      wide: IndexedSeq[Array[Int]],
+      tris: IndexedSeq[Array[Int]],
+      k: Int
+  ): (IndexedSeq[Array[Byte]], IndexedSeq[Array[Int]]) = {
     val nodeBytes = QuantNode.nodeBytes(k)
     val out = mutable.ArrayBuffer.fill(1)(new Array[Byte](nodeBytes))
     val outTris = mutable.ArrayBuffer.empty[Array[Int]]
@@ -37,7 +43,8 @@ object SyntheticQuant {
       putInt(b, 16, if (inner.isEmpty) 0 else childBase)
       putInt(b, 20, triBase)
       for (s <- used) {
-        b(QuantNode.FixedBytes + s) = (if (kind(s) == 0) QuantNode.MetaInner else QuantNode.MetaLeaf | (kind(s) & 0x7f)).toByte
+        b(QuantNode.FixedBytes + s) =
+          (if (kind(s) == 0) QuantNode.MetaInner else QuantNode.MetaLeaf | (kind(s) & 0x7f)).toByte
         for (p <- 0 until 6) b(QuantNode.planeByte(k, p, s)) = rnd.nextInt(256).toByte
         b(QuantNode.planeByte(k, 1, s)) = java.lang.Float.intBitsToFloat(w(8 * s + 3)).toInt.toByte
       }

@@ -14,12 +14,14 @@ import java.nio.{ByteBuffer, ByteOrder}
   * reads and writes step the clock (so the memory keeps serving meanwhile).
   */
 final class SystemHarness[T <: Data](dut: SystemSimTop[T], p: AxiMemoryParams) {
+
   /** The slave's beat is the system's m_axi width (SystemConfig.axiDataBits). */
   val model = new AxiMemoryModel(p.copy(beatBytes = dut.sys.axiDataBytes))
   val mem: SparseMemory = model.mem
   private val sys = dut.sys
   private val io = dut.io
   var cycle = 0L
+
   /** B responses on m_axi: in a batch, one per hit record (WriteEngine writes each as a single-beat burst). */
   var writesAnswered = 0L
   dut.clock.setTimeout(0)
@@ -29,9 +31,13 @@ final class SystemHarness[T <: Data](dut: SystemSimTop[T], p: AxiMemoryParams) {
   private var ctrlNow, rNow, bNow, liteAddrNow, liteWNow = BigInt(-1)
   private def set(port: UInt, v: BigInt, now: BigInt): BigInt = { if (v != now) port.poke(v.U); v }
   private def field(word: BigInt, lsb: Int, w: Int): BigInt = (word >> lsb) & ((BigInt(1) << w) - 1)
-  private def addr(word: BigInt) = AxiAddrBeat(field(word, 0, sys.axiIdBits).toInt, field(word, sys.axiIdBits, sys.axiAddrBits).toLong,
-    field(word, sys.axiIdBits + sys.axiAddrBits, 8).toInt, field(word, sys.axiIdBits + sys.axiAddrBits + 8, 3).toInt,
-    field(word, sys.axiIdBits + sys.axiAddrBits + 11, 2).toInt)
+  private def addr(word: BigInt) = AxiAddrBeat(
+    field(word, 0, sys.axiIdBits).toInt,
+    field(word, sys.axiIdBits, sys.axiAddrBits).toLong,
+    field(word, sys.axiIdBits + sys.axiAddrBits, 8).toInt,
+    field(word, sys.axiIdBits + sys.axiAddrBits + 8, 3).toInt,
+    field(word, sys.axiIdBits + sys.axiAddrBits + 11, 2).toInt
+  )
   var flags = BigInt(0)
   def flag(n: String): Boolean = flags.testBit(SystemSimTop.outFields.indexOf(n))
 
@@ -46,14 +52,37 @@ final class SystemHarness[T <: Data](dut: SystemSimTop[T], p: AxiMemoryParams) {
       AxiWBeat(x >> (1 + sys.axiDataBits / 8), field(x, 1, sys.axiDataBits / 8), x.testBit(0))
     }
     for (r <- s.r)
-      rNow = set(io.r, (r.data << (3 + sys.axiIdBits)) | (BigInt(r.id) << 3) | (BigInt(r.resp) << 1) | (if (r.last) 1 else 0), rNow)
+      rNow = set(
+        io.r,
+        (r.data << (3 + sys.axiIdBits)) | (BigInt(r.id) << 3) | (BigInt(r.resp) << 1) | (if (r.last) 1 else 0),
+        rNow
+      )
     for (b <- s.b) bNow = set(io.b, (BigInt(b.id) << 2) | b.resp, bNow)
-    val ins = Map("arready" -> s.arReady, "awready" -> s.awReady, "wready" -> s.wReady, "rvalid" -> s.r.isDefined,
-      "bvalid" -> s.b.isDefined, "lite_awvalid" -> liteAw, "lite_wvalid" -> liteW, "lite_bready" -> liteBReady,
-      "lite_arvalid" -> liteAr, "lite_rready" -> liteRReady)
-    ctrlNow = set(io.ctrl, SystemSimTop.inFields.zipWithIndex.map { case (n, i) => if (ins(n)) BigInt(1) << i else BigInt(0) }.sum, ctrlNow)
+    val ins = Map(
+      "arready" -> s.arReady,
+      "awready" -> s.awReady,
+      "wready" -> s.wReady,
+      "rvalid" -> s.r.isDefined,
+      "bvalid" -> s.b.isDefined,
+      "lite_awvalid" -> liteAw,
+      "lite_wvalid" -> liteW,
+      "lite_bready" -> liteBReady,
+      "lite_arvalid" -> liteAr,
+      "lite_rready" -> liteRReady
+    )
+    ctrlNow = set(
+      io.ctrl,
+      SystemSimTop.inFields.zipWithIndex.map { case (n, i) => if (ins(n)) BigInt(1) << i else BigInt(0) }.sum,
+      ctrlNow
+    )
     if (s.b.isDefined && flag("bready")) writesAnswered += 1
-    model.commit(AxiMasterSignals(ar, aw, w, rReady = s.r.isDefined && flag("rready"), bReady = s.b.isDefined && flag("bready")))
+    model.commit(AxiMasterSignals(
+      ar,
+      aw,
+      w,
+      rReady = s.r.isDefined && flag("rready"),
+      bReady = s.b.isDefined && flag("bready")
+    ))
     dut.clock.step()
     model.tick()
     cycle += 1
@@ -62,7 +91,10 @@ final class SystemHarness[T <: Data](dut: SystemSimTop[T], p: AxiMemoryParams) {
 
   private def waitFor(what: String, limit: Int = 1000)(cond: => Boolean): Unit = {
     var n = 0
-    while (!cond) { step(); n += 1; if (n > limit) throw new AssertionError(s"cycle $cycle: s_axi $what: no handshake in $limit cycles") }
+    while (!cond) {
+      step(); n += 1;
+      if (n > limit) throw new AssertionError(s"cycle $cycle: s_axi $what: no handshake in $limit cycles")
+    }
   }
 
   /** An AXI4-Lite write; returns BRESP. */
@@ -128,13 +160,18 @@ final class SystemHarness[T <: Data](dut: SystemSimTop[T], p: AxiMemoryParams) {
     }
     mem.write(at, buf)
   }
+
   /** Hit record i of the buffer at `at`: (its number word, the hit, the reserved words). */
   def hitRecord(at: Long, i: Int): (HitRecord, Long) = {
-    val b = ByteBuffer.wrap(mem.read(at + SystemConfig.HitBytes * i, SystemConfig.HitBytes)).order(ByteOrder.LITTLE_ENDIAN)
+    val b =
+      ByteBuffer.wrap(mem.read(at + SystemConfig.HitBytes * i, SystemConfig.HitBytes)).order(ByteOrder.LITTLE_ENDIAN)
     val o = 0
     def u(k: Int) = b.getInt(o + k).toLong & 0xffffffffL
     val status = u(4)
-    (HitRecord(u(0), (status & 1) == 1, u(8), u(12), u(16), u(20), ((status >> 8) & 0xff).toInt), u(24) | u(28) | (status & 0xfe) | (status >> 13))
+    (
+      HitRecord(u(0), (status & 1) == 1, u(8), u(12), u(16), u(20), ((status >> 8) & 0xff).toInt),
+      u(24) | u(28) | (status & 0xfe) | (status >> 13)
+    )
   }
 
   /** The driver sequence: load the scene image at `sceneBase`, wait for IRQ SCENE; returns SCENE_ERROR_CODE. */
@@ -168,6 +205,7 @@ final class SystemHarness[T <: Data](dut: SystemSimTop[T], p: AxiMemoryParams) {
 }
 
 object SystemHarness {
+
   /** A memory layout: scene at 64 KB, rays and hits after it on 4 KB pages plus `skew` 64-byte lines. */
   final case class Layout(sceneBase: Long, rayBase: Long, hitBase: Long)
   def layout(img: MemoryImage, rays: Int, skew: Int): Layout = {

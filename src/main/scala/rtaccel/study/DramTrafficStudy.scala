@@ -15,11 +15,15 @@ import scala.collection.mutable
   * `<root>/<layout>/<run>` for every layout the candidates name; writes a markdown report.
   */
 object DramTrafficStudy {
-  final case class Args(root: Path = Paths.get("build/dram-traffic"), maxRays: Int = 2048,
-      runs: Seq[String] = Seq("dragon-primary", "dragon-shadow", "dragon-ao"), out: Path = Paths.get("build/dram-traffic/study.md"),
+  final case class Args(
+      root: Path = Paths.get("build/dram-traffic"),
+      maxRays: Int = 2048,
+      runs: Seq[String] = Seq("dragon-primary", "dragon-shadow", "dragon-ao"),
+      out: Path = Paths.get("build/dram-traffic/study.md"),
       command: String = "make dram-traffic-study",
       /** Only the candidates whose name contains one of these (all when empty). */
-      only: Seq[String] = Nil)
+      only: Seq[String] = Nil
+  )
 
   val usage = "usage: DramTrafficStudy [--root build/dram-traffic] [--max-rays 2048] [--runs dragon-primary,...] " +
     "[--out build/dram-traffic/study.md] [--only today,cache,...]"
@@ -29,16 +33,18 @@ object DramTrafficStudy {
     if (args.size % 2 != 0) fail(s"options come in pairs: ${args.mkString(" ")}")
     args.grouped(2).map(p => p(0) -> p(1)).foldLeft(Args()) { case (a, (k, v)) =>
       k match {
-        case "--root"     => a.copy(root = Paths.get(v))
-        case "--max-rays" => a.copy(maxRays = v.toIntOption.filter(_ >= 1).getOrElse(fail(s"--max-rays: '$v' is not a whole number >= 1")))
-        case "--runs"     => a.copy(runs = v.split(',').map(_.trim).filter(_.nonEmpty).toSeq)
-        case "--out"      => a.copy(out = Paths.get(v))
-        case "--only"     =>
+        case "--root" => a.copy(root = Paths.get(v))
+        case "--max-rays" =>
+          a.copy(maxRays = v.toIntOption.filter(_ >= 1).getOrElse(fail(s"--max-rays: '$v' is not a whole number >= 1")))
+        case "--runs" => a.copy(runs = v.split(',').map(_.trim).filter(_.nonEmpty).toSeq)
+        case "--out"  => a.copy(out = Paths.get(v))
+        case "--only" =>
           val keys = v.split(',').map(_.trim).filter(_.nonEmpty).toSeq
           keys.filterNot(k => Candidates.all.exists(_.key == k)).foreach(k =>
-            fail(s"--only: '$k' is not one of ${Candidates.all.map(_.key).mkString(", ")}"))
+            fail(s"--only: '$k' is not one of ${Candidates.all.map(_.key).mkString(", ")}")
+          )
           a.copy(only = keys)
-        case other        => fail(s"unknown option '$other'")
+        case other => fail(s"unknown option '$other'")
       }
     }
   }
@@ -66,15 +72,18 @@ object DramTrafficStudy {
       "DDR3's 4.3 GB/s beside it (best placement of whole regions: nodes, triangles, rays and hits), and m_axi's R " +
       "channel (64 bytes per cycle at 104 MHz, 512 bits) over the bytes read.\n"
     val packages = mutable.Map.empty[(String, String), (ScenePackage, IndexedSeq[RayReads])]
-    def load(layout: String, run: String) = packages.getOrElseUpdate((layout, run), {
-      val p = ScenePackage.load(a.root.resolve(layout).resolve(run))
-      val cfg = AccelConfig.zc706.copy(layout = BvhLayout.parse(layout))
-      if (p.image.layout != cfg.layout) throw new IllegalArgumentException(s"${p.dir}: holds ${p.image.layout.name} nodes, not $layout")
-      val t0 = System.nanoTime()
-      val rays = RayReads.sample(p.rays, a.maxRays).map(RayReads.of(cfg, p.image, golden, _))
-      println(f"dram-traffic: ${p.dir}: ${rays.size} rays walked in ${(System.nanoTime() - t0) / 1e9}%.1f s")
-      (p, rays)
-    })
+    def load(layout: String, run: String) = packages.getOrElseUpdate(
+      (layout, run), {
+        val p = ScenePackage.load(a.root.resolve(layout).resolve(run))
+        val cfg = AccelConfig.zc706.copy(layout = BvhLayout.parse(layout))
+        if (p.image.layout != cfg.layout)
+          throw new IllegalArgumentException(s"${p.dir}: holds ${p.image.layout.name} nodes, not $layout")
+        val t0 = System.nanoTime()
+        val rays = RayReads.sample(p.rays, a.maxRays).map(RayReads.of(cfg, p.image, golden, _))
+        println(f"dram-traffic: ${p.dir}: ${rays.size} rays walked in ${(System.nanoTime() - t0) / 1e9}%.1f s")
+        (p, rays)
+      }
+    )
     for (run <- a.runs) {
       val (p0, rays0) = load("4", run)
       md ++= s"\n### $run (${rays0.size} of ${p0.rays.size} rays, strided)\n\n"
@@ -88,9 +97,11 @@ object DramTrafficStudy {
         val bram = Traffic.Cores.map(k => c.bram(k, rays.size))
         val bramText = bram.map(b => if (b > MemoryDesign.DeviceBram36) s"**$b**" else b.toString).mkString(" / ")
         val parks = if (t.park > 0) s" + ${f0(t.park)}" else ""
-        val split = s"${f0(t.nodes(1))} / ${f0(t.tris(1))} / ${f0(t.rays)} / ${f0(t.hits)}$parks = **${f0(t.total(1))}**"
-        val row = s"| ${c.name} (`${c.key}`) | ${c.layout} | $bramText | $split | ${f0(t.total(0))} / ${f0(t.total(2))} | " +
-          f"${t.parks}%.1f | ${PlDdr / t.total(1)}%.1f | ${withPs(t)}%.1f | ${PortRead / t.readBytes(1)}%.1f |"
+        val split =
+          s"${f0(t.nodes(1))} / ${f0(t.tris(1))} / ${f0(t.rays)} / ${f0(t.hits)}$parks = **${f0(t.total(1))}**"
+        val row =
+          s"| ${c.name} (`${c.key}`) | ${c.layout} | $bramText | $split | ${f0(t.total(0))} / ${f0(t.total(2))} | " +
+            f"${t.parks}%.1f | ${PlDdr / t.total(1)}%.1f | ${withPs(t)}%.1f | ${PortRead / t.readBytes(1)}%.1f |"
         md ++= row + "\n"
         println(s"$run $row")
       }

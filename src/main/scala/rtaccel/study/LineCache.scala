@@ -22,10 +22,16 @@ final class LineCache(bytes: Long, ways: Int = 4) {
 }
 
 object LineCache {
+
   /** DRAM bytes per ray, (node, triangle), of `rays` in this order through a cache of `bytes` behind `design`'s
     * stores, `inFlight` rays interleaved. */
-  def bytesPerRay(rays: IndexedSeq[RayReads], img: rtaccel.scene.MemoryImage, design: MemoryDesign, bytes: Long,
-      inFlight: Int): (Double, Double) = {
+  def bytesPerRay(
+      rays: IndexedSeq[RayReads],
+      img: rtaccel.scene.MemoryImage,
+      design: MemoryDesign,
+      bytes: Long,
+      inFlight: Int
+  ): (Double, Double) = {
     val cache = new LineCache(bytes)
     var nodeB, triB = 0L
     val slots = mutable.ArrayBuffer.empty[(RayReads, Int)]
@@ -65,7 +71,8 @@ object RayOrder {
     val cells = 1 << CellBits
     def cell(o: Seq[Double], a: Int): Int =
       if (hi(a) <= lo(a)) 0 else ((o(a) - lo(a)) / (hi(a) - lo(a)) * cells).toInt.min(cells - 1).max(0)
-    def morton(c: Seq[Int]): Int = (0 until CellBits).map(b => (0 until 3).map(a => ((c(a) >> b) & 1) << (3 * b + a)).sum).sum
+    def morton(c: Seq[Int]): Int =
+      (0 until CellBits).map(b => (0 until 3).map(a => ((c(a) >> b) & 1) << (3 * b + a)).sum).sum
     def octant(r: RayReads): Int = (0 until 3).map(a => if ((r.ray.dir(a) >> 31) != 0) 1 << a else 0).sum
     rays.zip(origins).sortBy { case (r, o) => (morton((0 until 3).map(cell(o, _))), octant(r)) }.map(_._1)
   }

@@ -11,6 +11,7 @@ import scala.collection.mutable
   * breadth-first puts the top levels first.
   */
 object NodeOrder {
+
   /** The node indices of node i's inner children. */
   def children(img: MemoryImage, i: Long): Seq[Long] = img.layout match {
     case BvhLayout.Nori =>

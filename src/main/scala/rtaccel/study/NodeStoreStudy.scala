@@ -41,7 +41,13 @@ object NodeStoreStudy {
     val rows = mutable.ArrayBuffer.empty[String]
     for (layout <- Layouts; run <- Bench.Runs) {
       val dir = from.getOrElse(root).resolve(layout).resolve(run.name)
-      if (from.isEmpty) Bridge.compile(bridge, Paths.get(run.xml), dir, run.rays, bvh = Option.when(layout != Bench.DefaultLayout)(layout))
+      if (from.isEmpty) Bridge.compile(
+        bridge,
+        Paths.get(run.xml),
+        dir,
+        run.rays,
+        bvh = Option.when(layout != Bench.DefaultLayout)(layout)
+      )
       val p = ScenePackage.load(dir)
       val cfg = Bench.configFor(layout)
       val stride = (p.rays.size + maxRays - 1) / maxRays
@@ -59,7 +65,7 @@ object NodeStoreStudy {
         val s = kib * 1024L
         def rate(hit: Long => Boolean) = traces.map(_.count(hit).toLong).sum.toDouble / fetches
         val dfs = rate(i => (i + 1) * nb <= s)
-        val bf  = rate(i => (bfs(i.toInt) + 1) * nb <= s)
+        val bf = rate(i => (bfs(i.toInt) + 1) * nb <= s)
         val (cold, warm) = cacheRate(traces, s, nb, p.image.nodeOffset)
         f"${100 * dfs}%.1f / ${100 * bf}%.1f / ${100 * cold}%.1f / ${100 * warm}%.1f"
       }
@@ -89,7 +95,7 @@ object NodeStoreStudy {
     var hits, total = 0L
     def access(node: Long): Unit = {
       val first = (nodeOffset + node * nodeBytes) / line
-      val last  = (nodeOffset + (node + 1) * nodeBytes - 1) / line
+      val last = (nodeOffset + (node + 1) * nodeBytes - 1) / line
       var all = true
       for (l <- first to last) {
         val s = lru((l % sets).toInt)

@@ -76,8 +76,8 @@ object Treelets {
         val own = design.bytes(img, read)
         if (own > 0) {
           val t = read match {
-            case NodeRead(i) => nodeT(i.toInt)
-            case TriRead(j) => triT(j.toInt)
+            case NodeRead(i)    => nodeT(i.toInt)
+            case TriRead(j)     => triT(j.toInt)
             case LeafRead(f, _) => triT(f.toInt)
           }
           require(t >= 0, s"${img.source}: a read past the stores has no treelet ($read)")
@@ -88,7 +88,8 @@ object Treelets {
     }
     val at = Array.fill(rays.size)(0)
     var now = mutable.TreeMap.empty[Int, mutable.ArrayBuffer[Int]]
-    def queue(m: mutable.TreeMap[Int, mutable.ArrayBuffer[Int]], t: Int, r: Int) = m.getOrElseUpdate(t, mutable.ArrayBuffer.empty) += r
+    def queue(m: mutable.TreeMap[Int, mutable.ArrayBuffer[Int]], t: Int, r: Int) =
+      m.getOrElseUpdate(t, mutable.ArrayBuffer.empty) += r
     for (r <- rays.indices if visits(r).nonEmpty) queue(now, visits(r)(0)._1, r)
     var bytes, parks = 0L
     var loads = 0
@@ -98,7 +99,8 @@ object Treelets {
         val (t, rs) = now.head
         now -= t
         val own = rs.map(r => visits(r)(at(r))._2).sum
-        if (loadBytes(t) < own) { bytes += loadBytes(t); loads += 1 } else bytes += own
+        if (loadBytes(t) < own) { bytes += loadBytes(t); loads += 1 }
+        else bytes += own
         for (r <- rs) {
           at(r) += 1
           if (at(r) < visits(r).length) {

@@ -16,12 +16,20 @@ object GoldenHits {
     def perRay(n: Long): Double = n.toDouble / hits.size.max(1)
   }
 
-  def run[S](cfg: AccelConfig, img: MemoryImage, golden: ArithGolden[S], rays: IndexedSeq[RayRecord], threads: Int): Result = {
+  def run[S](
+      cfg: AccelConfig,
+      img: MemoryImage,
+      golden: ArithGolden[S],
+      rays: IndexedSeq[RayRecord],
+      threads: Int
+  ): Result = {
     // Contiguous chunks, so each worker's memory traffic stays local.
     val chunks = rays.grouped((rays.size + threads * 8 - 1) / (threads * 8).max(1)).toIndexedSeq
     val pool = Executors.newFixedThreadPool(threads)
     try {
-      val tasks = chunks.map(c => (() => c.map(r => TraversalGolden.trace(cfg, img, golden, r))): Callable[IndexedSeq[TraversalGolden.Trace]])
+      val tasks = chunks.map(c =>
+        (() => c.map(r => TraversalGolden.trace(cfg, img, golden, r))): Callable[IndexedSeq[TraversalGolden.Trace]]
+      )
       val traces = pool.invokeAll(tasks.asJava).asScala.toIndexedSeq.flatMap(_.get())
       Result(traces.map(_.hit), traces.map(_.boxTests.toLong).sum, traces.map(_.triTests.toLong).sum)
     } finally pool.shutdown()

@@ -31,8 +31,10 @@ final case class SweepArgs(
     group: String
 ) {
   def dp: FloatDatapath = FloatDatapath(boxFmt, triFmt, test, rounding)
+
   /** `4q-e8m10-e8m23-cons-wt`: the point's name in file names and reports. */
   def name: String = SweepArgs.pointName(layout, boxFmt, triFmt, rounding, test)
+
   /** Packages are compiled once per layout: `<sweep>/packages/<layout>/<run>`. */
   def packageDir(run: String): Path = sweep.resolve("packages").resolve(layout.name).resolve(run)
   def hitsFile(run: String): Path = sweep.resolve("hits").resolve(name).resolve(s"$run.csv")
@@ -50,14 +52,31 @@ object SweepArgs {
   def parse(args: Seq[String]): SweepArgs = {
     if (args.size % 2 != 0) fail(s"options come in pairs: ${args.mkString(" ")}")
     val kv = args.grouped(2).map(p => p(0) -> p(1)).toMap
-    val known = Set("--bvh", "--float", "--box-float", "--tri-float", "--rounding", "--triangle", "--sweep", "--runs", "--speed-runs", "--speed-rays",
-      "--hard-dir", "--bridge", "--threads", "--seed", "--group")
+    val known = Set(
+      "--bvh",
+      "--float",
+      "--box-float",
+      "--tri-float",
+      "--rounding",
+      "--triangle",
+      "--sweep",
+      "--runs",
+      "--speed-runs",
+      "--speed-rays",
+      "--hard-dir",
+      "--bridge",
+      "--threads",
+      "--seed",
+      "--group"
+    )
     kv.keys.filterNot(known).foreach(k => fail(s"unknown option '$k'"))
     def req(k: String) = kv.getOrElse(k, fail(s"$k is required"))
     def list(k: String) = kv.get(k).toSeq.flatMap(_.split(',').map(_.trim).filter(_.nonEmpty))
     def int(k: String, default: Int) =
       kv.get(k).fold(default)(v => v.toIntOption.filter(_ >= 1).getOrElse(fail(s"$k: '$v' is not a whole number >= 1")))
-    def wrap[A](k: String)(f: => A): A = try f catch { case e: IllegalArgumentException => fail(s"$k: ${e.getMessage}") }
+    def wrap[A](k: String)(f: => A): A =
+      try f
+      catch { case e: IllegalArgumentException => fail(s"$k: ${e.getMessage}") }
     val runs = list("--runs")
     if (runs.isEmpty) fail("--runs: give at least one package name")
     val speed = list("--speed-runs")
@@ -70,12 +89,15 @@ object SweepArgs {
       rounding = wrap("--rounding")(BoxRounding.parse(req("--rounding"))),
       test = wrap("--triangle")(TriangleTest.parse(req("--triangle"))),
       sweep = Paths.get(req("--sweep")),
-      runs = runs, speedRuns = speed, speedRays = int("--speed-rays", 1024),
+      runs = runs,
+      speedRuns = speed,
+      speedRays = int("--speed-rays", 1024),
       hardDir = Paths.get(kv.getOrElse("--hard-dir", "scenes/hard")),
       bridge = Paths.get(kv.getOrElse("--bridge", "nori-bridge/target/release/nori-bridge")),
       threads = int("--threads", 1),
       seed = kv.get("--seed").fold(1L)(v => v.toLongOption.getOrElse(fail(s"--seed: '$v' is not a whole number"))),
-      group = kv.getOrElse("--group", "").filter(c => c.isLetterOrDigit || c == '-'))
+      group = kv.getOrElse("--group", "").filter(c => c.isLetterOrDigit || c == '-')
+    )
   }
 
   private def fail(why: String): Nothing = throw new IllegalArgumentException(s"$why\n$usage")

@@ -27,7 +27,9 @@ object SweepPoint {
     val packages = a.runs.map(r => r -> ScenePackage.load(a.packageDir(r))).toMap
     // The packages' node layout (nori-bridge compile --bvh) must be the point's.
     for ((r, p) <- packages if p.image.layout != a.layout)
-      throw new IllegalArgumentException(s"${p.dir}: compiled with ${p.image.layout.name} nodes, but the point is ${a.layout.name}")
+      throw new IllegalArgumentException(
+        s"${p.dir}: compiled with ${p.image.layout.name} nodes, but the point is ${a.layout.name}"
+      )
     val cfg = a.dp.configure(AccelConfig.zc706.copy(layout = a.layout))
     // The numeric range is not checked here: where a narrow format cannot hold a
     // scene's range is exactly what the sweep measures (`in_range` per run).
@@ -44,8 +46,12 @@ object SweepPoint {
       run -> (g, judged)
     }.toMap
 
-    val speed = SpeedRuns.measure(a, cfg, a.speedRuns.map(r => r -> packages(r)),
-      a.speedRuns.map(r => r -> entries(r)._1.hits.map(h => h.number -> h).toMap).toMap)
+    val speed = SpeedRuns.measure(
+      a,
+      cfg,
+      a.speedRuns.map(r => r -> packages(r)),
+      a.speedRuns.map(r => r -> entries(r)._1.hits.map(h => h.number -> h).toMap).toMap
+    )
 
     val runs = a.runs.map { run =>
       val p = packages(run)
@@ -53,27 +59,41 @@ object SweepPoint {
       val manifest = ujson.read(Files.readString(p.dir.resolve("package.json")))
       val scene = java.nio.file.Paths.get(manifest("source_scene").str).getFileName.toString.stripSuffix(".xml")
       val o = ujson.Obj(
-        "run" -> run, "scene" -> scene, "rays" -> manifest("ray_kind").str,
+        "run" -> run,
+        "scene" -> scene,
+        "rays" -> manifest("ray_kind").str,
         "hard_case" -> hardCase(run).fold[ujson.Value](ujson.Null)(ujson.Str(_)),
-        "package" -> p.dir.toString, "hits" -> a.hitsFile(run).toString,
+        "package" -> p.dir.toString,
+        "hits" -> a.hitsFile(run).toString,
         "rays_total" -> p.rays.size,
-        "in_range" -> Seq(a.boxFmt, a.triFmt).forall(f => p.range.misfit(f).isEmpty), "exp_bits_needed" -> p.range.expBits, "error_flagged" -> g.hits.count(_.errors != 0),
-        "node_tests_per_ray" -> g.perRay(g.boxTests), "tri_tests_per_ray" -> g.perRay(g.triTests),
+        "in_range" -> Seq(a.boxFmt, a.triFmt).forall(f => p.range.misfit(f).isEmpty),
+        "exp_bits_needed" -> p.range.expBits,
+        "error_flagged" -> g.hits.count(_.errors != 0),
+        "node_tests_per_ray" -> g.perRay(g.boxTests),
+        "tri_tests_per_ray" -> g.perRay(g.triTests),
         // Every box test is one node fetch (TraversalGolden: a node's K slots in one test).
         "node_bytes_per_ray" -> g.perRay(g.boxTests) * p.image.nodeBytes.toDouble,
-        "speed" -> speed.getOrElse(run, ujson.Null))
+        "speed" -> speed.getOrElse(run, ujson.Null)
+      )
       o(if (hardCase(run).isDefined) "hard" else "accuracy") = judged
       o
     }
     val point = ujson.Obj(
-      "config" -> ujson.Obj("name" -> a.name, "float" -> FloatDatapath.formatsName(a.boxFmt, a.triFmt),
-        "exp_bits" -> a.boxFmt.expBits, "man_bits" -> a.boxFmt.manBits, "layout" -> a.layout.name,
-        "box_float" -> a.boxFmt.name, "tri_float" -> a.triFmt.name,
+      "config" -> ujson.Obj(
+        "name" -> a.name,
+        "float" -> FloatDatapath.formatsName(a.boxFmt, a.triFmt),
+        "exp_bits" -> a.boxFmt.expBits,
+        "man_bits" -> a.boxFmt.manBits,
+        "layout" -> a.layout.name,
+        "box_float" -> a.boxFmt.name,
+        "tri_float" -> a.triFmt.name,
         "rounding" -> (if (a.rounding.tag == "rne") "rne" else "conservative"),
-        "triangle" -> (if (a.test.tag == "wt") "watertight" else "moller")),
+        "triangle" -> (if (a.test.tag == "wt") "watertight" else "moller")
+      ),
       "latency" -> latencies(cfg, a),
       "runs" -> ujson.Arr(runs: _*),
-      "seconds" -> (System.nanoTime() - t0) / 1e9)
+      "seconds" -> (System.nanoTime() - t0) / 1e9
+    )
     Files.createDirectories(a.pointFile.getParent)
     Files.writeString(a.pointFile, ujson.write(point, indent = 2))
     println(f"sweep ${a.name}: wrote ${a.pointFile} in ${(System.nanoTime() - t0) / 1e9}%.0f s")
@@ -88,15 +108,21 @@ object SweepPoint {
   private def judge(a: SweepArgs, run: String, p: ScenePackage): ujson.Value = hardCase(run) match {
     case Some(c) =>
       val expect = a.hardDir.resolve(c).resolve("expect.csv")
-      if (!Files.exists(expect)) throw new IllegalArgumentException(s"$expect: missing (regenerate with `make hard-cases`)")
+      if (!Files.exists(expect))
+        throw new IllegalArgumentException(s"$expect: missing (regenerate with `make hard-cases`)")
       val out = a.sweep.resolve("hard").resolve(a.name).resolve(s"$run.json")
       Bridge.hardScore(a.bridge, p.dir, a.hitsFile(run), expect, out)
     case None =>
       // Judged with FP32 tolerances whatever the format: a narrow format's extra
       // error must show as false misses/hits, not be excused as "edge" by
       // tolerances scaled to its own precision. Ties (equal t in f64) stay apart.
-      Bridge.compare(a.bridge, p.dir, a.sweep.resolve("accuracy").resolve(a.name).resolve(run), SweepPoint.judgedPrecision,
-        hits = Some(a.hitsFile(run)))
+      Bridge.compare(
+        a.bridge,
+        p.dir,
+        a.sweep.resolve("accuracy").resolve(a.name).resolve(run),
+        SweepPoint.judgedPrecision,
+        hits = Some(a.hitsFile(run))
+      )
   }
 
   /** Each unit's derived latency, from its elaborated module (no Verilog emitted). */

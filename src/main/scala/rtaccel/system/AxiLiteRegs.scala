@@ -21,8 +21,8 @@ class AxiLiteRegs extends Module {
   private val regs = RegisterMap.regs
   private val n = regs.size
   val io = IO(new Bundle {
-    val axi   = Flipped(new AxiLite(RegisterMap.AddrBits, 32))
-    val hw    = Input(Vec(n, UInt(32.W)))
+    val axi = Flipped(new AxiLite(RegisterMap.AddrBits, 32))
+    val hw = Input(Vec(n, UInt(32.W)))
     val value = Output(Vec(n, UInt(32.W)))
     val pulse = Output(Vec(n, UInt(32.W)))
   })
@@ -33,21 +33,22 @@ class AxiLiteRegs extends Module {
   private val stateRegs: Seq[Option[UInt]] = regs.map { r =>
     r.access match {
       case Access.Rw | Access.W1c => Some(RegInit(r.reset.getOrElse(0L).U(32.W)))
-      case _ => None
+      case _                      => None
     }
   }
-  private val hiShadow: Map[Int, UInt] = regs.zipWithIndex.collect { case (r, i) if r.hiOf.isDefined => i -> RegInit(0.U(32.W)) }.toMap
+  private val hiShadow: Map[Int, UInt] =
+    regs.zipWithIndex.collect { case (r, i) if r.hiOf.isDefined => i -> RegInit(0.U(32.W)) }.toMap
 
   // ---- write channel: hold AW and W until both are in, then write and answer ----
   private val awValidReg = RegInit(false.B)
-  private val awAddrReg  = Reg(UInt(RegisterMap.AddrBits.W))
-  private val wValidReg  = RegInit(false.B)
-  private val wDataReg   = Reg(UInt(32.W))
-  private val wStrbReg   = Reg(UInt(4.W))
-  private val bValidReg  = RegInit(false.B)
-  private val bRespReg   = RegInit(0.U(2.W))
+  private val awAddrReg = Reg(UInt(RegisterMap.AddrBits.W))
+  private val wValidReg = RegInit(false.B)
+  private val wDataReg = Reg(UInt(32.W))
+  private val wStrbReg = Reg(UInt(4.W))
+  private val bValidReg = RegInit(false.B)
+  private val bRespReg = RegInit(0.U(2.W))
   io.axi.aw.ready := !awValidReg
-  io.axi.w.ready  := !wValidReg
+  io.axi.w.ready := !wValidReg
   when(io.axi.aw.fire) { awValidReg := true.B; awAddrReg := io.axi.aw.bits.addr }
   when(io.axi.w.fire) { wValidReg := true.B; wDataReg := io.axi.w.bits.data; wStrbReg := io.axi.w.bits.strb }
   private val doWrite = awValidReg && wValidReg && !bValidReg
@@ -58,7 +59,7 @@ class AxiLiteRegs extends Module {
     bRespReg := Mux(VecInit(wHits).asUInt.orR, AxiResp.Okay.U, AxiResp.SlvErr.U)
   }
   io.axi.b.valid := bValidReg
-  io.axi.b.bits  := bRespReg
+  io.axi.b.bits := bRespReg
   when(io.axi.b.fire) { bValidReg := false.B }
 
   for (((r, i), hit) <- regs.zipWithIndex.zip(wHits)) {
@@ -79,22 +80,22 @@ class AxiLiteRegs extends Module {
 
   // ---- read channel ----
   private val rValidReg = RegInit(false.B)
-  private val rDataReg  = RegInit(0.U(32.W))
-  private val rRespReg  = RegInit(0.U(2.W))
+  private val rDataReg = RegInit(0.U(32.W))
+  private val rRespReg = RegInit(0.U(2.W))
   io.axi.ar.ready := !rValidReg
   private val rHits = hits(io.axi.ar.bits.addr)
   private val readValue: Seq[UInt] = regs.zipWithIndex.map { case (r, i) =>
     r.access match {
       case Access.Ro if r.hiOf.isDefined => hiShadow(i)
-      case Access.Ro => r.reset.map(_.U(32.W)).getOrElse(io.hw(i))
-      case Access.Wo => 0.U(32.W)
-      case _ => stateRegs(i).get
+      case Access.Ro                     => r.reset.map(_.U(32.W)).getOrElse(io.hw(i))
+      case Access.Wo                     => 0.U(32.W)
+      case _                             => stateRegs(i).get
     }
   }
   when(io.axi.ar.fire) {
     rValidReg := true.B
-    rDataReg  := Mux1H(rHits, readValue)
-    rRespReg  := Mux(VecInit(rHits).asUInt.orR, AxiResp.Okay.U, AxiResp.SlvErr.U)
+    rDataReg := Mux1H(rHits, readValue)
+    rRespReg := Mux(VecInit(rHits).asUInt.orR, AxiResp.Okay.U, AxiResp.SlvErr.U)
     // Reading a counter's _LO latches its _HI in the same cycle: the pair is one 64-bit value.
     for ((i, sh) <- hiShadow) {
       val lo = RegisterMap.index(regs(i).hiOf.get)

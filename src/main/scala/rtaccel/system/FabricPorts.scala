@@ -8,12 +8,13 @@ import chisel3._
   * bytes 32 h .. 32 h + 31), one or both.
   */
 class WriteRecord(sys: SystemConfig) extends Bundle {
-  val addr   = UInt(sys.axiAddrBits.W)
-  val data   = UInt((WriteRecord.Bytes * 8).W)
+  val addr = UInt(sys.axiAddrBits.W)
+  val data = UInt((WriteRecord.Bytes * 8).W)
   val halves = UInt(WriteRecord.Records.W)
 }
 object WriteRecord {
   val Bytes = 64
+
   /** The records of a line: 32 bytes each (SystemConfig.HitBytes). */
   val Records = 2
   val RecordBytes = Bytes / Records
@@ -29,11 +30,11 @@ object WriteRecord {
   */
 class NodeStoreLoad(addrBits: Int) extends Bundle {
   def this(sys: SystemConfig) = this(sys.axiAddrBits)
-  val base        = Input(UInt(addrBits.W))
-  val bytes       = Input(UInt(32.W))
-  val start       = Input(Bool())
-  val busy        = Output(Bool())
-  val done        = Output(Bool())
+  val base = Input(UInt(addrBits.W))
+  val bytes = Input(UInt(32.W))
+  val start = Input(Bool())
+  val busy = Output(Bool())
+  val done = Output(Bool())
   val storedBytes = Output(UInt(32.W))
 }
 
@@ -41,16 +42,22 @@ class NodeStoreLoad(addrBits: Int) extends Bundle {
   * that clears its counters keeps a snapshot). 64 bits: no wrap in any run.
   */
 class FabricStats extends Bundle {
+
   /** R beats received (every ID, node-store fill included). */
-  val readBeats       = UInt(64.W)
+  val readBeats = UInt(64.W)
+
   /** W beats sent. */
-  val writeBeats      = UInt(64.W)
+  val writeBeats = UInt(64.W)
+
   /** Cycles with arvalid && !arready. */
-  val arStallCycles   = UInt(64.W)
+  val arStallCycles = UInt(64.W)
+
   /** Node-client requests served by the node store. */
-  val nodeStoreHits   = UInt(64.W)
+  val nodeStoreHits = UInt(64.W)
+
   /** Node-client requests sent to DRAM. */
   val nodeStoreMisses = UInt(64.W)
+
   /** Triangle-client requests served by the triangle store. */
-  val triStoreHits    = UInt(64.W)
+  val triStoreHits = UInt(64.W)
 }

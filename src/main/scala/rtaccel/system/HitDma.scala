@@ -26,28 +26,28 @@ import rtaccel.{ErrorFlags, HitOut}
   */
 class HitDma(sys: SystemConfig) extends Module {
   val io = IO(new Bundle {
-    val start    = Input(Bool())
-    val hitBase  = Input(UInt(sys.axiAddrBits.W))
+    val start = Input(Bool())
+    val hitBase = Input(UInt(sys.axiAddrBits.W))
     val rayCount = Input(UInt(32.W))
-    val hits     = Vec(sys.cores, Flipped(Decoupled(new HitOut(sys.core))))
-    val write    = Decoupled(new WriteRecord(sys))
+    val hits = Vec(sys.cores, Flipped(Decoupled(new HitOut(sys.core))))
+    val write = Decoupled(new WriteRecord(sys))
     val errCount = Output(Vec(ErrorFlags.width, UInt(32.W)))
-    val broken   = Output(Bool())
+    val broken = Output(Bool())
   })
   private val arb = Module(new RRArbiter(new HitOut(sys.core), sys.cores))
   arb.io.in <> io.hits
-  private val baseReg  = RegInit(0.U(sys.axiAddrBits.W))
+  private val baseReg = RegInit(0.U(sys.axiAddrBits.W))
   private val countReg = RegInit(0.U(32.W))
   private val takenReg = RegInit(0.U(32.W))
-  private val errReg   = RegInit(VecInit(Seq.fill(ErrorFlags.width)(0.U(32.W))))
+  private val errReg = RegInit(VecInit(Seq.fill(ErrorFlags.width)(0.U(32.W))))
   private val brokenReg = RegInit(false.B)
   when(io.start) { baseReg := io.hitBase; countReg := io.rayCount; takenReg := 0.U; errReg.foreach(_ := 0.U) }
 
   // ---- The pair buffer ----
-  private val slots    = sys.hitPairSlots
+  private val slots = sys.hitPairSlots
   private val heldRegs = RegInit(VecInit(Seq.fill(slots)(false.B)))
-  private val numbers  = Mem(slots, UInt(32.W))
-  private val records  = Mem(slots, UInt((8 * SystemConfig.HitBytes).W))
+  private val numbers = Mem(slots, UInt(32.W))
+  private val records = Mem(slots, UInt((8 * SystemConfig.HitBytes).W))
   private def slotOf(number: UInt): UInt = if (slots == 1) 0.U else (number >> 1)(log2Ceil(slots) - 1, 0)
 
   private val h = arb.io.out.bits
@@ -70,6 +70,7 @@ class HitDma(sys: SystemConfig) extends Module {
   // While flushing every hit of the batch has been taken: anything offered is out of the batch, held until after.
   arb.io.out.ready := !flushing && (q.io.enq.ready || store || !inBatch)
   private def line(number: UInt): UInt = baseReg + ((number >> 1) << log2Ceil(WriteRecord.Bytes))
+
   /** A record alone: in both halves of the line, its own half's strobes only. */
   private def alone(number: UInt, r: UInt): (UInt, UInt) = (Fill(2, r), UIntToOH(number(0), 2))
   private val (flushData, flushHalves) = alone(heldNumber, heldRecord)
@@ -78,8 +79,8 @@ class HitDma(sys: SystemConfig) extends Module {
   private val pairData = Mux(h.number(0), Cat(rec, heldRecord), Cat(heldRecord, rec))
   private val data = Mux(flushing, flushData, Mux(partnered, pairData, aloneData))
   private val halves = Mux(flushing, flushHalves, Mux(partnered, 3.U(2.W), aloneHalves))
-  q.io.enq.bits.addr   := line(Mux(flushing, heldNumber, h.number))
-  q.io.enq.bits.data   := data
+  q.io.enq.bits.addr := line(Mux(flushing, heldNumber, h.number))
+  q.io.enq.bits.data := data
   q.io.enq.bits.halves := halves
 
   when(flushing && q.io.enq.fire) { heldRegs(firstHeld) := false.B }
@@ -101,6 +102,7 @@ class HitDma(sys: SystemConfig) extends Module {
 }
 
 object HitDma {
+
   /** The 32-byte record, little-endian: number, status (bit 0 hit, bits 8.. errors), t, u, v, prim, 0, 0. */
   def record(h: HitOut): UInt = {
     val status = Cat(h.errors, 0.U(7.W), h.hit)

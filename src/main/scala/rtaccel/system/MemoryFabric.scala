@@ -36,49 +36,87 @@ import rtaccel.mem.{MemPort, MemPortParams}
   * @param triClients  which readers are triangle readers (served by the triangle store); all of one record size;
   *                    empty: none
   */
-class MemoryFabric(sys: SystemConfig, readers: Seq[MemPortParams], nodeClients: Seq[Boolean], triClients: Seq[Boolean] = Nil) extends Module {
+class MemoryFabric(
+    sys: SystemConfig,
+    readers: Seq[MemPortParams],
+    nodeClients: Seq[Boolean],
+    triClients: Seq[Boolean] = Nil
+) extends Module {
   require(readers.nonEmpty, "MemoryFabric: needs at least one read client")
-  require(readers.size == nodeClients.size, s"MemoryFabric: ${readers.size} readers but ${nodeClients.size} nodeClients flags")
-  require(readers.forall(_.addrBits <= sys.axiAddrBits), s"MemoryFabric: a reader's address is wider than ${sys.axiAddrBits} bits")
+  require(
+    readers.size == nodeClients.size,
+    s"MemoryFabric: ${readers.size} readers but ${nodeClients.size} nodeClients flags"
+  )
+  require(
+    readers.forall(_.addrBits <= sys.axiAddrBits),
+    s"MemoryFabric: a reader's address is wider than ${sys.axiAddrBits} bits"
+  )
   private val p = sys.axi
-  require(triClients.isEmpty || triClients.size == readers.size, s"MemoryFabric: ${readers.size} readers but ${triClients.size} triClients flags")
+  require(
+    triClients.isEmpty || triClients.size == readers.size,
+    s"MemoryFabric: ${readers.size} readers but ${triClients.size} triClients flags"
+  )
   private val nodeIdx = nodeClients.zipWithIndex.collect { case (true, i) => i }
-  private val triIdx  = triClients.zipWithIndex.collect { case (true, i) => i }
-  require(nodeIdx.map(readers(_).recordBytes).distinct.size <= 1, "MemoryFabric: node clients of different record sizes")
-  require(triIdx.map(readers(_).recordBytes).distinct.size <= 1, "MemoryFabric: triangle clients of different record sizes")
+  private val triIdx = triClients.zipWithIndex.collect { case (true, i) => i }
+  require(
+    nodeIdx.map(readers(_).recordBytes).distinct.size <= 1,
+    "MemoryFabric: node clients of different record sizes"
+  )
+  require(
+    triIdx.map(readers(_).recordBytes).distinct.size <= 1,
+    "MemoryFabric: triangle clients of different record sizes"
+  )
   require(nodeIdx.intersect(triIdx).isEmpty, "MemoryFabric: a client is both a node and a triangle client")
   private val fillId = (1 << p.idBits) - 1
+
   /** Records outstanding at once: every AXI ID but the fill's. */
   val readSlots: Int = fillId
   require(readSlots >= 1, s"MemoryFabric: ${p.idBits} ID bits leave no read ID beside the store fill")
 
   private val ports = readers
   val io = IO(new Bundle {
-    val readers    = Flipped(MixedVec(ports.map(r => new MemPort(r))))
-    val write      = Flipped(Decoupled(new WriteRecord(sys)))
+    val readers = Flipped(MixedVec(ports.map(r => new MemPort(r))))
+    val write = Flipped(Decoupled(new WriteRecord(sys)))
     val writesDone = Output(UInt(32.W))
-    val store      = new NodeStoreLoad(sys)
-    val triStore   = new NodeStoreLoad(sys)
-    val axi        = new Axi4Master(p)
-    val stats      = Output(new FabricStats)
-    val axiError   = Output(Bool())
+    val store = new NodeStoreLoad(sys)
+    val triStore = new NodeStoreLoad(sys)
+    val axi = new Axi4Master(p)
+    val stats = Output(new FabricStats)
+    val axiError = Output(Bool())
   })
   override def desiredName = s"MemoryFabric_r${readers.size}_id${p.idBits}_ns${sys.nodeStoreBytes / 1024}k" +
     (if (triIdx.nonEmpty && sys.triStoreBytes > 0) s"_ts${sys.triStoreBytes / 1024}k" else "")
 
   private val tagBits = readers.map(_.tagBits).max
-  private val engine  = Module(new ReadEngine(p, readers.map(_.recordBytes), tagBits, readSlots))
-  private val store   = Option.when(nodeIdx.nonEmpty && sys.nodeStoreBytes > 0)(
-    Module(new NodeStore(p, readers(nodeIdx.head).copy(addrBits = p.addrBits), nodeIdx.size, sys.nodeStoreBytes, fillId)))
+  private val engine = Module(new ReadEngine(p, readers.map(_.recordBytes), tagBits, readSlots))
+  private val store = Option.when(nodeIdx.nonEmpty && sys.nodeStoreBytes > 0)(
+    Module(new NodeStore(
+      p,
+      readers(nodeIdx.head).copy(addrBits = p.addrBits),
+      nodeIdx.size,
+      sys.nodeStoreBytes,
+      fillId
+    ))
+  )
   private val triStore = Option.when(triIdx.nonEmpty && sys.triStoreBytes > 0)(
-    Module(new TriStore(p, readers(triIdx.head).copy(addrBits = p.addrBits), triIdx.size, sys.triStoreBytes, fillId)))
-  private val writer  = Module(new WriteEngine(p))
+    Module(new TriStore(p, readers(triIdx.head).copy(addrBits = p.addrBits), triIdx.size, sys.triStoreBytes, fillId))
+  )
+  private val writer = Module(new WriteEngine(p))
+
   /** An on-chip store's client side: probe, hit, request and response of client k. */
-  private class Served(val probe: Vec[UInt], val hit: Vec[Bool], val req: Vec[DecoupledIO[rtaccel.mem.MemRequest]],
-      val resp: Vec[DecoupledIO[rtaccel.mem.MemResponse]])
+  private class Served(
+      val probe: Vec[UInt],
+      val hit: Vec[Bool],
+      val req: Vec[DecoupledIO[rtaccel.mem.MemRequest]],
+      val resp: Vec[DecoupledIO[rtaccel.mem.MemResponse]]
+  )
   private val served: Seq[Option[(Served, Int)]] = readers.indices.map { i =>
-    store.filter(_ => nodeIdx.contains(i)).map(s => (new Served(s.io.probe, s.io.hit, s.io.req, s.io.resp), nodeIdx.indexOf(i)))
-      .orElse(triStore.filter(_ => triIdx.contains(i)).map(s => (new Served(s.io.probe, s.io.hit, s.io.req, s.io.resp), triIdx.indexOf(i))))
+    store.filter(_ => nodeIdx.contains(i)).map(s =>
+      (new Served(s.io.probe, s.io.hit, s.io.req, s.io.resp), nodeIdx.indexOf(i))
+    )
+      .orElse(triStore.filter(_ => triIdx.contains(i)).map(s =>
+        (new Served(s.io.probe, s.io.hit, s.io.req, s.io.resp), triIdx.indexOf(i))
+      ))
   }
 
   // ---- Requests: store hits aside, the rest round-robin to the engine ----
@@ -87,16 +125,16 @@ class MemoryFabric(sys: SystemConfig, readers: Seq[MemPortParams], nodeClients: 
   for ((r, i) <- io.readers.zipWithIndex) {
     val hit = served(i).map { case (s, k) =>
       s.probe(k) := r.req.bits.addr
-      s.req(k).valid     := r.req.valid && s.hit(k)
+      s.req(k).valid := r.req.valid && s.hit(k)
       s.req(k).bits.addr := r.req.bits.addr
-      s.req(k).bits.tag  := r.req.bits.tag
+      s.req(k).bits.tag := r.req.bits.tag
       s.hit(k)
     }.getOrElse(false.B)
     toStore(i) := hit
-    arb.io.in(i).valid       := r.req.valid && !hit
-    arb.io.in(i).bits.addr   := r.req.bits.addr
+    arb.io.in(i).valid := r.req.valid && !hit
+    arb.io.in(i).bits.addr := r.req.bits.addr
     arb.io.in(i).bits.client := i.U
-    arb.io.in(i).bits.tag    := r.req.bits.tag
+    arb.io.in(i).bits.tag := r.req.bits.tag
     r.req.ready := Mux(hit, served(i).map { case (s, k) => s.req(k).ready }.getOrElse(false.B), arb.io.in(i).ready)
 
     // Responses: the engine's and the store's, round-robin.
@@ -105,14 +143,14 @@ class MemoryFabric(sys: SystemConfig, readers: Seq[MemPortParams], nodeClients: 
         val merge = Module(new RRArbiter(chiselTypeOf(r.resp.bits), 2))
         merge.io.in(0).valid := engine.io.resp(i).valid
         merge.io.in(0).bits.data := engine.io.resp(i).bits.data
-        merge.io.in(0).bits.tag  := engine.io.resp(i).bits.tag
-        engine.io.resp(i).ready  := merge.io.in(0).ready
+        merge.io.in(0).bits.tag := engine.io.resp(i).bits.tag
+        engine.io.resp(i).ready := merge.io.in(0).ready
         merge.io.in(1) <> s.resp(k)
         r.resp <> merge.io.out
       case None =>
-        r.resp.valid     := engine.io.resp(i).valid
+        r.resp.valid := engine.io.resp(i).valid
         r.resp.bits.data := engine.io.resp(i).bits.data
-        r.resp.bits.tag  := engine.io.resp(i).bits.tag
+        r.resp.bits.tag := engine.io.resp(i).bits.tag
         engine.io.resp(i).ready := r.resp.ready
     }
   }
@@ -129,38 +167,39 @@ class MemoryFabric(sys: SystemConfig, readers: Seq[MemPortParams], nodeClients: 
   io.axi.r.ready := true.B
   private val isFill = io.axi.r.bits.id === fillId.U
   engine.io.r.valid := io.axi.r.valid && !isFill
-  engine.io.r.bits  := io.axi.r.bits
+  engine.io.r.bits := io.axi.r.bits
   private val nodeFilling = store.map(_.io.load.busy).getOrElse(false.B)
+
   /** A store's load side; with no store, a load is done at once and holds nothing. */
   private def connectLoad(load: NodeStoreLoad, s: Option[NodeStoreLoad]): Unit = s match {
     case Some(l) => l <> load
     case None =>
       val doneReg = RegInit(false.B)
       when(load.start) { doneReg := true.B }
-      load.busy        := false.B
-      load.done        := doneReg
+      load.busy := false.B
+      load.done := doneReg
       load.storedBytes := 0.U
   }
   connectLoad(io.store, store.map(_.io.load))
   connectLoad(io.triStore, triStore.map(_.io.load))
   store.foreach { s =>
     s.io.r.valid := io.axi.r.valid && isFill && (nodeFilling || triStore.isEmpty.B)
-    s.io.r.bits  := io.axi.r.bits
+    s.io.r.bits := io.axi.r.bits
   }
   triStore.foreach { s =>
     s.io.r.valid := io.axi.r.valid && isFill && !nodeFilling
-    s.io.r.bits  := io.axi.r.bits
+    s.io.r.bits := io.axi.r.bits
   }
   private val strayFill = (store.isEmpty && triStore.isEmpty).B && io.axi.r.valid && isFill
 
   // ---- Writes ----
-  writer.io.write.valid     := io.write.valid
+  writer.io.write.valid := io.write.valid
   writer.io.write.bits.addr := io.write.bits.addr
   writer.io.write.bits.data := io.write.bits.data
   writer.io.write.bits.halves := io.write.bits.halves
   io.write.ready := writer.io.write.ready
   io.axi.aw <> writer.io.aw
-  io.axi.w  <> writer.io.w
+  io.axi.w <> writer.io.w
   writer.io.b <> io.axi.b
   io.writesDone := writer.io.writesDone
 
@@ -170,12 +209,12 @@ class MemoryFabric(sys: SystemConfig, readers: Seq[MemPortParams], nodeClients: 
     when(inc) { c := c + 1.U }
     c
   }
-  io.stats.readBeats       := counter(io.axi.r.fire)
-  io.stats.writeBeats      := counter(io.axi.w.fire)
-  io.stats.arStallCycles   := counter(io.axi.ar.valid && !io.axi.ar.ready)
-  io.stats.nodeStoreHits   := countBy(PopCount(nodeIdx.map(i => io.readers(i).req.fire && toStore(i))))
+  io.stats.readBeats := counter(io.axi.r.fire)
+  io.stats.writeBeats := counter(io.axi.w.fire)
+  io.stats.arStallCycles := counter(io.axi.ar.valid && !io.axi.ar.ready)
+  io.stats.nodeStoreHits := countBy(PopCount(nodeIdx.map(i => io.readers(i).req.fire && toStore(i))))
   io.stats.nodeStoreMisses := countBy(PopCount(nodeIdx.map(i => io.readers(i).req.fire && !toStore(i))))
-  io.stats.triStoreHits    := countBy(PopCount(triIdx.map(i => io.readers(i).req.fire && toStore(i))))
+  io.stats.triStoreHits := countBy(PopCount(triIdx.map(i => io.readers(i).req.fire && toStore(i))))
   private def countBy(n: UInt): UInt = {
     val c = RegInit(0.U(64.W))
     c := c + n

@@ -26,13 +26,16 @@ import rtaccel.mem.{MemPortParams, MemResponse}
   * cycle.
   */
 class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: Int, fillId: Int) extends Module {
-  private val B         = p.beatBytes
-  private val recBytes  = port.recordBytes
+  private val B = p.beatBytes
+  private val recBytes = port.recordBytes
   require(Integer.bitCount(recBytes) == 1, s"NodeStore: node records must be a power of two bytes, got $recBytes")
   private val wordBytes = recBytes.max(B)
-  private val lanes     = wordBytes / B
-  require(capacityBytes > 0 && capacityBytes % wordBytes == 0, s"NodeStore: capacity $capacityBytes is not a positive multiple of $wordBytes bytes")
-  private val words     = capacityBytes / wordBytes
+  private val lanes = wordBytes / B
+  require(
+    capacityBytes > 0 && capacityBytes % wordBytes == 0,
+    s"NodeStore: capacity $capacityBytes is not a positive multiple of $wordBytes bytes"
+  )
+  private val words = capacityBytes / wordBytes
 
   val io = IO(new StoreIO(p, port, clients))
 
@@ -43,32 +46,33 @@ class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes:
   private val baseReg = fill.io.base
 
   // ---- Serve ----
-  private val recBits  = log2Ceil(recBytes)
+  private val recBits = log2Ceil(recBytes)
   for (c <- 0 until clients) {
     val a = io.probe(c)
     val aligned = if (recBits == 0) true.B else a(recBits - 1, 0) === baseReg(recBits - 1, 0)
     io.hit(c) := fill.io.ready && a >= baseReg && a < fill.io.limit && aligned
   }
-  private val copies  = (clients + 1) / 2
-  private val mems    = Seq.fill(copies)(SyncReadMem(words, Vec(lanes, UInt((8 * B).W))))
+  private val copies = (clients + 1) / 2
+  private val mems = Seq.fill(copies)(SyncReadMem(words, Vec(lanes, UInt((8 * B).W))))
   private val wEnable = fill.io.write.valid
-  private val wLine   = fill.io.write.bits.line
-  private val wWord   = if (lanes == 1) wLine else wLine >> log2Ceil(lanes)
-  private val wMask   = VecInit((0 until lanes).map(l => if (lanes == 1) true.B else wLine(log2Ceil(lanes) - 1, 0) === l.U))
-  private val wData   = VecInit(Seq.fill(lanes)(fill.io.write.bits.data))
+  private val wLine = fill.io.write.bits.line
+  private val wWord = if (lanes == 1) wLine else wLine >> log2Ceil(lanes)
+  private val wMask =
+    VecInit((0 until lanes).map(l => if (lanes == 1) true.B else wLine(log2Ceil(lanes) - 1, 0) === l.U))
+  private val wData = VecInit(Seq.fill(lanes)(fill.io.write.bits.data))
 
   for (c <- 0 until clients) {
-    val mem    = mems(c / 2)
-    val outQ   = Module(new Queue(new MemResponse(port), NodeStore.OutDepth))
+    val mem = mems(c / 2)
+    val outQ = Module(new Queue(new MemResponse(port), NodeStore.OutDepth))
     val s1ValidReg = RegInit(false.B)
     // Credit: queued + being read < depth, so every read has a place when it lands.
     val credit = outQ.io.count +& s1ValidReg.asUInt < NodeStore.OutDepth.U
     io.req(c).ready := credit
     val fire = io.req(c).fire
-    val rel  = io.req(c).bits.addr - baseReg
+    val rel = io.req(c).bits.addr - baseReg
     val word = rel >> log2Ceil(wordBytes)
     val rdata = if (c % 2 == 0) mem.readWrite(Mux(wEnable, wWord, word), wData, wMask, wEnable || fire, wEnable)
-                else mem.read(word, fire)
+    else mem.read(word, fire)
     // A hit is only accepted when loaded, and the fill writes only while not loaded.
     when(fire && wEnable) { errorReg := true.B }
     s1ValidReg := fire
@@ -81,17 +85,20 @@ class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes:
     // memory would be doubled to give the second client its read port
     // (measured: 456 instead of 228 BRAM36 for 1 MiB). The BRAM's output is
     // the read's register.
-    outQ.io.enq.valid     := s1ValidReg
-    outQ.io.enq.bits.data := (if (recBytes >= B) rdata.asUInt else (rdata.asUInt >> (s1SubReg << 3))(8 * recBytes - 1, 0))
-    outQ.io.enq.bits.tag  := s1TagReg
+    outQ.io.enq.valid := s1ValidReg
+    outQ.io.enq.bits.data := (if (recBytes >= B) rdata.asUInt
+                              else (rdata.asUInt >> (s1SubReg << 3))(8 * recBytes - 1, 0))
+    outQ.io.enq.bits.tag := s1TagReg
     when(outQ.io.enq.valid && !outQ.io.enq.ready) { errorReg := true.B }
     io.resp(c) <> outQ.io.deq
   }
 }
 
 object NodeStore {
+
   /** Request to response offered, in cycles: the BRAM read (its address register), then the output queue. */
   val Latency = 2
+
   /** Output queue per client: the read in the pipeline + 1 more than it takes to see a dequeue, so a client that always takes keeps one per cycle. */
   val OutDepth: Int = Latency + 1
 }

@@ -20,29 +20,30 @@ class RayDma(sys: SystemConfig) extends Module {
   private val rpb = sys.raysPerBlock
   require(isPow2(rpb), s"RayDma: raysPerBlock must be a power of two, got $rpb")
   val io = IO(new Bundle {
-    val start    = Input(Bool())
-    val rayBase  = Input(UInt(sys.axiAddrBits.W))
+    val start = Input(Bool())
+    val rayBase = Input(UInt(sys.axiAddrBits.W))
     val rayCount = Input(UInt(32.W))
-    val mem      = new MemPort(RayDma.port(sys))
-    val rays     = Decoupled(new RayIn)
+    val mem = new MemPort(RayDma.port(sys))
+    val rays = Decoupled(new RayIn)
+
     /** Sticky: a block came back for a tag not in flight. */
-    val broken   = Output(Bool())
+    val broken = Output(Bool())
   })
   private val nTags = sys.rayBlockTags
-  private val blocksReg  = RegInit(0.U(32.W))
-  private val issuedReg  = RegInit(0.U(32.W))
-  private val baseReg    = RegInit(0.U(sys.axiAddrBits.W))
-  private val countReg   = RegInit(0.U(32.W))
-  private val addrReg    = RegInit(0.U(sys.axiAddrBits.W))
-  private val freeReg    = RegInit(((BigInt(1) << nTags) - 1).U(nTags.W))
+  private val blocksReg = RegInit(0.U(32.W))
+  private val issuedReg = RegInit(0.U(32.W))
+  private val baseReg = RegInit(0.U(sys.axiAddrBits.W))
+  private val countReg = RegInit(0.U(32.W))
+  private val addrReg = RegInit(0.U(sys.axiAddrBits.W))
+  private val freeReg = RegInit(((BigInt(1) << nTags) - 1).U(nTags.W))
   private val blockOfTag = Reg(Vec(nTags, UInt(32.W)))
-  private val brokenReg  = RegInit(false.B)
+  private val brokenReg = RegInit(false.B)
 
   when(io.start) {
-    countReg  := io.rayCount
+    countReg := io.rayCount
     blocksReg := (io.rayCount +& (rpb - 1).U) >> log2Ceil(rpb)
     issuedReg := 0.U
-    addrReg   := io.rayBase
+    addrReg := io.rayBase
   }
   private val tag = PriorityEncoder(freeReg)
   io.mem.req.valid := issuedReg < blocksReg && freeReg.orR && !io.start
@@ -56,17 +57,22 @@ class RayDma(sys: SystemConfig) extends Module {
 
   // One buffer entry per tag: a block arrives only for a tag in flight, and its
   // tag is free again only when its entry leaves, so the queue never overflows.
-  private val q = Module(new Queue(new Bundle {
-    val data = UInt((sys.rayBlockBytes * 8).W)
-    val tag  = UInt(sys.rayTagBits.W)
-  }, nTags))
+  private val q = Module(new Queue(
+    new Bundle {
+      val data = UInt((sys.rayBlockBytes * 8).W)
+      val tag = UInt(sys.rayTagBits.W)
+    },
+    nTags
+  ))
   io.mem.resp.ready := true.B
   q.io.enq.valid := io.mem.resp.valid
   q.io.enq.bits.data := io.mem.resp.bits.data
   q.io.enq.bits.tag := io.mem.resp.bits.tag
   when(io.mem.resp.valid && (!q.io.enq.ready || freeReg(io.mem.resp.bits.tag))) { brokenReg := true.B }
-  assert(!(io.mem.resp.valid && (!q.io.enq.ready || freeReg(io.mem.resp.bits.tag))),
-    "ray_block_once: a ray block came back for a tag not in flight, or found the block queue full")
+  assert(
+    !(io.mem.resp.valid && (!q.io.enq.ready || freeReg(io.mem.resp.bits.tag))),
+    "ray_block_once: a ray block came back for a tag not in flight, or found the block queue full"
+  )
 
   // ---- unpack: ray `subReg` of the head block ----
   private val subReg = RegInit(0.U(log2Ceil(rpb).max(1).W))

@@ -6,15 +6,15 @@ import rtaccel.axi.{Axi4Addr, Axi4Params, Axi4R, BurstMath, ByteRotate}
 
 /** A record read on its way to DRAM: `client` picks the response queue. */
 class ReadReq(addrBits: Int, clientBits: Int, tagBits: Int) extends Bundle {
-  val addr   = UInt(addrBits.W)
+  val addr = UInt(addrBits.W)
   val client = UInt(clientBits.W)
-  val tag    = UInt(tagBits.W)
+  val tag = UInt(tagBits.W)
 }
 
 /** A finished record for one client. */
 class ReadResp(dataBits: Int, tagBits: Int) extends Bundle {
   val data = UInt(dataBits.W)
-  val tag  = UInt(tagBits.W)
+  val tag = UInt(tagBits.W)
 }
 
 /** Reads whole records of any byte size and alignment over AXI4.
@@ -38,54 +38,61 @@ class ReadResp(dataBits: Int, tagBits: Int) extends Bundle {
   * waiting record (dropped), or a wrong rlast.
   */
 class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: Int) extends Module {
-  require(recordBytes.nonEmpty && recordBytes.forall(b => b >= 1 && b <= 4096), s"ReadEngine: record sizes must be 1..4096 bytes, got $recordBytes")
+  require(
+    recordBytes.nonEmpty && recordBytes.forall(b => b >= 1 && b <= 4096),
+    s"ReadEngine: record sizes must be 1..4096 bytes, got $recordBytes"
+  )
   require(slots >= 1 && slots <= (1 << p.idBits), s"ReadEngine: $slots slots do not fit ${p.idBits} ID bits")
-  private val n          = recordBytes.size
-  private val B          = p.beatBytes
-  private val beatBits   = log2Ceil(B)
-  private val slotBits   = log2Ceil(slots).max(1)
+  private val n = recordBytes.size
+  private val B = p.beatBytes
+  private val beatBits = log2Ceil(B)
+  private val slotBits = log2Ceil(slots).max(1)
   private val clientBits = log2Ceil(n).max(1)
+
   /** Chunks of the largest record: banks of the reassembly buffer. */
-  private val chunks     = recordBytes.map(b => (b + B - 1) / B).max
+  private val chunks = recordBytes.map(b => (b + B - 1) / B).max
+
   /** Beats of the largest record at its worst alignment: ceil((o + b) / B) for o = B - 1. */
-  private val maxBeats   = recordBytes.map(b => (B + b - 2) / B + 1).max
-  private val countBits  = log2Ceil(maxBeats + 1)
-  private val pageBits   = 12
+  private val maxBeats = recordBytes.map(b => (B + b - 2) / B + 1).max
+  private val countBits = log2Ceil(maxBeats + 1)
+  private val pageBits = 12
 
   val io = IO(new Bundle {
-    val req   = Flipped(Decoupled(new ReadReq(p.addrBits, clientBits, tagBits)))
-    val ar    = Decoupled(new Axi4Addr(p))
+    val req = Flipped(Decoupled(new ReadReq(p.addrBits, clientBits, tagBits)))
+    val ar = Decoupled(new Axi4Addr(p))
+
     /** R beats of this engine's IDs; always taken. */
-    val r     = Flipped(Valid(new Axi4R(p)))
-    val resp  = MixedVec(recordBytes.map(b => Decoupled(new ReadResp(8 * b, tagBits))))
+    val r = Flipped(Valid(new Axi4R(p)))
+    val resp = MixedVec(recordBytes.map(b => Decoupled(new ReadResp(8 * b, tagBits))))
     val error = Output(Bool())
-    val idle  = Output(Bool())
+    val idle = Output(Bool())
   })
 
   private class Meta extends Bundle {
     val client = UInt(clientBits.W)
-    val tag    = UInt(tagBits.W)
+    val tag = UInt(tagBits.W)
+
     /** The record's byte address within its 4 KB page: offset and beat position. */
-    val page   = UInt(pageBits.W)
-    val beats  = UInt(countBits.W)
+    val page = UInt(pageBits.W)
+    val beats = UInt(countBits.W)
   }
   // Slot table: written when a slot is taken, read by R beats and the pick.
-  private val meta      = Mem(slots, new Meta)
-  private val busyReg   = RegInit(0.U(slots.W))
-  private val doneReg   = RegInit(0.U(slots.W)) // all beats in, not yet picked
+  private val meta = Mem(slots, new Meta)
+  private val busyReg = RegInit(0.U(slots.W))
+  private val doneReg = RegInit(0.U(slots.W)) // all beats in, not yet picked
   private val countRegs = RegInit(VecInit(Seq.fill(slots)(0.U(countBits.W))))
-  private val errorReg  = RegInit(false.B)
+  private val errorReg = RegInit(false.B)
 
   // ---- Issue: take a slot, then emit the record's bursts (split at 4 KB) ----
   private val pendValidReg = RegInit(false.B)
-  private val pendAddrReg  = Reg(UInt(p.addrBits.W)) // beat-aligned address of the next burst
-  private val pendLeftReg  = Reg(UInt(countBits.W))
-  private val pendIdReg    = Reg(UInt(slotBits.W))
-  private val toBoundary   = BurstMath.beatsToBoundary(p, pendAddrReg)
-  private val burstBeats   = Mux(pendLeftReg < toBoundary, pendLeftReg, toBoundary)
-  private val lastBurst    = burstBeats === pendLeftReg
+  private val pendAddrReg = Reg(UInt(p.addrBits.W)) // beat-aligned address of the next burst
+  private val pendLeftReg = Reg(UInt(countBits.W))
+  private val pendIdReg = Reg(UInt(slotBits.W))
+  private val toBoundary = BurstMath.beatsToBoundary(p, pendAddrReg)
+  private val burstBeats = Mux(pendLeftReg < toBoundary, pendLeftReg, toBoundary)
+  private val lastBurst = burstBeats === pendLeftReg
   io.ar.valid := pendValidReg
-  io.ar.bits  := Axi4Addr.incr(p, pendIdReg, pendAddrReg, burstBeats)
+  io.ar.bits := Axi4Addr.incr(p, pendIdReg, pendAddrReg, burstBeats)
   when(io.ar.fire) {
     pendAddrReg := pendAddrReg + (burstBeats << beatBits)
     pendLeftReg := pendLeftReg - burstBeats
@@ -100,15 +107,15 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
   // so it is still free next cycle. Slots freed meanwhile are found on a later
   // search (the register is reloaded every cycle it is empty or taken).
   private val freeValidReg = RegInit(false.B)
-  private val freeSlotReg  = RegInit(0.U(slotBits.W))
-  private val freeOHReg    = RegInit(0.U(slots.W))
+  private val freeSlotReg = RegInit(0.U(slotBits.W))
+  private val freeOHReg = RegInit(0.U(slots.W))
   private val (otherFree, otherSlot) = FirstSet(~busyReg & ~Mux(freeValidReg, freeOHReg, 0.U))
   private val newSlot = freeSlotReg
   io.req.ready := freeValidReg && (!pendValidReg || (io.ar.fire && lastBurst))
   when(io.req.fire || !freeValidReg) {
     freeValidReg := otherFree
-    freeSlotReg  := otherSlot
-    freeOHReg    := UIntToOH(otherSlot, slots)
+    freeSlotReg := otherSlot
+    freeOHReg := UIntToOH(otherSlot, slots)
   }
   private val bytesOf = VecInit(recordBytes.map(_.U(13.W)))
   private val reqBeats = BurstMath.beatsCovering(p, io.req.bits.addr, bytesOf(io.req.bits.client))
@@ -116,49 +123,49 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
   when(io.req.fire) {
     val m = Wire(new Meta)
     m.client := io.req.bits.client
-    m.tag    := io.req.bits.tag
-    m.page   := io.req.bits.addr(pageBits - 1, 0)
-    m.beats  := reqBeats
+    m.tag := io.req.bits.tag
+    m.page := io.req.bits.addr(pageBits - 1, 0)
+    m.beats := reqBeats
     meta.write(newSlot, m)
     pendValidReg := true.B
-    pendAddrReg  := Cat(io.req.bits.addr(p.addrBits - 1, beatBits), 0.U(beatBits.W))
-    pendLeftReg  := reqBeats
-    pendIdReg    := newSlot
+    pendAddrReg := Cat(io.req.bits.addr(p.addrBits - 1, beatBits), 0.U(beatBits.W))
+    pendLeftReg := reqBeats
+    pendIdReg := newSlot
   }
 
   // ---- R: check the beat against its slot, count it, stage it for the banks ----
-  private val rId     = io.r.bits.id
-  private val rSlot   = rId(slotBits - 1, 0)
-  private val rMeta   = meta(rSlot)
-  private val rCount  = countRegs(rSlot)
-  private val rKnown  = rId < slots.U && busyReg(rSlot) && !doneReg(rSlot)
-  private val rFinal  = rCount === rMeta.beats - 1.U
+  private val rId = io.r.bits.id
+  private val rSlot = rId(slotBits - 1, 0)
+  private val rMeta = meta(rSlot)
+  private val rCount = countRegs(rSlot)
+  private val rKnown = rId < slots.U && busyReg(rSlot) && !doneReg(rSlot)
+  private val rFinal = rCount === rMeta.beats - 1.U
   // The beat ends a burst where the next beat would start a new 4 KB page.
   private val rBeatInPage = rMeta.page(pageBits - 1, beatBits) +& rCount + 1.U
-  private val rEndsPage   = rBeatInPage(pageBits - beatBits - 1, 0) === 0.U
+  private val rEndsPage = rBeatInPage(pageBits - beatBits - 1, 0) === 0.U
   private val rLastOk = io.r.bits.last === (rFinal || rEndsPage)
   // A beat of a waiting record is kept even with an error, so the record
   // still completes (its client does not hang; `error` tells the host).
-  private val rGood   = io.r.valid && rKnown
+  private val rGood = io.r.valid && rKnown
   when(io.r.valid && !(rKnown && rLastOk && io.r.bits.resp === 0.U)) { errorReg := true.B }
   private val completeOH = Mux(rGood && rFinal, UIntToOH(rSlot, slots), 0.U)
   when(rGood) { countRegs(rSlot) := Mux(rFinal, 0.U, rCount + 1.U) }
 
-  private val wValidReg  = RegNext(rGood, false.B)
-  private val wSlotReg   = RegEnable(rSlot, rGood)
-  private val wBeatReg   = RegEnable(rCount, rGood)
-  private val wOffReg    = RegEnable(rMeta.page(beatBits - 1, 0), rGood)
-  private val wDataReg   = RegEnable(io.r.bits.data, rGood)
-  private val wFinalReg  = RegEnable(rFinal, rGood)
+  private val wValidReg = RegNext(rGood, false.B)
+  private val wSlotReg = RegEnable(rSlot, rGood)
+  private val wBeatReg = RegEnable(rCount, rGood)
+  private val wOffReg = RegEnable(rMeta.page(beatBits - 1, 0), rGood)
+  private val wDataReg = RegEnable(io.r.bits.data, rGood)
+  private val wFinalReg = RegEnable(rFinal, rGood)
   private val wClientReg = RegEnable(rMeta.client, rGood)
 
-  private val banks   = Seq.fill(chunks)(SyncReadMem(slots, Vec(B, UInt(8.W))))
+  private val banks = Seq.fill(chunks)(SyncReadMem(slots, Vec(B, UInt(8.W))))
   private val rotated = ByteRotate.right(wDataReg, wOffReg).asTypeOf(Vec(B, UInt(8.W)))
   // Bytes j < B - o of the rotated beat belong to chunk k, the others to chunk k - 1.
   private val lowMask = VecInit((0 until B).map(j => j.U < (B.U - wOffReg)))
   private val highMask = VecInit(lowMask.map(!_))
   for ((bank, c) <- banks.zipWithIndex) {
-    val own  = wBeatReg === c.U
+    val own = wBeatReg === c.U
     val next = wBeatReg === (c + 1).U
     when(wValidReg && (own || next)) { bank.write(wSlotReg, rotated, Mux(own, lowMask, highMask)) }
   }
@@ -167,9 +174,12 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
   private val completions = Seq.fill(n)(Module(new Queue(UInt(slotBits.W), slots)))
   for ((q, c) <- completions.zipWithIndex) {
     q.io.enq.valid := wValidReg && wFinalReg && wClientReg === c.U
-    q.io.enq.bits  := wSlotReg
+    q.io.enq.bits := wSlotReg
     when(q.io.enq.valid && !q.io.enq.ready) { errorReg := true.B } // impossible (above); checked
-    assert(!(q.io.enq.valid && !q.io.enq.ready), "no_overflow_read_completion: a finished record found its completion queue full")
+    assert(
+      !(q.io.enq.valid && !q.io.enq.ready),
+      "no_overflow_read_completion: a finished record found its completion queue full"
+    )
   }
 
   // ---- Pick a finished record (select, then read), queue it for its client ----
@@ -179,35 +189,35 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
   // output queue the cycle after. So neither the credit compare nor the
   // arbiter drives the slot clear or the banks' read address (docs/fmax.md).
   private val outQs = recordBytes.map(b => Module(new Queue(new ReadResp(8 * b, tagBits), ReadEngine.OutDepth)))
-  private val selValidReg   = RegInit(false.B)
-  private val selClientReg  = Reg(UInt(clientBits.W))
-  private val selSlotReg    = Reg(UInt(slotBits.W))
-  private val pickValidReg  = RegInit(false.B)
+  private val selValidReg = RegInit(false.B)
+  private val selClientReg = Reg(UInt(clientBits.W))
+  private val selSlotReg = Reg(UInt(slotBits.W))
+  private val pickValidReg = RegInit(false.B)
   private val pickClientReg = Reg(UInt(clientBits.W))
-  private val pickTagReg    = Reg(UInt(tagBits.W))
+  private val pickTagReg = Reg(UInt(tagBits.W))
   private val arb = Module(new RRArbiter(UInt(slotBits.W), n))
   for (c <- 0 until n) {
     // Credit: queued + selected + being read < OutDepth, so every record picked
     // now has a place in its queue when it arrives two cycles later: the
     // queue only loses entries meanwhile, and both stages ahead of it count.
-    val inSel    = selValidReg && selClientReg === c.U
-    val inRead   = pickValidReg && pickClientReg === c.U
-    val credit   = outQs(c).io.count +& inSel.asUInt +& inRead.asUInt < ReadEngine.OutDepth.U
+    val inSel = selValidReg && selClientReg === c.U
+    val inRead = pickValidReg && pickClientReg === c.U
+    val credit = outQs(c).io.count +& inSel.asUInt +& inRead.asUInt < ReadEngine.OutDepth.U
     arb.io.in(c).valid := completions(c).io.deq.valid && credit
-    arb.io.in(c).bits  := completions(c).io.deq.bits
+    arb.io.in(c).bits := completions(c).io.deq.bits
     completions(c).io.deq.ready := arb.io.in(c).ready && credit
   }
   arb.io.out.ready := true.B
   selValidReg := arb.io.out.valid
   when(arb.io.out.valid) {
     selClientReg := arb.io.chosen
-    selSlotReg   := arb.io.out.bits
+    selSlotReg := arb.io.out.bits
   }
   private val record = Cat(banks.reverse.map(b => b.read(selSlotReg, selValidReg).asUInt))
   pickValidReg := selValidReg
   when(selValidReg) {
     pickClientReg := selClientReg
-    pickTagReg    := meta(selSlotReg).tag
+    pickTagReg := meta(selSlotReg).tag
   }
   // The slot is free once its banks are being read: it is taken again at the
   // earliest next cycle, and its new record's beats come after a new AR.
@@ -220,19 +230,20 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
 
   for (c <- 0 until n) {
     val q = outQs(c).io
-    q.enq.valid     := pickValidReg && pickClientReg === c.U
+    q.enq.valid := pickValidReg && pickClientReg === c.U
     q.enq.bits.data := record(8 * recordBytes(c) - 1, 0)
-    q.enq.bits.tag  := pickTagReg
+    q.enq.bits.tag := pickTagReg
     // Impossible by the credit above; checked all the same.
     when(q.enq.valid && !q.enq.ready) { errorReg := true.B }
     assert(!(q.enq.valid && !q.enq.ready), "no_overflow_read_out: a picked record found its client's output queue full")
     io.resp(c) <> q.deq
   }
   io.error := errorReg
-  io.idle  := busyReg === 0.U && !pendValidReg
+  io.idle := busyReg === 0.U && !pendValidReg
 }
 
 object ReadEngine {
+
   /** Output queue per client: the select and read stages ahead of it + 1, so a client that always takes gets one record per cycle. */
   val OutDepth = 3
 }

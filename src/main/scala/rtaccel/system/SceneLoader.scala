@@ -14,30 +14,30 @@ import rtaccel.scene.MemoryImage
   */
 class SceneLoader(sys: SystemConfig) extends Module {
   val io = IO(new Bundle {
-    val start     = Input(Bool())
+    val start = Input(Bool())
     val sceneBase = Input(UInt(sys.axiAddrBits.W))
-    val mem       = new MemPort(SceneLoader.port(sys))
-    val store     = Flipped(new NodeStoreLoad(sys))
-    val triStore  = Flipped(new NodeStoreLoad(sys))
-    val busy      = Output(Bool())
-    val ready     = Output(Bool())
-    val error     = Output(Bool())
+    val mem = new MemPort(SceneLoader.port(sys))
+    val store = Flipped(new NodeStoreLoad(sys))
+    val triStore = Flipped(new NodeStoreLoad(sys))
+    val busy = Output(Bool())
+    val ready = Output(Bool())
+    val error = Output(Bool())
     val errorCode = Output(UInt(3.W))
-    val finished  = Output(Bool())
-    val nodeBase  = Output(UInt(sys.axiAddrBits.W))
-    val triBase   = Output(UInt(sys.axiAddrBits.W))
+    val finished = Output(Bool())
+    val nodeBase = Output(UInt(sys.axiAddrBits.W))
+    val triBase = Output(UInt(sys.axiAddrBits.W))
   })
   private val sIdle :: sReq :: sResp :: sStore :: sWait :: sTriStore :: sTriWait :: Nil = Enum(7)
-  private val stateReg    = RegInit(sIdle)
-  private val readyReg    = RegInit(false.B)
-  private val errorReg    = RegInit(false.B)
-  private val codeReg     = RegInit(0.U(3.W))
-  private val baseReg     = RegInit(0.U(sys.axiAddrBits.W))
+  private val stateReg = RegInit(sIdle)
+  private val readyReg = RegInit(false.B)
+  private val errorReg = RegInit(false.B)
+  private val codeReg = RegInit(0.U(3.W))
+  private val baseReg = RegInit(0.U(sys.axiAddrBits.W))
   private val nodeBaseReg = RegInit(0.U(sys.axiAddrBits.W))
-  private val triBaseReg  = RegInit(0.U(sys.axiAddrBits.W))
-  private val bytesReg    = RegInit(0.U(32.W))
+  private val triBaseReg = RegInit(0.U(sys.axiAddrBits.W))
+  private val bytesReg = RegInit(0.U(32.W))
   private val triBytesReg = RegInit(0.U(32.W))
-  private val finished    = WireDefault(false.B)
+  private val finished = WireDefault(false.B)
 
   private def fail(code: Int): Unit = { errorReg := true.B; codeReg := code.U; stateReg := sIdle; finished := true.B }
 
@@ -54,7 +54,8 @@ class SceneLoader(sys: SystemConfig) extends Module {
   private val w = VecInit.tabulate(16)(k => io.mem.resp.bits.data(32 * k + 31, 32 * k))
   private val magic = java.nio.ByteBuffer.wrap(MemoryImage.Magic).order(java.nio.ByteOrder.LITTLE_ENDIAN)
   private val (magic0, magic1) = (magic.getInt(0).toLong & 0xffffffffL, magic.getInt(4).toLong & 0xffffffffL)
-  private val (triCount, nodeOffset, triOffset, nodeBytes, triBytes, bvhDepth, layout) = (w(4), w(5), w(6), w(7), w(8), w(10), w(11))
+  private val (triCount, nodeOffset, triOffset, nodeBytes, triBytes, bvhDepth, layout) =
+    (w(4), w(5), w(6), w(7), w(8), w(10), w(11))
   // The triangle array's bytes, triCount * 48, saturated at 2^32 - 1 (the store takes at most its capacity anyway).
   private val triArrayBytes = (triCount << 5) +& (triCount << 4)
   when(io.mem.resp.fire) {
@@ -66,15 +67,15 @@ class SceneLoader(sys: SystemConfig) extends Module {
       .elsewhen(bvhDepth > sys.core.stackDepth.U) { fail(6) }
       .otherwise {
         nodeBaseReg := baseReg + nodeOffset
-        triBaseReg  := baseReg + triOffset
+        triBaseReg := baseReg + triOffset
         // The node array's bytes (nodeCount * nodeBytes, at most triOffset - nodeOffset).
-        bytesReg    := triOffset - nodeOffset
+        bytesReg := triOffset - nodeOffset
         triBytesReg := Mux(triArrayBytes(triArrayBytes.getWidth - 1, 32).orR, "hffffffff".U, triArrayBytes(31, 0))
-        stateReg    := sStore
+        stateReg := sStore
       }
   }
   io.store.start := stateReg === sStore
-  io.store.base  := nodeBaseReg
+  io.store.base := nodeBaseReg
   io.store.bytes := bytesReg
   when(stateReg === sStore) { stateReg := sWait }
   // With no triangle store (triStoreBytes = 0) the load ends with the node store's, as before it existed.
@@ -84,18 +85,18 @@ class SceneLoader(sys: SystemConfig) extends Module {
     if (sys.triStoreBytes == 0) { readyReg := true.B; finished := true.B }
   }
   io.triStore.start := stateReg === sTriStore
-  io.triStore.base  := triBaseReg
+  io.triStore.base := triBaseReg
   io.triStore.bytes := triBytesReg
   when(stateReg === sTriStore) { stateReg := sTriWait }
   when(stateReg === sTriWait && io.triStore.done) { stateReg := sIdle; readyReg := true.B; finished := true.B }
 
-  io.busy      := stateReg =/= sIdle
-  io.ready     := readyReg
-  io.error     := errorReg
+  io.busy := stateReg =/= sIdle
+  io.ready := readyReg
+  io.error := errorReg
   io.errorCode := codeReg
-  io.finished  := finished
-  io.nodeBase  := nodeBaseReg
-  io.triBase   := triBaseReg
+  io.finished := finished
+  io.nodeBase := nodeBaseReg
+  io.triBase := triBaseReg
 }
 
 object SceneLoader {

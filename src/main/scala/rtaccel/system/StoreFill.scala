@@ -31,27 +31,37 @@ import rtaccel.axi.{Axi4Addr, Axi4Params, Axi4R, BurstMath, ByteRotate}
   * registered) may be served on chip; the fill writes only while not loaded.
   */
 class StoreFill(p: Axi4Params, capacityBytes: Int, wordBytes: Int, fillId: Int) extends Module {
-  private val B         = p.beatBytes
-  private val beatBits  = log2Ceil(B)
-  require(wordBytes % B == 0 && Integer.bitCount(wordBytes / B) == 1, s"StoreFill: a word ($wordBytes bytes) must be a power-of-two number of $B-byte beats")
-  private val lanes     = wordBytes / B
-  require(capacityBytes > 0 && capacityBytes % wordBytes == 0, s"StoreFill: capacity $capacityBytes is not a positive multiple of $wordBytes bytes")
-  private val words     = capacityBytes / wordBytes
-  private val lines     = capacityBytes / B
+  private val B = p.beatBytes
+  private val beatBits = log2Ceil(B)
+  require(
+    wordBytes % B == 0 && Integer.bitCount(wordBytes / B) == 1,
+    s"StoreFill: a word ($wordBytes bytes) must be a power-of-two number of $B-byte beats"
+  )
+  private val lanes = wordBytes / B
+  require(
+    capacityBytes > 0 && capacityBytes % wordBytes == 0,
+    s"StoreFill: capacity $capacityBytes is not a positive multiple of $wordBytes bytes"
+  )
+  private val words = capacityBytes / wordBytes
+  private val lines = capacityBytes / B
+
   /** The beat is wider than the base's alignment: the fill reads one beat more and realigns (above). */
-  private val realign   = B > StoreFill.BaseAlign
+  private val realign = B > StoreFill.BaseAlign
+
   /** Counts of beats: the lines, and the realigning fill's extra beat. */
-  private val lineBits  = log2Ceil(lines + (if (realign) 2 else 1))
+  private val lineBits = log2Ceil(lines + (if (realign) 2 else 1))
 
   val io = IO(new Bundle {
-    val load  = new NodeStoreLoad(p.addrBits)
-    val ar    = Decoupled(new Axi4Addr(p))
+    val load = new NodeStoreLoad(p.addrBits)
+    val ar = Decoupled(new Axi4Addr(p))
+
     /** R beats with ID `fillId` routed here; always taken. */
-    val r     = Flipped(Valid(new Axi4R(p)))
+    val r = Flipped(Valid(new Axi4R(p)))
     val error = Output(Bool())
     val ready = Output(Bool())
-    val base  = Output(UInt(p.addrBits.W))
+    val base = Output(UInt(p.addrBits.W))
     val limit = Output(UInt((p.addrBits + 1).W))
+
     /** One whole line to write: line `line` of the store, `data` its B bytes. */
     val write = Valid(new Bundle {
       val line = UInt(lineBits.W)
@@ -59,14 +69,14 @@ class StoreFill(p: Axi4Params, capacityBytes: Int, wordBytes: Int, fillId: Int) 
     })
   })
 
-  private val baseReg     = RegInit(0.U(p.addrBits.W))
-  private val totalReg    = RegInit(0.U(lineBits.W)) // lines to fill
-  private val issuedReg   = RegInit(0.U(lineBits.W))
+  private val baseReg = RegInit(0.U(p.addrBits.W))
+  private val totalReg = RegInit(0.U(lineBits.W)) // lines to fill
+  private val issuedReg = RegInit(0.U(lineBits.W))
   private val receivedReg = RegInit(0.U(lineBits.W))
-  private val burstsReg   = RegInit(0.U(log2Ceil(StoreFill.FillBursts + 1).W))
-  private val busyReg     = RegInit(false.B)
-  private val loadedReg   = RegInit(false.B)
-  private val errorReg    = RegInit(false.B)
+  private val burstsReg = RegInit(0.U(log2Ceil(StoreFill.FillBursts + 1).W))
+  private val busyReg = RegInit(false.B)
+  private val loadedReg = RegInit(false.B)
+  private val errorReg = RegInit(false.B)
   // A start while a fill runs is ignored: beats of its bursts are still on the way.
   private val startNow = io.load.start && !busyReg
   // The base's offset in its beat, in whole 64-byte lines (0 unless `realign`).
@@ -76,45 +86,45 @@ class StoreFill(p: Axi4Params, capacityBytes: Int, wordBytes: Int, fillId: Int) 
   when(startNow) {
     // Whole words (a record never straddles the end), at most the capacity.
     val wanted = (io.load.bytes +& (wordBytes - 1).U) >> log2Ceil(wordBytes)
-    val ws     = Mux(wanted > words.U, words.U, wanted)
-    baseReg     := io.load.base
-    val off     = offReg.map(_ => io.load.base(beatBits - 1, alignBits))
-    totalReg    := off.fold(ws << log2Ceil(lanes))(o => (ws << log2Ceil(lanes)) +& (o =/= 0.U).asUInt)
+    val ws = Mux(wanted > words.U, words.U, wanted)
+    baseReg := io.load.base
+    val off = offReg.map(_ => io.load.base(beatBits - 1, alignBits))
+    totalReg := off.fold(ws << log2Ceil(lanes))(o => (ws << log2Ceil(lanes)) +& (o =/= 0.U).asUInt)
     offReg.zip(off).foreach { case (r, o) => r := o }
     storedLinesReg.foreach(_ := ws << log2Ceil(lanes))
     if (realign) when(io.load.base(alignBits - 1, 0) =/= 0.U) { errorReg := true.B }
-    issuedReg   := 0.U
+    issuedReg := 0.U
     receivedReg := 0.U
-    busyReg     := true.B
-    loadedReg   := false.B
+    busyReg := true.B
+    loadedReg := false.B
   }
   // The next burst is sized a cycle before it is offered, from registers
   // only (its address, the lines left), and waits in arAddrReg/arBeatsReg:
   // the 4 KB room, the two minimums and the counters' adds are not one path
   // (docs/fmax.md). A burst is prepared only while none waits, and counted in
   // burstsReg when it leaves, so at most FillBursts are outstanding.
-  private val fillAddrReg  = RegInit(0.U(p.addrBits.W)) // the next burst's address: base + issued beats
-  private val arPendReg    = RegInit(false.B)
-  private val arAddrReg    = Reg(UInt(p.addrBits.W))
-  private val arBeatsReg   = Reg(UInt(log2Ceil(StoreFill.FillBurstBeats + 1).W))
-  private val left     = totalReg - issuedReg
-  private val room     = BurstMath.beatsToBoundary(p, fillAddrReg)
-  private val beats    = Seq(left, room, StoreFill.FillBurstBeats.U).reduce((a, b) => Mux(a < b, a, b))
+  private val fillAddrReg = RegInit(0.U(p.addrBits.W)) // the next burst's address: base + issued beats
+  private val arPendReg = RegInit(false.B)
+  private val arAddrReg = Reg(UInt(p.addrBits.W))
+  private val arBeatsReg = Reg(UInt(log2Ceil(StoreFill.FillBurstBeats + 1).W))
+  private val left = totalReg - issuedReg
+  private val room = BurstMath.beatsToBoundary(p, fillAddrReg)
+  private val beats = Seq(left, room, StoreFill.FillBurstBeats.U).reduce((a, b) => Mux(a < b, a, b))
   when(busyReg && !arPendReg && issuedReg =/= totalReg && burstsReg =/= StoreFill.FillBursts.U) {
-    arPendReg  := true.B
-    arAddrReg  := fillAddrReg
+    arPendReg := true.B
+    arAddrReg := fillAddrReg
     arBeatsReg := beats
   }
   io.ar.valid := arPendReg
-  io.ar.bits  := Axi4Addr.incr(p, fillId.U, arAddrReg, arBeatsReg)
+  io.ar.bits := Axi4Addr.incr(p, fillId.U, arAddrReg, arBeatsReg)
   when(io.ar.fire) {
-    arPendReg   := false.B
-    issuedReg   := issuedReg + arBeatsReg
+    arPendReg := false.B
+    issuedReg := issuedReg + arBeatsReg
     fillAddrReg := fillAddrReg + (arBeatsReg << beatBits)
   }
   when(startNow) {
     fillAddrReg := (if (realign) Cat(io.load.base(p.addrBits - 1, beatBits), 0.U(beatBits.W)) else io.load.base)
-    arPendReg   := false.B
+    arPendReg := false.B
   }
   private val beatOk = busyReg && receivedReg =/= issuedReg && io.r.bits.resp === 0.U
   when(io.r.valid && !beatOk) { errorReg := true.B }
@@ -122,21 +132,21 @@ class StoreFill(p: Axi4Params, capacityBytes: Int, wordBytes: Int, fillId: Int) 
   burstsReg := burstsReg + io.ar.fire.asUInt - (fillWrite && io.r.bits.last).asUInt
   when(fillWrite) { receivedReg := receivedReg + 1.U }
   when(busyReg && receivedReg === totalReg) {
-    busyReg   := false.B
+    busyReg := false.B
     loadedReg := true.B
   }
   // Stage the beat: the write happens the cycle after it arrives.
   private val wValidReg = RegNext(fillWrite, false.B)
-  private val wLineReg  = RegEnable(receivedReg, fillWrite)
-  private val wDataReg  = RegEnable(io.r.bits.data, fillWrite)
-  io.load.busy        := busyReg
-  io.load.done        := loadedReg
+  private val wLineReg = RegEnable(receivedReg, fillWrite)
+  private val wDataReg = RegEnable(io.r.bits.data, fillWrite)
+  io.load.busy := busyReg
+  io.load.done := loadedReg
   // Lines held: the beats read, but the realigning fill's extra one.
   private val storedBytes = storedLinesReg.getOrElse(totalReg) << beatBits
   io.load.storedBytes := Mux(loadedReg, storedBytes, 0.U)
-  io.error            := errorReg
-  io.ready            := loadedReg && !startNow
-  io.base             := baseReg
+  io.error := errorReg
+  io.ready := loadedReg && !startNow
+  io.base := baseReg
   // The end of the stored bytes, registered: it follows baseReg and totalReg a
   // cycle late, and a hit needs `ready`, set only when the fill is done, many
   // cycles after both were loaded. So the stores' hit tests are compares side
@@ -146,23 +156,24 @@ class StoreFill(p: Axi4Params, capacityBytes: Int, wordBytes: Int, fillId: Int) 
   // The line a staged beat writes and its bytes: the beat itself, or (realigning) the line before it, completed.
   offReg match {
     case None =>
-      io.write.valid     := wValidReg
+      io.write.valid := wValidReg
       io.write.bits.line := wLineReg
       io.write.bits.data := wDataReg
     case Some(off) =>
-      val rot     = ByteRotate.right(wDataReg, Cat(off, 0.U(alignBits.W)))
+      val rot = ByteRotate.right(wDataReg, Cat(off, 0.U(alignBits.W)))
       val prevReg = RegEnable(rot, wValidReg)
       // Bytes below B - off of the line come from the beat before (rotated), the rest from this one.
-      val keep    = (0 until B).map(j => Cat(off, 0.U(alignBits.W)) +& j.U < B.U)
-      val merged  = Cat((0 until B).reverse.map(j => Mux(keep(j), prevReg(8 * j + 7, 8 * j), rot(8 * j + 7, 8 * j))))
+      val keep = (0 until B).map(j => Cat(off, 0.U(alignBits.W)) +& j.U < B.U)
+      val merged = Cat((0 until B).reverse.map(j => Mux(keep(j), prevReg(8 * j + 7, 8 * j), rot(8 * j + 7, 8 * j))))
       val shifted = off =/= 0.U
-      io.write.valid     := wValidReg && !(shifted && wLineReg === 0.U)
+      io.write.valid := wValidReg && !(shifted && wLineReg === 0.U)
       io.write.bits.line := Mux(shifted, wLineReg - 1.U, wLineReg)
       io.write.bits.data := Mux(shifted, merged, wDataReg)
   }
 }
 
 object StoreFill {
+
   /** The fill of the store whose ports are `io`, wired to them (load, AR, R); the store serves from its `write`s. */
   def apply(p: Axi4Params, io: StoreIO, capacityBytes: Int, wordBytes: Int, fillId: Int): StoreFill = {
     val fill = Module(new StoreFill(p, capacityBytes, wordBytes, fillId))
@@ -173,6 +184,7 @@ object StoreFill {
   }
   val FillBurstBeats = 16
   val FillBursts = 8
+
   /** A store's base alignment in DDR (NodeStoreLoad: `base` is 64-byte aligned). */
   val BaseAlign = 64
 }

@@ -43,15 +43,28 @@ case class SystemConfig(
     hitPairSlots: Int = 64
 ) {
   require(cores >= 1, s"SystemConfig: cores must be >= 1, got $cores")
-  require(SystemConfig.AxiDataBitsChoices.contains(axiDataBits),
-    s"SystemConfig: axiDataBits must be one of ${SystemConfig.AxiDataBitsChoices.mkString(", ")}, got $axiDataBits")
+  require(
+    SystemConfig.AxiDataBitsChoices.contains(axiDataBits),
+    s"SystemConfig: axiDataBits must be one of ${SystemConfig.AxiDataBitsChoices.mkString(", ")}, got $axiDataBits"
+  )
   require(nodeStoreBytes >= 0, s"SystemConfig: nodeStoreBytes must be >= 0, got $nodeStoreBytes")
-  require(triStoreBytes == 0 || Integer.bitCount(triStoreBytes) == 1 && triStoreBytes >= 2 * axiDataBits / 8,
-    s"SystemConfig: triStoreBytes must be 0 or a power of two of at least two beats, got $triStoreBytes")
-  require(core.addrBits == axiAddrBits, s"SystemConfig: core.addrBits (${core.addrBits}) must equal axiAddrBits ($axiAddrBits)")
-  require(raysPerBlock * SystemConfig.RayBytes % 64 == 0, s"SystemConfig: a ray block must be whole 64-byte lines, got $raysPerBlock rays")
+  require(
+    triStoreBytes == 0 || Integer.bitCount(triStoreBytes) == 1 && triStoreBytes >= 2 * axiDataBits / 8,
+    s"SystemConfig: triStoreBytes must be 0 or a power of two of at least two beats, got $triStoreBytes"
+  )
+  require(
+    core.addrBits == axiAddrBits,
+    s"SystemConfig: core.addrBits (${core.addrBits}) must equal axiAddrBits ($axiAddrBits)"
+  )
+  require(
+    raysPerBlock * SystemConfig.RayBytes % 64 == 0,
+    s"SystemConfig: a ray block must be whole 64-byte lines, got $raysPerBlock rays"
+  )
   require(rayBlockTags >= 1 && hitQueue >= 1, s"SystemConfig: rayBlockTags and hitQueue must be >= 1")
-  require(hitPairSlots >= 1 && Integer.bitCount(hitPairSlots) == 1, s"SystemConfig: hitPairSlots must be a power of two, got $hitPairSlots")
+  require(
+    hitPairSlots >= 1 && Integer.bitCount(hitPairSlots) == 1,
+    s"SystemConfig: hitPairSlots must be a power of two, got $hitPairSlots"
+  )
   val axi: Axi4Params = Axi4Params(addrBits = axiAddrBits, dataBits = axiDataBits, idBits = axiIdBits)
 
   val axiDataBytes: Int = axiDataBits / 8
@@ -60,8 +73,10 @@ case class SystemConfig(
 }
 
 object SystemConfig {
+
   /** m_axi widths the system is built and tested for: the MIG's user interface (512) and twice it (1024). */
   val AxiDataBitsChoices: Seq[Int] = Seq(512, 1024)
+
   /** The m_axi width of every SystemConfig that names none: `AXI_DATA_BITS` from the environment (make passes a
     * command-line variable on to sbt, so `make verilog AXI_DATA_BITS=1024`, `make cppsim-test AXI_DATA_BITS=1024`
     * and a spec run under it all build the wide system), else 512. Read once per JVM.
@@ -70,8 +85,10 @@ object SystemConfig {
   def axiDataBitsOf(setting: Option[String]): Int = setting.map(_.trim).filter(_.nonEmpty) match {
     case None => 512
     case Some(v) => v.toIntOption.filter(AxiDataBitsChoices.contains).getOrElse(throw new IllegalArgumentException(
-      s"AXI_DATA_BITS=$v: the m_axi data width must be one of ${AxiDataBitsChoices.mkString(", ")}"))
+        s"AXI_DATA_BITS=$v: the m_axi data width must be one of ${AxiDataBitsChoices.mkString(", ")}"
+      ))
   }
+
   /** Ray and hit records in DDR (docs/reports/register-map.md). */
   val RayBytes = 48
   val HitBytes = 32

@@ -19,8 +19,8 @@ import rtaccel.{Datapath, ErrorFlags, RtAccel}
   */
 class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends Module {
   val io = IO(new Bundle {
-    val ctl       = Flipped(new AxiLite(RegisterMap.AddrBits, 32))
-    val axi       = new Axi4Master(sys)
+    val ctl = Flipped(new AxiLite(RegisterMap.AddrBits, 32))
+    val axi = new Axi4Master(sys)
     val interrupt = Output(Bool())
   })
   private val cfg = sys.core
@@ -28,9 +28,14 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   private val loader = Module(new SceneLoader(sys))
   private val rayDma = Module(new RayDma(sys))
   private val hitDma = Module(new HitDma(sys))
-  private val readers = cores.flatMap(c => Seq(c.io.nodeMem.p, c.io.triMem.p)) ++ Seq(SceneLoader.port(sys), RayDma.port(sys))
-  private val fabric = Module(new MemoryFabric(sys, readers, cores.flatMap(_ => Seq(true, false)) ++ Seq(false, false),
-    cores.flatMap(_ => Seq(false, true)) ++ Seq(false, false)))
+  private val readers =
+    cores.flatMap(c => Seq(c.io.nodeMem.p, c.io.triMem.p)) ++ Seq(SceneLoader.port(sys), RayDma.port(sys))
+  private val fabric = Module(new MemoryFabric(
+    sys,
+    readers,
+    cores.flatMap(_ => Seq(true, false)) ++ Seq(false, false),
+    cores.flatMap(_ => Seq(false, true)) ++ Seq(false, false)
+  ))
   for ((c, i) <- cores.zipWithIndex) {
     fabric.io.readers(2 * i) <> c.io.nodeMem
     fabric.io.readers(2 * i + 1) <> c.io.triMem
@@ -53,10 +58,10 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   private val ctrl = regs.io.pulse(rm.index("CTRL"))
 
   private val activeReg = RegInit(false.B)
-  private val doneReg   = RegInit(false.B)
+  private val doneReg = RegInit(false.B)
   private val brokenReg = RegInit(false.B)
   private val writesBaseReg = RegInit(0.U(32.W))
-  private val countReg  = RegInit(0.U(32.W))
+  private val countReg = RegInit(0.U(32.W))
   private val busy = activeReg || loader.io.busy
   private val aligned = value("RAY_BASE")(5, 0) === 0.U && value("HIT_BASE")(5, 0) === 0.U
   private val start = ctrl(bit("CTRL", "START")) && !busy && loader.io.ready && aligned
@@ -81,7 +86,8 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   private val n = sys.cores
   private val ptrBits = log2Ceil(n).max(1)
   private val ptrReg = RegInit(0.U(ptrBits.W))
-  private val order = (0 until n).map(k => Mux(ptrReg +& k.U >= n.U, ptrReg +& k.U - n.U, ptrReg +& k.U)(ptrBits - 1, 0))
+  private val order =
+    (0 until n).map(k => Mux(ptrReg +& k.U >= n.U, ptrReg +& k.U - n.U, ptrReg +& k.U)(ptrBits - 1, 0))
   private val readyVec = VecInit(cores.map(_.io.rays.ready))
   private val anyReady = readyVec.asUInt.orR
   private val pick = if (n == 1) 0.U else PriorityMux(order.map(readyVec(_)), order)
@@ -104,8 +110,16 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   hw("IRQ_STATUS") := (finish.asUInt << irqDone) | (loader.io.finished.asUInt << irqScene)
   io.interrupt := RegNext((value("IRQ_STATUS") & value("IRQ_ENABLE")).orR, false.B)
   private def at(reg: String, field: String, b: Bool): UInt = b.asUInt << bit(reg, field)
-  hw("STATUS") := at("STATUS", "BUSY", busy) | at("STATUS", "DONE", doneReg) | at("STATUS", "SCENE_READY", loader.io.ready) |
-    at("STATUS", "SCENE_ERROR", loader.io.error) | at("STATUS", "BROKEN", brokenReg) | at("STATUS", "AXI_ERROR", fabric.io.axiError)
+  hw("STATUS") := at("STATUS", "BUSY", busy) | at("STATUS", "DONE", doneReg) | at(
+    "STATUS",
+    "SCENE_READY",
+    loader.io.ready
+  ) |
+    at("STATUS", "SCENE_ERROR", loader.io.error) | at("STATUS", "BROKEN", brokenReg) | at(
+      "STATUS",
+      "AXI_ERROR",
+      fabric.io.axiError
+    )
   hw("SCENE_ERROR_CODE") := loader.io.errorCode
   hw("CONFIG_CORES") := n.U
   hw("CONFIG_LAYOUT") := cfg.layout.code.U
@@ -128,13 +142,26 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   private val cyclesReg = RegInit(0.U(64.W))
   when(start) { cyclesReg := 0.U }.elsewhen(activeReg) { cyclesReg := cyclesReg + 1.U }
   private val running: Seq[(String, UInt)] = Seq(
-    "RAYS_IN" -> sum(_.raysIn), "HITS_OUT" -> sum(_.hitsOut), "NODE_FETCHES" -> sum(_.nodeFetches), "TRI_FETCHES" -> sum(_.triFetches),
-    "BOX_TESTS" -> sum(_.boxTests), "CHILD_BOX_TESTS" -> sum(_.childBoxTests), "TRI_TESTS" -> sum(_.triTests),
-    "DECISIONS" -> sum(_.decisions), "LEAF_RETURNS" -> sum(_.leafReturns),
-    "NODE_STORE_HITS" -> fabric.io.stats.nodeStoreHits, "NODE_STORE_MISSES" -> fabric.io.stats.nodeStoreMisses,
-    "AXI_READ_BEATS" -> count(a.r.fire), "AXI_WRITE_BEATS" -> count(a.w.fire), "AXI_READ_STALL" -> count(a.ar.valid && !a.ar.ready),
-    "IN_FLIGHT_SUM" -> sum(_.inFlightSum))
-  require(running.map(_._1).toSet + "CYCLES" == rm.counters.map(_._1).toSet, "SystemCore: every RegisterMap counter has a source")
+    "RAYS_IN" -> sum(_.raysIn),
+    "HITS_OUT" -> sum(_.hitsOut),
+    "NODE_FETCHES" -> sum(_.nodeFetches),
+    "TRI_FETCHES" -> sum(_.triFetches),
+    "BOX_TESTS" -> sum(_.boxTests),
+    "CHILD_BOX_TESTS" -> sum(_.childBoxTests),
+    "TRI_TESTS" -> sum(_.triTests),
+    "DECISIONS" -> sum(_.decisions),
+    "LEAF_RETURNS" -> sum(_.leafReturns),
+    "NODE_STORE_HITS" -> fabric.io.stats.nodeStoreHits,
+    "NODE_STORE_MISSES" -> fabric.io.stats.nodeStoreMisses,
+    "AXI_READ_BEATS" -> count(a.r.fire),
+    "AXI_WRITE_BEATS" -> count(a.w.fire),
+    "AXI_READ_STALL" -> count(a.ar.valid && !a.ar.ready),
+    "IN_FLIGHT_SUM" -> sum(_.inFlightSum)
+  )
+  require(
+    running.map(_._1).toSet + "CYCLES" == rm.counters.map(_._1).toSet,
+    "SystemCore: every RegisterMap counter has a source"
+  )
   private def show(name: String, v: UInt): Unit = { hw(s"${name}_LO") := v(31, 0); hw(s"${name}_HI") := v(63, 32) }
   show("CYCLES", cyclesReg)
   for ((name, v) <- running) {

@@ -29,14 +29,19 @@ import rtaccel.mem.{MemPortParams, MemResponse}
   * rate: one record per client per cycle.
   */
 class TriStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: Int, fillId: Int) extends Module {
-  private val B        = p.beatBytes
+  private val B = p.beatBytes
   private val recBytes = port.recordBytes
-  require(recBytes % TriStore.Grain == 0 && recBytes <= B, s"TriStore: records must be a multiple of ${TriStore.Grain} bytes up to one $B-byte beat, got $recBytes")
-  require(Integer.bitCount(capacityBytes) == 1 && capacityBytes >= 2 * B,
-    s"TriStore: capacity must be a power of two of at least two $B-byte lines, got $capacityBytes")
-  private val lines    = capacityBytes / B
-  private val words    = lines / 2 // per bank
-  private val idxBits  = log2Ceil(words).max(1)
+  require(
+    recBytes % TriStore.Grain == 0 && recBytes <= B,
+    s"TriStore: records must be a multiple of ${TriStore.Grain} bytes up to one $B-byte beat, got $recBytes"
+  )
+  require(
+    Integer.bitCount(capacityBytes) == 1 && capacityBytes >= 2 * B,
+    s"TriStore: capacity must be a power of two of at least two $B-byte lines, got $capacityBytes"
+  )
+  private val lines = capacityBytes / B
+  private val words = lines / 2 // per bank
+  private val idxBits = log2Ceil(words).max(1)
   private val lineBits = log2Ceil(B)
   private val grainBits = log2Ceil(TriStore.Grain)
 
@@ -49,7 +54,8 @@ class TriStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: 
   private val baseReg = fill.io.base
   // The last address at which a whole record is stored, + 1: limit - (rec - 1), registered like the limit
   // (it follows it a cycle late, long before `ready`). Below base when nothing whole is stored: no hit.
-  private val recLimitReg = RegNext(Mux(fill.io.limit >= baseReg +& recBytes.U, fill.io.limit - (recBytes - 1).U, 0.U), 0.U)
+  private val recLimitReg =
+    RegNext(Mux(fill.io.limit >= baseReg +& recBytes.U, fill.io.limit - (recBytes - 1).U, 0.U), 0.U)
 
   // ---- Serve ----
   for (c <- 0 until clients) {
@@ -57,11 +63,11 @@ class TriStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: 
     val aligned = a(grainBits - 1, 0) === baseReg(grainBits - 1, 0)
     io.hit(c) := fill.io.ready && a >= baseReg && a < recLimitReg && aligned
   }
-  private val copies  = (clients + 1) / 2
-  private val banks   = Seq.fill(copies)(Seq.fill(2)(SyncReadMem(words, UInt((8 * B).W))))
+  private val copies = (clients + 1) / 2
+  private val banks = Seq.fill(copies)(Seq.fill(2)(SyncReadMem(words, UInt((8 * B).W))))
   private val wEnable = fill.io.write.valid
-  private val wLine   = fill.io.write.bits.line
-  private val wIdx    = (wLine >> 1)(idxBits - 1, 0)
+  private val wLine = fill.io.write.bits.line
+  private val wIdx = (wLine >> 1)(idxBits - 1, 0)
 
   for (c <- 0 until clients) {
     val outQ = Module(new Queue(new MemResponse(port), NodeStore.OutDepth))
@@ -70,11 +76,11 @@ class TriStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: 
     val credit = outQ.io.count +& s1ValidReg.asUInt < NodeStore.OutDepth.U
     io.req(c).ready := credit
     val fire = io.req(c).fire
-    val rel  = io.req(c).bits.addr - baseReg
+    val rel = io.req(c).bits.addr - baseReg
     val line = rel >> lineBits
     // Bank 0 holds the even line of L, L+1, bank 1 the odd one. (L+1)/2 past the last word (L the last line,
     // odd) wraps to word 0, a power of two: that line is then not part of the record (it lies below the stored end).
-    val idx  = Seq(((line +& 1.U) >> 1)(idxBits - 1, 0), (line >> 1)(idxBits - 1, 0))
+    val idx = Seq(((line +& 1.U) >> 1)(idxBits - 1, 0), (line >> 1)(idxBits - 1, 0))
     val rdata = banks(c / 2).zipWithIndex.map { case (mem, b) =>
       if (c % 2 == 0) {
         val w = wEnable && wLine(0) === b.U
@@ -89,15 +95,16 @@ class TriStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: 
     val s1SubReg = RegEnable(rel(lineBits - 1, grainBits), fire)
     // As in NodeStore: no register on the read data (Yosys would double the memory); the BRAM's output is it.
     val pair = Mux(s1OddReg, Cat(rdata(0), rdata(1)), Cat(rdata(1), rdata(0))) // line L+1 above line L
-    outQ.io.enq.valid     := s1ValidReg
+    outQ.io.enq.valid := s1ValidReg
     outQ.io.enq.bits.data := (pair >> (s1SubReg << (grainBits + 3)))(8 * recBytes - 1, 0)
-    outQ.io.enq.bits.tag  := s1TagReg
+    outQ.io.enq.bits.tag := s1TagReg
     when(outQ.io.enq.valid && !outQ.io.enq.ready) { errorReg := true.B }
     io.resp(c) <> outQ.io.deq
   }
 }
 
 object TriStore {
+
   /** Record alignment inside the array: a 48-byte triangle starts on a 16-byte boundary. */
   val Grain = 16
 }

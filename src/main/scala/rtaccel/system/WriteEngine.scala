@@ -23,24 +23,24 @@ class WriteEngine(p: Axi4Params, maxOutstanding: Int = WriteEngine.MaxOutstandin
   private val R = WriteRecord.RecordBytes
   require(B >= L, s"WriteEngine: a beat ($B bytes) must hold a $L-byte line")
   val io = IO(new Bundle {
-    val write      = Flipped(Decoupled(new Bundle {
-      val addr   = UInt(p.addrBits.W)
-      val data   = UInt((8 * L).W)
+    val write = Flipped(Decoupled(new Bundle {
+      val addr = UInt(p.addrBits.W)
+      val data = UInt((8 * L).W)
       val halves = UInt(WriteRecord.Records.W)
     }))
-    val aw         = Decoupled(new Axi4Addr(p))
-    val w          = Decoupled(new Axi4W(p))
-    val b          = Flipped(Decoupled(new Axi4B(p)))
+    val aw = Decoupled(new Axi4Addr(p))
+    val w = Decoupled(new Axi4W(p))
+    val b = Flipped(Decoupled(new Axi4B(p)))
     val writesDone = Output(UInt(32.W))
-    val error      = Output(Bool())
+    val error = Output(Bool())
   })
   private val awQ = Module(new Queue(new Axi4Addr(p), 2))
-  private val wQ  = Module(new Queue(new Axi4W(p), 2))
+  private val wQ = Module(new Queue(new Axi4W(p), 2))
   private val recordsQ = Module(new Queue(UInt(2.W), maxOutstanding))
   private val room = Seq(awQ.io.enq.ready, wQ.io.enq.ready, recordsQ.io.enq.ready)
-  io.write.ready       := room.reduce(_ && _)
-  awQ.io.enq.valid     := io.write.valid && wQ.io.enq.ready && recordsQ.io.enq.ready
-  wQ.io.enq.valid      := io.write.valid && awQ.io.enq.ready && recordsQ.io.enq.ready
+  io.write.ready := room.reduce(_ && _)
+  awQ.io.enq.valid := io.write.valid && wQ.io.enq.ready && recordsQ.io.enq.ready
+  wQ.io.enq.valid := io.write.valid && awQ.io.enq.ready && recordsQ.io.enq.ready
   recordsQ.io.enq.valid := io.write.valid && awQ.io.enq.ready && wQ.io.enq.ready
   recordsQ.io.enq.bits := PopCount(io.write.bits.halves)
   private val beatAddr = Cat(io.write.bits.addr(p.addrBits - 1, log2Ceil(B)), 0.U(log2Ceil(B).W))
@@ -54,7 +54,7 @@ class WriteEngine(p: Axi4Params, maxOutstanding: Int = WriteEngine.MaxOutstandin
   io.aw <> awQ.io.deq
   io.w <> wQ.io.deq
 
-  private val doneReg  = RegInit(0.U(32.W))
+  private val doneReg = RegInit(0.U(32.W))
   private val errorReg = RegInit(false.B)
   io.b.ready := true.B
   recordsQ.io.deq.ready := io.b.valid
@@ -63,10 +63,11 @@ class WriteEngine(p: Axi4Params, maxOutstanding: Int = WriteEngine.MaxOutstandin
     when(io.b.bits.resp =/= Axi4.RespOkay.U || !recordsQ.io.deq.valid) { errorReg := true.B }
   }
   io.writesDone := doneReg
-  io.error      := errorReg
+  io.error := errorReg
 }
 
 object WriteEngine {
+
   /** Writes in flight (AW taken, B not yet come) at most: a hit line every 2 cycles (4 cores at 0.54 rays/cycle,
     * docs/reports/performance.md) against B responses the DDR model gives within about 40 cycles keeps fewer
     * than 32 in flight, so the bound costs nothing measured. */

@@ -19,6 +19,7 @@ import scala.concurrent.{Await, ExecutionContext, Future}
   * `make speed-vs-error` share their results.
   */
 object AccelArea {
+
   /** The datapath units, by module-name prefix (FloatDatapath's desiredName). */
   val datapathUnits: Seq[String] = Seq("RayPrep", "BoxLane", "PrimIntersect")
   val controlLabel = "control"
@@ -26,7 +27,9 @@ object AccelArea {
   final case class Module(name: String, text: String)
 
   def modules(sv: String): Seq[Module] =
-    """(?ms)^module (\w+)\b.*?^endmodule\b[^\n]*\n?""".r.findAllMatchIn(sv).map(m => Module(m.group(1), m.matched)).toSeq
+    """(?ms)^module (\w+)\b.*?^endmodule\b[^\n]*\n?""".r.findAllMatchIn(sv).map(m =>
+      Module(m.group(1), m.matched)
+    ).toSeq
 
   /** `top` and every module it instantiates, transitively, in file order. */
   def subtree(mods: Seq[Module], top: String): Seq[Module] = {
@@ -46,13 +49,36 @@ object AccelArea {
     md.digest().take(8).map(b => f"$b%02x").mkString
   }
 
-  def toJson(a: Synth.Area): String = ujson.write(ujson.Obj("lut" -> a.lut, "ff" -> a.ff, "srl" -> a.srl, "dsp" -> a.dsp,
-    "carry" -> a.carry, "ramb36" -> a.ramb36, "ramb18" -> a.ramb18, "lutram" -> a.lutram))
-  def fromJson(j: ujson.Value): Synth.Area = Synth.Area(j("lut").num.toInt, j("ff").num.toInt, j("srl").num.toInt, j("dsp").num.toInt,
-    j("carry").num.toInt, j("ramb36").num.toInt, j("ramb18").num.toInt, j("lutram").num.toInt)
+  def toJson(a: Synth.Area): String = ujson.write(ujson.Obj(
+    "lut" -> a.lut,
+    "ff" -> a.ff,
+    "srl" -> a.srl,
+    "dsp" -> a.dsp,
+    "carry" -> a.carry,
+    "ramb36" -> a.ramb36,
+    "ramb18" -> a.ramb18,
+    "lutram" -> a.lutram
+  ))
+  def fromJson(j: ujson.Value): Synth.Area = Synth.Area(
+    j("lut").num.toInt,
+    j("ff").num.toInt,
+    j("srl").num.toInt,
+    j("dsp").num.toInt,
+    j("carry").num.toInt,
+    j("ramb36").num.toInt,
+    j("ramb18").num.toInt,
+    j("lutram").num.toInt
+  )
 
   /** One cached Yosys run on `text` (the Verilog read), top `top`, black boxes `bb`. */
-  private def cached(cacheDir: Path, label: String, mask: String, text: String, top: String, bb: Seq[String]): Synth.Area = {
+  private def cached(
+      cacheDir: Path,
+      label: String,
+      mask: String,
+      text: String,
+      top: String,
+      bb: Seq[String]
+  ): Synth.Area = {
     val key = hash(text.replace(mask, "#"), top.replace(mask, "#"), bb.map(_.replace(mask, "#")).mkString(","))
     val done = cacheDir.resolve(s"$label-$key.json")
     if (Files.exists(done)) fromJson(ujson.read(Files.readString(done)))
@@ -65,7 +91,12 @@ object AccelArea {
       // Written whole then renamed, so a concurrent reader never sees half a file.
       val tmp = Files.createTempFile(cacheDir, label, ".tmp")
       Files.writeString(tmp, toJson(a))
-      Files.move(tmp, done, java.nio.file.StandardCopyOption.REPLACE_EXISTING, java.nio.file.StandardCopyOption.ATOMIC_MOVE)
+      Files.move(
+        tmp,
+        done,
+        java.nio.file.StandardCopyOption.REPLACE_EXISTING,
+        java.nio.file.StandardCopyOption.ATOMIC_MOVE
+      )
       a
     }
   }
@@ -87,7 +118,9 @@ object AccelArea {
       // Units are instantiated only by modules that are themselves instantiated
       // once (RayPrep in FetchBVH, the K lanes in BboxIntersect, PrimIntersect
       // in LeafIntersect), so instance lines count the copies.
-      val copies = unitTops.map { case (u, m) => u -> (s"(?m)^\\s+$m\\s+\\w+\\s*\\(".r.findAllMatchIn(sv).size max 1) }.toMap
+      val copies = unitTops.map { case (u, m) =>
+        u -> (s"(?m)^\\s+$m\\s+\\w+\\s*\\(".r.findAllMatchIn(sv).size max 1)
+      }.toMap
       (units :+ control).map { case (u, f) =>
         val a = Await.result(f, Duration.Inf)
         val n = copies.getOrElse(u, 1)
@@ -108,6 +141,10 @@ object AccelArea {
 
   /** Whole instances of an accelerator of area `a` that fit on `device`, by its scarcest resource. */
   def instances(a: Synth.Area, device: Synth.Area): Int =
-    Seq(device.lut.toDouble / a.lut.max(1), device.ff.toDouble / a.ff.max(1), device.dsp.toDouble / a.dsp.max(1),
-      device.bram36 / a.bram36.max(0.5)).min.floor.toInt
+    Seq(
+      device.lut.toDouble / a.lut.max(1),
+      device.ff.toDouble / a.ff.max(1),
+      device.dsp.toDouble / a.dsp.max(1),
+      device.bram36 / a.bram36.max(0.5)
+    ).min.floor.toInt
 }

@@ -20,8 +20,17 @@ package rtaccel.tools
   *    none into the capturing flip-flop (packed with the last cell).
   */
 final case class DelayModel(
-    tcko: Double, setup: Double, lut: Double, muxf7: Double, muxf8: Double,
-    carryIn: Double, carryBypass: Double, carryOut: Double, net: Double, name: String) {
+    tcko: Double,
+    setup: Double,
+    lut: Double,
+    muxf7: Double,
+    muxf8: Double,
+    carryIn: Double,
+    carryBypass: Double,
+    carryOut: Double,
+    net: Double,
+    name: String
+) {
 
   /** Delay of a path given as its cell types in order (flip-flops excluded):
     * clock-to-out, the cells and their incoming nets, setup. */
@@ -33,14 +42,14 @@ final case class DelayModel(
     for ((k, i) <- kinds.zipWithIndex) {
       val inSlice = (prev, k) match {
         case ("LUT", "CARRY4") | ("LUT", "MUXF7") | ("MUXF7", "MUXF8") | ("CARRY4", "CARRY4") => true
-        case _ => false
+        case _                                                                                => false
       }
       if (!inSlice) t += net
       val nextCarry = i + 1 < kinds.size && kinds(i + 1) == "CARRY4"
       t += (k match {
-        case "LUT"    => lut
-        case "MUXF7"  => muxf7
-        case "MUXF8"  => muxf8
+        case "LUT"   => lut
+        case "MUXF7" => muxf7
+        case "MUXF8" => muxf8
         // Entering a chain costs S->CO; inside it CI->CO; the chain's last slice also CI->O.
         case "CARRY4" => (if (prev == "CARRY4") carryBypass else carryIn) + (if (nextCarry) 0.0 else carryOut)
         case _        => 0.0
@@ -54,9 +63,12 @@ final case class DelayModel(
 }
 
 object DelayModel {
+
   /** Coarse kind of a Xilinx cell type on a path. */
   def kind(cell: String): String =
-    if (cell.matches("LUT[1-6]")) "LUT" else if (cell == "MUXF7" || cell == "MUXF8" || cell == "CARRY4") cell else "other"
+    if (cell.matches("LUT[1-6]")) "LUT"
+    else if (cell == "MUXF7" || cell == "MUXF8" || cell == "CARRY4") cell
+    else "other"
 
   /** The model `make verilog` uses (docs/fmax.md). The net hop, 0.6 ns, is
     * calibrated on the published report: its 17-level path (9 LUT, 8 CARRY4)
@@ -65,7 +77,16 @@ object DelayModel {
     * to 11 ns; a timing-driven place and route at 200 MHz gets about that.
     * The LUT figure is that path's mean LUT delay (0.234 ns).
     */
-  val zynq7: DelayModel = DelayModel(tcko = 0.518, setup = 0.20, lut = 0.234, muxf7 = 0.296, muxf8 = 0.296,
-    carryIn = 0.550, carryBypass = 0.114, carryOut = 0.220, net = 0.60,
-    name = "Zynq-7000 (xc7z045-2; -1 cell delays, pessimistic), 0.6 ns per routed hop")
+  val zynq7: DelayModel = DelayModel(
+    tcko = 0.518,
+    setup = 0.20,
+    lut = 0.234,
+    muxf7 = 0.296,
+    muxf8 = 0.296,
+    carryIn = 0.550,
+    carryBypass = 0.114,
+    carryOut = 0.220,
+    net = 0.60,
+    name = "Zynq-7000 (xc7z045-2; -1 cell delays, pessimistic), 0.6 ns per routed hop"
+  )
 }

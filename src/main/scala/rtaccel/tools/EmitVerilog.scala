@@ -24,8 +24,11 @@ import scala.sys.process._
   * area and Fmax rows to the resource table.
   */
 object EmitVerilog {
+
   /** xc7z045 capacity (Zynq-7000 data sheet DS190). */
-  val Zc706: Synth.Area = Synth.Area(lut = 218600, ff = 437200, srl = 0, dsp = 900, carry = 0, ramb36 = 545, ramb18 = 0, lutram = 0)
+  val Zc706: Synth.Area =
+    Synth.Area(lut = 218600, ff = 437200, srl = 0, dsp = 900, carry = 0, ramb36 = 545, ramb18 = 0, lutram = 0)
+
   /** Yosys results shared with `make speed-vs-error` (keyed by the Verilog synthesised). */
   val areaCache: Path = Paths.get("build/area-cache")
 
@@ -44,7 +47,9 @@ object EmitVerilog {
         println(s"verilog: FLOAT=auto: boxes ${b.name}, triangles ${t.name}, the smallest safe configuration for " +
           s"${SweepChoice.variant(test, box)} in ${SweepChoice.defaultJson} (measured on $measuredOn nodes)")
         if (measuredOn != layout.name)
-          println(s"verilog: note: BVH=${layout.name}, but the sweep found it safe on $measuredOn nodes (BVH=$measuredOn)")
+          println(
+            s"verilog: note: BVH=${layout.name}, but the sweep found it safe on $measuredOn nodes (BVH=$measuredOn)"
+          )
         (b, t)
       case other => val f = FloatFormat.parse(other); (f, f)
     }
@@ -59,14 +64,19 @@ object EmitVerilog {
     val pkg = kv.get("--package").filter(_.nonEmpty).map(dir => ScenePackage.load(Paths.get(dir)))
     val cfg = pkg.fold(generic) { p =>
       val sized = p.sized(generic)
-      println(s"verilog: sized to ${p.dir}: ${sized.layout.name} nodes (the image's), stack ${sized.stackDepth} (generic ${generic.stackDepth}), node index ${sized.nodeIndexBits} bits " +
-        s"(${generic.nodeIndexBits}), triangle index ${sized.triIndexBits} bits (${generic.triIndexBits}), leaf ${sized.maxLeafSize} " +
-        s"(${generic.maxLeafSize}), ${sized.floatName} (${generic.floatName}: exponents ${p.range.neededEmin}..${p.range.neededEmax} needed)")
+      println(
+        s"verilog: sized to ${p.dir}: ${sized.layout.name} nodes (the image's), stack ${sized.stackDepth} (generic ${generic.stackDepth}), node index ${sized.nodeIndexBits} bits " +
+          s"(${generic.nodeIndexBits}), triangle index ${sized.triIndexBits} bits (${generic.triIndexBits}), leaf ${sized.maxLeafSize} " +
+          s"(${generic.maxLeafSize}), ${sized.floatName} (${generic.floatName}: exponents ${p.range.neededEmin}..${p.range.neededEmax} needed)"
+      )
       if (sized.triFloat.manBits < p.range.neededManBits)
         println(s"verilog: warning: triangle format ${sized.triFloat.name} has ${sized.triFloat.manBits} mantissa bits; edges of ${p.range.smallestEdge} at coordinates " +
           s"up to ${p.range.maxAbs} need ${p.range.neededManBits} to keep every triangle intact after rounding")
       val why = p.misfits(sized)
-      require(why.isEmpty, s"${p.dir}: no ${generic.floatName}-based configuration holds this scene:\n  " + why.mkString("\n  "))
+      require(
+        why.isEmpty,
+        s"${p.dir}: no ${generic.floatName}-based configuration holds this scene:\n  " + why.mkString("\n  ")
+      )
       sized
     }
     val dp = FloatDatapath.of(cfg, test, box)
@@ -85,14 +95,19 @@ object EmitVerilog {
         val own1 = own(svFile)
         val fit = SystemArea.coresThatFit(core, own1.map(_.area).foldLeft(Synth.zero)(_ + _), Zc706).max(1)
         val (cores, sysRows) =
-          if (coresArg.isEmpty && fit < first) { println(s"verilog: $fit cores fit beside the system's units"); (fit, own(system(SystemConfig(core = cfg, cores = fit), dp, out))) }
-          else (first, own1)
+          if (coresArg.isEmpty && fit < first) {
+            println(s"verilog: $fit cores fit beside the system's units");
+            (fit, own(system(SystemConfig(core = cfg, cores = fit), dp, out)))
+          } else (first, own1)
         val worst = (coreFmax ++ sysRows).maxBy(_.ns)
-        Files.writeString(out.resolve("resources.md"), Files.readString(out.resolve("resources.md")) + "\n" +
-          SystemArea.markdown(sysRows, cores, core, Zc706, SystemConfig().nodeStoreBytes) +
-          s"System top: `rtaccel_system.sv` (RtAccelSystem) with $cores ${if (cores == 1) "core" else "cores"}" +
-          s"${if (coresArg.isDefined) " (--cores)" else " (the cores that fit beside the system's units)"}, lint clean.\n\n" +
-          f"**Estimated Fmax of the system** (its slowest unit, core or system, **${worst.unit}**): **${worst.mhz}%.0f MHz** (${worst.ns}%.2f ns). An ESTIMATE (docs/fmax.md).\n")
+        Files.writeString(
+          out.resolve("resources.md"),
+          Files.readString(out.resolve("resources.md")) + "\n" +
+            SystemArea.markdown(sysRows, cores, core, Zc706, SystemConfig().nodeStoreBytes) +
+            s"System top: `rtaccel_system.sv` (RtAccelSystem) with $cores ${if (cores == 1) "core" else "cores"}" +
+            s"${if (coresArg.isDefined) " (--cores)" else " (the cores that fit beside the system's units)"}, lint clean.\n\n" +
+            f"**Estimated Fmax of the system** (its slowest unit, core or system, **${worst.unit}**): **${worst.mhz}%.0f MHz** (${worst.ns}%.2f ns). An ESTIMATE (docs/fmax.md).\n"
+        )
       }
     }
     // Sized hardware: report what it saves against the generic configuration of the same arithmetic.
@@ -116,7 +131,14 @@ object EmitVerilog {
     val lintLog = out.resolve(log)
     Files.deleteIfExists(lintLog)
     val cmd = Seq("verilator", "--lint-only", "-Wall", waivers.toString, svFile.toString, "--top-module", top)
-    val rc = cmd.!(ProcessLogger(line => Files.writeString(lintLog, line + "\n", java.nio.file.StandardOpenOption.CREATE, java.nio.file.StandardOpenOption.APPEND)))
+    val rc = cmd.!(ProcessLogger(line =>
+      Files.writeString(
+        lintLog,
+        line + "\n",
+        java.nio.file.StandardOpenOption.CREATE,
+        java.nio.file.StandardOpenOption.APPEND
+      )
+    ))
     require(rc == 0, s"lint: `${cmd.mkString(" ")}` found problems; see $lintLog")
     println(s"verilog: $top lint clean (verilator --lint-only -Wall, waivers in $waivers)")
   }
@@ -127,13 +149,21 @@ object EmitVerilog {
     val sv = Synth.emit(new RtAccelSystem(sys, dp))
     val svFile = out.resolve("rtaccel_system.sv")
     Files.writeString(svFile, sv)
-    println(s"verilog: wrote $svFile (${sys.cores} cores of ${dp.name}, ${Synth.modules(sv).size} modules, ${sv.linesIterator.size} lines)")
+    println(
+      s"verilog: wrote $svFile (${sys.cores} cores of ${dp.name}, ${Synth.modules(sv).size} modules, ${sv.linesIterator.size} lines)"
+    )
     lint(out, svFile, "rtaccel_system", "lint-system.log")
     svFile
   }
 
   /** Emits, lints and (with `synth`) measures; returns the per-unit rows. */
-  def run(cfg: AccelConfig, dp: FloatDatapath, out: Path, synth: Boolean, jobs: Int): Option[(Seq[(String, Synth.Area)], Seq[FmaxEstimate.Row])] = {
+  def run(
+      cfg: AccelConfig,
+      dp: FloatDatapath,
+      out: Path,
+      synth: Boolean,
+      jobs: Int
+  ): Option[(Seq[(String, Synth.Area)], Seq[FmaxEstimate.Row])] = {
     Files.createDirectories(out)
     val t0 = System.nanoTime()
     val sv = Synth.emit(new RtAccel(cfg, dp))
@@ -148,10 +178,14 @@ object EmitVerilog {
     Option.when(synth) {
       val rows = area(sv, dp, jobs)
       rows.foreach { case (u, a) => println(s"verilog: $u: $a") }
-      val nodes = cfg.layout match { case BvhLayout.Nori => "nori BVH nodes"; case w: BvhLayout.Wide => s"${w.k}-wide BVH nodes" }
-      val md = ResourceTable(s"RtAccel ${dp.name}, $nodes (${cfg.boxLanes} box lanes), ${cfg.numRayIds} ray IDs, stack ${cfg.stackDepth}",
-        rows.map { case ("BoxLane", a) => s"BoxLane x${cfg.boxLanes} (BboxIntersect)" -> a; case r => r }, Zc706,
-        (System.nanoTime() - t0) / 1e9)
+      val nodes =
+        cfg.layout match { case BvhLayout.Nori => "nori BVH nodes"; case w: BvhLayout.Wide => s"${w.k}-wide BVH nodes" }
+      val md = ResourceTable(
+        s"RtAccel ${dp.name}, $nodes (${cfg.boxLanes} box lanes), ${cfg.numRayIds} ray IDs, stack ${cfg.stackDepth}",
+        rows.map { case ("BoxLane", a) => s"BoxLane x${cfg.boxLanes} (BboxIntersect)" -> a; case r => r },
+        Zc706,
+        (System.nanoTime() - t0) / 1e9
+      )
       val t1 = System.nanoTime()
       val fmaxRows = FmaxEstimate.measure(sv, top, areaCache, jobs, DelayModel.zynq7)
       val fmax = FmaxEstimate.markdown(fmaxRows, DelayModel.zynq7, (System.nanoTime() - t1) / 1e9)
@@ -164,20 +198,38 @@ object EmitVerilog {
 
 /** What hardware sized to a scene saves against the generic configuration. */
 object SizedSavings {
-  def apply(scene: String, sized: AccelConfig, generic: AccelConfig, s: Synth.Area, g: Synth.Area, device: Synth.Area): String = {
+  def apply(
+      scene: String,
+      sized: AccelConfig,
+      generic: AccelConfig,
+      s: Synth.Area,
+      g: Synth.Area,
+      device: Synth.Area
+  ): String = {
     def pct(a: Double, b: Double) = if (b == 0) "-" else f"${100 * (b - a) / b}%.1f%%"
     def row(n: String, a: Double, b: Double) = f"| $n | $b%,.1f | $a%,.1f | ${pct(a, b)} |"
-    (Seq(s"# Hardware sized to $scene", "",
-      "| parameter | generic ZC706 | sized |", "| --- | --- | --- |",
+    (Seq(
+      s"# Hardware sized to $scene",
+      "",
+      "| parameter | generic ZC706 | sized |",
+      "| --- | --- | --- |",
       s"| BVH layout | ${generic.layout.name} | ${sized.layout.name} |",
       s"| stack depth | ${generic.stackDepth} | ${sized.stackDepth} |",
       s"| node index bits | ${generic.nodeIndexBits} | ${sized.nodeIndexBits} |",
       s"| triangle index bits | ${generic.triIndexBits} | ${sized.triIndexBits} |",
       s"| largest leaf | ${generic.maxLeafSize} | ${sized.maxLeafSize} |",
-      s"| number format (box+triangle) | ${generic.floatName} | ${sized.floatName} |", "",
-      "| resource | generic | sized | saved |", "| --- | ---: | ---: | ---: |",
-      row("LUT", s.lut, g.lut), row("FF", s.ff, g.ff), row("DSP48", s.dsp, g.dsp), row("BRAM36", s.bram36, g.bram36), "",
-      s"Instances on the ZC706: generic ${AccelArea.instances(g, device)}, sized ${AccelArea.instances(s, device)}.", "")).mkString("\n")
+      s"| number format (box+triangle) | ${generic.floatName} | ${sized.floatName} |",
+      "",
+      "| resource | generic | sized | saved |",
+      "| --- | ---: | ---: | ---: |",
+      row("LUT", s.lut, g.lut),
+      row("FF", s.ff, g.ff),
+      row("DSP48", s.dsp, g.dsp),
+      row("BRAM36", s.bram36, g.bram36),
+      "",
+      s"Instances on the ZC706: generic ${AccelArea.instances(g, device)}, sized ${AccelArea.instances(s, device)}.",
+      ""
+    )).mkString("\n")
   }
 }
 
@@ -185,17 +237,27 @@ object SizedSavings {
 object ResourceTable {
   def apply(title: String, rows: Seq[(String, Synth.Area)], device: Synth.Area, seconds: Double): String = {
     val total = rows.map(_._2).foldLeft(Synth.zero)(_ + _)
-    def line(n: String, a: Synth.Area) = f"| $n | ${a.lut}%,d | ${a.ff}%,d | ${a.dsp}%,d | ${a.bram36}%.1f | ${a.lutram}%,d | ${a.carry}%,d |"
+    def line(n: String, a: Synth.Area) =
+      f"| $n | ${a.lut}%,d | ${a.ff}%,d | ${a.dsp}%,d | ${a.bram36}%.1f | ${a.lutram}%,d | ${a.carry}%,d |"
     def pct(x: Double, of: Double) = f"${100 * x / of}%.1f%%"
     val fits = AccelArea.instances(total, device)
     // Built line by line: stripMargin would eat the leading `|` of interpolated rows.
-    (Seq(s"# Resources: $title", "",
-      f"Generated by `make verilog` (Yosys 0.23 `synth_xilinx -family xc7`; each datapath unit alone, the control with them as black boxes; summed) in $seconds%.0f s; do not edit.", "",
+    (Seq(
+      s"# Resources: $title",
+      "",
+      f"Generated by `make verilog` (Yosys 0.23 `synth_xilinx -family xc7`; each datapath unit alone, the control with them as black boxes; summed) in $seconds%.0f s; do not edit.",
+      "",
       "| unit | LUT | FF | DSP48 | BRAM36 | LUTRAM cells | CARRY4 |",
-      "| --- | ---: | ---: | ---: | ---: | ---: | ---: |") ++
+      "| --- | ---: | ---: | ---: | ---: | ---: | ---: |"
+    ) ++
       rows.map { case (n, a) => line(n, a) } ++
-      Seq(line("**total**", total), line("ZC706 (xc7z045) capacity", device),
+      Seq(
+        line("**total**", total),
+        line("ZC706 (xc7z045) capacity", device),
         s"| share of the device | ${pct(total.lut, device.lut)} | ${pct(total.ff, device.ff)} | ${pct(total.dsp, device.dsp)} | ${pct(total.bram36, device.bram36)} | | |",
-        "", s"Instances that fit on the device (by its scarcest resource): **$fits**.", "")).mkString("\n")
+        "",
+        s"Instances that fit on the device (by its scarcest resource): **$fits**.",
+        ""
+      )).mkString("\n")
   }
 }

@@ -28,7 +28,8 @@ object FmaxEstimate {
     def inv: Int = n(_ == "INV")
     def other: Int = cells.size - luts - muxf - carry4 - inv
     def summary: String =
-      s"${cells.size} (${luts} LUT, ${muxf} MUXF, ${carry4} CARRY4${if (inv > 0) s", $inv INV" else ""}${if (other > 0) s", $other other" else ""})"
+      s"${cells.size} (${luts} LUT, ${muxf} MUXF, ${carry4} CARRY4${if (inv > 0) s", $inv INV" else ""}${if (other > 0) s", $other other"
+        else ""})"
   }
   final case class Row(unit: String, module: String, area: Synth.Area, path: PathCells, ns: Double) {
     def mhz: Double = 1000.0 / ns
@@ -50,7 +51,8 @@ object FmaxEstimate {
     val bb = if (blackboxes.isEmpty) "" else s"blackbox ${blackboxes.mkString(" ")}; "
     val rename = namedTypes.map(t => s"rename -enumerate -pattern c${t}_% t:$t; ").mkString
     val cut = (cutTypes ++ blackboxes.map(b => s"t:$b")).reduceLeft((a, b) => s"$a $b %u")
-    s"read_verilog -sv $sv; ${bb}synth_xilinx -family xc7${if (flatten) " -flatten" else ""} -top $top; flatten; stat; ${rename}ltp -noff $cut %n"
+    s"read_verilog -sv $sv; ${bb}synth_xilinx -family xc7${if (flatten) " -flatten"
+      else ""} -top $top; flatten; stat; ${rename}ltp -noff $cut %n"
   }
 
   private val pathHead = """Longest topological path in \S+ \(length=(\d+)\):""".r
@@ -65,7 +67,7 @@ object FmaxEstimate {
     val length = pathHead.findFirstMatchIn(log.substring(at)).map(_.group(1).toInt).get
     val cells = block.flatMap(l => via.findFirstMatchIn(l).map(_.group(1))).map {
       case typed(t) if namedTypes.contains(t) => t
-      case _ => "other"
+      case _                                  => "other"
     }
     require(cells.size == length, s"$file: ltp reported length $length but ${cells.size} cells were parsed")
     PathCells(cells)
@@ -78,7 +80,14 @@ object FmaxEstimate {
   }
 
   /** One cached Yosys run: area and longest path of `top` in `text`. */
-  def run(cacheDir: Path, label: String, text: String, top: String, bb: Seq[String], flatten: Boolean = false): (Synth.Area, PathCells) = {
+  def run(
+      cacheDir: Path,
+      label: String,
+      text: String,
+      top: String,
+      bb: Seq[String],
+      flatten: Boolean = false
+  ): (Synth.Area, PathCells) = {
     Files.createDirectories(cacheDir)
     val key = hash(text, top, bb.mkString(","), script(Path.of("x"), top, bb, flatten))
     val done = cacheDir.resolve(s"fmax-$label-$key.json")
@@ -98,7 +107,12 @@ object FmaxEstimate {
       val json = ujson.Obj("area" -> ujson.read(AccelArea.toJson(area)), "path" -> path.cells)
       val tmp = Files.createTempFile(cacheDir, label, ".tmp")
       Files.writeString(tmp, ujson.write(json))
-      Files.move(tmp, done, java.nio.file.StandardCopyOption.REPLACE_EXISTING, java.nio.file.StandardCopyOption.ATOMIC_MOVE)
+      Files.move(
+        tmp,
+        done,
+        java.nio.file.StandardCopyOption.REPLACE_EXISTING,
+        java.nio.file.StandardCopyOption.ATOMIC_MOVE
+      )
       Files.deleteIfExists(sv)
       (area, path)
     }
@@ -134,7 +148,9 @@ object FmaxEstimate {
     try {
       val us = units(sv, top)
       val futures = us.map { case (label, m, bb) =>
-        val text = AccelArea.subtree(mods, m).filterNot(x => bb.exists(b => x.name != b && AccelArea.subtree(mods, b).exists(_.name == x.name)))
+        val text = AccelArea.subtree(mods, m).filterNot(x =>
+          bb.exists(b => x.name != b && AccelArea.subtree(mods, b).exists(_.name == x.name))
+        )
           .map(_.text).mkString
         label -> Future {
           val (a, p) = run(cacheDir, m.takeWhile(_ != '_'), text, m, bb)
@@ -151,19 +167,29 @@ object FmaxEstimate {
     require(args.nonEmpty, "usage: FmaxEstimate <design.sv> [jobs]")
     val sv = Files.readString(Path.of(args(0)))
     val t0 = System.nanoTime()
-    val rows = measure(sv, Synth.modules(sv).last, EmitVerilog.areaCache, args.lift(1).fold(2)(_.toInt), DelayModel.zynq7)
+    val rows =
+      measure(sv, Synth.modules(sv).last, EmitVerilog.areaCache, args.lift(1).fold(2)(_.toInt), DelayModel.zynq7)
     println(markdown(rows, DelayModel.zynq7, (System.nanoTime() - t0) / 1e9))
   }
 
   /** The markdown section appended to resources.md. */
   def markdown(rows: Seq[Row], model: DelayModel, seconds: Double): String = {
     val worst = rows.maxBy(_.ns)
-    def line(r: Row) = f"| ${r.unit} | ${r.area.lut}%,d | ${r.area.ff}%,d | ${r.area.dsp}%,d | ${r.area.bram36}%.1f | ${r.path.summary} | ${r.ns}%.2f | ${r.mhz}%.0f |"
-    (Seq("## Fmax estimate per unit (ESTIMATE)", "",
-      f"Each unit synthesised alone (`synth_xilinx -family xc7`, flattened; datapath units black-boxed in control units), longest register-to-register path by `ltp -noff t:FD* ... %%n`, cells on it turned into ns by the delay model *${model.name}* (docs/fmax.md) in $seconds%.0f s. Area here is per instance (the table above counts instances). No placement or routing: an estimate, not a timing sign-off.", "",
+    def line(r: Row) =
+      f"| ${r.unit} | ${r.area.lut}%,d | ${r.area.ff}%,d | ${r.area.dsp}%,d | ${r.area.bram36}%.1f | ${r.path.summary} | ${r.ns}%.2f | ${r.mhz}%.0f |"
+    (Seq(
+      "## Fmax estimate per unit (ESTIMATE)",
+      "",
+      f"Each unit synthesised alone (`synth_xilinx -family xc7`, flattened; datapath units black-boxed in control units), longest register-to-register path by `ltp -noff t:FD* ... %%n`, cells on it turned into ns by the delay model *${model.name}* (docs/fmax.md) in $seconds%.0f s. Area here is per instance (the table above counts instances). No placement or routing: an estimate, not a timing sign-off.",
+      "",
       "| unit | LUT | FF | DSP48 | BRAM36 | path cells | ns | MHz |",
-      "| --- | ---: | ---: | ---: | ---: | --- | ---: | ---: |") ++
+      "| --- | ---: | ---: | ---: | ---: | --- | ---: | ---: |"
+    ) ++
       rows.map(line) ++
-      Seq("", f"Estimated system Fmax (slowest unit, **${worst.unit}**): **${worst.mhz}%.0f MHz** (${worst.ns}%.2f ns).", "")).mkString("\n")
+      Seq(
+        "",
+        f"Estimated system Fmax (slowest unit, **${worst.unit}**): **${worst.mhz}%.0f MHz** (${worst.ns}%.2f ns).",
+        ""
+      )).mkString("\n")
   }
 }

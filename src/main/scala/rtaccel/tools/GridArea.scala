@@ -18,7 +18,12 @@ object GridArea {
     Seq(
       ("grid lane (one child)", s"GridLane_${p.name}", Synth.emit(new GridLane(p))),
       ("per-node stage (FP32)", s"GridNodeStage_${p.name}", Synth.emit(new GridNodeStage(p, rays))),
-      ("4-wide unit (stage + 4 lanes)", s"GridBboxIntersect_k4_${p.name}", Synth.emit(new GridBboxIntersect(4, p, rays))))
+      (
+        "4-wide unit (stage + 4 lanes)",
+        s"GridBboxIntersect_k4_${p.name}",
+        Synth.emit(new GridBboxIntersect(4, p, rays))
+      )
+    )
   }
 
   def main(args: Array[String]): Unit = {
@@ -40,7 +45,8 @@ object GridArea {
       f"${model.name} (docs/fmax.md). ${(System.nanoTime() - t0) / 1e9}%.0f s.",
       "",
       "| unit | module | LUT | FF | DSP48 | CARRY4 | longest path | ns | MHz |",
-      "|---|---|---:|---:|---:|---:|---|---:|---:|") ++ lines).mkString("\n") + "\n"
+      "|---|---|---:|---:|---:|---:|---|---:|---:|"
+    ) ++ lines).mkString("\n") + "\n"
     Files.createDirectories(out.getParent)
     Files.writeString(out, md)
     println(md)

@@ -19,21 +19,43 @@ import java.nio.file.{Files, Paths}
 object PointArea {
   def main(args: Array[String]): Unit = {
     val kv = args.grouped(2).collect { case Array(k, v) => k -> v }.toMap
-    val usage = "usage: PointArea [--bvh nori|2|4|8|4q|8q] --box-float e8m10 --tri-float e8m23 (or --float e8m12) --rounding rne|conservative --triangle moller|watertight --out FILE [--cache DIR] [--jobs N]"
+    val usage =
+      "usage: PointArea [--bvh nori|2|4|8|4q|8q] --box-float e8m10 --tri-float e8m23 (or --float e8m12) --rounding rne|conservative --triangle moller|watertight --out FILE [--cache DIR] [--jobs N]"
     def req(k: String) = kv.getOrElse(k, { System.err.println(s"Error: $k is required\n$usage"); sys.exit(2) })
     val t0 = System.nanoTime()
     def fmt(k: String) = FloatFormat.parse(kv.getOrElse(k, req("--float")))
-    val (dp, layout) = try (FloatDatapath(fmt("--box-float"), fmt("--tri-float"), TriangleTest.parse(req("--triangle")),
-      BoxRounding.parse(req("--rounding"))), rtaccel.bvh.BvhLayout.parse(kv.getOrElse("--bvh", "nori")))
-    catch { case e: IllegalArgumentException => System.err.println(s"Error: ${e.getMessage}\n$usage"); sys.exit(2) }
+    val (dp, layout) =
+      try (
+          FloatDatapath(
+            fmt("--box-float"),
+            fmt("--tri-float"),
+            TriangleTest.parse(req("--triangle")),
+            BoxRounding.parse(req("--rounding"))
+          ),
+          rtaccel.bvh.BvhLayout.parse(kv.getOrElse("--bvh", "nori"))
+        )
+      catch { case e: IllegalArgumentException => System.err.println(s"Error: ${e.getMessage}\n$usage"); sys.exit(2) }
     val out = Paths.get(req("--out"))
     // The point's node layout sets the box lanes (K) and the node decode.
     val cfg = dp.configure(AccelConfig.zc706.copy(layout = layout))
     val sv = Synth.emit(new RtAccel(cfg, dp))
     val top = Synth.modules(sv).last
-    val rows = AccelArea.measure(sv, top, dp.name, Paths.get(kv.getOrElse("--cache", "build/area-cache")), kv.getOrElse("--jobs", "1").toInt)
+    val rows = AccelArea.measure(
+      sv,
+      top,
+      dp.name,
+      Paths.get(kv.getOrElse("--cache", "build/area-cache")),
+      kv.getOrElse("--jobs", "1").toInt
+    )
     val total = AccelArea.total(rows)
-    def obj(a: Synth.Area) = ujson.Obj("lut" -> a.lut, "ff" -> a.ff, "dsp" -> a.dsp, "bram36" -> a.bram36, "carry" -> a.carry, "lutram" -> a.lutram)
+    def obj(a: Synth.Area) = ujson.Obj(
+      "lut" -> a.lut,
+      "ff" -> a.ff,
+      "dsp" -> a.dsp,
+      "bram36" -> a.bram36,
+      "carry" -> a.carry,
+      "lutram" -> a.lutram
+    )
     val js = obj(total)
     js("config") = out.getFileName.toString.stripSuffix(".json")
     js("datapath") = dp.name

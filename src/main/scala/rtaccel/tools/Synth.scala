@@ -7,27 +7,46 @@ import scala.sys.process._
 
 /** SystemVerilog emission and Yosys synthesis, shared by every area report. */
 object Synth {
+
   /** Yosys 0.23 rejects firtool's `automatic logic` locals and packed arrays. */
   val firtoolOpts: Array[String] = Array(
     "--lowering-options=disallowLocalVariables,disallowPackedArrays",
-    "-disable-all-randomization", "-strip-debug-info")
+    "-disable-all-randomization",
+    "-strip-debug-info"
+  )
 
   def emit(gen: => RawModule): String =
     _root_.circt.stage.ChiselStage.emitSystemVerilog(gen, firtoolOpts = firtoolOpts)
 
   /** Xilinx 7-series cell counts. BRAM is in RAMB36 equivalents (two RAMB18 = one). */
   final case class Area(lut: Int, ff: Int, srl: Int, dsp: Int, carry: Int, ramb36: Int, ramb18: Int, lutram: Int) {
-    def +(o: Area): Area = Area(lut + o.lut, ff + o.ff, srl + o.srl, dsp + o.dsp, carry + o.carry,
-      ramb36 + o.ramb36, ramb18 + o.ramb18, lutram + o.lutram)
+    def +(o: Area): Area = Area(
+      lut + o.lut,
+      ff + o.ff,
+      srl + o.srl,
+      dsp + o.dsp,
+      carry + o.carry,
+      ramb36 + o.ramb36,
+      ramb18 + o.ramb18,
+      lutram + o.lutram
+    )
     def bram36: Double = ramb36 + ramb18 / 2.0
   }
   val zero: Area = Area(0, 0, 0, 0, 0, 0, 0, 0)
 
   private def areaOf(counts: Seq[(String, Int)]): Area = {
     def sum(p: String => Boolean) = counts.collect { case (c, n) if p(c) => n }.sum
-    Area(lut = sum(_.matches("LUT[1-6].*")), ff = sum(_.matches("FD[A-Z_0-9]*")), srl = sum(_.startsWith("SRL")),
-      dsp = sum(_.startsWith("DSP48")), carry = sum(_ == "CARRY4"), ramb36 = sum(_.startsWith("RAMB36")),
-      ramb18 = sum(_.startsWith("RAMB18")), lutram = sum(c => c.startsWith("RAM32") || c.startsWith("RAM64") || c.startsWith("RAM128") || c.startsWith("RAM256")))
+    Area(
+      lut = sum(_.matches("LUT[1-6].*")),
+      ff = sum(_.matches("FD[A-Z_0-9]*")),
+      srl = sum(_.startsWith("SRL")),
+      dsp = sum(_.startsWith("DSP48")),
+      carry = sum(_ == "CARRY4"),
+      ramb36 = sum(_.startsWith("RAMB36")),
+      ramb18 = sum(_.startsWith("RAMB18")),
+      lutram =
+        sum(c => c.startsWith("RAM32") || c.startsWith("RAM64") || c.startsWith("RAM128") || c.startsWith("RAM256"))
+    )
   }
   private val cellLine = """(?m)^\s+(\w+)\s+(\d+)\s*$""".r
 

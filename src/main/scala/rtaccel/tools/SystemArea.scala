@@ -15,8 +15,11 @@ import scala.concurrent.{Await, ExecutionContext, Future}
   * ([[FmaxEstimate.script]]), so the node store's memory is block RAM.
   */
 object SystemArea {
+
   /** The units, by module-name prefix, in the table's order. */
-  val units: Seq[String] = Seq("MemoryFabric", "NodeStore", "TriStore", "AxiLiteRegs", "RayDma", "HitDma", "SceneLoader", "SystemCore")
+  val units: Seq[String] =
+    Seq("MemoryFabric", "NodeStore", "TriStore", "AxiLiteRegs", "RayDma", "HitDma", "SceneLoader", "SystemCore")
+
   /** The core, black-boxed in SystemCore's row (its area is the core table's). */
   val corePrefix = "RtAccel"
 
@@ -52,7 +55,14 @@ object SystemArea {
         val inside = subtreeStopping(mods, m, bb.toSet)
         // The black boxes' own text stays: `blackbox` keeps their ports.
         Future {
-          val (a, p) = FmaxEstimate.run(cacheDir, u, inside.map(_.text).mkString, m, bb.filter(b => inside.exists(_.name == b)), flatten = true)
+          val (a, p) = FmaxEstimate.run(
+            cacheDir,
+            u,
+            inside.map(_.text).mkString,
+            m,
+            bb.filter(b => inside.exists(_.name == b)),
+            flatten = true
+          )
           println(f"system: $u: $a, ${p.summary}, ${model.pathNs(p.cells)}%.2f ns")
           FmaxEstimate.Row(u, m, a, p, model.pathNs(p.cells))
         }
@@ -64,20 +74,43 @@ object SystemArea {
   /** `runMain rtaccel.tools.SystemArea <rtaccel_system.sv> [jobs]`: the rows for an already emitted system. */
   def main(args: Array[String]): Unit = {
     require(args.nonEmpty, "usage: SystemArea <rtaccel_system.sv> [jobs]")
-    val rows = measure(java.nio.file.Files.readString(Path.of(args(0))), EmitVerilog.areaCache, args.lift(1).fold(2)(_.toInt), DelayModel.zynq7)
-    rows.foreach(r => println(f"| ${r.unit} | ${r.area.lut}%,d | ${r.area.ff}%,d | ${r.area.dsp}%,d | ${r.area.bram36}%.1f | ${r.area.lutram}%,d | ${r.path.summary} | ${r.ns}%.2f | ${r.mhz}%.0f |"))
+    val rows = measure(
+      java.nio.file.Files.readString(Path.of(args(0))),
+      EmitVerilog.areaCache,
+      args.lift(1).fold(2)(_.toInt),
+      DelayModel.zynq7
+    )
+    rows.foreach(r =>
+      println(
+        f"| ${r.unit} | ${r.area.lut}%,d | ${r.area.ff}%,d | ${r.area.dsp}%,d | ${r.area.bram36}%.1f | ${r.area.lutram}%,d | ${r.path.summary} | ${r.ns}%.2f | ${r.mhz}%.0f |"
+      )
+    )
   }
 
   /** Whole cores of area `core` that fit on `device` beside `own` (the system's units), by the scarcest resource. */
   def coresThatFit(core: Synth.Area, own: Synth.Area, device: Synth.Area): Int = {
-    val left = Synth.Area(device.lut - own.lut, device.ff - own.ff, 0, device.dsp - own.dsp, 0,
-      device.ramb36 - own.ramb36 - (own.ramb18 + 1) / 2, 0, 0)
+    val left = Synth.Area(
+      device.lut - own.lut,
+      device.ff - own.ff,
+      0,
+      device.dsp - own.dsp,
+      0,
+      device.ramb36 - own.ramb36 - (own.ramb18 + 1) / 2,
+      0,
+      0
+    )
     AccelArea.instances(core, left).max(0)
   }
 
   /** The section appended to resources.md. */
-  def markdown(rows: Seq[FmaxEstimate.Row], cores: Int, core: Synth.Area, device: Synth.Area, nodeStoreBytes: Int,
-      triStoreBytes: Int = rtaccel.system.SystemConfig().triStoreBytes): String = {
+  def markdown(
+      rows: Seq[FmaxEstimate.Row],
+      cores: Int,
+      core: Synth.Area,
+      device: Synth.Area,
+      nodeStoreBytes: Int,
+      triStoreBytes: Int = rtaccel.system.SystemConfig().triStoreBytes
+  ): String = {
     val own = rows.map(_.area).foldLeft(Synth.zero)(_ + _)
     val coresArea = Seq.fill(cores)(core).foldLeft(Synth.zero)(_ + _)
     val total = own + coresArea
@@ -85,18 +118,26 @@ object SystemArea {
     def pct(x: Double, of: Double) = f"${100 * x / of}%.1f%%"
     val fit = coresThatFit(core, own, device)
     val worst = rows.maxBy(_.ns)
-    (Seq(s"## The system's own units (rtaccel_system, $cores ${if (cores == 1) "core" else "cores"})", "",
+    (Seq(
+      s"## The system's own units (rtaccel_system, $cores ${if (cores == 1) "core" else "cores"})",
+      "",
       s"Each unit synthesised alone from `rtaccel_system.sv` (the Fmax estimate's Yosys run, flattened first so that memories map to block RAM; MemoryFabric with the NodeStore and TriStore black-boxed, " +
         s"SystemCore with its units and cores black-boxed). Node store: ${nodeStoreBytes / 1024} KiB, " +
-        s"triangle store: ${triStoreBytes / 1024} KiB, each one copy per two clients (cores). ESTIMATE, as above.", "",
+        s"triangle store: ${triStoreBytes / 1024} KiB, each one copy per two clients (cores). ESTIMATE, as above.",
+      "",
       "| unit | LUT | FF | DSP48 | BRAM36 | LUTRAM cells | path cells | ns | MHz |",
-      "| --- | ---: | ---: | ---: | ---: | ---: | --- | ---: | ---: |") ++
+      "| --- | ---: | ---: | ---: | ---: | ---: | --- | ---: | ---: |"
+    ) ++
       rows.map(r => f"| ${r.unit} | ${cells(r.area)} | ${r.path.summary} | ${r.ns}%.2f | ${r.mhz}%.0f |") ++
-      Seq(s"| **system units** | ${cells(own)} | | | |",
+      Seq(
+        s"| **system units** | ${cells(own)} | | | |",
         s"| $cores x core (table above) | ${cells(coresArea)} | | | |",
         s"| **system total** | ${cells(total)} | | | |",
         s"| share of the device | ${pct(total.lut, device.lut)} | ${pct(total.ff, device.ff)} | ${pct(total.dsp, device.dsp)} | ${pct(total.bram36, device.bram36)} | | | | |",
-        "", s"Cores that fit beside the system's own units (by the scarcest resource): **$fit**.",
-        f"Slowest system unit: **${worst.unit}**, ${worst.mhz}%.0f MHz (${worst.ns}%.2f ns).", "")).mkString("\n")
+        "",
+        s"Cores that fit beside the system's own units (by the scarcest resource): **$fit**.",
+        f"Slowest system unit: **${worst.unit}**, ${worst.mhz}%.0f MHz (${worst.ns}%.2f ns).",
+        ""
+      )).mkString("\n")
   }
 }

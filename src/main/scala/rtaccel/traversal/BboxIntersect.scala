@@ -6,18 +6,22 @@ import rtaccel.{AccelConfig, Datapath}
 
 /** A ray against all `cfg.boxLanes` child boxes of one node. */
 class BboxQuery[T <: Data](cfg: AccelConfig, gen: T) extends Bundle {
-  val ray     = gen.cloneType
+  val ray = gen.cloneType
+
   /** In the triangle format: the leaf unit writes it, each lane converts it (FloatBox). */
-  val tmax    = UInt(cfg.triFloat.width.W)
-  val boxMin  = Vec(cfg.boxLanes, Vec(3, UInt(32.W)))
-  val boxMax  = Vec(cfg.boxLanes, Vec(3, UInt(32.W)))
+  val tmax = UInt(cfg.triFloat.width.W)
+  val boxMin = Vec(cfg.boxLanes, Vec(3, UInt(32.W)))
+  val boxMax = Vec(cfg.boxLanes, Vec(3, UInt(32.W)))
+
   /** Used slots; an empty slot never hits, whatever its box words hold. */
   val present = Vec(cfg.boxLanes, Bool())
 }
 
 class BboxAnswer(cfg: AccelConfig) extends Bundle {
+
   /** Slot i's box is hit (and the slot is used). */
-  val hit  = Vec(cfg.boxLanes, Bool())
+  val hit = Vec(cfg.boxLanes, Bool())
+
   /** Slot i's entry distance, in the box format (meaningful where hit). */
   val near = Vec(cfg.boxLanes, UInt(cfg.boxFloat.width.W))
 }
@@ -31,7 +35,7 @@ class BboxAnswer(cfg: AccelConfig) extends Bundle {
   */
 class BboxIntersect[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   val io = IO(new Bundle {
-    val in  = Flipped(Valid(new BboxQuery(cfg, dp.gen)))
+    val in = Flipped(Valid(new BboxQuery(cfg, dp.gen)))
     val out = Valid(new BboxAnswer(cfg))
   })
   override def desiredName = s"BboxIntersect_k${cfg.boxLanes}_${dp.name}"
@@ -39,16 +43,16 @@ class BboxIntersect[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module
   private val lanes = Seq.fill(cfg.boxLanes)(Module(dp.box(cfg)))
   val latency: Int = lanes.head.latency
   for ((lane, i) <- lanes.zipWithIndex) {
-    lane.io.in.valid       := io.in.valid
-    lane.io.in.bits.ray    := io.in.bits.ray
-    lane.io.in.bits.tmax   := io.in.bits.tmax
+    lane.io.in.valid := io.in.valid
+    lane.io.in.bits.ray := io.in.bits.ray
+    lane.io.in.bits.tmax := io.in.bits.tmax
     lane.io.in.bits.boxMin := io.in.bits.boxMin(i)
     lane.io.in.bits.boxMax := io.in.bits.boxMax(i)
   }
   private val present = ShiftRegister(io.in.bits.present, latency)
   io.out.valid := lanes.head.io.out.valid
   for ((lane, i) <- lanes.zipWithIndex) {
-    io.out.bits.hit(i)  := lane.io.out.bits.hit && present(i)
+    io.out.bits.hit(i) := lane.io.out.bits.hit && present(i)
     io.out.bits.near(i) := lane.io.out.bits.near
   }
 }

@@ -8,15 +8,17 @@ import rtaccel.AccelConfig
   * unit narrows it to its format (outward, in conservative mode).
   */
 class BoxQuery[T <: Data](cfg: AccelConfig, gen: T) extends Bundle {
-  val ray    = gen.cloneType
+  val ray = gen.cloneType
+
   /** The ray's tmax in the triangle format (the leaf unit writes it); the lane narrows it. */
-  val tmax   = UInt(cfg.triFloat.width.W)
+  val tmax = UInt(cfg.triFloat.width.W)
   val boxMin = Vec(3, UInt(32.W))
   val boxMax = Vec(3, UInt(32.W))
 }
 
 class BoxAnswer(cfg: AccelConfig) extends Bundle {
-  val hit  = Bool()
+  val hit = Bool()
+
   /** Entry distance, in the box format. */
   val near = UInt(cfg.boxFloat.width.W)
 }
@@ -28,7 +30,7 @@ class BoxAnswer(cfg: AccelConfig) extends Bundle {
 abstract class BoxLane[T <: Data](val cfg: AccelConfig, val gen: T) extends Module {
   def latency: Int
   val io = IO(new Bundle {
-    val in  = Flipped(Valid(new BoxQuery(cfg, gen)))
+    val in = Flipped(Valid(new BoxQuery(cfg, gen)))
     val out = Valid(new BoxAnswer(cfg))
   })
 }

@@ -15,13 +15,15 @@ import rtaccel.datapath.RayConsts
 class GridBboxIntersect(k: Int, p: GridParams, rays: RayConsts) extends Module {
   val io = IO(new Bundle {
     val in = Flipped(Valid(new Bundle {
-      val node     = new GridNodeIn(rays)
+      val node = new GridNodeIn(rays)
       val children = Vec(k, new GridChildHw(p))
     }))
     val out = Valid(new Bundle {
-      val hit  = Vec(k, Bool())
+      val hit = Vec(k, Bool())
+
       /** Entry distance relative to the node, in its unit: orders the children, nothing more. */
       val near = Vec(k, SInt(p.width.W))
+
       /** Bad scale exponent: the node is bad scene data (no hits). */
       val badScale = Bool()
     })

@@ -18,20 +18,25 @@ final case class GridParams(qBits: Int = 8, fracBits: Int = 3, width: Int = 14, 
   require(fracBits >= 0, s"GridParams: fracBits must be >= 0, got $fracBits")
   require(width >= qBits + fracBits + 3, s"GridParams: width $width < qBits + fracBits + 3 = ${qBits + fracBits + 3}")
   val qMax: Int = (1 << qBits) - 1
+
   /** The window of relative distances: anything outside is clamped to it (a monotone map). */
   val bot: BigInt = -(BigInt(1) << (width - 1))
   val top: BigInt = (BigInt(1) << (width - 1)) - 1
+
   /** A step in units of u, unsigned; one at the window's size or more ends every interval past it. */
   val stepBits: Int = width - 1
   val stepMax: BigInt = (BigInt(1) << stepBits) - 1
+
   /** A flat axis' grid coordinate, clamped to -1..qMax+1 (enough to decide q' <= g and g <= q'). */
   val gLo: BigInt = -1
   val gHi: BigInt = qMax + 1
   val gBits: Int = qBits + 2
+
   /** The ray's grid coordinate at t0 in units of 2^-cFracBits, kept within -2..qMax+2 cells (flags beyond). */
   val cLo: BigInt = -(BigInt(2) << cFracBits)
   val cHi: BigInt = BigInt(qMax + 2) << cFracBits
   val cBits: Int = GridFixed.widthOf(cLo, cHi)
+
   /** q' - c in units of 2^-cFracBits. */
   val dBits: Int = GridFixed.widthOf(-cHi, (BigInt(qMax) << cFracBits) - cLo)
   def name: String = s"q${qBits}f${fracBits}w${width}c$cFracBits"

@@ -7,35 +7,47 @@ import chisel3.util._
   * Steps are in units u = 2^eu of t (GridNode); cLo..cHi bound the ray's grid
   * coordinate at t0 in units of 2^-cFracBits (`cLoBelow`/`cHiAbove`: past the window).
   */
-final case class GridAxisFixed(flat: Boolean, neg: Boolean, stepLo: BigInt, stepHi: BigInt, stepHiSat: Boolean,
-    cLo: BigInt, cLoBelow: Boolean, cHi: BigInt, cHiAbove: Boolean, gHi: BigInt, gLo: BigInt)
+final case class GridAxisFixed(
+    flat: Boolean,
+    neg: Boolean,
+    stepLo: BigInt,
+    stepHi: BigInt,
+    stepHiSat: Boolean,
+    cLo: BigInt,
+    cLoBelow: Boolean,
+    cHi: BigInt,
+    cHiAbove: Boolean,
+    gHi: BigInt,
+    gLo: BigInt
+)
 final case class GridNodeFixed(axes: Seq[GridAxisFixed], tmin: BigInt, tmax: BigInt, err: Boolean)
 
 class GridAxisHw(p: GridParams) extends Bundle {
-  val flat      = Bool()
-  val neg       = Bool()
-  val stepLo    = UInt(p.stepBits.W)
-  val stepHi    = UInt(p.stepBits.W)
+  val flat = Bool()
+  val neg = Bool()
+  val stepLo = UInt(p.stepBits.W)
+  val stepHi = UInt(p.stepBits.W)
   val stepHiSat = Bool()
-  val cLo       = SInt(p.cBits.W)
-  val cLoBelow  = Bool()
-  val cHi       = SInt(p.cBits.W)
-  val cHiAbove  = Bool()
-  val gHi       = SInt(p.gBits.W)
-  val gLo       = SInt(p.gBits.W)
+  val cLo = SInt(p.cBits.W)
+  val cLoBelow = Bool()
+  val cHi = SInt(p.cBits.W)
+  val cHiAbove = Bool()
+  val gHi = SInt(p.gBits.W)
+  val gLo = SInt(p.gBits.W)
 }
 
 class GridNodeHw(p: GridParams) extends Bundle {
   val axes = Vec(3, new GridAxisHw(p))
   val tmin = SInt(p.width.W)
   val tmax = SInt(p.width.W)
-  val err  = Bool()
+  val err = Bool()
 }
 
 /** A child's box in its node's grid: plane offsets per axis (lo x, y, z; hi x, y, z). */
 class GridChildHw(p: GridParams) extends Bundle {
-  val qMin    = Vec(3, UInt(p.qBits.W))
-  val qMax    = Vec(3, UInt(p.qBits.W))
+  val qMin = Vec(3, UInt(p.qBits.W))
+  val qMax = Vec(3, UInt(p.qBits.W))
+
   /** Used slot; an empty slot never hits. */
   val present = Bool()
 }
@@ -61,9 +73,9 @@ object GridLane {
       val dLo = (BigInt(qe) << p.cFracBits) - a.cHi // <= qe - c
       val dHi = (BigInt(qx) << p.cFracBits) - a.cLo // >= qx - c
       val lo = if (a.flat || a.cHiAbove || (dLo < 0 && a.stepHiSat)) p.bot
-        else clamp(floorDiv(dLo * (if (dLo >= 0) a.stepLo else a.stepHi)))
+      else clamp(floorDiv(dLo * (if (dLo >= 0) a.stepLo else a.stepHi)))
       val hi = if (a.flat || a.cLoBelow || (dHi > 0 && a.stepHiSat)) p.top
-        else clamp(ceilDiv(dHi * (if (dHi > 0) a.stepHi else a.stepLo)))
+      else clamp(ceilDiv(dHi * (if (dHi > 0) a.stepHi else a.stepLo)))
       val in = !a.flat || (qe <= a.gHi && a.gLo <= qx)
       (lo, hi, in && qMin(i) <= qMax(i))
     }
@@ -79,11 +91,11 @@ object GridLane {
   */
 class GridLane(p: GridParams) extends Module {
   val io = IO(new Bundle {
-    val in   = Flipped(Valid(new Bundle {
-      val node  = new GridNodeHw(p)
+    val in = Flipped(Valid(new Bundle {
+      val node = new GridNodeHw(p)
       val child = new GridChildHw(p)
     }))
-    val hit  = Output(Bool())
+    val hit = Output(Bool())
     val near = Output(SInt(p.width.W))
     val outValid = Output(Bool())
   })
@@ -109,13 +121,19 @@ class GridLane(p: GridParams) extends Module {
     val loOut = a.flat || a.cHiAbove || (dLo < 0.S && a.stepHiSat)
     val hiOut = a.flat || a.cLoBelow || (dHi > 0.S && a.stepHiSat)
     val in = !a.flat || (qe.zext <= a.gHi && a.gLo <= qx.zext)
-    (RegEnable(pLo, en), RegEnable(pHi, en), RegEnable(loOut, en), RegEnable(hiOut, en),
-      RegEnable(in && c.qMin(i) <= c.qMax(i), en))
+    (
+      RegEnable(pLo, en),
+      RegEnable(pHi, en),
+      RegEnable(loOut, en),
+      RegEnable(hiOut, en),
+      RegEnable(in && c.qMin(i) <= c.qMax(i), en)
+    )
   }
   private val err1 = RegEnable(n.err || !c.present, io.in.valid)
   private val tmin1 = RegEnable(n.tmin, io.in.valid)
   private val tmax1 = RegEnable(n.tmax, io.in.valid)
-  private def clamp(v: SInt): SInt = Mux(v < p.bot.S, p.bot.S(p.width.W), Mux(v > p.top.S, p.top.S(p.width.W), v(p.width - 1, 0).asSInt))
+  private def clamp(v: SInt): SInt =
+    Mux(v < p.bot.S, p.bot.S(p.width.W), Mux(v > p.top.S, p.top.S(p.width.W), v(p.width - 1, 0).asSInt))
   // Cycle 2: outward to units of u (an arithmetic shift is a floor), clamps.
   private val s2 = s1.map { case (pLo, pHi, loOut, hiOut, ok) =>
     val lo = Mux(loOut, p.bot.S(p.width.W), clamp(pLo >> p.cFracBits))

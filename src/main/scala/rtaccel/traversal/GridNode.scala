@@ -16,6 +16,7 @@ import rtaccel.fp.FloatFormat
   * a child's slab ends to within u of the exact ones.
   */
 object GridNode {
+
   /** qMax 2^s in `fmt` (exact: s must be in the format's normal range). */
   def spanSoft(fmt: FloatFormat, p: GridParams, s: Int): BigInt = {
     require(p.qBits - 1 <= fmt.manBits, s"GridNode: qBits ${p.qBits} too wide for $fmt")
@@ -28,8 +29,14 @@ object GridNode {
     if (es.isEmpty) 0 else es.min - p.fracBits
   }
 
-  def soft(fmt: FloatFormat, p: GridParams, ray: RayK[BigInt, Boolean], tmax: BigInt, origin: Seq[BigInt],
-      s: Seq[Int]): GridNodeFixed = {
+  def soft(
+      fmt: FloatFormat,
+      p: GridParams,
+      ray: RayK[BigInt, Boolean],
+      tmax: BigInt,
+      origin: Seq[BigInt],
+      s: Seq[Int]
+  ): GridNodeFixed = {
     val ar = new GoldenArith(fmt)
     val k = GridKernel(ar, ray, tmax, origin, s.map(spanSoft(fmt, p, _)))
     val eu = euSoft(fmt, p, k.axes.map(_.flat), ray.rcpLo, s)
@@ -41,10 +48,26 @@ object GridNode {
       val cHi = fx(a.cHi, p.cFracBits - s(i), up = true, p.cLo, p.cHi)
       val gHi = fx(fmt.negate(a.diffLo), -s(i), up = false, p.gLo, p.gHi)
       val gLo = fx(fmt.negate(a.diffHi), -s(i), up = true, p.gLo, p.gHi)
-      GridAxisFixed(a.flat, a.neg, sLo.value, sHi.value, sHi.above, cLo.value, cLo.below, cHi.value, cHi.above,
-        gHi.value, gLo.value)
+      GridAxisFixed(
+        a.flat,
+        a.neg,
+        sLo.value,
+        sHi.value,
+        sHi.above,
+        cLo.value,
+        cLo.below,
+        cHi.value,
+        cHi.above,
+        gHi.value,
+        gLo.value
+      )
     }
-    GridNodeFixed(axes, fx(k.tminR, -eu, up = false, p.bot, p.top).value, fx(k.tmaxR, -eu, up = true, p.bot, p.top).value, k.err)
+    GridNodeFixed(
+      axes,
+      fx(k.tminR, -eu, up = false, p.bot, p.top).value,
+      fx(k.tmaxR, -eu, up = true, p.bot, p.top).value,
+      k.err
+    )
   }
 }
 
@@ -52,12 +75,14 @@ object GridNode {
   * per-axis origin and scale exponent as the 4q/8q record holds them (QuantNode).
   */
 class GridNodeIn(rays: RayConsts) extends Bundle {
-  val ray    = rays.cloneType
+  val ray = rays.cloneType
+
   /** In the triangle format; rounded up to FP32 where that is narrower (BoxKernel.narrowTmax). */
-  val tmax   = UInt(rays.triFmt.width.W)
+  val tmax = UInt(rays.triFmt.width.W)
   val origin = Vec(3, UInt(32.W))
+
   /** Scale exponent fields e (scale 2^(e-127)), QuantNode.ExpMin..ExpMax. */
-  val exp    = Vec(3, UInt(8.W))
+  val exp = Vec(3, UInt(8.W))
 }
 
 /** [[GridNode.soft]] in hardware: the FP32 [[GridKernel]] pipeline (HwArith
@@ -66,10 +91,14 @@ class GridNodeIn(rays: RayConsts) extends Bundle {
   */
 class GridNodeStage(p: GridParams, rays: RayConsts) extends Module {
   private val fmt = rays.boxFmt
-  require(fmt == FloatFormat.FP32, s"GridNodeStage: the node's planes are FP32; the box constants must be too, not $fmt")
+  require(
+    fmt == FloatFormat.FP32,
+    s"GridNodeStage: the node's planes are FP32; the box constants must be too, not $fmt"
+  )
   val io = IO(new Bundle {
     val in = Flipped(Valid(new GridNodeIn(rays)))
     val out = Valid(new GridNodeHw(p))
+
     /** A scale exponent outside QuantNode.ExpMin..ExpMax: bad scene data; no child hits. */
     val badScale = Output(Bool())
   })
@@ -82,8 +111,14 @@ class GridNodeStage(p: GridParams, rays: RayConsts) extends Module {
   private val e = io.in.bits.exp
   private val bad = e.map(x => x < rtaccel.bvh.QuantNode.ExpMin.U || x > rtaccel.bvh.QuantNode.ExpMax.U).reduce(_ || _)
   // qMax 2^s: exponent field e + qBits - 1, the qBits - 1 fraction bits below the point set.
-  private val span = e.map(x => ar.input(Cat(0.U(1.W), x + (p.qBits - 1).U, ((BigInt(1) << (p.qBits - 1)) - 1).U((p.qBits - 1).W),
-    0.U((fmt.manBits - p.qBits + 1).W))))
+  private val span = e.map(x =>
+    ar.input(Cat(
+      0.U(1.W),
+      x + (p.qBits - 1).U,
+      ((BigInt(1) << (p.qBits - 1)) - 1).U((p.qBits - 1).W),
+      0.U((fmt.manBits - p.qBits + 1).W)
+    ))
+  )
   private val k = GridKernel(ar, ray, tmax, io.in.bits.origin.map(ar.input), span)
 
   // The unit's exponent at cycle 0 (inputs only), delayed with the rest.
@@ -98,7 +133,8 @@ class GridNodeStage(p: GridParams, rays: RayConsts) extends Module {
   private val eu = Mux(flat0.reduce(_ && _), 0.S, esMin - p.fracBits.S)
   private def timed[T <: Data](x: T) = new Timed(x, 0, chain)
 
-  val latency: Int = (k.axes.flatMap(a => Seq(a.cLo, a.cHi, a.diffLo, a.diffHi)) ++ Seq(k.tminR, k.tmaxR)).map(_.ready).max + 1
+  val latency: Int =
+    (k.axes.flatMap(a => Seq(a.cLo, a.cHi, a.diffLo, a.diffHi)) ++ Seq(k.tminR, k.tmaxR)).map(_.ready).max + 1
   private val c = latency - 1
   private val euC = timed(eu).at(c)
   private val sC = sInt.map(timed(_).at(c))

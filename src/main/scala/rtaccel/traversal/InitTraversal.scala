@@ -9,7 +9,7 @@ import rtaccel.bvh.BvhNode
 /** A new ray, at the root, with the root node it will be tested against. */
 class EntryToken(cfg: AccelConfig) extends Bundle {
   val token = new TraversalToken(cfg)
-  val root  = new BvhNode(cfg)
+  val root = new BvhNode(cfg)
 }
 
 /** The ray's entry into traversal: a prepared ray (with its ID) is written to
@@ -24,20 +24,22 @@ class EntryToken(cfg: AccelConfig) extends Bundle {
   */
 class InitTraversal[T <: Data](cfg: AccelConfig, gen: T) extends Module {
   val io = IO(new Bundle {
-    val in     = Flipped(Valid(new PreparedEntry(cfg, gen)))
-    val root   = Input(new BvhNode(cfg))
-    val enter  = Decoupled(new RayEntry(cfg, gen))
-    val out    = Decoupled(new EntryToken(cfg))
+    val in = Flipped(Valid(new PreparedEntry(cfg, gen)))
+    val root = Input(new BvhNode(cfg))
+    val enter = Decoupled(new RayEntry(cfg, gen))
+    val out = Decoupled(new EntryToken(cfg))
+
     /** Sticky: a prepared ray found the queue full (a lost ray; cannot happen). */
     val broken = Output(Bool())
+
     /** Rays this unit holds now (RtAccel's ray_conservation assertion). */
-    val held   = Output(UInt(log2Ceil(cfg.numRayIds + 3).W))
+    val held = Output(UInt(log2Ceil(cfg.numRayIds + 3).W))
   })
   override def desiredName = s"InitTraversal_k${cfg.boxLanes}_n${cfg.numRayIds}"
 
   private val waiting = Module(new Queue(new PreparedEntry(cfg, gen), cfg.numRayIds))
   waiting.io.enq.valid := io.in.valid
-  waiting.io.enq.bits  := io.in.bits
+  waiting.io.enq.bits := io.in.bits
   private val brokenReg = RegInit(false.B)
   when(io.in.valid && !waiting.io.enq.ready) { brokenReg := true.B }
   io.broken := brokenReg
@@ -48,24 +50,24 @@ class InitTraversal[T <: Data](cfg: AccelConfig, gen: T) extends Module {
   // queue of written rays lets the next ray be written while the previous
   // one is handed over, so a ray can enter every cycle. (enter.valid depends
   // on the queue's state, never on a ready from outside.)
-  private val head    = waiting.io.deq.bits
+  private val head = waiting.io.deq.bits
   private val written = Module(new Queue(new TraversalToken(cfg), 2)) // the token only: the rest is in the RayBuffer
-  io.enter.valid        := waiting.io.deq.valid && written.io.enq.ready
-  io.enter.bits.rayId   := head.rayId
+  io.enter.valid := waiting.io.deq.valid && written.io.enq.ready
+  io.enter.bits.rayId := head.rayId
   io.enter.bits.statics := head.ray.statics
-  io.enter.bits.tmax    := head.ray.tmax
-  waiting.io.deq.ready  := io.enter.ready && written.io.enq.ready
-  written.io.enq.valid  := io.enter.fire
+  io.enter.bits.tmax := head.ray.tmax
+  waiting.io.deq.ready := io.enter.ready && written.io.enq.ready
+  written.io.enq.valid := io.enter.fire
   private val t = written.io.enq.bits
-  t.rayId   := head.rayId
+  t.rayId := head.rayId
   t.nodeIdx := 0.U
-  t.sp      := 0.U
-  t.dirNeg  := head.ray.dirNeg
-  t.shadow  := head.shadow
-  t.errors  := head.ray.errors
-  io.out.valid          := written.io.deq.valid
-  io.out.bits.token     := written.io.deq.bits
-  written.io.deq.ready  := io.out.ready
+  t.sp := 0.U
+  t.dirNeg := head.ray.dirNeg
+  t.shadow := head.shadow
+  t.errors := head.ray.errors
+  io.out.valid := written.io.deq.valid
+  io.out.bits.token := written.io.deq.bits
+  written.io.deq.ready := io.out.ready
   io.out.bits.root := io.root
   io.held := waiting.io.count +& written.io.count
 }

@@ -18,13 +18,15 @@ import rtaccel.bvh.BvhNode
 class PrepFetch(cfg: AccelConfig) extends Module {
   val port: MemPortParams = PrepFetch.port(cfg)
   val io = IO(new Bundle {
-    val in       = Flipped(Decoupled(new TraversalToken(cfg)))
+    val in = Flipped(Decoupled(new TraversalToken(cfg)))
+
     /** Byte address of node 0 in memory. */
     val nodeBase = Input(UInt(cfg.addrBits.W))
-    val mem      = new MemPort(port)
-    val out      = Valid(new FetchedNode(cfg))
+    val mem = new MemPort(port)
+    val out = Valid(new FetchedNode(cfg))
+
     /** Rays waiting in the queue or for memory (a performance counter input). */
-    val waiting  = Output(UInt(log2Ceil(cfg.numRayIds + 1).W))
+    val waiting = Output(UInt(log2Ceil(cfg.numRayIds + 1).W))
   })
   override def desiredName = s"PrepFetch_k${cfg.boxLanes}_n${cfg.numRayIds}"
 
@@ -32,16 +34,16 @@ class PrepFetch(cfg: AccelConfig) extends Module {
   queue.io.enq <> io.in
 
   private val parked = Mem(cfg.numRayIds, new TraversalToken(cfg))
-  io.mem.req.valid     := queue.io.deq.valid
+  io.mem.req.valid := queue.io.deq.valid
   io.mem.req.bits.addr := io.nodeBase + PrepFetch.nodeOffset(cfg, queue.io.deq.bits.nodeIdx)
-  io.mem.req.bits.tag  := queue.io.deq.bits.rayId
-  queue.io.deq.ready   := io.mem.req.ready
+  io.mem.req.bits.tag := queue.io.deq.bits.rayId
+  queue.io.deq.ready := io.mem.req.ready
   when(io.mem.req.fire) { parked.write(queue.io.deq.bits.rayId, queue.io.deq.bits) }
 
   io.mem.resp.ready := true.B
   private val fetched = Wire(new FetchedNode(cfg))
   fetched.token := parked.read(io.mem.resp.bits.tag)
-  fetched.node  := BvhNode.decode(cfg, io.mem.resp.bits.data)
+  fetched.node := BvhNode.decode(cfg, io.mem.resp.bits.data)
   io.out := Pipe(io.mem.resp.valid, fetched, 1)
 
   private val inMemoryReg = RegInit(0.U(log2Ceil(cfg.numRayIds + 1).W))
@@ -50,8 +52,10 @@ class PrepFetch(cfg: AccelConfig) extends Module {
 }
 
 object PrepFetch {
+
   /** Node requests are tagged with the ray ID; one request brings one whole node record. */
   def port(cfg: AccelConfig): MemPortParams = MemPortParams(cfg.addrBits, cfg.rayIdBits, cfg.layout.nodeBytes)
+
   /** Byte offset of node `idx`: a shift for power-of-two node sizes, a
     * constant multiply (shifts and one add) for the 80-byte 8q node.
     */
@@ -64,5 +68,5 @@ object PrepFetch {
 /** A ray's token with the node it fetched. */
 class FetchedNode(cfg: AccelConfig) extends Bundle {
   val token = new TraversalToken(cfg)
-  val node  = new BvhNode(cfg)
+  val node = new BvhNode(cfg)
 }

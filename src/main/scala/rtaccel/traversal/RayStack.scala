@@ -25,26 +25,30 @@ class RayStack(cfg: AccelConfig) extends Module {
   private val pushes = cfg.layout.maxPushes
   private val slotBits = log2Ceil(cfg.stackDepth + pushes + 1)
   val io = IO(new Bundle {
-    val rayId     = Input(UInt(cfg.rayIdBits.W))
+    val rayId = Input(UInt(cfg.rayIdBits.W))
+
     /** The ray's stack pointer: pushes fill slots sp, sp+1, ...; a pop reads sp - 1. */
-    val sp        = Input(UInt(cfg.stackPtrBits.W))
+    val sp = Input(UInt(cfg.stackPtrBits.W))
+
     /** Entries to push this cycle, `pushVals(0 until pushCount)`. */
     val pushCount = Input(UInt(log2Ceil(pushes + 1).W))
-    val pushVals  = Input(Vec(pushes, new ChildRef(cfg)))
-    val pop       = Input(Bool())
+    val pushVals = Input(Vec(pushes, new ChildRef(cfg)))
+    val pop = Input(Bool())
+
     /** The entry read by a pop in the previous cycle. */
-    val popVal    = Output(new ChildRef(cfg))
+    val popVal = Output(new ChildRef(cfg))
+
     /** Port B: pop slot `spB - 1` of ray `rayIdB`; the value the next cycle. */
-    val rayIdB    = Input(UInt(cfg.rayIdBits.W))
-    val spB       = Input(UInt(cfg.stackPtrBits.W))
-    val popB      = Input(Bool())
-    val popValB   = Output(new ChildRef(cfg))
+    val rayIdB = Input(UInt(cfg.rayIdBits.W))
+    val spB = Input(UInt(cfg.stackPtrBits.W))
+    val popB = Input(Bool())
+    val popValB = Output(new ChildRef(cfg))
   })
   override def desiredName = s"RayStack_n${cfg.numRayIds}_d${cfg.stackDepth}_b${cfg.stackBanks}"
 
   private val banks = cfg.stackBanks
   private val bankBits = log2Ceil(banks)
-  private val mems  = Seq.fill(banks)(SyncReadMem(cfg.numRayIds * cfg.stackRows, new ChildRef(cfg)))
+  private val mems = Seq.fill(banks)(SyncReadMem(cfg.numRayIds * cfg.stackRows, new ChildRef(cfg)))
   private val memsB = Seq.fill(banks)(SyncReadMem(cfg.numRayIds * cfg.stackRows, new ChildRef(cfg)))
   private def rowAddr(slot: UInt, rayId: UInt = io.rayId): UInt = rayId * cfg.stackRows.U + (slot >> bankBits)
   private def bankOf(slot: UInt): UInt = if (banks == 1) 0.U else slot(bankBits - 1, 0)
@@ -64,6 +68,6 @@ class RayStack(cfg: AccelConfig) extends Module {
     val reads = ms.zipWithIndex.map { case (mem, b) => mem.read(rowAddr(slot, rayId), pop && bankOf(slot) === b.U) }
     if (banks == 1) reads.head else VecInit(reads)(RegEnable(bankOf(slot), pop))
   }
-  io.popVal  := popPort(mems, io.rayId, io.sp, io.pop)
+  io.popVal := popPort(mems, io.rayId, io.sp, io.pop)
   io.popValB := popPort(memsB, io.rayIdB, io.spB, io.popB)
 }

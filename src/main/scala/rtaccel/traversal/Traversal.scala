@@ -24,23 +24,27 @@ import rtaccel.bvh.BvhNode
   */
 class Traversal[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   val io = IO(new Bundle {
-    val entry    = Flipped(Decoupled(new EntryToken(cfg)))
+    val entry = Flipped(Decoupled(new EntryToken(cfg)))
     val nodeBase = Input(UInt(cfg.addrBits.W))
-    val mem      = new MemPort(PrepFetch.port(cfg))
-    val rayRead  = Flipped(new RayBufferRead(cfg, dp.gen))
-    val leafOut  = Decoupled(new LeafJob(cfg))
-    val leafIn   = Flipped(Decoupled(new LeafExit(cfg)))
-    val done     = Decoupled(new TraversalToken(cfg))
+    val mem = new MemPort(PrepFetch.port(cfg))
+    val rayRead = Flipped(new RayBufferRead(cfg, dp.gen))
+    val leafOut = Decoupled(new LeafJob(cfg))
+    val leafIn = Flipped(Decoupled(new LeafExit(cfg)))
+    val done = Decoupled(new TraversalToken(cfg))
+
     /** Sticky: some enqueue found its queue full (cannot happen; see above). */
     val overflow = Output(Bool())
+
     /** Performance counter inputs: a node tested, and how many used child boxes it had. */
     val boxTests = Output(Bool())
     val childBoxes = Output(UInt(log2Ceil(cfg.boxLanes + 1).W))
+
     /** Decisions of the box-result lane (0) and the leaf-return lane (1). */
-    val control  = Output(Vec(2, Valid(TraversalState())))
+    val control = Output(Vec(2, Valid(TraversalState())))
     val fetchWaiting = Output(UInt(log2Ceil(cfg.numRayIds + 1).W))
+
     /** Rays this unit holds now (RtAccel's ray_conservation assertion). */
-    val held     = Output(UInt(log2Ceil(9 * cfg.numRayIds + 8).W))
+    val held = Output(UInt(log2Ceil(9 * cfg.numRayIds + 8).W))
   })
   override def desiredName = s"Traversal_k${cfg.boxLanes}_n${cfg.numRayIds}_${dp.name}"
 
@@ -52,39 +56,39 @@ class Traversal[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   // ---- Box stage ----
   class AtNode extends Bundle {
     val token = new TraversalToken(cfg)
-    val node  = new BvhNode(cfg)
+    val node = new BvhNode(cfg)
   }
   private val fromMem = fetch.io.out
   io.entry.ready := !fromMem.valid
   private val pick = Wire(new AtNode)
   pick.token := Mux(fromMem.valid, fromMem.bits.token, io.entry.bits.token)
-  pick.node  := Mux(fromMem.valid, fromMem.bits.node, io.entry.bits.root)
+  pick.node := Mux(fromMem.valid, fromMem.bits.node, io.entry.bits.root)
   private val picked = fromMem.valid || io.entry.valid
-  io.rayRead.en    := picked
+  io.rayRead.en := picked
   io.rayRead.rayId := pick.token.rayId
   private val atNode = Pipe(picked, pick, 1)
 
   private val box = Module(new BboxIntersect(cfg, dp))
   private val slots = atNode.bits.node.slots
-  box.io.in.valid        := atNode.valid
-  box.io.in.bits.ray     := io.rayRead.statics
-  box.io.in.bits.tmax    := io.rayRead.tmax
-  box.io.in.bits.boxMin  := VecInit(slots.map(_.boxMin))
-  box.io.in.bits.boxMax  := VecInit(slots.map(_.boxMax))
+  box.io.in.valid := atNode.valid
+  box.io.in.bits.ray := io.rayRead.statics
+  box.io.in.bits.tmax := io.rayRead.tmax
+  box.io.in.bits.boxMin := VecInit(slots.map(_.boxMin))
+  box.io.in.bits.boxMax := VecInit(slots.map(_.boxMax))
   box.io.in.bits.present := VecInit(slots.map(_.present))
   private val tested = Pipe(atNode.valid, atNode.bits, box.latency)
-  io.boxTests   := box.io.out.valid
+  io.boxTests := box.io.out.valid
   io.childBoxes := Mux(box.io.out.valid, PopCount(tested.bits.node.slots.map(_.present)), 0.U)
 
   // ---- Decision ----
   private val boxDone = Wire(Valid(new ControlIn(cfg)))
   private val b = boxDone.bits
   boxDone.valid := box.io.out.valid
-  b.token      := tested.bits.token
-  b.hit        := box.io.out.bits.hit
-  b.near       := box.io.out.bits.near
-  b.refs       := VecInit(tested.bits.node.slots.map(_.child))
-  b.axis       := tested.bits.node.axis
+  b.token := tested.bits.token
+  b.hit := box.io.out.bits.hit
+  b.near := box.io.out.bits.near
+  b.refs := VecInit(tested.bits.node.slots.map(_.child))
+  b.axis := tested.bits.node.axis
   b.nodeErrors := tested.bits.node.errors
 
   // Box results go straight to the box-result lane (one per cycle, as they
@@ -93,13 +97,13 @@ class Traversal[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   private val control = Module(new TraversalControl(cfg))
   control.io.in := boxDone
   control.io.ret.valid := io.leafIn.valid
-  control.io.ret.bits.token    := io.leafIn.bits.token
+  control.io.ret.bits.token := io.leafIn.bits.token
   control.io.ret.bits.occluded := io.leafIn.bits.occluded
   io.leafIn.ready := true.B
   io.control(0).valid := control.io.out.valid
-  io.control(0).bits  := control.io.out.bits.state
+  io.control(0).bits := control.io.out.bits.state
   io.control(1).valid := control.io.retOut.valid
-  io.control(1).bits  := control.io.retOut.bits.state
+  io.control(1).bits := control.io.retOut.bits.state
 
   // ---- Routing: each lane has its own queues (every one holds numRayIds, so
   // none can overflow: each ray is in one place), merged round-robin ----
@@ -112,7 +116,7 @@ class Traversal[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   }
   private val leafQs = lanes.map { o =>
     val q = Module(new Queue(new LeafJob(cfg), cfg.numRayIds))
-    q.io.enq.valid      := o.valid && o.bits.state === TraversalState.Leaf
+    q.io.enq.valid := o.valid && o.bits.state === TraversalState.Leaf
     q.io.enq.bits.token := o.bits.token
     q.io.enq.bits.first := o.bits.leafFirst
     q.io.enq.bits.count := o.bits.leafCount

@@ -17,29 +17,35 @@ object TraversalState extends ChiselEnum {
 
 /** A ray back from LeafIntersect, to the leaf-return lane. */
 class ReturnIn(cfg: AccelConfig) extends Bundle {
-  val token    = new TraversalToken(cfg)
+  val token = new TraversalToken(cfg)
+
   /** A shadow ray found an occluder, so it is finished. */
   val occluded = Bool()
 }
 
 /** A box result, to the box-result lane. */
 class ControlIn(cfg: AccelConfig) extends Bundle {
-  val token    = new TraversalToken(cfg)
+  val token = new TraversalToken(cfg)
+
   /** BboxIntersect's answer for each slot of node `token.nodeIdx`. */
-  val hit      = Vec(cfg.boxLanes, Bool())
-  val near     = Vec(cfg.boxLanes, UInt(cfg.boxFloat.width.W))
+  val hit = Vec(cfg.boxLanes, Bool())
+  val near = Vec(cfg.boxLanes, UInt(cfg.boxFloat.width.W))
+
   /** Where each slot leads (nori: the node itself). */
-  val refs     = Vec(cfg.boxLanes, new ChildRef(cfg))
+  val refs = Vec(cfg.boxLanes, new ChildRef(cfg))
+
   /** Nori layout: the node's split axis. */
-  val axis     = UInt(2.W)
+  val axis = UInt(2.W)
+
   /** Decode errors of the node's used slots. */
   val nodeErrors = ErrorFlags()
 }
 
 class ControlOut(cfg: AccelConfig) extends Bundle {
-  val state     = TraversalState()
+  val state = TraversalState()
+
   /** Updated token: `nodeIdx` is the node to fetch next (TRAVERSE/GOBACK). */
-  val token     = new TraversalToken(cfg)
+  val token = new TraversalToken(cfg)
   val leafFirst = UInt(cfg.triIndexBits.W)
   val leafCount = UInt(cfg.leafCountBits.W)
 }
@@ -74,13 +80,15 @@ class ControlOut(cfg: AccelConfig) extends Bundle {
   */
 class TraversalControl(cfg: AccelConfig) extends Module {
   val io = IO(new Bundle {
-    val in  = Flipped(Valid(new ControlIn(cfg)))
+    val in = Flipped(Valid(new ControlIn(cfg)))
     val out = Valid(new ControlOut(cfg))
+
     /** The leaf-return lane: one ray back from a leaf per cycle, out the next cycle. */
-    val ret    = Flipped(Valid(new ReturnIn(cfg)))
+    val ret = Flipped(Valid(new ReturnIn(cfg)))
     val retOut = Valid(new ControlOut(cfg))
+
     /** Rays in its pipeline registers (RtAccel's ray_conservation assertion). */
-    val held   = Output(UInt(2.W))
+    val held = Output(UInt(2.W))
   })
   override def desiredName = s"TraversalControl_k${cfg.boxLanes}_n${cfg.numRayIds}_d${cfg.stackDepth}"
 
@@ -97,37 +105,40 @@ class TraversalControl(cfg: AccelConfig) extends Module {
   // docs/fmax.md). Same logic, one register earlier; the nori layout has no
   // rank stage and computes it in its one cycle as before.
   class Ranked extends Bundle {
-    val in   = new ControlIn(cfg)
+    val in = new ControlIn(cfg)
     val rank = Vec(k, UInt(rankBits.W))
     val hits = UInt(log2Ceil(k + 1).W)
+
     /** Some child box was hit: there is a next child. */
-    val chosenOk  = Bool()
+    val chosenOk = Bool()
     val pushCount = UInt(log2Ceil(pushes + 1).W)
+
     /** The token's, the node's and StackOverflow (pushes past stackDepth). */
-    val errors    = ErrorFlags()
+    val errors = ErrorFlags()
+
     /** DONE: an error, or no hit and an empty stack. */
-    val finished  = Bool()
+    val finished = Bool()
   }
   private def rank(in: ControlIn): Ranked = {
     val r = Wire(new Ranked)
     r.in := in
     val keys = in.near.map(FpOrder.key(cfg.boxFloat, _))
     for (i <- 0 until k) {
-      val before = for (j <- 0 until k if j != i) yield
-        in.hit(j) && (if (j < i) keys(j) <= keys(i) else keys(j) < keys(i))
+      val before = for (j <- 0 until k if j != i)
+        yield in.hit(j) && (if (j < i) keys(j) <= keys(i) else keys(j) < keys(i))
       r.rank(i) := PopCount(before)
     }
     r.hits := PopCount(in.hit)
     cfg.layout match {
       case BvhLayout.Nori =>
-        r.chosenOk  := in.hit(0)
+        r.chosenOk := in.hit(0)
         r.pushCount := (in.hit(0) && !in.refs(0).isLeaf).asUInt
       case _: BvhLayout.Wide =>
-        r.chosenOk  := r.hits =/= 0.U
+        r.chosenOk := r.hits =/= 0.U
         r.pushCount := Mux(r.chosenOk, r.hits - 1.U, 0.U)
     }
     val overflow = r.chosenOk && (in.token.sp +& r.pushCount > cfg.stackDepth.U)
-    r.errors   := in.token.errors | in.nodeErrors | Mux(overflow, ErrorFlags.bit(ErrorFlags.StackOverflow), 0.U)
+    r.errors := in.token.errors | in.nodeErrors | Mux(overflow, ErrorFlags.bit(ErrorFlags.StackOverflow), 0.U)
     r.finished := r.errors.orR || (!r.chosenOk && in.token.sp === 0.U)
     r
   }
@@ -137,12 +148,12 @@ class TraversalControl(cfg: AccelConfig) extends Module {
   }
 
   // ---- Decision: the next child and the pushes ----
-  private val in  = d.in
+  private val in = d.in
   private val tok = in.token
-  private val chosen    = Wire(new ChildRef(cfg))
-  private val chosenOk  = d.chosenOk
+  private val chosen = Wire(new ChildRef(cfg))
+  private val chosenOk = d.chosenOk
   private val pushCount = d.pushCount
-  private val pushVals  = Wire(Vec(pushes, new ChildRef(cfg)))
+  private val pushVals = Wire(Vec(pushes, new ChildRef(cfg)))
   cfg.layout match {
     case BvhLayout.Nori =>
       // Near child first: left (= this node + 1) unless the ray runs toward
@@ -155,38 +166,41 @@ class TraversalControl(cfg: AccelConfig) extends Module {
         c.isLeaf := false.B; c.index := idx; c.count := 0.U
         c
       }
-      chosen    := Mux(self.isLeaf, self, inner(Mux(rightNear, self.index, left)))
+      chosen := Mux(self.isLeaf, self, inner(Mux(rightNear, self.index, left)))
       pushVals(0) := inner(Mux(rightNear, left, self.index))
     case _: BvhLayout.Wide =>
-      chosen    := Mux1H(in.hit.zip(d.rank).map { case (h, r) => h && r === 0.U }, in.refs)
+      chosen := Mux1H(in.hit.zip(d.rank).map { case (h, r) => h && r === 0.U }, in.refs)
       // Port p (slot sp + p) takes the child ranked hits-1-p: farthest lowest.
       for (p <- 0 until pushes)
         pushVals(p) := Mux1H(in.hit.zip(d.rank).map { case (h, r) => h && r === d.hits - 1.U - p.U }, in.refs)
   }
 
-  private val errors    = d.errors
-  private val finished  = d.finished
+  private val errors = d.errors
+  private val finished = d.finished
 
   private val state = Wire(TraversalState())
-  state := Mux(finished, TraversalState.Done,
-    Mux(!chosenOk, TraversalState.GoBack, Mux(chosen.isLeaf, TraversalState.Leaf, TraversalState.Traverse)))
+  state := Mux(
+    finished,
+    TraversalState.Done,
+    Mux(!chosenOk, TraversalState.GoBack, Mux(chosen.isLeaf, TraversalState.Leaf, TraversalState.Traverse))
+  )
 
   private val stack = Module(new RayStack(cfg))
   private val descend = valid && !finished && chosenOk
-  stack.io.rayId     := tok.rayId
-  stack.io.sp        := tok.sp
+  stack.io.rayId := tok.rayId
+  stack.io.sp := tok.sp
   stack.io.pushCount := Mux(descend, pushCount, 0.U)
-  stack.io.pushVals  := pushVals
-  stack.io.pop       := valid && state === TraversalState.GoBack
+  stack.io.pushVals := pushVals
+  stack.io.pop := valid && state === TraversalState.GoBack
 
   private val next = Wire(new ControlOut(cfg))
-  next.state         := state
-  next.token         := tok
-  next.token.errors  := errors
-  next.token.sp      := Mux(finished, tok.sp, Mux(chosenOk, tok.sp + pushCount, tok.sp - 1.U))
+  next.state := state
+  next.token := tok
+  next.token.errors := errors
+  next.token.sp := Mux(finished, tok.sp, Mux(chosenOk, tok.sp + pushCount, tok.sp - 1.U))
   next.token.nodeIdx := Mux(state === TraversalState.Traverse, chosen.index(cfg.nodeIndexBits - 1, 0), tok.nodeIdx)
-  next.leafFirst     := chosen.index(cfg.triIndexBits - 1, 0)
-  next.leafCount     := chosen.count
+  next.leafFirst := chosen.index(cfg.triIndexBits - 1, 0)
+  next.leafCount := chosen.count
 
   io.out := resolve(valid, next, stack.io.popVal)
 
@@ -194,13 +208,13 @@ class TraversalControl(cfg: AccelConfig) extends Module {
   private val r = io.ret.bits
   private val retDone = r.token.errors.orR || r.occluded || r.token.sp === 0.U
   stack.io.rayIdB := r.token.rayId
-  stack.io.spB    := r.token.sp
-  stack.io.popB   := io.ret.valid && !retDone
+  stack.io.spB := r.token.sp
+  stack.io.popB := io.ret.valid && !retDone
   private val retNext = Wire(new ControlOut(cfg))
-  retNext           := DontCare
-  retNext.state     := Mux(retDone, TraversalState.Done, TraversalState.GoBack)
-  retNext.token     := r.token
-  retNext.token.sp  := Mux(retDone, r.token.sp, r.token.sp - 1.U)
+  retNext := DontCare
+  retNext.state := Mux(retDone, TraversalState.Done, TraversalState.GoBack)
+  retNext.token := r.token
+  retNext.token.sp := Mux(retDone, r.token.sp, r.token.sp - 1.U)
   io.retOut := resolve(io.ret.valid, retNext, stack.io.popValB)
   // The nori layout has no rank register: its input is not held here.
   private val ranked = if (cfg.layout == BvhLayout.Nori) false.B else valid
@@ -213,10 +227,10 @@ class TraversalControl(cfg: AccelConfig) extends Module {
     val outReg = RegEnable(next, valid)
     val o = Wire(Valid(new ControlOut(cfg)))
     o.valid := RegNext(valid, false.B)
-    o.bits  := outReg
+    o.bits := outReg
     when(outReg.state === TraversalState.GoBack) {
       when(popped.isLeaf) {
-        o.bits.state     := TraversalState.Leaf
+        o.bits.state := TraversalState.Leaf
         o.bits.leafFirst := popped.index(cfg.triIndexBits - 1, 0)
         o.bits.leafCount := popped.count
       }.otherwise {

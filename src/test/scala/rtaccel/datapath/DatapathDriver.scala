@@ -26,8 +26,9 @@ object DatapathDriver {
         val (c, e) = work.boxes(i)
         val o = dut.io.boxOut.peek().litValue
         val got = BoxExp(o.testBit(bw + 1), o.testBit(bw), o & bmask)
-        if (got != e && bad.size < maxReport) bad += s"box ${c.where}: hw (err ${got.err}, hit ${got.hit}, near ${hex(got.near)}) " +
-          s"want (err ${e.err}, hit ${e.hit}, near ${hex(e.near)})"
+        if (got != e && bad.size < maxReport)
+          bad += s"box ${c.where}: hw (err ${got.err}, hit ${got.hit}, near ${hex(got.near)}) " +
+            s"want (err ${e.err}, hit ${e.hit}, near ${hex(e.near)})"
       }
       if (i < work.prims.size) {
         val (c, e) = work.prims(i)

@@ -16,14 +16,16 @@ class DatapathHarness(val dp: FloatDatapath) extends Module {
   val cfg = AccelConfig(boxFloat = dp.boxFmt, triFloat = dp.triFmt)
   private val (bw, tw) = (dp.boxFmt.width, dp.triFmt.width)
   val io = IO(new Bundle {
-    val valid   = Input(Bool())
-    val boxRay  = Input(UInt(256.W)) // o, d, tmin, tmax
-    val box     = Input(UInt(192.W)) // bmin, bmax
-    val triRay  = Input(UInt(256.W))
-    val tri     = Input(UInt(288.W)) // p0, p1, p2
+    val valid = Input(Bool())
+    val boxRay = Input(UInt(256.W)) // o, d, tmin, tmax
+    val box = Input(UInt(192.W)) // bmin, bmax
+    val triRay = Input(UInt(256.W))
+    val tri = Input(UInt(288.W)) // p0, p1, p2
     val outValid = Output(Bool())
+
     /** err, hit, near (near in the low box-format bits). */
-    val boxOut  = Output(UInt((bw + 2).W))
+    val boxOut = Output(UInt((bw + 2).W))
+
     /** err, hit, t, u, v (v in the low triangle-format bits). */
     val primOut = Output(UInt((3 * tw + 2).W))
   })
@@ -54,8 +56,10 @@ class DatapathHarness(val dp: FloatDatapath) extends Module {
   private val boxErr = ShiftRegister(invalid(prepA), boxLatency)
   private val primErr = ShiftRegister(invalid(prepB), primLatency)
   io.boxOut := ShiftRegister(Cat(boxErr, box.io.out.bits.hit, box.io.out.bits.near), latency - prepLatency - boxLatency)
-  io.primOut := ShiftRegister(Cat(primErr, prim.io.out.bits.hit, prim.io.out.bits.t, prim.io.out.bits.u, prim.io.out.bits.v),
-    latency - prepLatency - primLatency)
+  io.primOut := ShiftRegister(
+    Cat(primErr, prim.io.out.bits.hit, prim.io.out.bits.t, prim.io.out.bits.u, prim.io.out.bits.v),
+    latency - prepLatency - primLatency
+  )
   io.outValid := ShiftRegister(io.valid, latency, false.B, true.B)
 }
 

@@ -50,7 +50,9 @@ class DatapathPropertySpec extends AnyFlatSpec {
           if (c.family.startsWith("zero_area") && e.hit) fail(c, "coincident-vertex triangle hit")
         }
         assert(bad.isEmpty, bad.mkString("\n"))
-        info(s"${boxes.size} box, ${tris.size} triangle cases; $exactHits exact box hits, missed by this variant: $nearestMisses")
+        info(
+          s"${boxes.size} box, ${tris.size} triangle cases; $exactHits exact box hits, missed by this variant: $nearestMisses"
+        )
       }
   }
 
@@ -58,7 +60,9 @@ class DatapathPropertySpec extends AnyFlatSpec {
   // enclose the exact slab test of the FP32 ray itself, the ray the triangle unit traces.
   for (box <- Seq(FloatFormat(8, 10), FloatFormat(6, 9), FloatFormat(5, 10))) {
     val dp = FloatDatapath(box, FloatFormat.FP32, TriangleTest.Watertight, BoxRounding.Conservative)
-    dp.name should "never miss a box the FP32 ray's exact slab test hits" in Seeded(s"DatapathPropertySpec ${dp.name}") { rng =>
+    dp.name should "never miss a box the FP32 ray's exact slab test hits" in Seeded(
+      s"DatapathPropertySpec ${dp.name}"
+    ) { rng =>
       val g = FloatGolden(dp)
       val f32 = FloatFormat.FP32
       val bad = scala.collection.mutable.ArrayBuffer.empty[String]
@@ -81,7 +85,7 @@ class DatapathPropertySpec extends AnyFlatSpec {
   private def groups(cases: Seq[KernelCase]): Seq[Seq[KernelCase]] =
     cases.filter(_.family.startsWith("shared_")).foldLeft(List.empty[List[KernelCase]]) {
       case (g :: rest, c) if g.head.family == c.family && g.head.in.take(8) == c.in.take(8) => (c :: g) :: rest
-      case (acc, c) => List(c) :: acc
+      case (acc, c)                                                                         => List(c) :: acc
     }.reverse.map(_.reverse)
 
   for (fmt <- formats) {

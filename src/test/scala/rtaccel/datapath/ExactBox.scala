@@ -9,6 +9,7 @@ import rtaccel.fp.FloatFormat
   * component): those are covered by the error and empty-box rules instead.
   */
 object ExactBox {
+
   /** num / den with den > 0. */
   final case class Q(num: BigInt, den: BigInt) {
     def -(o: Q): Q = Q(num * o.den - o.num * den, den * o.den)
@@ -25,12 +26,20 @@ object ExactBox {
       Some(if (e >= 0) Q(m << e, 1) else Q(m, BigInt(1) << -e))
     }
 
-  def hit(fmt: FloatFormat, o: Seq[BigInt], d: Seq[BigInt], tmin: BigInt, tmax: BigInt,
-      bmin: Seq[BigInt], bmax: Seq[BigInt]): Option[Boolean] = {
+  def hit(
+      fmt: FloatFormat,
+      o: Seq[BigInt],
+      d: Seq[BigInt],
+      tmin: BigInt,
+      tmax: BigInt,
+      bmin: Seq[BigInt],
+      bmax: Seq[BigInt]
+  ): Option[Boolean] = {
     val f32 = FloatFormat.FP32
     val vo = o.map(value(fmt, _)); val vd = d.map(value(fmt, _))
     val lo = bmin.map(value(f32, _)); val hi = bmax.map(value(f32, _))
-    if ((vo ++ vd ++ lo ++ hi).exists(_.isEmpty) || fmt.isNaN(tmin) || fmt.isNaN(tmax) || vd.forall(_.get.num == 0)) None
+    if ((vo ++ vd ++ lo ++ hi).exists(_.isEmpty) || fmt.isNaN(tmin) || fmt.isNaN(tmax) || vd.forall(_.get.num == 0))
+      None
     else {
       // Interval of t, None = unbounded on that side.
       // tmin = -inf and tmax = +inf leave that side open (None).

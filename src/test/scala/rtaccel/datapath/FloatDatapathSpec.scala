@@ -26,15 +26,25 @@ class FloatDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
     }
 
   "e8m23_mt_rne" should "match the HLS bbox.out and prim_mt.out bit for bit on every line" in {
-    runOn(FloatDatapath(f32, TriangleTest.Moller, BoxRounding.Nearest), DatapathDriver.Work(
-      KernelVectors.bboxOutFile.map(c => c -> GoldenRun.boxOf(c)), KernelVectors.mtOutFile.map(c => c -> GoldenRun.primOf(c))))
+    runOn(
+      FloatDatapath(f32, TriangleTest.Moller, BoxRounding.Nearest),
+      DatapathDriver.Work(
+        KernelVectors.bboxOutFile.map(c => c -> GoldenRun.boxOf(c)),
+        KernelVectors.mtOutFile.map(c => c -> GoldenRun.primOf(c))
+      )
+    )
   }
 
   "e8m23_wt_cons" should "match prim_wt.out bit for bit, and the golden conservative box on every line" in {
     val dp = FloatDatapath(f32, TriangleTest.Watertight, BoxRounding.Conservative)
     val g = FloatGolden(dp)
-    runOn(dp, DatapathDriver.Work(KernelVectors.bboxOutFile.map(c => c -> GoldenRun.box(g, c)),
-      KernelVectors.wtOutFile.map(c => c -> GoldenRun.primOf(c))))
+    runOn(
+      dp,
+      DatapathDriver.Work(
+        KernelVectors.bboxOutFile.map(c => c -> GoldenRun.box(g, c)),
+        KernelVectors.wtOutFile.map(c => c -> GoldenRun.primOf(c))
+      )
+    )
   }
 
   for (dp <- narrowVariants) {
@@ -43,19 +53,24 @@ class FloatDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
         val g = FloatGolden(dp)
         val boxes = KernelVectors.bboxHard ++ sample(KernelVectors.bboxOutFile, rng)
         val prims = KernelVectors.triHard ++ sample(KernelVectors.mtOutFile, rng)
-        runOn(dp, DatapathDriver.Work(boxes.map(c => c -> GoldenRun.box(g, c)), prims.map(c => c -> GoldenRun.prim(g, c))))
+        runOn(
+          dp,
+          DatapathDriver.Work(boxes.map(c => c -> GoldenRun.box(g, c)), prims.map(c => c -> GoldenRun.prim(g, c)))
+        )
       }
     }
   }
 }
 
 object FloatDatapathSpec {
+
   /** Random cases per narrow variant (drawn from the .out files' inputs). */
   val RandomSample = 20000
   val narrowVariants: Seq[FloatDatapath] = Seq(
     FloatDatapath(FloatFormat(8, 15), TriangleTest.Watertight, BoxRounding.Conservative),
     FloatDatapath(FloatFormat(8, 10), TriangleTest.Moller, BoxRounding.Nearest),
-    FloatDatapath(FloatFormat(6, 9), TriangleTest.Watertight, BoxRounding.Conservative))
+    FloatDatapath(FloatFormat(6, 9), TriangleTest.Watertight, BoxRounding.Conservative)
+  )
   // Split formats (e8m10e8m23_wt_cons) are checked on the whole accelerator, ray by ray,
   // in RtAccelSceneSpec; one more Verilator build here would exceed make test's budget.
 

@@ -23,10 +23,13 @@ class FloatGoldenSpec extends AnyFlatSpec {
     val g = dp(TriangleTest.Moller, BoxRounding.Nearest)
     val bad = mismatches(cases)(GoldenRun.box(g, _), GoldenRun.boxOf)
     assert(bad.isEmpty, bad.mkString("\n"))
-    val rcpBad = mismatches(cases.filter(c => !GoldenRun.boxOf(c).err)) ({ c =>
-      val (k, _) = g.setup(c.o, c.d, c.tmin, c.tmax)
-      k.box.rcpLo.indices.map(i => hex(if (f32.sign(k.box.d(i))) f32.negate(k.box.rcpLo(i)) else k.box.rcpLo(i)))
-    }, c => c.in.slice(14, 17).map(hex))
+    val rcpBad = mismatches(cases.filter(c => !GoldenRun.boxOf(c).err))(
+      { c =>
+        val (k, _) = g.setup(c.o, c.d, c.tmin, c.tmax)
+        k.box.rcpLo.indices.map(i => hex(if (f32.sign(k.box.d(i))) f32.negate(k.box.rcpLo(i)) else k.box.rcpLo(i)))
+      },
+      c => c.in.slice(14, 17).map(hex)
+    )
     assert(rcpBad.isEmpty, rcpBad.mkString("\n"))
     info(s"${cases.size} cases")
   }
@@ -47,11 +50,14 @@ class FloatGoldenSpec extends AnyFlatSpec {
       val g = dp(TriangleTest.Watertight, r)
       val bad = mismatches(cases)(GoldenRun.prim(g, _), GoldenRun.primOf)
       assert(bad.isEmpty, bad.mkString("\n"))
-      val shearBad = mismatches(cases.filter(c => !GoldenRun.primOf(c).err)) ({ c =>
-        val s = g.setup(c.o, c.d, c.tmin, c.tmax)._1.tri.shear.get
-        def axis(oh: Seq[Boolean]) = BigInt(oh.indexOf(true))
-        Seq(axis(s.kx), axis(s.ky), axis(s.kz), s.sx, s.sy, s.sz).map(hex)
-      }, c => c.in.slice(17, 23).map(hex))
+      val shearBad = mismatches(cases.filter(c => !GoldenRun.primOf(c).err))(
+        { c =>
+          val s = g.setup(c.o, c.d, c.tmin, c.tmax)._1.tri.shear.get
+          def axis(oh: Seq[Boolean]) = BigInt(oh.indexOf(true))
+          Seq(axis(s.kx), axis(s.ky), axis(s.kz), s.sx, s.sy, s.sz).map(hex)
+        },
+        c => c.in.slice(17, 23).map(hex)
+      )
       assert(shearBad.isEmpty, shearBad.mkString("\n"))
       info(s"${cases.size} cases")
     }

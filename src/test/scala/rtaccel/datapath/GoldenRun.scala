@@ -23,7 +23,8 @@ object GoldenRun {
   }
 
   /** The formats every narrow-format check runs in (FP32 is checked against the HLS .out files). */
-  val narrowFormats: Seq[FloatFormat] = Seq(FloatFormat(8, 15), FloatFormat(8, 10), FloatFormat(6, 9), FloatFormat(5, 10))
+  val narrowFormats: Seq[FloatFormat] =
+    Seq(FloatFormat(8, 15), FloatFormat(8, 10), FloatFormat(6, 9), FloatFormat(5, 10))
 
   /** `.out` box line outputs. */
   def boxOf(c: KernelCase): BoxExp = BoxExp(c.out(1) == 1, c.out(0) == 1, c.out(2))

@@ -14,9 +14,11 @@ final case class KernelCase(file: String, line: Int, family: String, in: Indexed
   def d: Seq[BigInt] = in.slice(3, 6)
   def tmin: BigInt = in(6)
   def tmax: BigInt = in(7)
+
   /** Box files: bmin, bmax. */
   def bmin: Seq[BigInt] = in.slice(8, 11)
   def bmax: Seq[BigInt] = in.slice(11, 14)
+
   /** Triangle files: the nine vertex words p0, p1, p2. */
   def verts: Seq[BigInt] = in.slice(8, 17)
 }
@@ -25,6 +27,7 @@ object KernelVectors {
   val root: Path = Paths.get(sys.props.getOrElse("rtaccel.root", "."))
   val outDir: Path = root.resolve("hls/build/vectors")
   val hardDir: Path = root.resolve("testdata/kernels")
+
   /** Input-token and output-token counts per file kind. */
   val bboxIn = 14; val bboxOutIn = 17; val bboxOut = 3
   val triIn = 17; val wtOutIn = 23; val primOut = 5
@@ -35,7 +38,8 @@ object KernelVectors {
   /** Reads a vector file; any malformed line fails naming file, line and token. */
   def read(path: Path, inCount: Int, outCount: Int): IndexedSeq[KernelCase] = {
     if (!Files.exists(path)) {
-      val hint = if (path.toString.contains("hls/build")) "run `make -C hls vectors` first (make test does)" else "it is committed; check out testdata/"
+      val hint = if (path.toString.contains("hls/build")) "run `make -C hls vectors` first (make test does)"
+      else "it is committed; check out testdata/"
       throw new java.io.FileNotFoundException(s"$path is missing: $hint")
     }
     val name = path.toString

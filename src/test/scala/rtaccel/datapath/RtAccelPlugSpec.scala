@@ -8,8 +8,12 @@ import rtaccel.{AccelConfig, RtAccel}
   * and a narrow format), and names round-trip through `FloatDatapath.parse`.
   */
 class RtAccelPlugSpec extends AnyFlatSpec {
-  for (dp <- Seq(FloatDatapath(FloatFormat.FP32, TriangleTest.Moller, BoxRounding.Nearest),
-      FloatDatapath(FloatFormat(8, 10), TriangleTest.Watertight, BoxRounding.Conservative))) {
+  for (
+    dp <- Seq(
+      FloatDatapath(FloatFormat.FP32, TriangleTest.Moller, BoxRounding.Nearest),
+      FloatDatapath(FloatFormat(8, 10), TriangleTest.Watertight, BoxRounding.Conservative)
+    )
+  ) {
     s"RtAccel with ${dp.name}" should "elaborate" in {
       val cfg = AccelConfig(numRayIds = 4, stackDepth = 4, boxFloat = dp.boxFmt, triFloat = dp.triFmt)
       val chirrtl = _root_.circt.stage.ChiselStage.emitCHIRRTL(new RtAccel(cfg, dp))

@@ -24,8 +24,15 @@ class ToFloat32Spec extends AnyFlatSpec with ChiselScalatestTester {
       Seeded(s"ToFloat32Spec ${fmt.name}") { rng =>
         val g = FloatGolden(dp)
         val values: Seq[BigInt] =
-          Seq(fmt.canonicalNaN, fmt.infinity(true), fmt.minSubnormal(false), fmt.maxSubnormal(true), fmt.zero(true),
-            fmt.maxFinite(true), fmt.minNormal(false)) ++ Seq.fill(10000)(BigInt(fmt.width, rng))
+          Seq(
+            fmt.canonicalNaN,
+            fmt.infinity(true),
+            fmt.minSubnormal(false),
+            fmt.maxSubnormal(true),
+            fmt.zero(true),
+            fmt.maxFinite(true),
+            fmt.minNormal(false)
+          ) ++ Seq.fill(10000)(BigInt(fmt.width, rng))
         test(new ToFloat32Harness(dp)).withAnnotations(Backends.treadle) { dut =>
           for (x <- values) {
             dut.io.in.poke(x.U)

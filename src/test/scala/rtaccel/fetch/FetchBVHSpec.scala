@@ -14,8 +14,15 @@ class FetchBVHSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "FetchBVH"
 
   // A 4-wide layout: the root is a 128-byte record of four slots.
-  private val cfg = AccelConfig(numRayIds = 4, stackDepth = 4, maxNodes = 256, maxTriangles = 256, maxLeafSize = 4,
-    layout = BvhLayout.Wide(4))
+  private val cfg = AccelConfig(
+    numRayIds = 4,
+    stackDepth = 4,
+    maxNodes = 256,
+    maxTriangles = 256,
+    maxLeafSize = 4,
+    layout = BvhLayout.Wide(4)
+  )
+
   /** Slots 0 and 1 inner children, 2 and 3 empty; slot s's box words are box + 8 s + i. */
   private def node(box: Int): BigInt = (0 until 4).map { s =>
     val word0 = if (s < 2) BigInt(0) else BigInt(BvhNode.EmptySlot)
@@ -37,9 +44,12 @@ class FetchBVHSpec extends AnyFlatSpec with ChiselScalatestTester {
     dut.io.rays.bits.number.poke(number.U)
     dut.io.rays.bits.shadow.poke(shadow.B)
     val r = dut.io.rays.bits.ray
-    for (a <- 0 until 3) { r.origin(a).poke((number * 16 + a).U); r.dir(a).poke((if (a == 1) 0x80000000L + 5 else 5L).U) }
+    for (a <- 0 until 3) {
+      r.origin(a).poke((number * 16 + a).U); r.dir(a).poke((if (a == 1) 0x80000000L + 5 else 5L).U)
+    }
     r.tmin.poke(0.U); r.tmax.poke(0x7f000000L.U)
   }
+
   /** Answers the one outstanding root request, checking its address. */
   private def answerRoot(dut: FetchBVH[UInt], base: Int, box: Int): Int = {
     var tag = -1
@@ -53,13 +63,16 @@ class FetchBVHSpec extends AnyFlatSpec with ChiselScalatestTester {
     assert(tag >= 0, "no root request")
     dut.io.mem.req.valid.expect(false.B, "one root request only")
     dut.io.rays.ready.expect(false.B, "rays must wait for the root")
-    dut.io.mem.resp.valid.poke(true.B); dut.io.mem.resp.bits.tag.poke(tag.U); dut.io.mem.resp.bits.data.poke(node(box).U)
+    dut.io.mem.resp.valid.poke(true.B); dut.io.mem.resp.bits.tag.poke(tag.U);
+    dut.io.mem.resp.bits.data.poke(node(box).U)
     dut.clock.step()
     dut.io.mem.resp.valid.poke(false.B)
     tag
   }
 
-  it should "fetch the root once, hold rays until it arrives, give each ray a fresh ID and prepare it" in Seeded("FetchBVH.root") { rnd =>
+  it should "fetch the root once, hold rays until it arrives, give each ray a fresh ID and prepare it" in Seeded(
+    "FetchBVH.root"
+  ) { rnd =>
     test(new FetchBVH(cfg, FieldDatapath)).withAnnotations(Backends.treadle) { dut =>
       idle(dut)
       dut.io.nodeBase.poke(0x400.U)
@@ -89,7 +102,10 @@ class FetchBVHSpec extends AnyFlatSpec with ChiselScalatestTester {
           val p = dut.io.prepared.bits
           val id = p.rayId.peek().litValue.toInt
           assert(started.contains(id), s"cycle $cycle: prepared ray with ID $id, which no ray holds")
-          assert(cycle - startedAt(id) == FieldDatapath.prepLatency, s"cycle $cycle: ray $id prepared ${cycle - startedAt(id)} cycles after entry")
+          assert(
+            cycle - startedAt(id) == FieldDatapath.prepLatency,
+            s"cycle $cycle: ray $id prepared ${cycle - startedAt(id)} cycles after entry"
+          )
           p.shadow.expect((started(id) % 3 == 0).B, s"ray ${started(id)} shadow flag")
           p.ray.dirNeg(0).expect(false.B); p.ray.dirNeg(1).expect(true.B)
           dut.io.numberId.poke(id.U)
@@ -104,7 +120,10 @@ class FetchBVHSpec extends AnyFlatSpec with ChiselScalatestTester {
         due.foreach { case (_, id) => pendingFree.dequeue(); started.remove(id) }
       }
       assert(requests == 0, s"$requests node requests after the root: new rays must not fetch it again")
-      assert(prepared > 40 && prepared >= numberNext - cfg.numRayIds, s"only $prepared of $numberNext rays prepared in 400 cycles")
+      assert(
+        prepared > 40 && prepared >= numberNext - cfg.numRayIds,
+        s"only $prepared of $numberNext rays prepared in 400 cycles"
+      )
       dut.io.doubleFree.expect(false.B)
     }
   }
@@ -121,7 +140,8 @@ class FetchBVHSpec extends AnyFlatSpec with ChiselScalatestTester {
       dut.io.mem.req.ready.poke(false.B) // (memory busy: the refetch waits below)
       dut.io.nodeBase.poke(0x800.U) // ...and the scene changes before it is answered
       dut.clock.step()
-      dut.io.mem.resp.valid.poke(true.B); dut.io.mem.resp.bits.tag.poke(oldTag.U); dut.io.mem.resp.bits.data.poke(node(7).U)
+      dut.io.mem.resp.valid.poke(true.B); dut.io.mem.resp.bits.tag.poke(oldTag.U);
+      dut.io.mem.resp.bits.data.poke(node(7).U)
       dut.clock.step()
       dut.io.mem.resp.valid.poke(false.B)
       dut.io.rays.ready.expect(false.B, "a late answer for the old base is not the new root")

@@ -17,6 +17,7 @@ final case class Rational(num: BigInt, den: BigInt) extends Ordered[Rational] {
 }
 
 object FpExact {
+
   /** The exact value of a finite encoding. */
   def value(fmt: FloatFormat, bits: BigInt): Rational = {
     require(fmt.isFinite(bits), s"${fmt.name}: 0x${bits.toString(16)} is not finite")
@@ -55,7 +56,8 @@ object FpExact {
     if (!ge(fmt, up, exact)) return Some(s"RUP ${hex(up)} below exact")
     val exactRep = fmt.isFinite(dn) && value(fmt, dn).compare(exact) == 0
     if (exactRep) {
-      if (!Seq(up, tz, ne).forall(same(_, dn))) return Some(s"exact value ${hex(dn)} but other modes differ: up ${hex(up)} tz ${hex(tz)} ne ${hex(ne)}")
+      if (!Seq(up, tz, ne).forall(same(_, dn)))
+        return Some(s"exact value ${hex(dn)} but other modes differ: up ${hex(up)} tz ${hex(tz)} ne ${hex(ne)}")
       return None
     }
     // Adjacent encodings (nextUp also steps -inf -> -max and +max -> +inf).

@@ -21,14 +21,19 @@ class FpModelSpec extends AnyFlatSpec {
   private def checkF32(a: BigInt, b: BigInt, where: String): Unit = {
     val (fa, fb) = (f32(a), f32(b))
     def chk(op: String, got: BigInt, want: Float): Unit =
-      assert(got == f32Bits(want), s"$where: $op(${hex(a)}, ${hex(b)}) = ${hex(got)}, JVM ${hex(f32Bits(want))} ($fa, $fb)")
+      assert(
+        got == f32Bits(want),
+        s"$where: $op(${hex(a)}, ${hex(b)}) = ${hex(got)}, JVM ${hex(f32Bits(want))} ($fa, $fb)"
+      )
     chk("add", add(F32, RNE, a, b), fa + fb)
     chk("sub", sub(F32, RNE, a, b), fa - fb)
     chk("mul", mul(F32, RNE, a, b), fa * fb)
     chk("div", div(F32, RNE, a, b), fa / fb)
     chk("recip", recip(F32, RNE, a), 1f / fa)
-    assert(lt(F32, a, b) == (fa < fb) && equal(F32, a, b) == (fa == fb) && le(F32, a, b) == (fa <= fb),
-      s"$where: compare(${hex(a)}, ${hex(b)})")
+    assert(
+      lt(F32, a, b) == (fa < fb) && equal(F32, a, b) == (fa == fb) && le(F32, a, b) == (fa <= fb),
+      s"$where: compare(${hex(a)}, ${hex(b)})"
+    )
     // minimumNumber/maximumNumber: Math.min/max except that a NaN operand loses.
     def numMin(x: Float, y: Float) = if (x.isNaN) y else if (y.isNaN) x else Math.min(x, y)
     def numMax(x: Float, y: Float) = if (x.isNaN) y else if (y.isNaN) x else Math.max(x, y)
@@ -49,7 +54,13 @@ class FpModelSpec extends AnyFlatSpec {
     info(f"1M pairs x 10 operations in $secs%.1f s, with operand generation and JVM reference")
     // Speed of the model alone (a report, not a pass/fail criterion).
     val pairs = Array.fill(200000)(FpOperands.pair(F32, rnd))
-    for ((name, op) <- Seq[(String, (BigInt, BigInt) => BigInt)](("add", add(F32, RNE, _, _)), ("mul", mul(F32, RNE, _, _)), ("div", div(F32, RNE, _, _)))) {
+    for (
+      (name, op) <- Seq[(String, (BigInt, BigInt) => BigInt)](
+        ("add", add(F32, RNE, _, _)),
+        ("mul", mul(F32, RNE, _, _)),
+        ("div", div(F32, RNE, _, _))
+      )
+    ) {
       val t = System.nanoTime()
       var sink = 0
       for ((a, b) <- pairs) sink ^= op(a, b).hashCode
@@ -57,20 +68,26 @@ class FpModelSpec extends AnyFlatSpec {
     }
   }
 
-  it should "convert to and from wider/narrower formats as JVM Float/Double casts do" in Seeded("FpModel.f32.convert") { rnd =>
-    for (i <- 0 until 200000) {
-      val a = if (i < 64) FpOperands.corners(F32)(i % FpOperands.corners(F32).size) else FpOperands.single(F32, rnd)
-      val wide = fromFloat32(F64, RNE, a)
-      assert(wide == (BigInt(java.lang.Double.doubleToLongBits(f32(a).toDouble)) & ((BigInt(1) << 64) - 1)), s"widen ${hex(a)}")
-      assert(toFloat32(F64, RNE, wide) == f32Bits(f32(a)), s"round trip ${hex(a)}")
-      assert(fromFloat32(F32, RDN, a) == (if (F32.isNaN(a)) F32.canonicalNaN else a), s"identity ${hex(a)}")
-      val d = FpOperands.single(F64, rnd)
-      val want = f32Bits(java.lang.Double.longBitsToDouble(d.toLong).toFloat)
-      assert(toFloat32(F64, RNE, d) == want, s"narrow ${hex(d)}")
-    }
+  it should "convert to and from wider/narrower formats as JVM Float/Double casts do" in Seeded("FpModel.f32.convert") {
+    rnd =>
+      for (i <- 0 until 200000) {
+        val a = if (i < 64) FpOperands.corners(F32)(i % FpOperands.corners(F32).size) else FpOperands.single(F32, rnd)
+        val wide = fromFloat32(F64, RNE, a)
+        assert(
+          wide == (BigInt(java.lang.Double.doubleToLongBits(f32(a).toDouble)) & ((BigInt(1) << 64) - 1)),
+          s"widen ${hex(a)}"
+        )
+        assert(toFloat32(F64, RNE, wide) == f32Bits(f32(a)), s"round trip ${hex(a)}")
+        assert(fromFloat32(F32, RDN, a) == (if (F32.isNaN(a)) F32.canonicalNaN else a), s"identity ${hex(a)}")
+        val d = FpOperands.single(F64, rnd)
+        val want = f32Bits(java.lang.Double.longBitsToDouble(d.toLong).toFloat)
+        assert(toFloat32(F64, RNE, d) == want, s"narrow ${hex(d)}")
+      }
   }
 
-  "FpModel (e11m52, RNE)" should "match JVM Double on corners and 200,000 random pairs" in Seeded("FpModel.f64.random") { rnd =>
+  "FpModel (e11m52, RNE)" should "match JVM Double on corners and 200,000 random pairs" in Seeded(
+    "FpModel.f64.random"
+  ) { rnd =>
     def dbl(x: BigInt) = java.lang.Double.longBitsToDouble(x.toLong)
     def bits(d: Double) = BigInt(java.lang.Double.doubleToLongBits(d)) & ((BigInt(1) << 64) - 1)
     val pairs = FpOperands.cornerPairs(F64) ++ Seq.fill(200000)(FpOperands.pair(F64, rnd))
@@ -83,8 +100,17 @@ class FpModelSpec extends AnyFlatSpec {
   }
 
   /** The formats the project uses, plus odd ones that stress the generic code. */
-  private val formats = Seq(F32, FloatFormat(8, 15), FloatFormat(8, 12), FloatFormat(8, 10), FloatFormat(8, 7),
-    FloatFormat(6, 9), FloatFormat(5, 10), FloatFormat(3, 2), F64)
+  private val formats = Seq(
+    F32,
+    FloatFormat(8, 15),
+    FloatFormat(8, 12),
+    FloatFormat(8, 10),
+    FloatFormat(8, 7),
+    FloatFormat(6, 9),
+    FloatFormat(5, 10),
+    FloatFormat(3, 2),
+    F64
+  )
 
   for (fmt <- formats) {
     s"FpModel ($fmt, all modes)" should "round add/sub/mul/div/convert as IEEE defines (RDN <= exact <= RUP, adjacent; RTZ; RNE nearest-even)" in

@@ -17,11 +17,28 @@ object FpOperands {
     val p = precision
     def pow2(e: Int): BigInt = FpRounding.round(fmt, RoundingMode.RNE, sign = false, BigInt(1), e, sticky = false)
     val positives = Seq(
-      zero(false), infinity(false), minSubnormal(false), minSubnormal(false) + 1, maxSubnormal(false),
-      minNormal(false), minNormal(false) + 1, maxFinite(false), maxFinite(false) - 1,
-      one, one + 1, one - 1, one + 2, pack(false, bias, BigInt(1) << (manBits - 1)) /* 1.5 */ ,
-      pow2(1), pow2(-p), pow2(-p - 1), pow2(-p + 1), pack(false, bias - p, (BigInt(1) << manBits) - 1),
-      pow2(emax), pow2(emin - manBits + 1), pack(false, bias + 1, (BigInt(1) << manBits) - 1)
+      zero(false),
+      infinity(false),
+      minSubnormal(false),
+      minSubnormal(false) + 1,
+      maxSubnormal(false),
+      minNormal(false),
+      minNormal(false) + 1,
+      maxFinite(false),
+      maxFinite(false) - 1,
+      one,
+      one + 1,
+      one - 1,
+      one + 2,
+      pack(false, bias, BigInt(1) << (manBits - 1)) /* 1.5 */,
+      pow2(1),
+      pow2(-p),
+      pow2(-p - 1),
+      pow2(-p + 1),
+      pack(false, bias - p, (BigInt(1) << manBits) - 1),
+      pow2(emax),
+      pow2(emin - manBits + 1),
+      pack(false, bias + 1, (BigInt(1) << manBits) - 1)
     ).distinct
     val nans = Seq(canonicalNaN, canonicalNaN.setBit(width - 1), pack(false, maxExpField, 1))
     positives.flatMap(x => Seq(x, negate(x))) ++ nans
@@ -35,7 +52,9 @@ object FpOperands {
 
   private def randomFrac(fmt: FloatFormat, rnd: Random): BigInt = rnd.nextInt(4) match {
     case 0 => BigInt(fmt.manBits, rnd)
-    case 1 => (BigInt(fmt.manBits, rnd) >> rnd.nextInt(fmt.manBits)) << rnd.nextInt(fmt.manBits) & ((BigInt(1) << fmt.manBits) - 1) // few low bits: ties
+    case 1 => (BigInt(fmt.manBits, rnd) >> rnd.nextInt(fmt.manBits)) << rnd.nextInt(fmt.manBits) & ((BigInt(
+        1
+      ) << fmt.manBits) - 1) // few low bits: ties
     case 2 => ((BigInt(1) << fmt.manBits) - 1) ^ BigInt(rnd.nextInt(4)) // near all ones: carries
     case _ => BigInt(rnd.nextInt(4)) // near zero fraction
   }
@@ -66,7 +85,12 @@ object FpOperands {
       case 4 => fmt.pack(rnd.nextBoolean(), 0, BigInt(fmt.manBits, rnd) >> rnd.nextInt(fmt.manBits)) // subnormal
       case 5 => withExp(fmt, rnd, 2 * fmt.bias - ea + rnd.nextInt(7) - 3) // product near 1
       case 6 => withExp(fmt, rnd, fmt.bias + fmt.emax - ea + rnd.nextInt(5) - 2) // product near overflow
-      case 7 => withExp(fmt, rnd, fmt.bias + fmt.emin - fmt.manBits - ea + fmt.bias + rnd.nextInt(fmt.manBits + 4) - 2) // product near underflow
+      case 7 =>
+        withExp(
+          fmt,
+          rnd,
+          fmt.bias + fmt.emin - fmt.manBits - ea + fmt.bias + rnd.nextInt(fmt.manBits + 4) - 2
+        ) // product near underflow
       case _ => // quotient a/b near overflow or near underflow (b placed for a/b; the pair may be swapped below)
         // The quotient's biased exponent is about ea - eb + bias.
         if (rnd.nextBoolean()) withExp(fmt, rnd, ea + fmt.bias - (fmt.maxExpField - 1) + rnd.nextInt(6) - 2)

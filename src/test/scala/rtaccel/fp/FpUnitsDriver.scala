@@ -16,17 +16,28 @@ object FpUnitsDriver {
   private def hex(x: BigInt) = "0x" + x.toString(16)
 
   /** One checked output: its latency, how to read it, and its expected value. */
-  private case class Port(name: String, latency: Int, read: FpUnitsHarness => (Boolean, BigInt), expect: FpVector => BigInt)
+  private case class Port(
+      name: String,
+      latency: Int,
+      read: FpUnitsHarness => (Boolean, BigInt),
+      expect: FpVector => BigInt
+  )
 
   /** Runs `vectors` and returns the number of checked results per port; throws on the first mismatch. */
   def run(dut: FpUnitsHarness, vectors: IndexedSeq[FpVector], jvmCheck: Boolean): Map[String, Int] = {
     import FpModel._
     val fmt = dut.fmt
     val lat = dut.lat
-    def v(x: Valid[UInt]) = (x.valid.peek().litToBoolean, if (x.valid.peek().litToBoolean) x.bits.peek().litValue else BigInt(0))
+    def v(x: Valid[UInt]) =
+      (x.valid.peek().litToBoolean, if (x.valid.peek().litToBoolean) x.bits.peek().litValue else BigInt(0))
     def cmpWord(r: FpVector) = { // lt | eq | unordered | min | max packed for one comparison
-      val bits = Seq(lt(fmt, r.a, r.b), equal(fmt, r.a, r.b), unordered(fmt, r.a, r.b)).map(b => if (b) BigInt(1) else BigInt(0))
-      (((bits(0) << 2) | (bits(1) << 1) | bits(2)) << (2 * fmt.width)) | (min(fmt, r.a, r.b) << fmt.width) | max(fmt, r.a, r.b)
+      val bits =
+        Seq(lt(fmt, r.a, r.b), equal(fmt, r.a, r.b), unordered(fmt, r.a, r.b)).map(b => if (b) BigInt(1) else BigInt(0))
+      (((bits(0) << 2) | (bits(1) << 1) | bits(2)) << (2 * fmt.width)) | (min(fmt, r.a, r.b) << fmt.width) | max(
+        fmt,
+        r.a,
+        r.b
+      )
     }
     val ports = Seq(
       Port("add", lat.add, d => v(d.io.add), r => add(fmt, r.rm, r.a, r.b)),
@@ -34,15 +45,26 @@ object FpUnitsDriver {
       Port("mul", lat.mul, d => v(d.io.mul), r => mul(fmt, r.rm, r.a, r.b)),
       Port("div", lat.div, d => v(d.io.div), r => div(fmt, r.rm, r.a, r.b)),
       Port("recip", lat.div, d => v(d.io.recip), r => recip(fmt, r.rm, r.a)),
-      Port("cmp", lat.cmp, { d =>
-        val c = d.io.cmp
-        val ok = c.valid.peek().litToBoolean
-        if (!ok) (false, BigInt(0))
-        else {
-          val flags = Seq(c.bits.lt, c.bits.eq, c.bits.unordered).map(x => if (x.peek().litToBoolean) BigInt(1) else BigInt(0))
-          (true, (((flags(0) << 2) | (flags(1) << 1) | flags(2)) << (2 * fmt.width)) | (c.bits.min.peek().litValue << fmt.width) | c.bits.max.peek().litValue)
-        }
-      }, cmpWord),
+      Port(
+        "cmp",
+        lat.cmp,
+        { d =>
+          val c = d.io.cmp
+          val ok = c.valid.peek().litToBoolean
+          if (!ok) (false, BigInt(0))
+          else {
+            val flags =
+              Seq(c.bits.lt, c.bits.eq, c.bits.unordered).map(x => if (x.peek().litToBoolean) BigInt(1) else BigInt(0))
+            (
+              true,
+              (((flags(0) << 2) | (flags(1) << 1) | flags(
+                2
+              )) << (2 * fmt.width)) | (c.bits.min.peek().litValue << fmt.width) | c.bits.max.peek().litValue
+            )
+          }
+        },
+        cmpWord
+      ),
       Port("fromF32", lat.conv, d => v(d.io.fromF32), r => fromFloat32(fmt, r.rm, r.f32)),
       Port("toF32", lat.conv, d => v(d.io.toF32), r => toFloat32(fmt, r.rm, r.a))
     )
@@ -100,13 +122,13 @@ object FpUnitsDriver {
     def fin(x: BigInt) = fmt.isFinite(x)
     def value(x: BigInt) = FpExact.value(fmt, x)
     val exact: Option[Rational] = port match {
-      case "add" if fin(r.a) && fin(r.b) => Some(value(r.a) + value(r.b))
-      case "sub" if fin(r.a) && fin(r.b) => Some(value(r.a) - value(r.b))
-      case "mul" if fin(r.a) && fin(r.b) => Some(value(r.a) * value(r.b))
+      case "add" if fin(r.a) && fin(r.b)                     => Some(value(r.a) + value(r.b))
+      case "sub" if fin(r.a) && fin(r.b)                     => Some(value(r.a) - value(r.b))
+      case "mul" if fin(r.a) && fin(r.b)                     => Some(value(r.a) * value(r.b))
       case "div" if fin(r.a) && fin(r.b) && !fmt.isZero(r.b) => Some(value(r.a) / value(r.b))
-      case "recip" if fin(r.a) && !fmt.isZero(r.a) => Some(Rational(1, 1) / value(r.a))
-      case "fromF32" if F32.isFinite(r.f32) => Some(FpExact.value(F32, r.f32))
-      case _ => None
+      case "recip" if fin(r.a) && !fmt.isZero(r.a)           => Some(Rational(1, 1) / value(r.a))
+      case "fromF32" if F32.isFinite(r.f32)                  => Some(FpExact.value(F32, r.f32))
+      case _                                                 => None
     }
     exact.foreach { e =>
       assert(!fmt.isNaN(got), s"$where: NaN for a finite exact value")

@@ -8,8 +8,13 @@ case class FpHarnessLatencies(add: Int, mul: Int, div: Int, cmp: Int, conv: Int)
 
 object FpHarnessLatencies {
   def defaults(fmt: FloatFormat): FpHarnessLatencies =
-    FpHarnessLatencies(FpAdd.defaultLatency, FpMul.defaultLatency, FpDivCore.defaultLatency(fmt),
-      FpCompare.defaultLatency, FpConvert.defaultLatency)
+    FpHarnessLatencies(
+      FpAdd.defaultLatency,
+      FpMul.defaultLatency,
+      FpDivCore.defaultLatency(fmt),
+      FpCompare.defaultLatency,
+      FpConvert.defaultLatency
+    )
 }
 
 /** Every unit of one format side by side on shared operands, so that a single

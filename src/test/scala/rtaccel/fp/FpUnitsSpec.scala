@@ -16,8 +16,14 @@ class FpUnitsSpec extends AnyFlatSpec with ChiselScalatestTester {
   private val F32 = FloatFormat.FP32
 
   /** Corners in all modes, then `perMode(rm)` random vectors per mode; asserts every port saw them all. */
-  private def runHarness(fmt: FloatFormat, rm: Option[RoundingMode], lat: FpHarnessLatencies,
-      perMode: RoundingMode => Int, name: String, minValidRandomRne: Int = 0): Unit = Seeded(name) { rnd =>
+  private def runHarness(
+      fmt: FloatFormat,
+      rm: Option[RoundingMode],
+      lat: FpHarnessLatencies,
+      perMode: RoundingMode => Int,
+      name: String,
+      minValidRandomRne: Int = 0
+  ): Unit = Seeded(name) { rnd =>
     val modes = rm.map(Seq(_)).getOrElse(RoundingMode.all)
     val random = modes.flatMap(m => FpVector.random(fmt, m, perMode(m), rnd))
     val validRne = random.count(v => v.valid && v.rm == RNE)
@@ -29,13 +35,21 @@ class FpUnitsSpec extends AnyFlatSpec with ChiselScalatestTester {
       val valid = vectors.count(_.valid)
       for (port <- Seq("add", "sub", "mul", "div", "recip", "cmp", "fromF32", "toF32"))
         assert(checked.getOrElse(port, 0) == valid, s"$port checked ${checked.getOrElse(port, 0)} of $valid results")
-      info(f"$fmt ${RoundingMode.tag(rm)}: ${vectors.size} vectors ($valid valid) x 8 ports in ${(System.nanoTime() - t0) / 1e9}%.1f s")
+      info(
+        f"$fmt ${RoundingMode.tag(rm)}: ${vectors.size} vectors ($valid valid) x 8 ports in ${(System.nanoTime() - t0) / 1e9}%.1f s"
+      )
     }
   }
 
   "FP units (e8m23, runtime rm)" should "match JVM Float in RNE (corners + 100,000 random) and the model in RTZ/RDN/RUP (20,000 each)" in
-    runHarness(F32, None, FpHarnessLatencies.defaults(F32), m => if (m == RNE) 110000 else 20000, "FpUnits.e8m23.dyn",
-      minValidRandomRne = 100000)
+    runHarness(
+      F32,
+      None,
+      FpHarnessLatencies.defaults(F32),
+      m => if (m == RNE) 110000 else 20000,
+      "FpUnits.e8m23.dyn",
+      minValidRandomRne = 100000
+    )
 
   for (fmt <- Seq(FloatFormat(8, 15), FloatFormat(8, 12), FloatFormat(8, 10), FloatFormat(8, 7), FloatFormat(6, 9))) {
     s"FP units ($fmt, runtime rm)" should "match the golden model on corners and 20,000 random vectors per mode" in
@@ -43,7 +57,13 @@ class FpUnitsSpec extends AnyFlatSpec with ChiselScalatestTester {
   }
 
   "FP units (e8m23, fixed RNE, other latencies)" should "match JVM Float with the mode fixed at elaboration" in
-    runHarness(F32, Some(RNE), FpHarnessLatencies(add = 0, mul = 3, div = 1, cmp = 0, conv = 2), _ => 20000, "FpUnits.e8m23.rne")
+    runHarness(
+      F32,
+      Some(RNE),
+      FpHarnessLatencies(add = 0, mul = 3, div = 1, cmp = 0, conv = 2),
+      _ => 20000,
+      "FpUnits.e8m23.rne"
+    )
 
   "FP units (e4m3, runtime rm)" should "match the golden model on every operand pair in every mode (exhaustive)" in
     Seeded("FpUnits.e4m3.exhaustive") { rnd =>

@@ -23,7 +23,8 @@ object FpVector {
     Seq.fill(n) {
       val (a, b) = FpOperands.pair(fmt, rnd)
       // Mostly FP32 values near the format's range, so narrowing rounds and over/underflows.
-      val f32 = if (rnd.nextInt(3) == 0) FpOperands.single(F32, rnd) else FpModel.toFloat32(fmt, RoundingMode.RNE, FpOperands.single(fmt, rnd)) ^ BigInt(rnd.nextInt(1 << 16))
+      val f32 = if (rnd.nextInt(3) == 0) FpOperands.single(F32, rnd)
+      else FpModel.toFloat32(fmt, RoundingMode.RNE, FpOperands.single(fmt, rnd)) ^ BigInt(rnd.nextInt(1 << 16))
       FpVector(a, b, f32, rm, valid = rnd.nextInt(16) != 0)
     }
 }

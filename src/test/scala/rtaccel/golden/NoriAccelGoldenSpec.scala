@@ -40,7 +40,8 @@ class NoriAccelGoldenSpec extends AnyFlatSpec {
     assert(rc == 0, s"$tool $pkg failed (exit $rc)")
     Files.readAllLines(out).asScala.drop(1).toIndexedSeq.map { line =>
       val f = line.split(',')
-      def bits(s: String) = FloatText.bits(FloatText.parse(s).getOrElse(throw new IllegalArgumentException(s"$out: '$line'")))
+      def bits(s: String) =
+        FloatText.bits(FloatText.parse(s).getOrElse(throw new IllegalArgumentException(s"$out: '$line'")))
       if (f(1) == "1") HitRecord(f(0).toLong, hit = true, bits(f(2)), bits(f(3)), bits(f(4)), f(5).toLong, f(6).toInt)
       else HitRecord(f(0).toLong, hit = false, 0, 0, 0, 0, f(6).toInt)
     }
@@ -63,6 +64,7 @@ class NoriAccelGoldenSpec extends AnyFlatSpec {
   }
 
   private val dropin = Paths.get("nori-accel/build/dropin-check")
+
   /** Every package checked here, for the drop-in's turn. */
   private val checked = scala.collection.mutable.ArrayBuffer.empty[Path]
 
@@ -76,18 +78,31 @@ class NoriAccelGoldenSpec extends AnyFlatSpec {
     check("cornell shadow", compiled("scenes/cornell-box/cornell-box.xml", "shadow", "4"))
     check("cornell AO", compiled("scenes/cornell-box/cornell-box.xml", "ao", "4"))
     check("icosphere random", compiled("scenes/icosphere/icosphere.xml", "random", "4", Seq("--count", "3000")))
-    check("multi-mesh AO", compiled("scenes/multi-mesh/multi-mesh.xml", "ao", "4", Seq("--width", "40", "--height", "30")))
-    check("multi-mesh primary bvh8", compiled("scenes/multi-mesh/multi-mesh.xml", "primary", "8", Seq("--width", "40", "--height", "30")))
+    check(
+      "multi-mesh AO",
+      compiled("scenes/multi-mesh/multi-mesh.xml", "ao", "4", Seq("--width", "40", "--height", "30"))
+    )
+    check(
+      "multi-mesh primary bvh8",
+      compiled("scenes/multi-mesh/multi-mesh.xml", "primary", "8", Seq("--width", "40", "--height", "30"))
+    )
   }
 
   it should "answer the hard cases (scenes/hard/) bit for bit as the RTL's golden model" in {
     val hard = Paths.get("scenes/hard")
-    val cases = Files.list(hard).iterator.asScala.filter(d => Files.exists(d.resolve("expect.csv"))).map(_.getFileName.toString).toSeq.sorted
+    val cases = Files.list(hard).iterator.asScala.filter(d => Files.exists(d.resolve("expect.csv"))).map(
+      _.getFileName.toString
+    ).toSeq.sorted
     assert(cases.nonEmpty, s"$hard has no hard cases: regenerate them with `make hard-cases`")
     for (c <- cases) {
       val dir = root.resolve(s"hard-$c")
-      Bridge.compile(bridge, hard.resolve(c).resolve(s"$c.xml"), dir, hard.resolve(c).resolve("rays.txt").toString,
-        Seq("--reference", "double", "--bvh", "4"))
+      Bridge.compile(
+        bridge,
+        hard.resolve(c).resolve(s"$c.xml"),
+        dir,
+        hard.resolve(c).resolve("rays.txt").toString,
+        Seq("--reference", "double", "--bvh", "4")
+      )
       check(s"hard $c", dir)
     }
   }

@@ -14,9 +14,9 @@ import rtaccel.AccelConfig
 class FieldPrim(cfg: AccelConfig, val latency: Int) extends PrimIntersect[UInt](cfg, UInt(16.W)) {
   private val rec = io.in.bits.triangle
   private val a = Wire(new PrimAnswer(cfg))
-  a.t   := rec(31, 0)
-  a.u   := rec(63, 32)
-  a.v   := rec(95, 64)
+  a.t := rec(31, 0)
+  a.u := rec(63, 32)
+  a.v := rec(95, 64)
   a.hit := rec(96) && rec(31, 0) <= io.in.bits.tmax
   io.out := Pipe(io.in.valid, a, latency)
 }

@@ -21,6 +21,7 @@ class LeafIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   private val cfg = AccelConfig(numRayIds = 4, stackDepth = 4, maxNodes = 256, maxTriangles = 1024, maxLeafSize = 15)
   private val numTris = 400
+
   /** The harness's memory: at most this many requests outstanding; the port refuses a request with this probability. */
   private val maxOutstanding = 8
   private val refuse = 0.2
@@ -70,127 +71,175 @@ class LeafIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
     (img, tris)
   }
 
-  private case class Life(id: Int, shadow: Boolean, var tmax: Long, var leavesLeft: Int,
-      var best: Option[(Long, Long, Long, Long)] = None, var occluded: Boolean = false,
-      var issued: Int = 0, var leaf: (Int, Int) = (0, 0), var bad: Boolean = false)
+  private case class Life(
+      id: Int,
+      shadow: Boolean,
+      var tmax: Long,
+      var leavesLeft: Int,
+      var best: Option[(Long, Long, Long, Long)] = None,
+      var occluded: Boolean = false,
+      var issued: Int = 0,
+      var leaf: (Int, Int) = (0, 0),
+      var bad: Boolean = false
+  )
 
   /** `earlyExits`: require a shadow ray to stop issuing early at least once
     * (see the cases below for when that can happen). */
-  private def run(latency: Latency, primLatency: Int, cycles: Int, name: String, earlyExits: Boolean = true): Unit = Seeded(name) { rnd =>
-    val memMean = latency match { case Latency.Fixed(c) => c.toDouble; case Latency.Uniform(lo, hi) => (lo + hi) / 2.0 }
-    val (img, tris) = craftImage(rnd)
-    // Any of the nine vertex words non-finite (u and v are two of them, SyntheticImage wrote the rest).
-    val badTri = (0 until numTris).map(i => (0 until 9).exists(w => ErrorFlags.nonFiniteWord(
-      ByteBuffer.wrap(img.bytes, img.triAddr(i).toInt + 4 * w, 4).order(ByteOrder.LITTLE_ENDIAN).getInt & 0xffffffffL)))
-    Waves.onFailure(Backends.verilator) { annos => test(new LeafIntersect(cfg, UInt(16.W), () => new FieldPrim(cfg, primLatency))).withAnnotations(annos) { dut =>
-      val model = new MemorySystemModel(img, 48, MemoryParams(latency = latency, maxOutstanding = maxOutstanding, seed = rnd.nextLong()), "tri")
-      val mem = new MemPortHarness(dut.io.mem, model, refuse = refuse, rnd = rnd)
-      dut.io.triBase.poke(img.triOffset.U)
-      val lives = mutable.Map.empty[Int, Life]        // rays in flight, by ID
-      val waiting = mutable.Queue.empty[Int]          // IDs with a job to send
-      var readReq: Option[Int] = None
-      val tmaxWrites = mutable.Map.empty[Int, Long] // written, exit not yet seen
-      var exitsSeen, shadowEarly, leavesDone, badExits = 0
-      for (cycle <- 0 until cycles) {
-        // Start new rays on free IDs.
-        val freeIds = (0 until cfg.numRayIds).filterNot(lives.contains)
-        val start = freeIds.nonEmpty && rnd.nextInt(3) == 0
-        dut.io.clear.valid.poke(start.B)
-        if (start) {
-          val id = freeIds(rnd.nextInt(freeIds.size))
-          dut.io.clear.bits.poke(id.U)
-          lives(id) = Life(id, rnd.nextInt(3) == 0, java.lang.Float.floatToRawIntBits(1.0f + rnd.nextInt(7)).toLong, 1 + rnd.nextInt(3))
-          waiting.enqueue(id)
-        }
-        // Offer the next job.
-        val job = waiting.headOption
-        dut.io.in.valid.poke(job.isDefined.B)
-        job.foreach { id =>
-          val l = lives(id)
-          if (l.leaf == (0, 0) || l.issued == -1) l.leaf = (rnd.nextInt(numTris - cfg.maxLeafSize), rnd.nextInt(cfg.maxLeafSize + 1))
-          dut.io.in.bits.token.rayId.poke(id.U); dut.io.in.bits.token.shadow.poke(l.shadow.B)
-          dut.io.in.bits.token.nodeIdx.poke((id + 10).U); dut.io.in.bits.token.sp.poke(1.U)
-          dut.io.in.bits.token.errors.poke(0.U); for (a <- 0 until 3) dut.io.in.bits.token.dirNeg(a).poke(false.B)
-          dut.io.in.bits.first.poke(l.leaf._1.U); dut.io.in.bits.count.poke(l.leaf._2.U)
-        }
-        // The RayBuffer answers last cycle's read.
-        readReq.foreach { id => dut.io.rayRead.statics.poke(id.U); dut.io.rayRead.tmax.poke(lives(id).tmax.U) }
-        // Consumers, with random back-pressure.
-        val outReady = rnd.nextInt(4) != 0; val tmaxReady = rnd.nextInt(4) != 0
-        dut.io.out.ready.poke(outReady.B); dut.io.tmax.ready.poke(tmaxReady.B)
-        if (dut.io.tmax.valid.peek().litToBoolean && tmaxReady) {
-          val id = dut.io.tmax.bits.rayId.peek().litValue.toInt
-          assert(!tmaxWrites.contains(id), s"cycle $cycle: ray $id wrote its tmax twice for one leaf")
-          tmaxWrites(id) = dut.io.tmax.bits.tmax.peek().litValue.toLong
-        }
-        if (dut.io.out.valid.peek().litToBoolean && outReady) {
-          val id = dut.io.out.bits.token.rayId.peek().litValue.toInt
-          val l = lives.getOrElse(id, fail(s"cycle $cycle: exit of ray $id, which is not in flight"))
-          assert(!waiting.contains(id), s"cycle $cycle: ray $id left before its job was taken")
-          // Expected: reduce this leaf's triangles into the ray's best hit.
-          val (first, count) = l.leaf
-          val hits = (first until first + count).map(tris).filter(t => t._1 && t._2 <= l.tmax)
-          if (l.shadow) {
-            // A shadow ray's tmax write (if it hit) carries the first occluder found; not compared.
-            tmaxWrites.remove(id)
-            assert(l.issued <= count, s"ray $id issued ${l.issued} requests for a $count-triangle leaf")
-            if (l.issued < count) shadowEarly += 1
-            val issuedHits = (first until first + l.issued).map(tris).exists(t => t._1 && t._2 <= l.tmax)
-            dut.io.out.bits.occluded.expect(issuedHits.B, s"cycle $cycle ray $id occluded")
-            if (issuedHits) l.occluded = true
-            if (!issuedHits) assert(l.issued == count, s"unoccluded shadow ray $id issued ${l.issued}/$count")
-          } else {
-            assert(l.issued == count, s"cycle $cycle: ray $id issued ${l.issued} requests for a $count-triangle leaf")
-            dut.io.out.bits.occluded.expect(false.B)
-            val cands = hits.map(t => (t._2, t._5, t._3, t._4)) ++ l.best.map(b => (b._1, b._4, b._2, b._3))
-            if (cands.nonEmpty) { val m = cands.minBy(c => (c._1, c._2)); l.best = Some((m._1, m._3, m._4, m._2)) }
-          }
-          dut.io.out.bits.token.nodeIdx.expect((id + 10).U); dut.io.out.bits.token.sp.expect(1.U)
-          // Error flags are sticky per ray: BadSceneData once any triangle it was answered
-          // had a NaN/infinite vertex word, this leaf's last answer included.
-          l.bad ||= (first until first + l.issued).exists(badTri)
-          dut.io.out.bits.token.errors.expect((if (l.bad) 1 << ErrorFlags.BadSceneData else 0).U, s"cycle $cycle ray $id errors")
-          if (l.bad) badExits += 1
-          dut.io.resultId.poke(id.U)
-          if (!l.shadow) {
-            dut.io.result.valid.expect(l.best.isDefined.B, s"cycle $cycle ray $id has a hit")
-            l.best.foreach { case (t, u, v, p) =>
-              dut.io.result.bits.t.expect(t.U, s"ray $id t"); dut.io.result.bits.u.expect(u.U, s"ray $id u")
-              dut.io.result.bits.v.expect(v.U, s"ray $id v"); dut.io.result.bits.prim.expect(p.U, s"ray $id prim")
+  private def run(latency: Latency, primLatency: Int, cycles: Int, name: String, earlyExits: Boolean = true): Unit =
+    Seeded(name) { rnd =>
+      val memMean =
+        latency match { case Latency.Fixed(c) => c.toDouble; case Latency.Uniform(lo, hi) => (lo + hi) / 2.0 }
+      val (img, tris) = craftImage(rnd)
+      // Any of the nine vertex words non-finite (u and v are two of them, SyntheticImage wrote the rest).
+      val badTri = (0 until numTris).map(i =>
+        (0 until 9).exists(w =>
+          ErrorFlags.nonFiniteWord(
+            ByteBuffer.wrap(img.bytes, img.triAddr(i).toInt + 4 * w, 4).order(
+              ByteOrder.LITTLE_ENDIAN
+            ).getInt & 0xffffffffL
+          )
+        )
+      )
+      Waves.onFailure(Backends.verilator) { annos =>
+        test(new LeafIntersect(cfg, UInt(16.W), () => new FieldPrim(cfg, primLatency))).withAnnotations(annos) { dut =>
+          val model = new MemorySystemModel(
+            img,
+            48,
+            MemoryParams(latency = latency, maxOutstanding = maxOutstanding, seed = rnd.nextLong()),
+            "tri"
+          )
+          val mem = new MemPortHarness(dut.io.mem, model, refuse = refuse, rnd = rnd)
+          dut.io.triBase.poke(img.triOffset.U)
+          val lives = mutable.Map.empty[Int, Life] // rays in flight, by ID
+          val waiting = mutable.Queue.empty[Int] // IDs with a job to send
+          var readReq: Option[Int] = None
+          val tmaxWrites = mutable.Map.empty[Int, Long] // written, exit not yet seen
+          var exitsSeen, shadowEarly, leavesDone, badExits = 0
+          for (cycle <- 0 until cycles) {
+            // Start new rays on free IDs.
+            val freeIds = (0 until cfg.numRayIds).filterNot(lives.contains)
+            val start = freeIds.nonEmpty && rnd.nextInt(3) == 0
+            dut.io.clear.valid.poke(start.B)
+            if (start) {
+              val id = freeIds(rnd.nextInt(freeIds.size))
+              dut.io.clear.bits.poke(id.U)
+              lives(id) = Life(
+                id,
+                rnd.nextInt(3) == 0,
+                java.lang.Float.floatToRawIntBits(1.0f + rnd.nextInt(7)).toLong,
+                1 + rnd.nextInt(3)
+              )
+              waiting.enqueue(id)
             }
-            // The tmax write must have happened before the exit, with the best t.
-            assert(tmaxWrites.remove(id) == l.best.map(_._1), s"cycle $cycle ray $id: tmax written ${tmaxWrites.get(id)}, best ${l.best}")
-            l.best.foreach(b => l.tmax = b._1)
+            // Offer the next job.
+            val job = waiting.headOption
+            dut.io.in.valid.poke(job.isDefined.B)
+            job.foreach { id =>
+              val l = lives(id)
+              if (l.leaf == (0, 0) || l.issued == -1)
+                l.leaf = (rnd.nextInt(numTris - cfg.maxLeafSize), rnd.nextInt(cfg.maxLeafSize + 1))
+              dut.io.in.bits.token.rayId.poke(id.U); dut.io.in.bits.token.shadow.poke(l.shadow.B)
+              dut.io.in.bits.token.nodeIdx.poke((id + 10).U); dut.io.in.bits.token.sp.poke(1.U)
+              dut.io.in.bits.token.errors.poke(0.U); for (a <- 0 until 3) dut.io.in.bits.token.dirNeg(a).poke(false.B)
+              dut.io.in.bits.first.poke(l.leaf._1.U); dut.io.in.bits.count.poke(l.leaf._2.U)
+            }
+            // The RayBuffer answers last cycle's read.
+            readReq.foreach { id => dut.io.rayRead.statics.poke(id.U); dut.io.rayRead.tmax.poke(lives(id).tmax.U) }
+            // Consumers, with random back-pressure.
+            val outReady = rnd.nextInt(4) != 0; val tmaxReady = rnd.nextInt(4) != 0
+            dut.io.out.ready.poke(outReady.B); dut.io.tmax.ready.poke(tmaxReady.B)
+            if (dut.io.tmax.valid.peek().litToBoolean && tmaxReady) {
+              val id = dut.io.tmax.bits.rayId.peek().litValue.toInt
+              assert(!tmaxWrites.contains(id), s"cycle $cycle: ray $id wrote its tmax twice for one leaf")
+              tmaxWrites(id) = dut.io.tmax.bits.tmax.peek().litValue.toLong
+            }
+            if (dut.io.out.valid.peek().litToBoolean && outReady) {
+              val id = dut.io.out.bits.token.rayId.peek().litValue.toInt
+              val l = lives.getOrElse(id, fail(s"cycle $cycle: exit of ray $id, which is not in flight"))
+              assert(!waiting.contains(id), s"cycle $cycle: ray $id left before its job was taken")
+              // Expected: reduce this leaf's triangles into the ray's best hit.
+              val (first, count) = l.leaf
+              val hits = (first until first + count).map(tris).filter(t => t._1 && t._2 <= l.tmax)
+              if (l.shadow) {
+                // A shadow ray's tmax write (if it hit) carries the first occluder found; not compared.
+                tmaxWrites.remove(id)
+                assert(l.issued <= count, s"ray $id issued ${l.issued} requests for a $count-triangle leaf")
+                if (l.issued < count) shadowEarly += 1
+                val issuedHits = (first until first + l.issued).map(tris).exists(t => t._1 && t._2 <= l.tmax)
+                dut.io.out.bits.occluded.expect(issuedHits.B, s"cycle $cycle ray $id occluded")
+                if (issuedHits) l.occluded = true
+                if (!issuedHits) assert(l.issued == count, s"unoccluded shadow ray $id issued ${l.issued}/$count")
+              } else {
+                assert(
+                  l.issued == count,
+                  s"cycle $cycle: ray $id issued ${l.issued} requests for a $count-triangle leaf"
+                )
+                dut.io.out.bits.occluded.expect(false.B)
+                val cands = hits.map(t => (t._2, t._5, t._3, t._4)) ++ l.best.map(b => (b._1, b._4, b._2, b._3))
+                if (cands.nonEmpty) { val m = cands.minBy(c => (c._1, c._2)); l.best = Some((m._1, m._3, m._4, m._2)) }
+              }
+              dut.io.out.bits.token.nodeIdx.expect((id + 10).U); dut.io.out.bits.token.sp.expect(1.U)
+              // Error flags are sticky per ray: BadSceneData once any triangle it was answered
+              // had a NaN/infinite vertex word, this leaf's last answer included.
+              l.bad ||= (first until first + l.issued).exists(badTri)
+              dut.io.out.bits.token.errors.expect(
+                (if (l.bad) 1 << ErrorFlags.BadSceneData else 0).U,
+                s"cycle $cycle ray $id errors"
+              )
+              if (l.bad) badExits += 1
+              dut.io.resultId.poke(id.U)
+              if (!l.shadow) {
+                dut.io.result.valid.expect(l.best.isDefined.B, s"cycle $cycle ray $id has a hit")
+                l.best.foreach { case (t, u, v, p) =>
+                  dut.io.result.bits.t.expect(t.U, s"ray $id t"); dut.io.result.bits.u.expect(u.U, s"ray $id u")
+                  dut.io.result.bits.v.expect(v.U, s"ray $id v"); dut.io.result.bits.prim.expect(p.U, s"ray $id prim")
+                }
+                // The tmax write must have happened before the exit, with the best t.
+                assert(
+                  tmaxWrites.remove(id) == l.best.map(_._1),
+                  s"cycle $cycle ray $id: tmax written ${tmaxWrites.get(id)}, best ${l.best}"
+                )
+                l.best.foreach(b => l.tmax = b._1)
+              }
+              exitsSeen += 1; leavesDone += 1
+              l.leavesLeft -= 1; l.issued = -1
+              if (l.leavesLeft == 0 || l.occluded) lives.remove(id) else waiting.enqueue(id)
+            }
+            val accepted = job.isDefined && dut.io.in.ready.peek().litToBoolean
+            mem.drive()
+            // The read follows this cycle's memory response, so look after driving it.
+            readReq =
+              if (dut.io.rayRead.en.peek().litToBoolean) Some(dut.io.rayRead.rayId.peek().litValue.toInt) else None
+            mem.lastRequest.foreach { case (addr, tag) =>
+              val l = lives(tag)
+              assert(
+                addr == img.triAddr(l.leaf._1 + l.issued),
+                s"cycle $cycle ray $tag: request ${l.issued} at address $addr"
+              )
+              l.issued += 1
+            }
+            dut.clock.step(); mem.tick()
+            if (accepted) { val id = waiting.dequeue(); lives(id).issued = 0 }
           }
-          exitsSeen += 1; leavesDone += 1
-          l.leavesLeft -= 1; l.issued = -1
-          if (l.leavesLeft == 0 || l.occluded) lives.remove(id) else waiting.enqueue(id)
+          // Ray starts (a free ID takes a ray with probability 1/3 a cycle), empty
+          // leaves and shadow rays' early exits are not in leafRate, and two limits of
+          // similar size compound: a third of it. That still fails a unit that
+          // serialises leaves behind the out-of-order memory (a quarter of it).
+          val expected = leafRate(memMean, primLatency) * cycles
+          info(
+            f"$leavesDone leaves in $cycles cycles (triangle latency $primLatency); the physical bound is ${expected}%.0f"
+          )
+          assert(
+            leavesDone > expected / 3,
+            f"only $leavesDone leaves finished in $cycles cycles; the harness sustains ~${expected}%.0f"
+          )
+          info(s"$shadowEarly shadow rays stopped issuing early")
+          info(s"$badExits exits flagged BadSceneData")
+          assert(badExits > 0, "no exit carried BadSceneData: the error path went untested")
+          if (earlyExits) assert(shadowEarly > 0, "no shadow ray ever stopped early: the early exit went untested")
         }
-        val accepted = job.isDefined && dut.io.in.ready.peek().litToBoolean
-        mem.drive()
-        // The read follows this cycle's memory response, so look after driving it.
-        readReq = if (dut.io.rayRead.en.peek().litToBoolean) Some(dut.io.rayRead.rayId.peek().litValue.toInt) else None
-        mem.lastRequest.foreach { case (addr, tag) =>
-          val l = lives(tag)
-          assert(addr == img.triAddr(l.leaf._1 + l.issued), s"cycle $cycle ray $tag: request ${l.issued} at address $addr")
-          l.issued += 1
-        }
-        dut.clock.step(); mem.tick()
-        if (accepted) { val id = waiting.dequeue(); lives(id).issued = 0 }
       }
-      // Ray starts (a free ID takes a ray with probability 1/3 a cycle), empty
-      // leaves and shadow rays' early exits are not in leafRate, and two limits of
-      // similar size compound: a third of it. That still fails a unit that
-      // serialises leaves behind the out-of-order memory (a quarter of it).
-      val expected = leafRate(memMean, primLatency) * cycles
-      info(f"$leavesDone leaves in $cycles cycles (triangle latency $primLatency); the physical bound is ${expected}%.0f")
-      assert(leavesDone > expected / 3, f"only $leavesDone leaves finished in $cycles cycles; the harness sustains ~${expected}%.0f")
-      info(s"$shadowEarly shadow rays stopped issuing early")
-      info(s"$badExits exits flagged BadSceneData")
-      assert(badExits > 0, "no exit carried BadSceneData: the error path went untested")
-      if (earlyExits) assert(shadowEarly > 0, "no shadow ray ever stopped early: the early exit went untested")
-    } }
-  }
+    }
 
   it should "reduce every leaf to its closest hit and stop shadow rays early (memory latency 1)" in {
     run(Latency.Fixed(1), primLatency = 2, cycles = 6000, "LeafIntersect.lat1")
@@ -204,6 +253,12 @@ class LeafIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
   // stop early only when the outstanding limit holds its issue back that long,
   // which is rare, so early exits are counted, not required, here.
   it should "keep its throughput and answers behind the ZC706 triangle unit's latency" in {
-    run(Latency.Uniform(5, 60), primLatency = zc706PrimLatency, cycles = 10000, "LeafIntersect.zc706", earlyExits = false)
+    run(
+      Latency.Uniform(5, 60),
+      primLatency = zc706PrimLatency,
+      cycles = 10000,
+      "LeafIntersect.zc706",
+      earlyExits = false
+    )
   }
 }

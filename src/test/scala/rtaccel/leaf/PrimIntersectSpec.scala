@@ -14,18 +14,20 @@ import rtaccel.sim.Backends
 class PrimHarness(val cfg: AccelConfig, val dp: FloatDatapath) extends Module {
   val io = IO(new Bundle {
     val valid = Input(Bool())
+
     /** o, d, tmin, tmax: eight FP32 words. */
-    val ray   = Input(Vec(8, UInt(32.W)))
+    val ray = Input(Vec(8, UInt(32.W)))
+
     /** p0, p1, p2: nine FP32 words (the rest of the record is zero). */
     val verts = Input(Vec(9, UInt(32.W)))
-    val out   = Valid(new PrimAnswer(cfg))
+    val out = Valid(new PrimAnswer(cfg))
   })
   private val prep = RayPrepFromWords(dp, cfg, io.valid, io.ray)
   val prepLatency: Int = prep.latency
   private val prim = Module(dp.prim(cfg))
-  prim.io.in.valid         := prep.io.out.valid
-  prim.io.in.bits.ray      := prep.io.out.bits.statics
-  prim.io.in.bits.tmax     := prep.io.out.bits.tmax
+  prim.io.in.valid := prep.io.out.valid
+  prim.io.in.bits.ray := prep.io.out.bits.statics
+  prim.io.in.bits.tmax := prep.io.out.bits.tmax
   prim.io.in.bits.triangle := ShiftRegister(io.verts.asUInt, prepLatency).pad(TriangleRecord.RecordBytes * 8)
   val primLatency: Int = prim.latency
   io.out := prim.io.out

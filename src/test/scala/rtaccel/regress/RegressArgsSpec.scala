@@ -29,15 +29,16 @@ class RegressArgsSpec extends AnyFlatSpec {
 
   it should "refuse every bad value with a message naming the option and the value" in {
     val bad = Seq(
-      Seq("--memory", "sram")         -> Seq("--memory", "'sram'"),
-      Seq("--mem-latency", "300-80")  -> Seq("--mem-latency", "'300-80'"),
-      Seq("--mem-latency", "fast")    -> Seq("--mem-latency", "'fast'"),
-      Seq("--fabric-mhz", "0")        -> Seq("--fabric-mhz", "'0'"),
-      Seq("--fabric-mhz", "x")        -> Seq("--fabric-mhz", "'x'"),
-      Seq("--outstanding", "0")       -> Seq("--outstanding", "'0'"),
-      Seq("--bytes-per-cycle", "16")  -> Seq("--bytes-per-cycle"),
+      Seq("--memory", "sram") -> Seq("--memory", "'sram'"),
+      Seq("--mem-latency", "300-80") -> Seq("--mem-latency", "'300-80'"),
+      Seq("--mem-latency", "fast") -> Seq("--mem-latency", "'fast'"),
+      Seq("--fabric-mhz", "0") -> Seq("--fabric-mhz", "'0'"),
+      Seq("--fabric-mhz", "x") -> Seq("--fabric-mhz", "'x'"),
+      Seq("--outstanding", "0") -> Seq("--outstanding", "'0'"),
+      Seq("--bytes-per-cycle", "16") -> Seq("--bytes-per-cycle"),
       Seq("--memory", "onchip", "--mem-latency", "100") -> Seq("--mem-latency", "100 ns", "onchip"),
-      Seq("--memory", "onchip", "--cache", "32")        -> Seq("--cache", "on-chip"))
+      Seq("--memory", "onchip", "--cache", "32") -> Seq("--cache", "on-chip")
+    )
     for ((args, words) <- bad) {
       val e = intercept[IllegalArgumentException](parse(args: _*))
       val first = e.getMessage.linesIterator.next()

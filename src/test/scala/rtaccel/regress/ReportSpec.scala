@@ -37,11 +37,27 @@ class ReportSpec extends AnyFlatSpec {
   }
 
   it should "write the bound, its limiter, its terms and DRAM bytes per ray into stats" in {
-    def port(name: String, record: Int, dramBytes: Long) = MemStats(name, 1000, record, 50, 50, dramBytes, 0, 0, 0, 0, 0, 0, 0, 0)
-    val r = RunResult(Nil, 1000, perf(400, 40, 300) ++ Map[String, BigInt]("inFlightSum" -> 5000),
-      port("node", 32, 3200), port("triangle", 48, 6400), Some(DramStats(1000, 9600, 64, 64, 150)))
-    val s = Report.stats(RegressArgs(java.nio.file.Paths.get("p"), java.nio.file.Paths.get("o")), rtaccel.AccelConfig.zc706,
-      "dp", 20, r, 1, 1, 0, 0)
+    def port(name: String, record: Int, dramBytes: Long) =
+      MemStats(name, 1000, record, 50, 50, dramBytes, 0, 0, 0, 0, 0, 0, 0, 0)
+    val r = RunResult(
+      Nil,
+      1000,
+      perf(400, 40, 300) ++ Map[String, BigInt]("inFlightSum" -> 5000),
+      port("node", 32, 3200),
+      port("triangle", 48, 6400),
+      Some(DramStats(1000, 9600, 64, 64, 150))
+    )
+    val s = Report.stats(
+      RegressArgs(java.nio.file.Paths.get("p"), java.nio.file.Paths.get("o")),
+      rtaccel.AccelConfig.zc706,
+      "dp",
+      20,
+      r,
+      1,
+      1,
+      0,
+      0
+    )
     assert(s("dramBytesPerRay").num == 480 && s("nodeBytesPerRay").num == 80)
     assert(s("boundLimitedBy").str == "boxLanes" && s("boundRaysPerCycle").num == 0.05)
     assert(s("boundTerms")("dram").num == 64.0 / 480 && s("memory")("dram")("busyShare").num == 0.15)

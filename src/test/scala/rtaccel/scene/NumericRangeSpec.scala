@@ -9,11 +9,22 @@ import rtaccel.golden.RayRecord
 class NumericRangeSpec extends AnyFlatSpec {
   private def bits(x: Float) = FloatText.bits(x)
   private def ray(o: (Float, Float, Float), d: (Float, Float, Float)) =
-    RayRecord(0, Seq(o._1, o._2, o._3).map(bits), Seq(d._1, d._2, d._3).map(bits), bits(0f), bits(Float.PositiveInfinity), shadow = false)
+    RayRecord(
+      0,
+      Seq(o._1, o._2, o._3).map(bits),
+      Seq(d._1, d._2, d._3).map(bits),
+      bits(0f),
+      bits(Float.PositiveInfinity),
+      shadow = false
+    )
 
   "NumericRange" should "size a Cornell-box-like scene to 7 exponent bits and refuse e6" in {
     // Camera 800 from the origin, box 560 wide, unit directions: T <= 24 (1600)^3 / (1/sqrt 3) ~ 2^37.3.
-    val r = NumericRange(559.2, 105.0, Seq(ray((278f, 273f, -800f), (0f, 0f, 1f)), ray((278f, 273f, -800f), (0.577f, 0.577f, 0.578f))))
+    val r = NumericRange(
+      559.2,
+      105.0,
+      Seq(ray((278f, 273f, -800f), (0f, 0f, 1f)), ray((278f, 273f, -800f), (0.577f, 0.577f, 0.578f)))
+    )
     assert(r.maxAbs == 800.0)
     assert(r.neededEmax == 39, r)
     assert(r.expBits == 7)
@@ -51,8 +62,13 @@ class NumericRangeSpec extends AnyFlatSpec {
   "ScenePackage.sized" should "fit the exponent to the range, keep the mantissa, keep FP32 whole, and never widen past 8 bits" in {
     // The shipped Cornell box, compiled here (nori-bridge must be built: make setup).
     val dir = java.nio.file.Paths.get("build/test-scenes/numeric-range-cornell")
-    rtaccel.regress.Bridge.compile(java.nio.file.Paths.get("nori-bridge/target/release/nori-bridge"),
-      java.nio.file.Paths.get("scenes/cornell-box/cornell-box.xml"), dir, "primary", Seq("--width", "8", "--height", "8"))
+    rtaccel.regress.Bridge.compile(
+      java.nio.file.Paths.get("nori-bridge/target/release/nori-bridge"),
+      java.nio.file.Paths.get("scenes/cornell-box/cornell-box.xml"),
+      dir,
+      "primary",
+      Seq("--width", "8", "--height", "8")
+    )
     val p = ScenePackage.load(dir)
     val needs = p.needs
     assert(needs.extentAbs == 559.2 && needs.smallestEdge > 100, needs) // scene.json prints the f32 extent shortest

@@ -30,11 +30,19 @@ class AxiLiteRegsSpec extends AnyFlatSpec with ChiselScalatestTester {
         val shadow = Array.fill(n)(0L)
         val mapped = regs.map(_.offset).toSet
         def randomAddr(): Int = {
-          val word = if (rnd.nextInt(5) > 0) regs(rnd.nextInt(n)).offset else 4 * rnd.nextInt(RegisterMap.SpaceBytes / 4)
+          val word =
+            if (rnd.nextInt(5) > 0) regs(rnd.nextInt(n)).offset else 4 * rnd.nextInt(RegisterMap.SpaceBytes / 4)
           word | rnd.nextInt(4) // bits 1..0 are ignored
         }
-        final case class Wr(addr: Int, data: Long, strb: Int, var awSent: Boolean = false, var wSent: Boolean = false,
-            awDelay: Int, wDelay: Int)
+        final case class Wr(
+            addr: Int,
+            data: Long,
+            strb: Int,
+            var awSent: Boolean = false,
+            var wSent: Boolean = false,
+            awDelay: Int,
+            wDelay: Int
+        )
         final case class Rd(addr: Int, delay: Int, var sent: Boolean = false, var want: Option[(Long, Int)] = None)
         var wr: Option[Wr] = None
         var rd: Option[Rd] = None
@@ -44,20 +52,29 @@ class AxiLiteRegsSpec extends AnyFlatSpec with ChiselScalatestTester {
         var cycle = 0
         while ((writes < 250 || reads < 250) && cycle < 20000) {
           // Hardware inputs: random for ro registers, rare set bits for w1c.
-          val hw = Array.tabulate(n)(i => regs(i).access match {
-            case Access.W1c => if (rnd.nextInt(8) == 0) 1L << rnd.nextInt(2) else 0L
-            case _ => rnd.nextLong() & 0xffffffffL
-          })
+          val hw = Array.tabulate(n)(i =>
+            regs(i).access match {
+              case Access.W1c => if (rnd.nextInt(8) == 0) 1L << rnd.nextInt(2) else 0L
+              case _          => rnd.nextLong() & 0xffffffffL
+            }
+          )
           for (i <- 0 until n) dut.io.hw(i).poke(hw(i).U)
 
           if (wr.isEmpty && writes < 250)
-            wr = Some(Wr(randomAddr(), rnd.nextLong() & 0xffffffffL, rnd.nextInt(16), awDelay = cycle + rnd.nextInt(4), wDelay = cycle + rnd.nextInt(4)))
+            wr = Some(Wr(
+              randomAddr(),
+              rnd.nextLong() & 0xffffffffL,
+              rnd.nextInt(16),
+              awDelay = cycle + rnd.nextInt(4),
+              wDelay = cycle + rnd.nextInt(4)
+            ))
           if (rd.isEmpty && reads < 250) rd = Some(Rd(randomAddr(), cycle + rnd.nextInt(4)))
           val w = wr.getOrElse(Wr(0, 0L, 0, awSent = true, wSent = true, awDelay = 0, wDelay = 0))
           val awValid = !w.awSent && cycle >= w.awDelay
           val wValid = !w.wSent && cycle >= w.wDelay
           dut.io.axi.aw.valid.poke(awValid.B); dut.io.axi.aw.bits.addr.poke(w.addr.U); dut.io.axi.aw.bits.prot.poke(0.U)
-          dut.io.axi.w.valid.poke(wValid.B); dut.io.axi.w.bits.data.poke(w.data.U); dut.io.axi.w.bits.strb.poke(w.strb.U)
+          dut.io.axi.w.valid.poke(wValid.B); dut.io.axi.w.bits.data.poke(w.data.U);
+          dut.io.axi.w.bits.strb.poke(w.strb.U)
           val arValid = rd.exists(r => !r.sent && cycle >= r.delay)
           rd.foreach(r => dut.io.axi.ar.bits.addr.poke(r.addr.U)); dut.io.axi.ar.bits.prot.poke(0.U)
           dut.io.axi.ar.valid.poke(arValid.B)
@@ -65,17 +82,23 @@ class AxiLiteRegsSpec extends AnyFlatSpec with ChiselScalatestTester {
           dut.io.axi.b.ready.poke(bReady.B); dut.io.axi.r.ready.poke(rReady.B)
 
           // Registers as the model has them now.
-          for (i <- 0 until n) dut.io.value(i).expect((regs(i).access match {
-            case Access.Rw | Access.W1c => state(i)
-            case _ => 0L
-          }).U, s"cycle $cycle: value of ${regs(i).name}")
+          for (i <- 0 until n) dut.io.value(i).expect(
+            (regs(i).access match {
+              case Access.Rw | Access.W1c => state(i)
+              case _                      => 0L
+            }).U,
+            s"cycle $cycle: value of ${regs(i).name}"
+          )
           val pulse = Array.tabulate(n)(i => dut.io.pulse(i).peek().litValue.toLong)
 
           // Responses.
           val bValid = dut.io.axi.b.valid.peek().litToBoolean
           if (bValid && bReady) {
             val done = lastWrite.getOrElse(fail(s"cycle $cycle: a B with no write in"))
-            dut.io.axi.b.bits.expect((if (mapped(done.addr & ~3)) AxiResp.Okay else AxiResp.SlvErr).U, f"cycle $cycle: B of 0x${done.addr}%x")
+            dut.io.axi.b.bits.expect(
+              (if (mapped(done.addr & ~3)) AxiResp.Okay else AxiResp.SlvErr).U,
+              f"cycle $cycle: B of 0x${done.addr}%x"
+            )
             lastWrite = None; wr = None; writes += 1
           }
           if (rReady && dut.io.axi.r.valid.peek().litToBoolean) {
@@ -92,18 +115,20 @@ class AxiLiteRegsSpec extends AnyFlatSpec with ChiselScalatestTester {
           if (arValid && dut.io.axi.ar.ready.peek().litToBoolean) {
             val r = rd.get
             val idx = regs.indexWhere(_.offset == (r.addr & ~3))
-            r.want = Some(if (idx < 0) (0L, AxiResp.SlvErr) else {
+            r.want = Some(if (idx < 0) (0L, AxiResp.SlvErr)
+            else {
               val reg = regs(idx)
               val v = reg.access match {
                 case Access.Ro if reg.hiOf.isDefined => shadow(idx)
-                case Access.Ro => reg.reset.getOrElse(hw(idx))
-                case Access.Wo => 0L
-                case _ => state(idx)
+                case Access.Ro                       => reg.reset.getOrElse(hw(idx))
+                case Access.Wo                       => 0L
+                case _                               => state(idx)
               }
               (v, AxiResp.Okay)
             })
             // Reading a _LO latches its _HI's input in the same cycle.
-            for ((reg, hi) <- regs.zipWithIndex if reg.hiOf.contains(regs.lift(idx).map(_.name).getOrElse(""))) shadow(hi) = hw(hi)
+            for ((reg, hi) <- regs.zipWithIndex if reg.hiOf.contains(regs.lift(idx).map(_.name).getOrElse("")))
+              shadow(hi) = hw(hi)
             r.sent = true
           }
           prevW1c = state.clone(); prevHw = hw; prevPulse = pulse
@@ -120,13 +145,16 @@ class AxiLiteRegsSpec extends AnyFlatSpec with ChiselScalatestTester {
             val m = byteMask(done.strb)
             val idx = regs.indexWhere(_.offset == (done.addr & ~3))
             if (idx >= 0) regs(idx).access match {
-              case Access.Rw => state(idx) = (state(idx) & ~m) | (done.data & m)
+              case Access.Rw  => state(idx) = (state(idx) & ~m) | (done.data & m)
               case Access.W1c => state(idx) = (prevW1c(idx) & ~(done.data & m)) | prevHw(idx)
-              case _ =>
+              case _          =>
             }
             for (i <- 0 until n) {
               val want = if (i == idx && regs(i).access == Access.Wo) done.data & m else 0L
-              assert(prevPulse(i) == want, s"cycle ${cycle - 1}: pulse of ${regs(i).name} is ${prevPulse(i)}, want $want")
+              assert(
+                prevPulse(i) == want,
+                s"cycle ${cycle - 1}: pulse of ${regs(i).name} is ${prevPulse(i)}, want $want"
+              )
             }
           } else assert(prevPulse.forall(_ == 0L), s"cycle ${cycle - 1}: a pulse without a write")
         }

@@ -14,6 +14,7 @@ import rtaccel.sim.axi.{AxiMemoryHarness, AxiMemoryModel, AxiMemoryParams, Spars
   */
 final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
   import MemoryFabricSpec._
+
   /** The slave's beat is the fabric's m_axi width (MemoryFabricSpec.sys). */
   val mem = new AxiMemoryHarness(dut.io.axi, new AxiMemoryModel(params.copy(beatBytes = sys.axiDataBytes)))
   private val image = Array.fill(ReadSpan)(rnd.nextInt(256).toByte)
@@ -27,6 +28,7 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
   private type Line = (Long, BigInt, Int)
   var cycle = 0L
   var nodeRequests, otherRequests, storeRequests, straddles, writesSent, linesSent = 0L
+
   /** Triangle-client reads, and those the triangle store was loaded to serve. */
   var triRequests, triStoreRequests = 0L
 
@@ -38,11 +40,15 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
   private def fail(msg: String): Nothing = throw new AssertionError(s"cycle $cycle: $msg")
 
   /** One cycle: `offer(c)` is client c's request (address, tag) if it drives one; `ready(c)` its resp.ready. */
-  private def cycleWith(offer: Int => Option[(Long, Int)], ready: Int => Boolean, write: Option[Line] = None,
-      onResp: (Int, Pending) => Unit = (_, _) => ()): Unit = {
+  private def cycleWith(
+      offer: Int => Option[(Long, Int)],
+      ready: Int => Boolean,
+      write: Option[Line] = None,
+      onResp: (Int, Pending) => Unit = (_, _) => ()
+  ): Unit = {
     val storeDone = dut.io.store.done.peek().litToBoolean
-    val stored    = dut.io.store.storedBytes.peek().litValue.toLong
-    val triDone   = dut.io.triStore.done.peek().litToBoolean
+    val stored = dut.io.store.storedBytes.peek().litValue.toLong
+    val triDone = dut.io.triStore.done.peek().litToBoolean
     val triStored = dut.io.triStore.storedBytes.peek().litValue.toLong
     val offers = readers.indices.map(offer)
     for ((r, c) <- dut.io.readers.zipWithIndex) {
@@ -53,18 +59,23 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
       r.resp.ready.poke(ready(c).B)
     }
     write match {
-      case Some((a, d, h)) => dut.io.write.valid.poke(true.B); dut.io.write.bits.addr.poke(a.U); dut.io.write.bits.data.poke(d.U)
+      case Some((a, d, h)) =>
+        dut.io.write.valid.poke(true.B); dut.io.write.bits.addr.poke(a.U); dut.io.write.bits.data.poke(d.U)
         dut.io.write.bits.halves.poke(h.U)
-      case None         => dut.io.write.valid.poke(false.B)
+      case None => dut.io.write.valid.poke(false.B)
     }
     mem.drive()
     for ((r, c) <- dut.io.readers.zipWithIndex) {
       if (r.resp.valid.peek().litToBoolean && ready(c)) {
-        val tag  = r.resp.bits.tag.peek().litValue.toInt
+        val tag = r.resp.bits.tag.peek().litValue.toInt
         val data = r.resp.bits.data.peek().litValue
-        val p = outstanding(c).remove(tag).getOrElse(fail(s"client $c: response with tag $tag, which has no request outstanding"))
+        val p = outstanding(c).remove(tag).getOrElse(
+          fail(s"client $c: response with tag $tag, which has no request outstanding")
+        )
         if (data != p.data)
-          fail(s"client $c tag $tag: ${readers(c).recordBytes} bytes at 0x${p.addr.toHexString}: got ${data.toString(16)}, expected ${p.data.toString(16)}")
+          fail(
+            s"client $c tag $tag: ${readers(c).recordBytes} bytes at 0x${p.addr.toHexString}: got ${data.toString(16)}, expected ${p.data.toString(16)}"
+          )
         onResp(c, p)
       }
       offers(c).foreach { case (addr, tag) =>
@@ -74,19 +85,24 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
           if (addr / 4096 != (addr + n - 1) / 4096) straddles += 1
           if (nodeFlags(c)) {
             nodeRequests += 1
-            if (storeDone && addr >= NodeBase && addr < NodeBase + stored && (addr - NodeBase) % n == 0) storeRequests += 1
+            if (storeDone && addr >= NodeBase && addr < NodeBase + stored && (addr - NodeBase) % n == 0)
+              storeRequests += 1
           } else if (triFlags(c)) {
             triRequests += 1
             // Served on chip: the whole record stored, 16-byte aligned in the array (TriStore).
-            if (triDone && addr >= TriBase && addr + n <= TriBase + triStored && (addr - TriBase) % 16 == 0) triStoreRequests += 1
+            if (triDone && addr >= TriBase && addr + n <= TriBase + triStored && (addr - TriBase) % 16 == 0)
+              triStoreRequests += 1
           } else otherRequests += 1
         }
       }
     }
     // writesSent counts records (writesDone counts the records of acknowledged writes).
-    write.foreach { case (a, d, h) => if (dut.io.write.ready.peek().litToBoolean) { linesSent += 1 }
+    write.foreach { case (a, d, h) =>
+      if (dut.io.write.ready.peek().litToBoolean) { linesSent += 1 }
       if (dut.io.write.ready.peek().litToBoolean) for (k <- 0 until 2 if (h >> k & 1) == 1) {
-      written(a + 32 * k) = (d >> (256 * k)) & ((BigInt(1) << 256) - 1); writesSent += 1 } }
+        written(a + 32 * k) = (d >> (256 * k)) & ((BigInt(1) << 256) - 1); writesSent += 1
+      }
+    }
     dut.clock.step()
     mem.tick()
     cycle += 1
@@ -141,7 +157,10 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
       val sentBefore = linesSent
       cycleWith(offers, readies, offer)
       if (linesSent > sentBefore) offer = None
-      for (c <- readers.indices if offers(c).exists { case (a, t) => outstanding(c).get(t).exists(p => p.addr == a && p.cycle == cycle - 1) })
+      for (
+        c <- readers.indices
+        if offers(c).exists { case (a, t) => outstanding(c).get(t).exists(p => p.addr == a && p.cycle == cycle - 1) }
+      )
         left(c) -= 1
     }
     // All B responses in, then every written record must be in memory.
@@ -167,7 +186,10 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
       // Taken when its tag is outstanding afterwards (it was not before): a
       // count would miss it when an earlier answer of the same client leaves
       // in the same cycle (store latency 2, the client asking every other cycle).
-      require(o.forall(x => !outstanding(c).contains(x._2)), s"storeOnly: tag ${o.map(_._2)} of client $c is still outstanding")
+      require(
+        o.forall(x => !outstanding(c).contains(x._2)),
+        s"storeOnly: tag ${o.map(_._2)} of client $c is still outstanding"
+      )
       cycleWith(i => if (i == c) o else None, _ => true, onResp = (_, p) => lat += cycle - p.cycle)
       if (o.exists(x => outstanding(c).contains(x._2))) next += 1
     }

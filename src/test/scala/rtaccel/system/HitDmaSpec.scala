@@ -23,6 +23,7 @@ class HitDmaSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "HitDma"
 
   private final case class Hit(number: Int, hit: Boolean, t: Long, u: Long, v: Long, prim: Int, errors: Int) {
+
     /** The 32-byte record as docs/register-map.md gives it: number, status, t, u, v, prim, 0, 0. */
     def record: BigInt = {
       val status = BigInt(errors) << HitDma.StatusErrorShift | (if (hit) 1 else 0)
@@ -35,62 +36,71 @@ class HitDmaSpec extends AnyFlatSpec with ChiselScalatestTester {
   private def batches(sys: SystemConfig, rnd: scala.util.Random, shuffle: Boolean, runs: Seq[(Long, Int)]): Seq[Int] = {
     val lines = mutable.ArrayBuffer.empty[Int]
     test(new HitDma(sys)).withAnnotations(Backends.treadle) { dut =>
-        for ((base, count) <- runs) {
-          dut.io.hitBase.poke(base.U); dut.io.rayCount.poke(count.U)
-          dut.io.start.poke(true.B); dut.clock.step(); dut.io.start.poke(false.B)
-          dut.io.errCount.foreach(_.expect(0.U, "a new batch starts with clear error counts"))
+      for ((base, count) <- runs) {
+        dut.io.hitBase.poke(base.U); dut.io.rayCount.poke(count.U)
+        dut.io.start.poke(true.B); dut.clock.step(); dut.io.start.poke(false.B)
+        dut.io.errCount.foreach(_.expect(0.U, "a new batch starts with clear error counts"))
 
-          val hits = (0 until count).map { n =>
-            Hit(n, rnd.nextBoolean(), rnd.nextLong() & 0xffffffffL, rnd.nextLong() & 0xffffffffL,
-              rnd.nextLong() & 0xffffffffL, rnd.nextInt(1 << sys.core.triIndexBits),
-              if (rnd.nextInt(4) == 0) rnd.nextInt(1 << ErrorFlags.width) else 0)
-          }
-          // Each core gets a random share, in a random order (cores finish rays out of order).
-          val perCore = Array.fill(sys.cores)(mutable.Queue.empty[Hit])
-          (if (shuffle) rnd.shuffle(hits) else hits).foreach(h => perCore(rnd.nextInt(sys.cores)).enqueue(h))
-          var written = 0
-          val want = mutable.Map.empty[Long, BigInt] ++ hits.map(h => (base + 32L * h.number) -> h.record)
-          val offering = Array.fill(sys.cores)(false)
-          var cycle = 0
-          while (want.nonEmpty && cycle < 5000) {
-            for (c <- 0 until sys.cores) {
-              offering(c) = perCore(c).nonEmpty && (offering(c) || rnd.nextInt(3) == 0)
-              val port = dut.io.hits(c)
-              port.valid.poke(offering(c).B)
-              perCore(c).headOption.foreach { h =>
-                port.bits.number.poke(h.number.U); port.bits.hit.poke(h.hit.B)
-                port.bits.t.poke(h.t.U); port.bits.u.poke(h.u.U); port.bits.v.poke(h.v.U)
-                port.bits.prim.poke(h.prim.U); port.bits.errors.poke(h.errors.U)
-              }
-            }
-            val ready = rnd.nextInt(3) > 0
-            dut.io.write.ready.poke(ready.B)
-            if (ready && dut.io.write.valid.peek().litToBoolean) {
-              val addr = dut.io.write.bits.addr.peek().litValue.toLong
-              val data = dut.io.write.bits.data.peek().litValue
-              val halves = dut.io.write.bits.halves.peek().litValue.toInt
-              assert(addr % 64 == 0 && halves >= 1 && halves <= 3, f"cycle $cycle: line at 0x$addr%x with halves $halves")
-              for (k <- 0 until 2 if (halves >> k & 1) == 1) {
-                val at = addr + 32 * k
-                val got = (data >> (256 * k)) & ((BigInt(1) << 256) - 1)
-                val expected = want.remove(at)
-                assert(expected.isDefined, f"cycle $cycle: a record written at 0x$at%x, not a pending ray's (duplicate or stray)")
-                assert(expected.get == got, f"cycle $cycle: record at 0x$at%x is 0x$got%x, want 0x${expected.get}%x")
-              }
-              written += 1
-            }
-            for (c <- 0 until sys.cores) if (offering(c) && dut.io.hits(c).ready.peek().litToBoolean) {
-              perCore(c).dequeue(); offering(c) = false
-            }
-            dut.clock.step(); cycle += 1
-          }
-          assert(want.isEmpty, s"batch of $count: ${want.size} records never written after $cycle cycles")
-          for (k <- 0 until ErrorFlags.width)
-            dut.io.errCount(k).expect(hits.count(h => (h.errors >> k & 1) == 1).U, s"error count of flag $k")
-          dut.io.broken.expect(false.B)
-          dut.io.write.valid.expect(false.B, "a record left over")
-          lines += written
+        val hits = (0 until count).map { n =>
+          Hit(
+            n,
+            rnd.nextBoolean(),
+            rnd.nextLong() & 0xffffffffL,
+            rnd.nextLong() & 0xffffffffL,
+            rnd.nextLong() & 0xffffffffL,
+            rnd.nextInt(1 << sys.core.triIndexBits),
+            if (rnd.nextInt(4) == 0) rnd.nextInt(1 << ErrorFlags.width) else 0
+          )
         }
+        // Each core gets a random share, in a random order (cores finish rays out of order).
+        val perCore = Array.fill(sys.cores)(mutable.Queue.empty[Hit])
+        (if (shuffle) rnd.shuffle(hits) else hits).foreach(h => perCore(rnd.nextInt(sys.cores)).enqueue(h))
+        var written = 0
+        val want = mutable.Map.empty[Long, BigInt] ++ hits.map(h => (base + 32L * h.number) -> h.record)
+        val offering = Array.fill(sys.cores)(false)
+        var cycle = 0
+        while (want.nonEmpty && cycle < 5000) {
+          for (c <- 0 until sys.cores) {
+            offering(c) = perCore(c).nonEmpty && (offering(c) || rnd.nextInt(3) == 0)
+            val port = dut.io.hits(c)
+            port.valid.poke(offering(c).B)
+            perCore(c).headOption.foreach { h =>
+              port.bits.number.poke(h.number.U); port.bits.hit.poke(h.hit.B)
+              port.bits.t.poke(h.t.U); port.bits.u.poke(h.u.U); port.bits.v.poke(h.v.U)
+              port.bits.prim.poke(h.prim.U); port.bits.errors.poke(h.errors.U)
+            }
+          }
+          val ready = rnd.nextInt(3) > 0
+          dut.io.write.ready.poke(ready.B)
+          if (ready && dut.io.write.valid.peek().litToBoolean) {
+            val addr = dut.io.write.bits.addr.peek().litValue.toLong
+            val data = dut.io.write.bits.data.peek().litValue
+            val halves = dut.io.write.bits.halves.peek().litValue.toInt
+            assert(addr % 64 == 0 && halves >= 1 && halves <= 3, f"cycle $cycle: line at 0x$addr%x with halves $halves")
+            for (k <- 0 until 2 if (halves >> k & 1) == 1) {
+              val at = addr + 32 * k
+              val got = (data >> (256 * k)) & ((BigInt(1) << 256) - 1)
+              val expected = want.remove(at)
+              assert(
+                expected.isDefined,
+                f"cycle $cycle: a record written at 0x$at%x, not a pending ray's (duplicate or stray)"
+              )
+              assert(expected.get == got, f"cycle $cycle: record at 0x$at%x is 0x$got%x, want 0x${expected.get}%x")
+            }
+            written += 1
+          }
+          for (c <- 0 until sys.cores) if (offering(c) && dut.io.hits(c).ready.peek().litToBoolean) {
+            perCore(c).dequeue(); offering(c) = false
+          }
+          dut.clock.step(); cycle += 1
+        }
+        assert(want.isEmpty, s"batch of $count: ${want.size} records never written after $cycle cycles")
+        for (k <- 0 until ErrorFlags.width)
+          dut.io.errCount(k).expect(hits.count(h => (h.errors >> k & 1) == 1).U, s"error count of flag $k")
+        dut.io.broken.expect(false.B)
+        dut.io.write.valid.expect(false.B, "a record left over")
+        lines += written
+      }
     }
     lines.toSeq
   }

@@ -22,14 +22,15 @@ class NodeStoreSpec extends AnyFlatSpec with ChiselScalatestTester {
     it should s"serve every read of a loaded store once, with DRAM's record ($dataBits-bit beats, $rec-byte records)" in
       Seeded(s"NodeStore.$dataBits.$rec") { rnd =>
         val StoreDriver.Bench(p, port, mem) = StoreDriver.bench(dataBits, rec, rnd)
-        test(new NodeStore(p, port, clients = 3, capacityBytes = 4096, fillId = 7)).withAnnotations(Backends.treadle) { dut =>
-          val drv = new StoreDriver(dut.io, dut.clock, p, rec, 7, mem, rnd, hits(rec))
-          for ((base, bytes) <- Seq((0x10040L, 1000L), (0x14000L, 100000L))) {
-            val stored = drv.load(base, bytes)
-            val words = (bytes + rec.max(p.beatBytes) - 1) / rec.max(p.beatBytes)
-            assert(stored == (words * rec.max(p.beatBytes)).min(4096), s"stored $stored bytes of a $bytes-byte load")
-            drv.serve(base, stored, 150)
-          }
+        test(new NodeStore(p, port, clients = 3, capacityBytes = 4096, fillId = 7)).withAnnotations(Backends.treadle) {
+          dut =>
+            val drv = new StoreDriver(dut.io, dut.clock, p, rec, 7, mem, rnd, hits(rec))
+            for ((base, bytes) <- Seq((0x10040L, 1000L), (0x14000L, 100000L))) {
+              val stored = drv.load(base, bytes)
+              val words = (bytes + rec.max(p.beatBytes) - 1) / rec.max(p.beatBytes)
+              assert(stored == (words * rec.max(p.beatBytes)).min(4096), s"stored $stored bytes of a $bytes-byte load")
+              drv.serve(base, stored, 150)
+            }
         }
       }
   }

@@ -36,7 +36,9 @@ class RayDmaSpec extends AnyFlatSpec with ChiselScalatestTester {
           dut.io.start.poke(true.B); dut.clock.step(); dut.io.start.poke(false.B)
 
           val pending = mutable.Set.empty[Int] ++ (0 until count)
-          val blocksWant = mutable.Set.empty[Long] ++ (0 until (count + sys.raysPerBlock - 1) / sys.raysPerBlock).map(base + block.toLong * _)
+          val blocksWant = mutable.Set.empty[Long] ++ (0 until (count + sys.raysPerBlock - 1) / sys.raysPerBlock).map(
+            base + block.toLong * _
+          )
           val inFlight = mutable.ArrayBuffer.empty[(Int, Long, Int)] // (tag, address, cycle due)
           var cycle = 0
           while ((pending.nonEmpty || inFlight.nonEmpty) && cycle < 5000) {
@@ -59,7 +61,10 @@ class RayDmaSpec extends AnyFlatSpec with ChiselScalatestTester {
               assert(pending.remove(n), s"cycle $cycle: ray $n handed out twice, or not in the batch of $count")
               val w = words(n)
               val invalid = (w(8) >> 1) != 0
-              r.ray.origin(0).expect((if (invalid) RayDma.QuietNaN else w(0)).U, s"ray $n origin x (flags 0x${w(8).toHexString})")
+              r.ray.origin(0).expect(
+                (if (invalid) RayDma.QuietNaN else w(0)).U,
+                s"ray $n origin x (flags 0x${w(8).toHexString})"
+              )
               r.ray.origin(1).expect(w(1).U, s"ray $n origin y"); r.ray.origin(2).expect(w(2).U, s"ray $n origin z")
               for (k <- 0 until 3) r.ray.dir(k).expect(w(3 + k).U, s"ray $n dir $k")
               r.ray.tmin.expect(w(6).U, s"ray $n tmin"); r.ray.tmax.expect(w(7).U, s"ray $n tmax")
@@ -77,9 +82,14 @@ class RayDmaSpec extends AnyFlatSpec with ChiselScalatestTester {
             dut.clock.step(); cycle += 1
             dut.io.broken.expect(false.B, s"cycle $cycle: broken")
           }
-          assert(pending.isEmpty && blocksWant.isEmpty,
-            s"batch of $count after $cycle cycles: rays ${pending.toSeq.sorted.take(10)} and blocks $blocksWant never came")
-          for (_ <- 0 until 4) { dut.io.rays.valid.expect(false.B, "a ray beyond the batch"); dut.io.mem.req.valid.expect(false.B); dut.clock.step() }
+          assert(
+            pending.isEmpty && blocksWant.isEmpty,
+            s"batch of $count after $cycle cycles: rays ${pending.toSeq.sorted.take(10)} and blocks $blocksWant never came"
+          )
+          for (_ <- 0 until 4) {
+            dut.io.rays.valid.expect(false.B, "a ray beyond the batch"); dut.io.mem.req.valid.expect(false.B);
+            dut.clock.step()
+          }
         }
       }
     }

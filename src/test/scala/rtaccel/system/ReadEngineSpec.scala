@@ -46,11 +46,14 @@ class ReadEngineSpec extends AnyFlatSpec with ChiselScalatestTester {
           while (answered < requests && cycle < 40L * requests) {
             if (offer.isEmpty && issued < requests && rnd.nextInt(3) > 0) {
               val client = rnd.nextInt(recordBytes.size)
-              val addr = if (rnd.nextBoolean()) (4096L * (1 + rnd.nextInt(span / 4096 - 1)) - rnd.nextInt(2 * B)) else rnd.nextInt(span).toLong
+              val addr = if (rnd.nextBoolean()) (4096L * (1 + rnd.nextInt(span / 4096 - 1)) - rnd.nextInt(2 * B))
+              else rnd.nextInt(span).toLong
               offer = Some((addr, client, rnd.nextInt(1 << tagBits)))
             }
             dut.io.req.valid.poke(offer.isDefined.B)
-            offer.foreach { case (a, c, t) => dut.io.req.bits.addr.poke(a.U); dut.io.req.bits.client.poke(c.U); dut.io.req.bits.tag.poke(t.U) }
+            offer.foreach { case (a, c, t) =>
+              dut.io.req.bits.addr.poke(a.U); dut.io.req.bits.client.poke(c.U); dut.io.req.bits.tag.poke(t.U)
+            }
             val arReady = rnd.nextInt(3) > 0
             dut.io.ar.ready.poke(arReady.B)
             // R: one beat of a random ID whose head burst is due, on a coin toss.
@@ -88,14 +91,20 @@ class ReadEngineSpec extends AnyFlatSpec with ChiselScalatestTester {
               val beats = a.len.peek().litValue.toInt + 1
               assert(id < slots, s"cycle $cycle: AR ID $id beyond $slots slots")
               assert(addr % B == 0, f"cycle $cycle: AR address 0x$addr%x not beat-aligned")
-              assert(addr / 4096 == (addr + beats * B - 1) / 4096, f"cycle $cycle: burst at 0x$addr%x of $beats beats crosses 4 KB")
+              assert(
+                addr / 4096 == (addr + beats * B - 1) / 4096,
+                f"cycle $cycle: burst at 0x$addr%x of $beats beats crosses 4 KB"
+              )
               a.size.expect(p.fullSize.U); a.burst.expect(Axi4.BurstIncr.U)
               bursts.getOrElseUpdate(id, mutable.Queue.empty) += ((addr, beats, cycle + 1 + rnd.nextInt(12)))
             }
             dut.clock.step(); cycle += 1
             dut.io.error.expect(false.B, s"cycle $cycle: error")
           }
-          assert(answered == requests, s"after $cycle cycles: $answered of $requests records answered; owed ${want.map(_.size).mkString(", ")}")
+          assert(
+            answered == requests,
+            s"after $cycle cycles: $answered of $requests records answered; owed ${want.map(_.size).mkString(", ")}"
+          )
           assert(bursts.values.forall(_.isEmpty), "bursts never answered")
           dut.clock.step()
           dut.io.idle.expect(true.B, "idle after the last record")

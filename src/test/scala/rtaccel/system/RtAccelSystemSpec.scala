@@ -26,12 +26,26 @@ import scala.util.Random
 class RtAccelSystemSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "RtAccelSystem"
 
-  private val fieldCfg = AccelConfig(numRayIds = 8, stackDepth = 12, maxNodes = 1 << 10, maxTriangles = 1 << 10, maxLeafSize = 4,
-    layout = BvhLayout.Wide(4))
+  private val fieldCfg = AccelConfig(
+    numRayIds = 8,
+    stackDepth = 12,
+    maxNodes = 1 << 10,
+    maxTriangles = 1 << 10,
+    maxLeafSize = 4,
+    layout = BvhLayout.Wide(4)
+  )
 
   /** Runs one batch of `rays` (renumbered 0..n-1; ray i gets reserved flag bits `flags(i)`) and checks every hit record. */
-  private def batch[T <: chisel3.Data, S](h: SystemHarness[T], cfg: AccelConfig, img: MemoryImage, golden: ArithGolden[S],
-      rays: IndexedSeq[RayRecord], lay: SystemHarness.Layout, flags: Int => Int, what: String): Long = {
+  private def batch[T <: chisel3.Data, S](
+      h: SystemHarness[T],
+      cfg: AccelConfig,
+      img: MemoryImage,
+      golden: ArithGolden[S],
+      rays: IndexedSeq[RayRecord],
+      lay: SystemHarness.Layout,
+      flags: Int => Int,
+      what: String
+  ): Long = {
     val rs = rays.zipWithIndex.map { case (r, i) => r.copy(number = i.toLong) }
     h.putRays(lay.rayBase, rs, flags)
     h.mem.write(lay.hitBase, Array.fill(SystemConfig.HitBytes * rs.size)(0xa5.toByte))
@@ -46,8 +60,14 @@ class RtAccelSystemSpec extends AnyFlatSpec with ChiselScalatestTester {
     val hits = rs.indices.map { i =>
       val (hw, reserved) = h.hitRecord(lay.hitBase, i)
       val e = traces(i).hit
-      assert(hw.number == i && reserved == 0, s"$what: hit record $i: number ${hw.number}, reserved bits 0x${reserved.toHexString} (unwritten records read 0xa5a5a5a5)")
-      assert(TraversalGolden.agrees(rs(i), hw, e), s"$what: ray $i (shadow=${rs(i).shadow}): hardware $hw, golden $e (errors ${ErrorFlags.describe(hw.errors)})")
+      assert(
+        hw.number == i && reserved == 0,
+        s"$what: hit record $i: number ${hw.number}, reserved bits 0x${reserved.toHexString} (unwritten records read 0xa5a5a5a5)"
+      )
+      assert(
+        TraversalGolden.agrees(rs(i), hw, e),
+        s"$what: ray $i (shadow=${rs(i).shadow}): hardware $hw, golden $e (errors ${ErrorFlags.describe(hw.errors)})"
+      )
       hw
     }
     val n = rs.size
@@ -58,9 +78,15 @@ class RtAccelSystemSpec extends AnyFlatSpec with ChiselScalatestTester {
     assert(h.read64("AXI_READ_BEATS") == h.model.readBeats - beats0, s"$what: AXI_READ_BEATS vs the memory's count")
     assert(h.read64("AXI_WRITE_BEATS") == h.model.writeBeats - wbeats0, s"$what: AXI_WRITE_BEATS vs the memory's count")
     // The cores' node reads are the fabric's node-store hits and misses (two independent counts).
-    assert(h.read64("NODE_FETCHES") == h.read64("NODE_STORE_HITS") + h.read64("NODE_STORE_MISSES"), s"$what: NODE_FETCHES vs the node store's hits + misses")
+    assert(
+      h.read64("NODE_FETCHES") == h.read64("NODE_STORE_HITS") + h.read64("NODE_STORE_MISSES"),
+      s"$what: NODE_FETCHES vs the node store's hits + misses"
+    )
     // The golden walk's tests are a lower bound: the hardware may test a triangle before a closer hit's tmax reaches it.
-    assert(h.read64("TRI_TESTS") >= traces.map(_.triTests).sum && h.read64("BOX_TESTS") >= traces.map(_.boxTests).sum, s"$what: TRI_TESTS/BOX_TESTS below the golden walk's")
+    assert(
+      h.read64("TRI_TESTS") >= traces.map(_.triTests).sum && h.read64("BOX_TESTS") >= traces.map(_.boxTests).sum,
+      s"$what: TRI_TESTS/BOX_TESTS below the golden walk's"
+    )
     val c = h.read64("CYCLES").toLong
     assert(c > 0 && c <= cycles, s"$what: CYCLES $c, driver saw $cycles")
     assert(!h.status("BROKEN") && !h.status("AXI_ERROR"), s"$what: STATUS BROKEN/AXI_ERROR")
@@ -87,32 +113,69 @@ class RtAccelSystemSpec extends AnyFlatSpec with ChiselScalatestTester {
         // Identity, configuration, access rules.
         assert(h.read("ID") == RegisterMap.Id && h.read("VERSION") == RegisterMap.Version)
         assert(h.read("CONFIG_CORES") == 2 && h.read("CONFIG_LAYOUT") == 4 && h.read("CONFIG_RAY_IDS") == 8)
-        assert(h.read("CONFIG_STACK_DEPTH") == cfg.stackDepth && h.read("CONFIG_FLOAT") == (8 << 8 | 23) && h.read("CONFIG_AXI_DATA_BITS") == sys.axiDataBits)
+        assert(h.read("CONFIG_STACK_DEPTH") == cfg.stackDepth && h.read("CONFIG_FLOAT") == (8 << 8 | 23) && h.read(
+          "CONFIG_AXI_DATA_BITS"
+        ) == sys.axiDataBits)
         assert(h.readResp(0xffc)._2 == 2 && h.write(0xffc, 1) == 2, "unmapped address: SLVERR")
-        assert(h.write(RegisterMap("ID").offset, 0) == 0 && h.read("ID") == RegisterMap.Id, "a write to ro is ignored (OKAY)")
+        assert(
+          h.write(RegisterMap("ID").offset, 0) == 0 && h.read("ID") == RegisterMap.Id,
+          "a write to ro is ignored (OKAY)"
+        )
         h.write("RAY_BASE", 0x11223344L)
-        assert(h.write(RegisterMap("RAY_BASE").offset, 0xaabbccddL, strb = 0x2) == 0 && h.read("RAY_BASE") == 0x1122cc44L, "wstrb")
+        assert(
+          h.write(RegisterMap("RAY_BASE").offset, 0xaabbccddL, strb = 0x2) == 0 && h.read("RAY_BASE") == 0x1122cc44L,
+          "wstrb"
+        )
         assert(h.read("CTRL") == 0, "CTRL reads 0")
         h.write("RAY_COUNT", 4); h.write("HIT_BASE", lay.hitBase)
         h.write("CTRL", 1) // START without a scene: ignored
         for (_ <- 0 until 20) h.step()
-        assert(!h.status("BUSY") && !h.status("DONE") && h.read("IRQ_STATUS") == 0, "START without SCENE_READY is ignored")
+        assert(
+          !h.status("BUSY") && !h.status("DONE") && h.read("IRQ_STATUS") == 0,
+          "START without SCENE_READY is ignored"
+        )
 
         assert(h.loadScene(lay.sceneBase) == 0 && h.status("SCENE_READY") && !h.status("SCENE_ERROR"), "good scene")
         // Every 17th ray has a reserved flag bit set.
-        batch(h, cfg, img, FieldDatapath.Golden, rays, lay, i => if (i % 17 == 5) 1 << (1 + i % 31) else 0, "synthetic, 2 cores")
+        batch(
+          h,
+          cfg,
+          img,
+          FieldDatapath.Golden,
+          rays,
+          lay,
+          i => if (i % 17 == 5) 1 << (1 + i % 31) else 0,
+          "synthetic, 2 cores"
+        )
         // A second batch from another ray buffer: per-batch counts start again.
         val lay2 = lay.copy(rayBase = lay.rayBase + 64 * 7)
-        batch(h, cfg, img, FieldDatapath.Golden, ControlWorkload.makeRays(rnd, 37), lay2, _ => 0, "synthetic, second batch")
+        batch(
+          h,
+          cfg,
+          img,
+          FieldDatapath.Golden,
+          ControlWorkload.makeRays(rnd, 37),
+          lay2,
+          _ => 0,
+          "synthetic, second batch"
+        )
         // 64-bit counters: reading _LO latches _HI.
         assert(h.read64("CYCLES") == h.read64("CYCLES"))
 
         // Scene errors: each corruption of the header, and a misaligned base.
         val bad = lay.hitBase + 0x8000
-        for ((bytes, base, code) <- Seq(
-            (withHeader(img, 0, 0x12345678), bad, 1), (withHeader(img, 2, 3), bad, 2), (withHeader(img, 11, 2), bad, 3),
-            (withHeader(img, 7, 64), bad, 4), (withHeader(img, 8, 32), bad, 4), (img.bytes, bad + 4, 5), (withHeader(img, 6, img.triOffset + 8), bad, 5),
-            (withHeader(img, 10, cfg.stackDepth + 1), bad, 6))) {
+        for (
+          (bytes, base, code) <- Seq(
+            (withHeader(img, 0, 0x12345678), bad, 1),
+            (withHeader(img, 2, 3), bad, 2),
+            (withHeader(img, 11, 2), bad, 3),
+            (withHeader(img, 7, 64), bad, 4),
+            (withHeader(img, 8, 32), bad, 4),
+            (img.bytes, bad + 4, 5),
+            (withHeader(img, 6, img.triOffset + 8), bad, 5),
+            (withHeader(img, 10, cfg.stackDepth + 1), bad, 6)
+          )
+        ) {
           h.put(base, bytes)
           assert(h.loadScene(base) == code, s"scene error code for case $code")
           assert(h.status("SCENE_ERROR") && !h.status("SCENE_READY"), s"STATUS after scene error $code")
@@ -127,12 +190,21 @@ class RtAccelSystemSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   private val bridge = Paths.get("nori-bridge/target/release/nori-bridge")
 
-  it should "match the golden model in FP32 on the Cornell box (4-wide nodes, 1 core, DDR latency)" in Seeded("RtAccelSystem.cornell") { rnd =>
+  it should "match the golden model in FP32 on the Cornell box (4-wide nodes, 1 core, DDR latency)" in Seeded(
+    "RtAccelSystem.cornell"
+  ) { rnd =>
     require(java.nio.file.Files.isExecutable(bridge), s"$bridge is missing: run `make setup` (it builds nori-bridge)")
     val dir = Paths.get("build/test-scenes/cornell-box-primary-bvh4")
     Bridge.compile(bridge, Paths.get("scenes/cornell-box/cornell-box.xml"), dir, "primary", Seq("--bvh", "4"))
     val pkg = ScenePackage.load(dir)
-    val cfg = AccelConfig(numRayIds = 16, stackDepth = 24, maxNodes = 1 << 14, maxTriangles = 1 << 13, maxLeafSize = 4, layout = BvhLayout.Wide(4))
+    val cfg = AccelConfig(
+      numRayIds = 16,
+      stackDepth = 24,
+      maxNodes = 1 << 14,
+      maxTriangles = 1 << 13,
+      maxLeafSize = 4,
+      layout = BvhLayout.Wide(4)
+    )
     assert(pkg.misfits(cfg).isEmpty, pkg.misfits(cfg))
     val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.Watertight, BoxRounding.Nearest)
     // Every 16th camera ray: the whole image's spread in 256 rays.
@@ -140,7 +212,10 @@ class RtAccelSystemSpec extends AnyFlatSpec with ChiselScalatestTester {
     val rays = pkg.rays.indices.filter(_ % 16 == phase).map(pkg.rays)
     val lay = SystemHarness.layout(pkg.image, rays.size, skew = 1)
     test(new SystemSimTop(SystemConfig(core = cfg, cores = 1), dp)).withAnnotations(Backends.verilator) { dut =>
-      val h = new SystemHarness(dut, AxiMemoryParams(latency = LatencyNs(100, 200), readyProb = 0.9, validProb = 0.9, seed = rnd.nextLong()))
+      val h = new SystemHarness(
+        dut,
+        AxiMemoryParams(latency = LatencyNs(100, 200), readyProb = 0.9, validProb = 0.9, seed = rnd.nextLong())
+      )
       h.put(lay.sceneBase, pkg.image.bytes)
       assert(h.loadScene(lay.sceneBase) == 0)
       batch(h, cfg, pkg.image, FloatGolden(dp), rays, lay, _ => 0, "cornell primary FP32, 1 core")

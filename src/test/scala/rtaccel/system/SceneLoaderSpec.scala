@@ -74,7 +74,8 @@ class SceneLoaderSpec extends AnyFlatSpec with ChiselScalatestTester {
               val reqReady = rnd.nextBoolean()
               dut.io.mem.req.ready.poke(reqReady.B)
               val respValid = respDue >= 0 && cycle >= respDue
-              dut.io.mem.resp.valid.poke(respValid.B); dut.io.mem.resp.bits.data.poke(hdr.U); dut.io.mem.resp.bits.tag.poke(0.U)
+              dut.io.mem.resp.valid.poke(respValid.B); dut.io.mem.resp.bits.data.poke(hdr.U);
+              dut.io.mem.resp.bits.tag.poke(0.U)
               dut.io.store.done.poke((nodeDone >= 0 && cycle >= nodeDone).B)
               dut.io.triStore.done.poke((triDone >= 0 && cycle >= triDone).B)
               dut.io.store.busy.poke(false.B); dut.io.triStore.busy.poke(false.B)
@@ -87,11 +88,13 @@ class SceneLoaderSpec extends AnyFlatSpec with ChiselScalatestTester {
               if (respValid && dut.io.mem.resp.ready.peek().litToBoolean) respDue = -1
               if (dut.io.store.start.peek().litToBoolean) {
                 nodeLoads += 1; nodeDone = cycle + 1 + rnd.nextInt(30)
-                dut.io.store.base.expect((base + hw(5)).U, "node store base"); dut.io.store.bytes.expect((hw(6) - hw(5)).U, "node store bytes")
+                dut.io.store.base.expect((base + hw(5)).U, "node store base");
+                dut.io.store.bytes.expect((hw(6) - hw(5)).U, "node store bytes")
               }
               if (dut.io.triStore.start.peek().litToBoolean) {
                 triLoads += 1; triDone = cycle + 1 + rnd.nextInt(30)
-                dut.io.triStore.base.expect((base + hw(6)).U, "tri store base"); dut.io.triStore.bytes.expect((hw(4) * 48).U, "tri store bytes")
+                dut.io.triStore.base.expect((base + hw(6)).U, "tri store base");
+                dut.io.triStore.bytes.expect((hw(4) * 48).U, "tri store bytes")
               }
               if (dut.io.finished.peek().litToBoolean) finished += 1
               dut.clock.step(); cycle += 1
@@ -101,8 +104,10 @@ class SceneLoaderSpec extends AnyFlatSpec with ChiselScalatestTester {
             assert(finished == 1, s"$what: $finished finished pulses")
             assert(reqs == (if (spoil == -1) 0 else 1), s"$what: $reqs header reads")
             val good = wantCode == 0
-            assert(nodeLoads == (if (good) 1 else 0) && triLoads == (if (good && triStore > 0) 1 else 0),
-              s"$what: $nodeLoads node-store and $triLoads triangle-store loads")
+            assert(
+              nodeLoads == (if (good) 1 else 0) && triLoads == (if (good && triStore > 0) 1 else 0),
+              s"$what: $nodeLoads node-store and $triLoads triangle-store loads"
+            )
             dut.io.ready.expect(good.B, s"$what: ready"); dut.io.error.expect((!good).B, s"$what: error")
             dut.io.errorCode.expect(wantCode.U, s"$what: error code")
             if (good) { dut.io.nodeBase.expect((base + hw(5)).U); dut.io.triBase.expect((base + hw(6)).U) }

@@ -17,8 +17,16 @@ import scala.util.Random
   *
   * @param hits the store's hit rule: (address, base, stored bytes) => served on chip
   */
-final class StoreDriver(io: StoreIO, clock: Clock, p: Axi4Params, recordBytes: Int, fillId: Int, mem: SparseMemory, rnd: Random,
-    hits: (Long, Long, Long) => Boolean) {
+final class StoreDriver(
+    io: StoreIO,
+    clock: Clock,
+    p: Axi4Params,
+    recordBytes: Int,
+    fillId: Int,
+    mem: SparseMemory,
+    rnd: Random,
+    hits: (Long, Long, Long) => Boolean
+) {
   private val B = p.beatBytes
   private val clients = io.req.size
 
@@ -43,7 +51,11 @@ final class StoreDriver(io: StoreIO, clock: Clock, p: Axi4Params, recordBytes: I
       }
       if (arReady && io.ar.valid.peek().litToBoolean) {
         io.ar.bits.id.expect(fillId.U, "the fill's AXI ID")
-        bursts.enqueue((io.ar.bits.addr.peek().litValue.toLong, io.ar.bits.len.peek().litValue.toInt + 1, cycle + 1 + rnd.nextInt(10)))
+        bursts.enqueue((
+          io.ar.bits.addr.peek().litValue.toLong,
+          io.ar.bits.len.peek().litValue.toInt + 1,
+          cycle + 1 + rnd.nextInt(10)
+        ))
       }
       clock.step(); cycle += 1
     }
@@ -74,8 +86,12 @@ final class StoreDriver(io: StoreIO, clock: Clock, p: Axi4Params, recordBytes: I
         // Probe: the hit rule on an address near the stored range, any alignment.
         val probe = base - 64 + rnd.nextLong(stored + 128)
         io.probe(c).poke(probe.U)
-        io.hit(c).expect(hits(probe, base, stored).B, f"cycle $cycle: client $c probe 0x$probe%x (base 0x$base%x, stored $stored)")
-        if (offer(c).isEmpty && sent(c) < n && rnd.nextInt(3) > 0) offer(c) = Some((randomHit(), rnd.nextInt(1 << tagBits)))
+        io.hit(c).expect(
+          hits(probe, base, stored).B,
+          f"cycle $cycle: client $c probe 0x$probe%x (base 0x$base%x, stored $stored)"
+        )
+        if (offer(c).isEmpty && sent(c) < n && rnd.nextInt(3) > 0)
+          offer(c) = Some((randomHit(), rnd.nextInt(1 << tagBits)))
         io.req(c).valid.poke(offer(c).isDefined.B)
         offer(c).foreach { case (a, t) => io.req(c).bits.addr.poke(a.U); io.req(c).bits.tag.poke(t.U) }
       }
@@ -99,11 +115,15 @@ final class StoreDriver(io: StoreIO, clock: Clock, p: Axi4Params, recordBytes: I
       io.error.expect(false.B, s"cycle $cycle: error")
     }
     for (c <- 0 until clients) io.req(c).valid.poke(false.B)
-    assert(got == n * clients, s"after $cycle cycles: $got of ${n * clients} reads answered (owed ${want.map(_.size).mkString(", ")})")
+    assert(
+      got == n * clients,
+      s"after $cycle cycles: $got of ${n * clients} reads answered (owed ${want.map(_.size).mkString(", ")})"
+    )
   }
 }
 
 object StoreDriver {
+
   /** What NodeStoreSpec and TriStoreSpec drive a store with. */
   final case class Bench(p: Axi4Params, port: MemPortParams, mem: SparseMemory)
 
@@ -112,7 +132,10 @@ object StoreDriver {
   def bench(dataBits: Int, recordBytes: Int, rnd: Random): Bench = {
     val mem = new SparseMemory
     mem.write(0x10000, Array.fill(0x10000)(rnd.nextInt(256).toByte))
-    Bench(Axi4Params(addrBits = 32, dataBits = dataBits, idBits = 6),
-      MemPortParams(addrBits = 32, tagBits = 4, recordBytes = recordBytes), mem)
+    Bench(
+      Axi4Params(addrBits = 32, dataBits = dataBits, idBits = 6),
+      MemPortParams(addrBits = 32, tagBits = 4, recordBytes = recordBytes),
+      mem
+    )
   }
 }

@@ -56,11 +56,15 @@ class StoreFillSpec extends AnyFlatSpec with ChiselScalatestTester {
               beat.foreach { case (addr, left, due) =>
                 dut.io.r.bits.id.poke(fillId.U); dut.io.r.bits.resp.poke(Axi4.RespOkay.U)
                 dut.io.r.bits.data.poke(mem.readLE(addr, B).U); dut.io.r.bits.last.poke((left == 1).B)
-                if (left == 1) { bursts.dequeue(); outstanding -= 1 } else bursts(0) = (addr + B, left - 1, due)
+                if (left == 1) { bursts.dequeue(); outstanding -= 1 }
+                else bursts(0) = (addr + B, left - 1, due)
               }
               if (dut.io.write.valid.peek().litToBoolean) {
                 val line = dut.io.write.bits.line.peek().litValue.toInt
-                assert(line < lines && !written.contains(line), s"cycle $cycle: line $line written twice or beyond the $lines lines")
+                assert(
+                  line < lines && !written.contains(line),
+                  s"cycle $cycle: line $line written twice or beyond the $lines lines"
+                )
                 written(line) = dut.io.write.bits.data.peek().litValue
               }
               if (arReady && dut.io.ar.valid.peek().litToBoolean) {
@@ -68,7 +72,10 @@ class StoreFillSpec extends AnyFlatSpec with ChiselScalatestTester {
                 val addr = a.addr.peek().litValue.toLong; val beats = a.len.peek().litValue.toInt + 1
                 a.id.expect(fillId.U, "fill ID")
                 assert(beats <= StoreFill.FillBurstBeats, s"cycle $cycle: a burst of $beats beats")
-                assert(addr / 4096 == (addr + beats * B - 1) / 4096, f"cycle $cycle: burst at 0x$addr%x of $beats beats crosses 4 KB")
+                assert(
+                  addr / 4096 == (addr + beats * B - 1) / 4096,
+                  f"cycle $cycle: burst at 0x$addr%x of $beats beats crosses 4 KB"
+                )
                 outstanding += 1
                 assert(outstanding <= StoreFill.FillBursts, s"cycle $cycle: $outstanding bursts outstanding")
                 bursts.enqueue((addr, beats, cycle + 1 + rnd.nextInt(10)))

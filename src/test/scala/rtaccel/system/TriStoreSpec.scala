@@ -24,14 +24,15 @@ class TriStoreSpec extends AnyFlatSpec with ChiselScalatestTester {
     it should s"serve every read of a loaded store once, with DRAM's triangle ($dataBits-bit beats)" in
       Seeded(s"TriStore.$dataBits") { rnd =>
         val StoreDriver.Bench(p, port, mem) = StoreDriver.bench(dataBits, rec, rnd)
-        test(new TriStore(p, port, clients = 3, capacityBytes = 4096, fillId = 3)).withAnnotations(Backends.treadle) { dut =>
-          val drv = new StoreDriver(dut.io, dut.clock, p, rec, 3, mem, rnd, hits)
-          for ((base, bytes) <- Seq((0x10040L, 1000L), (0x14000L, 100000L))) {
-            val stored = drv.load(base, bytes)
-            val lines = (bytes + p.beatBytes - 1) / p.beatBytes
-            assert(stored == (lines * p.beatBytes).min(4096), s"stored $stored bytes of a $bytes-byte load")
-            drv.serve(base, stored, 150)
-          }
+        test(new TriStore(p, port, clients = 3, capacityBytes = 4096, fillId = 3)).withAnnotations(Backends.treadle) {
+          dut =>
+            val drv = new StoreDriver(dut.io, dut.clock, p, rec, 3, mem, rnd, hits)
+            for ((base, bytes) <- Seq((0x10040L, 1000L), (0x14000L, 100000L))) {
+              val stored = drv.load(base, bytes)
+              val lines = (bytes + p.beatBytes - 1) / p.beatBytes
+              assert(stored == (lines * p.beatBytes).min(4096), s"stored $stored bytes of a $bytes-byte load")
+              drv.serve(base, stored, 150)
+            }
         }
       }
   }

@@ -34,7 +34,7 @@ class WriteEngineSpec extends AnyFlatSpec with ChiselScalatestTester {
           def recordsOf(n: Int) = Integer.bitCount(offered(n)._3)
           var next = 0
           val awWant = mutable.Queue.empty[(Long, BigInt, Int)]
-          val wWant  = mutable.Queue.empty[(Long, BigInt, Int)]
+          val wWant = mutable.Queue.empty[(Long, BigInt, Int)]
           var awSeen, wSeen = 0
           val bQueue = mutable.Queue.empty[(Long, Int)] // (cycle due, resp)
           var bDone, recordsDone = 0
@@ -46,8 +46,10 @@ class WriteEngineSpec extends AnyFlatSpec with ChiselScalatestTester {
             // Master side: offer the next record on a coin toss; hold it until taken.
             offering = next < records && (offering || rnd.nextInt(4) > 0)
             dut.io.write.valid.poke(offering.B)
-            if (next < records) { dut.io.write.bits.addr.poke(offered(next)._1.U); dut.io.write.bits.data.poke(offered(next)._2.U)
-              dut.io.write.bits.halves.poke(offered(next)._3.U) }
+            if (next < records) {
+              dut.io.write.bits.addr.poke(offered(next)._1.U); dut.io.write.bits.data.poke(offered(next)._2.U)
+              dut.io.write.bits.halves.poke(offered(next)._3.U)
+            }
             val awReady = rnd.nextInt(3) > 0; val wReady = rnd.nextInt(3) > 0
             dut.io.aw.ready.poke(awReady.B); dut.io.w.ready.poke(wReady.B)
             // B: the oldest due response, if any.
@@ -74,7 +76,9 @@ class WriteEngineSpec extends AnyFlatSpec with ChiselScalatestTester {
               val lane = (addr % beat).toInt
               val w = dut.io.w.bits
               val gotData = w.data.peek().litValue
-              val strb = (0 until 2).filter(h => (halves >> h & 1) == 1).map(h => ((BigInt(1) << R) - 1) << (lane + R * h)).reduce(_ | _)
+              val strb = (0 until 2).filter(h => (halves >> h & 1) == 1).map(h =>
+                ((BigInt(1) << R) - 1) << (lane + R * h)
+              ).reduce(_ | _)
               for (h <- 0 until 2 if (halves >> h & 1) == 1) {
                 val field = (v: BigInt, at: Int) => (v >> (8 * at)) & ((BigInt(1) << (8 * R)) - 1)
                 assert(field(gotData, lane + R * h) == field(data, R * h), s"cycle $cycle: W $wSeen data, record $h")
@@ -89,12 +93,17 @@ class WriteEngineSpec extends AnyFlatSpec with ChiselScalatestTester {
               bQueue.enqueue((cycle + 1 + rnd.nextInt(8), if (slvErrAt(n)) 2 else Axi4.RespOkay))
             }
             dut.clock.step(); cycle += 1
-            if (bValid) { val resp = bQueue.dequeue()._2; errorWant = errorWant || resp != Axi4.RespOkay; recordsDone += recordsOf(bDone); bDone += 1 }
+            if (bValid) {
+              val resp = bQueue.dequeue()._2; errorWant = errorWant || resp != Axi4.RespOkay;
+              recordsDone += recordsOf(bDone); bDone += 1
+            }
             dut.io.writesDone.expect(recordsDone.U, s"cycle $cycle: writesDone (records of the Bs come)")
             dut.io.error.expect(errorWant.B, s"cycle $cycle: error")
           }
-          assert(bDone == records && awSeen == records && wSeen == records,
-            s"after $cycle cycles: $awSeen AWs, $wSeen Ws, $bDone Bs of $records records")
+          assert(
+            bDone == records && awSeen == records && wSeen == records,
+            s"after $cycle cycles: $awSeen AWs, $wSeen Ws, $bDone Bs of $records records"
+          )
           dut.io.aw.valid.expect(false.B, "an AW left over")
           dut.io.w.valid.expect(false.B, "a W left over")
         }

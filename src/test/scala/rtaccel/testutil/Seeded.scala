@@ -6,6 +6,7 @@ import scala.util.Random
   * a failure message always names; `RTACCEL_SEED=<n>` replays it.
   */
 object Seeded {
+
   /** The seed for a test: `RTACCEL_SEED` if set, else a stable hash of its name. */
   def seedFor(testName: String): Long =
     sys.env.get("RTACCEL_SEED").map(_.trim.toLong).getOrElse(testName.hashCode.toLong & 0xffffffffL)

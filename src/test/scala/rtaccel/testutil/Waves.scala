@@ -19,7 +19,10 @@ object Waves {
         try body(annos :+ WriteVcdAnnotation)
         catch { case _: Throwable => () }
         val vcd = newest(Paths.get("test_run_dir"), before)
-        throw new AssertionError(s"${first.getMessage}\nwaveform of the failing run: ${vcd.getOrElse("(none written)")}", first)
+        throw new AssertionError(
+          s"${first.getMessage}\nwaveform of the failing run: ${vcd.getOrElse("(none written)")}",
+          first
+        )
     }
 
   private def newest(dir: Path, since: Long): Option[Path] =

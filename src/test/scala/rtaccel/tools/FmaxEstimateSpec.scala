@@ -67,6 +67,7 @@ class FmaxEstimateSpec extends AnyFlatSpec {
       ("FpAdd_e8m23_rne_l7", "FpAdd_e8m23_rne_l7", Nil),
       ("BoxLane_x", "BoxLane_x", Nil),
       ("Ctl", "Ctl", Seq("BoxLane_x")),
-      ("Top (control)", "Top", Seq("BoxLane_x"))))
+      ("Top (control)", "Top", Seq("BoxLane_x"))
+    ))
   }
 }

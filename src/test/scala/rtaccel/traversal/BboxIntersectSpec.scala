@@ -4,7 +4,17 @@ import chisel3._
 import chisel3.util._
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
-import rtaccel.datapath.{RayPrepFromWords, BoxRounding, ExactBox, FloatDatapath, FloatGolden, KernelCase, KernelVectors, RayConsts, TriangleTest}
+import rtaccel.datapath.{
+  RayPrepFromWords,
+  BoxRounding,
+  ExactBox,
+  FloatDatapath,
+  FloatGolden,
+  KernelCase,
+  KernelVectors,
+  RayConsts,
+  TriangleTest
+}
 import rtaccel.fp.FloatFormat
 import rtaccel.testutil.Seeded
 import rtaccel.AccelConfig
@@ -15,22 +25,23 @@ import rtaccel.sim.Backends
 class BboxHarness(val cfg: AccelConfig, val dp: FloatDatapath) extends Module {
   private val k = cfg.boxLanes
   val io = IO(new Bundle {
-    val valid   = Input(Bool())
+    val valid = Input(Bool())
+
     /** o, d, tmin, tmax: eight FP32 words. */
-    val ray     = Input(Vec(8, UInt(32.W)))
-    val boxMin  = Input(Vec(k, Vec(3, UInt(32.W))))
-    val boxMax  = Input(Vec(k, Vec(3, UInt(32.W))))
+    val ray = Input(Vec(8, UInt(32.W)))
+    val boxMin = Input(Vec(k, Vec(3, UInt(32.W))))
+    val boxMax = Input(Vec(k, Vec(3, UInt(32.W))))
     val present = Input(Vec(k, Bool()))
-    val out     = Valid(new BboxAnswer(cfg))
+    val out = Valid(new BboxAnswer(cfg))
   })
   private val prep = RayPrepFromWords(dp, cfg, io.valid, io.ray)
   val prepLatency: Int = prep.latency
   private val box = Module(new BboxIntersect(cfg, dp))
-  box.io.in.valid        := prep.io.out.valid
-  box.io.in.bits.ray     := prep.io.out.bits.statics
-  box.io.in.bits.tmax    := prep.io.out.bits.tmax
-  box.io.in.bits.boxMin  := ShiftRegister(io.boxMin, prepLatency)
-  box.io.in.bits.boxMax  := ShiftRegister(io.boxMax, prepLatency)
+  box.io.in.valid := prep.io.out.valid
+  box.io.in.bits.ray := prep.io.out.bits.statics
+  box.io.in.bits.tmax := prep.io.out.bits.tmax
+  box.io.in.bits.boxMin := ShiftRegister(io.boxMin, prepLatency)
+  box.io.in.bits.boxMax := ShiftRegister(io.boxMax, prepLatency)
   box.io.in.bits.present := ShiftRegister(io.present, prepLatency)
   val boxLatency: Int = box.latency
   io.out := box.io.out
@@ -41,19 +52,19 @@ class BboxHarness(val cfg: AccelConfig, val dp: FloatDatapath) extends Module {
   */
 class BboxQuantHarness(val cfg: AccelConfig, val dp: FloatDatapath) extends Module {
   val io = IO(new Bundle {
-    val valid  = Input(Bool())
-    val ray    = Input(Vec(8, UInt(32.W)))
+    val valid = Input(Bool())
+    val ray = Input(Vec(8, UInt(32.W)))
     val record = Input(UInt((cfg.layout.nodeBytes * 8).W))
-    val out    = Valid(new BboxAnswer(cfg))
+    val out = Valid(new BboxAnswer(cfg))
   })
   private val prep = RayPrepFromWords(dp, cfg, io.valid, io.ray)
   private val node = BvhNode.decode(cfg, ShiftRegister(io.record, prep.latency))
   private val box = Module(new BboxIntersect(cfg, dp))
-  box.io.in.valid        := prep.io.out.valid
-  box.io.in.bits.ray     := prep.io.out.bits.statics
-  box.io.in.bits.tmax    := prep.io.out.bits.tmax
-  box.io.in.bits.boxMin  := VecInit(node.slots.map(_.boxMin))
-  box.io.in.bits.boxMax  := VecInit(node.slots.map(_.boxMax))
+  box.io.in.valid := prep.io.out.valid
+  box.io.in.bits.ray := prep.io.out.bits.statics
+  box.io.in.bits.tmax := prep.io.out.bits.tmax
+  box.io.in.bits.boxMin := VecInit(node.slots.map(_.boxMin))
+  box.io.in.bits.boxMax := VecInit(node.slots.map(_.boxMax))
   box.io.in.bits.present := VecInit(node.slots.map(_.present))
   val latency: Int = prep.latency + box.latency
   io.out := box.io.out
@@ -68,7 +79,8 @@ class BboxIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   for (k <- Seq(4)) {
     val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.Watertight, BoxRounding.Conservative)
-    val cfg = AccelConfig(numRayIds = 4, stackDepth = 4, layout = BvhLayout.Wide(k), boxFloat = dp.boxFmt, triFloat = dp.triFmt)
+    val cfg =
+      AccelConfig(numRayIds = 4, stackDepth = 4, layout = BvhLayout.Wide(k), boxFloat = dp.boxFmt, triFloat = dp.triFmt)
     it should s"test a ray against $k child boxes per cycle, every lane bit-exact with the golden model (${dp.name})" in
       Seeded(s"BboxIntersect.k$k") { rnd =>
         val g = FloatGolden(dp)
@@ -101,7 +113,10 @@ class BboxIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
               for ((u, s) <- used.zipWithIndex) {
                 val (hit, near) = u.fold((false, BigInt(0)))(b => g.boxTest(ray, tmax, b.bmin, b.bmax))
                 val hitHw = dut.io.out.bits.hit(s).peek().litToBoolean
-                assert(hitHw == (hit && !ray.box.err), s"cycle $cycle: ray ${r.where}, slot $s (${u.fold("empty")(_.where)}): hit $hitHw, golden ${hit && !ray.box.err}")
+                assert(
+                  hitHw == (hit && !ray.box.err),
+                  s"cycle $cycle: ray ${r.where}, slot $s (${u.fold("empty")(_.where)}): hit $hitHw, golden ${hit && !ray.box.err}"
+                )
                 if (hitHw) {
                   dut.io.out.bits.near(s).expect(near.U, s"ray ${r.where}, slot $s: entry distance")
                   hits += 1
@@ -126,8 +141,10 @@ class BboxIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
         val g = FloatGolden(dp)
         def f(w: BigInt) = java.lang.Float.intBitsToFloat(w.toInt)
         // Boxes the encoder takes: finite, not inverted (QuantEncode refuses the rest, as nori-bridge would).
-        val pool = KernelVectors.bboxOutFile.filter(c => (c.bmin ++ c.bmax).forall(w => f(w).isFinite) &&
-          (0 until 3).forall(a => f(c.bmin(a)) <= f(c.bmax(a))))
+        val pool = KernelVectors.bboxOutFile.filter(c =>
+          (c.bmin ++ c.bmax).forall(w => f(w).isFinite) &&
+            (0 until 3).forall(a => f(c.bmin(a)) <= f(c.bmax(a)))
+        )
         def boxOf(c: KernelCase) = QuantEncode.Box(c.bmin.map(f), c.bmax.map(f))
         // Lane 0: the case's own box; the rest random boxes of the pool, some slots empty.
         val nodes = IndexedSeq.fill(3000)(pool(rnd.nextInt(pool.size))).flatMap { r =>
@@ -153,13 +170,26 @@ class BboxIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
               val (ray, tmax) = g.setup(r.o, r.d, r.tmin, r.tmax)
               val decoded = QuantNode.decodeSoft(4, bytes.toIndexedSeq.map(_ & 0xff))
               for ((u, s) <- used.zipWithIndex) {
-                val (hit, near) = u.fold((false, BigInt(0)))(_ => g.boxTest(ray, tmax, decoded(s).boxMin.map(BigInt(_)), decoded(s).boxMax.map(BigInt(_))))
+                val (hit, near) = u.fold((false, BigInt(0)))(_ =>
+                  g.boxTest(ray, tmax, decoded(s).boxMin.map(BigInt(_)), decoded(s).boxMax.map(BigInt(_)))
+                )
                 val hitHw = dut.io.out.bits.hit(s).peek().litToBoolean
-                assert(hitHw == (hit && !ray.box.err), s"cycle $cycle: ray ${r.where}, slot $s: hit $hitHw, golden ${hit && !ray.box.err}")
-                if (hitHw) { dut.io.out.bits.near(s).expect(near.U, s"ray ${r.where}, slot $s: entry distance"); hits += 1 }
+                assert(
+                  hitHw == (hit && !ray.box.err),
+                  s"cycle $cycle: ray ${r.where}, slot $s: hit $hitHw, golden ${hit && !ray.box.err}"
+                )
+                if (hitHw) {
+                  dut.io.out.bits.near(s).expect(near.U, s"ray ${r.where}, slot $s: entry distance"); hits += 1
+                }
                 // Conservative: the exact ray entering the exact (unquantized) box is a hit.
-                for (c <- u if !ray.box.err && ExactBox.hit(dp.fmt, r.o, r.d, r.tmin, r.tmax, c.bmin, c.bmax).contains(true)) {
-                  assert(hitHw, s"ray ${r.where}, slot $s (${c.where}): the exact ray enters the exact box, the quantized test misses it")
+                for (
+                  c <- u
+                  if !ray.box.err && ExactBox.hit(dp.fmt, r.o, r.d, r.tmin, r.tmax, c.bmin, c.bmax).contains(true)
+                ) {
+                  assert(
+                    hitHw,
+                    s"ray ${r.where}, slot $s (${c.where}): the exact ray enters the exact box, the quantized test misses it"
+                  )
                   exactHits += 1
                 }
                 checked += 1
@@ -167,8 +197,13 @@ class BboxIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
             }
             dut.clock.step()
           }
-          assert(exactHits > checked / 20, s"only $exactHits of $checked slots are exact hits: the sample checks little")
-          info(s"$checked quantized slot tests, $hits hits ($exactHits exact hits, none missed; ${hits - exactHits} added by quantization and rounding), latency $lat")
+          assert(
+            exactHits > checked / 20,
+            s"only $exactHits of $checked slots are exact hits: the sample checks little"
+          )
+          info(
+            s"$checked quantized slot tests, $hits hits ($exactHits exact hits, none missed; ${hits - exactHits} added by quantization and rounding), latency $lat"
+          )
         }
       }
   }

@@ -13,12 +13,22 @@ import scala.util.Random
 /** Cases of the grid box test: a ray (FP32 words), a node (per axis origin
   * m 2^s and s) and its children's plane offsets.
   */
-final case class GridCase(o: Seq[BigInt], d: Seq[BigInt], tmin: BigInt, tmax: BigInt, m: Seq[Long], s: Seq[Int],
-    qMin: Seq[Seq[Int]], qMax: Seq[Seq[Int]], present: Seq[Boolean])
+final case class GridCase(
+    o: Seq[BigInt],
+    d: Seq[BigInt],
+    tmin: BigInt,
+    tmax: BigInt,
+    m: Seq[Long],
+    s: Seq[Int],
+    qMin: Seq[Seq[Int]],
+    qMax: Seq[Seq[Int]],
+    present: Seq[Boolean]
+)
 
 object GridBoxCheck {
   val f32: FloatFormat = FloatFormat.FP32
   def f32Of(fmt: FloatFormat, bits: BigInt): BigInt = FpModel.convert(fmt, f32, RoundingMode.RNE, bits)
+
   /** m 2^s as FP32 bits (exact: |m| < 2^24 and in range). */
   def planeBits(m: Long, s: Int): BigInt = FpModel.f32RawBits(java.lang.Math.scalb(m.toFloat, s))
 
@@ -35,7 +45,10 @@ object GridBoxCheck {
 
   /** Child j's planes as FP32 bits (exact). */
   def planes(c: GridCase, j: Int): (Seq[BigInt], Seq[BigInt]) =
-    ((0 until 3).map(i => planeBits(c.m(i) + c.qMin(j)(i), c.s(i))), (0 until 3).map(i => planeBits(c.m(i) + c.qMax(j)(i), c.s(i))))
+    (
+      (0 until 3).map(i => planeBits(c.m(i) + c.qMin(j)(i), c.s(i))),
+      (0 until 3).map(i => planeBits(c.m(i) + c.qMax(j)(i), c.s(i)))
+    )
 
   /** The exact slab test of child j for the ray `k` (None outside ExactBox's domain). */
   def exact(fmt: FloatFormat, k: RayK[BigInt, Boolean], tmax: BigInt, c: GridCase, j: Int): Option[Boolean] = {
@@ -44,20 +57,35 @@ object GridBoxCheck {
   }
 
   /** Counts of one run against the exact test. */
-  final case class Tally(exactHits: Long = 0, exactMisses: Long = 0, falseMisses: Long = 0, falseHits: Long = 0,
-      fp32FalseHits: Long = 0) {
+  final case class Tally(
+      exactHits: Long = 0,
+      exactMisses: Long = 0,
+      falseMisses: Long = 0,
+      falseHits: Long = 0,
+      fp32FalseHits: Long = 0
+  ) {
     override def toString = s"exact hits $exactHits, exact misses $exactMisses, false misses $falseMisses, " +
       s"false hits $falseHits (FP32 conservative box lane on the decoded planes: $fp32FalseHits)"
   }
 
-  def tally(fmt: FloatFormat, p: GridParams, c: GridCase, t0: Tally, withFp32: Boolean, firstMiss: GridCase => Unit): Tally = {
+  def tally(
+      fmt: FloatFormat,
+      p: GridParams,
+      c: GridCase,
+      t0: Tally,
+      withFp32: Boolean,
+      firstMiss: GridCase => Unit
+  ): Tally = {
     val (_, outs) = golden(fmt, p, c)
     val (k, tmax) = ray(fmt, c)
     var t = t0
     for (j <- outs.indices if c.present(j); e <- exact(fmt, k, tmax, c, j)) {
       val g = outs(j).hit
       if (e) t = t.copy(exactHits = t.exactHits + 1) else t = t.copy(exactMisses = t.exactMisses + 1)
-      if (e && !g) { t = t.copy(falseMisses = t.falseMisses + 1); firstMiss(c.copy(qMin = Seq(c.qMin(j)), qMax = Seq(c.qMax(j)), present = Seq(true))) }
+      if (e && !g) {
+        t = t.copy(falseMisses = t.falseMisses + 1);
+        firstMiss(c.copy(qMin = Seq(c.qMin(j)), qMax = Seq(c.qMax(j)), present = Seq(true)))
+      }
       if (!e && g) t = t.copy(falseHits = t.falseHits + 1)
       if (!e && withFp32) {
         val (bmin, bmax) = planes(c, j)
@@ -74,14 +102,15 @@ object GridBoxCheck {
   def randomCase(r: Random, p: GridParams, k: Int): GridCase = {
     val s = Seq.fill(3)(r.between(-24, 12))
     val m = s.map(_ => if (r.nextInt(4) == 0) 0L else r.between(-(1L << 23), (1L << 23) - 256))
-    val qs = Seq.fill(k)(Seq.fill(3) { val a = r.nextInt(p.qMax + 1); val b = r.nextInt(p.qMax + 1); (a min b, a max b) })
+    val qs =
+      Seq.fill(k)(Seq.fill(3) { val a = r.nextInt(p.qMax + 1); val b = r.nextInt(p.qMax + 1); (a min b, a max b) })
     def centre(i: Int) = (m(i) + r.nextInt(p.qMax + 1)).toDouble * math.pow(2, s(i))
     val onPlane = r.nextInt(3) == 0
     val o = (0 until 3).map { i =>
       val v = r.nextInt(8) match {
         case 0 if onPlane => (m(i) + qs(r.nextInt(k))(i)._1).toDouble * math.pow(2, s(i))
-        case 1 => centre(i) + (r.nextGaussian() * 1e4 * math.pow(2, s(i) + p.qBits))
-        case _ => centre(i) + r.nextGaussian() * math.pow(2, s(i) + p.qBits)
+        case 1            => centre(i) + (r.nextGaussian() * 1e4 * math.pow(2, s(i) + p.qBits))
+        case _            => centre(i) + r.nextGaussian() * math.pow(2, s(i) + p.qBits)
       }
       FpModel.f32RawBits(v.toFloat)
     }
@@ -92,11 +121,11 @@ object GridBoxCheck {
     val aimed = r.nextBoolean()
     val d = (0 until 3).map { i =>
       val v = r.nextInt(10) match {
-        case 0 => if (r.nextBoolean()) 0.0f else -0.0f
-        case 1 => (r.nextGaussian() * 1e-41).toFloat // subnormal
-        case 2 => (r.nextGaussian() * 1e-7).toFloat
+        case 0          => if (r.nextBoolean()) 0.0f else -0.0f
+        case 1          => (r.nextGaussian() * 1e-41).toFloat // subnormal
+        case 2          => (r.nextGaussian() * 1e-7).toFloat
         case _ if aimed => ((target(i) - oD(i)) * (1 + r.nextGaussian() * 1e-3)).toFloat
-        case _ => r.nextGaussian().toFloat
+        case _          => r.nextGaussian().toFloat
       }
       FpModel.f32RawBits(v)
     }
@@ -105,8 +134,17 @@ object GridBoxCheck {
       case 1 => (Float.NegativeInfinity, Float.PositiveInfinity)
       case _ => val a = (r.nextGaussian() * 1e3).toFloat; (a, a + math.abs(r.nextGaussian() * 1e3).toFloat)
     }
-    GridCase(o, d, FpModel.f32RawBits(tmin), FpModel.f32RawBits(tmax), m, s, qs.map(_.map(_._1)), qs.map(_.map(_._2)),
-      Seq.fill(k)(r.nextInt(8) != 0))
+    GridCase(
+      o,
+      d,
+      FpModel.f32RawBits(tmin),
+      FpModel.f32RawBits(tmax),
+      m,
+      s,
+      qs.map(_.map(_._1)),
+      qs.map(_.map(_._2)),
+      Seq.fill(k)(r.nextInt(8) != 0)
+    )
   }
 }
 
@@ -133,8 +171,17 @@ class GridBboxIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
       val (tmin, tmax) = intervals((ox.toInt + dx.toInt) % 2)
       val yz = Seq(Seq(0, 3), Seq(1, 2))
       val children = for ((a, b) <- pairs; y <- yz) yield (Seq(a, y(0), 0), Seq(b, y(1), p.qMax))
-      val c = GridCase(Seq(f32Of(fmt, ox), oy, oz), Seq(f32Of(fmt, dx), dy, dz), tmin, tmax, m, s,
-        children.map(_._1), children.map(_._2), children.map(_ => true))
+      val c = GridCase(
+        Seq(f32Of(fmt, ox), oy, oz),
+        Seq(f32Of(fmt, dx), dy, dz),
+        tmin,
+        tmax,
+        m,
+        s,
+        children.map(_._1),
+        children.map(_._2),
+        children.map(_ => true)
+      )
       t = tally(fmt, p, c, t, withFp32 = false, x => if (miss.isEmpty) miss = Some(x))
     }
     info(s"e3m3, ${p.name}: $t")
@@ -147,7 +194,8 @@ class GridBboxIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
       val p = GridParams()
       var t = Tally()
       var miss: Option[GridCase] = None
-      for (_ <- 0 until 4000) t = tally(f32, p, randomCase(r, p, 4), t, withFp32 = true, x => if (miss.isEmpty) miss = Some(x))
+      for (_ <- 0 until 4000)
+        t = tally(f32, p, randomCase(r, p, 4), t, withFp32 = true, x => if (miss.isEmpty) miss = Some(x))
       info(s"FP32, ${p.name}: $t")
       assert(t.falseMisses == 0, s"first false miss: ${miss.getOrElse("none")}")
       assert(t.exactHits > 500, s"too few hits to mean anything: $t")

@@ -13,8 +13,14 @@ import scala.collection.mutable
 class InitTraversalSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "InitTraversal"
 
-  private val cfg = AccelConfig(numRayIds = 4, stackDepth = 4, maxNodes = 256, maxTriangles = 256, maxLeafSize = 4,
-    layout = BvhLayout.Wide(2))
+  private val cfg = AccelConfig(
+    numRayIds = 4,
+    stackDepth = 4,
+    maxNodes = 256,
+    maxTriangles = 256,
+    maxLeafSize = 4,
+    layout = BvhLayout.Wide(2)
+  )
 
   private def pokeIn(dut: InitTraversal[UInt], valid: Boolean, id: Int): Unit = {
     dut.io.in.valid.poke(valid.B)
@@ -25,12 +31,16 @@ class InitTraversalSpec extends AnyFlatSpec with ChiselScalatestTester {
     p.ray.errors.poke((id % 3).U)
   }
 
-  it should "write each ray to the RayBuffer before it goes to the root, in order, under back-pressure" in Seeded("InitTraversal.order") { rnd =>
+  it should "write each ray to the RayBuffer before it goes to the root, in order, under back-pressure" in Seeded(
+    "InitTraversal.order"
+  ) { rnd =>
     test(new InitTraversal(cfg, FieldDatapath.gen)).withAnnotations(Backends.treadle) { dut =>
-      for (s <- 0 until 2; i <- 0 until 3) { dut.io.root.slots(s).boxMin(i).poke((10 * s + i).U); dut.io.root.slots(s).present.poke(true.B) }
+      for (s <- 0 until 2; i <- 0 until 3) {
+        dut.io.root.slots(s).boxMin(i).poke((10 * s + i).U); dut.io.root.slots(s).present.poke(true.B)
+      }
       val free = mutable.Queue.from(0 until cfg.numRayIds)
       val expected = mutable.Queue.empty[Int] // IDs in arrival order, not yet handed over
-      val toWrite = mutable.Queue.empty[Int]  // IDs in arrival order, not yet written
+      val toWrite = mutable.Queue.empty[Int] // IDs in arrival order, not yet written
       val written = mutable.Map.empty[Int, Int] // ID -> cycle of its RayBuffer write
       val returning = mutable.Queue.empty[(Int, Int)] // (cycle, ID): back to the free list later
       var out = 0
@@ -54,12 +64,14 @@ class InitTraversalSpec extends AnyFlatSpec with ChiselScalatestTester {
           val oid = t.rayId.peek().litValue.toInt
           assert(oid == expected.head, s"cycle $cycle: ray $oid left before ${expected.head}")
           // The box stage reads the RayBuffer in the cycle it takes the ray: the write must be older.
-          val at = written.remove(oid).getOrElse(fail(s"cycle $cycle: ray $oid went to the root before its RayBuffer write"))
+          val at =
+            written.remove(oid).getOrElse(fail(s"cycle $cycle: ray $oid went to the root before its RayBuffer write"))
           assert(at < cycle, s"cycle $cycle: ray $oid handed over in the cycle of its RayBuffer write")
           t.nodeIdx.expect(0.U); t.sp.expect(0.U)
           t.shadow.expect((oid % 2 == 1).B); t.errors.expect((oid % 3).U)
           for (a <- 0 until 3) t.dirNeg(a).expect((((oid >> a) & 1) == 1).B)
-          for (s <- 0 until 2; i <- 0 until 3) dut.io.out.bits.root.slots(s).boxMin(i).expect((10 * s + i).U, "the on-chip root")
+          for (s <- 0 until 2; i <- 0 until 3)
+            dut.io.out.bits.root.slots(s).boxMin(i).expect((10 * s + i).U, "the on-chip root")
           expected.dequeue()
           returning.enqueue((cycle + 1 + rnd.nextInt(10), oid))
           out += 1

@@ -16,8 +16,11 @@ object QuantEncode {
   def leaves(k: Int, boxes: Seq[Option[Box]]): Option[Array[Byte]] = {
     require(boxes.size == k)
     val used = boxes.flatten
-    val ok = used.nonEmpty && used.forall(b => (0 until 3).forall(a =>
-      b.min(a).isFinite && b.max(a).isFinite && b.min(a) <= b.max(a)))
+    val ok = used.nonEmpty && used.forall(b =>
+      (0 until 3).forall(a =>
+        b.min(a).isFinite && b.max(a).isFinite && b.min(a) <= b.max(a)
+      )
+    )
     if (!ok) return None
     val bytes = new Array[Byte](QuantNode.nodeBytes(k))
     for (a <- 0 until 3) {
@@ -31,7 +34,8 @@ object QuantEncode {
         bytes(QuantNode.planeByte(k, 3 + a, i)) = (Math.ceil(x.max(a) / sc) - m).toInt.toByte
       }
     }
-    for ((b, i) <- boxes.zipWithIndex) bytes(QuantNode.FixedBytes + i) = (if (b.isDefined) QuantNode.MetaLeaf | 1 else QuantNode.MetaEmpty).toByte
+    for ((b, i) <- boxes.zipWithIndex)
+      bytes(QuantNode.FixedBytes + i) = (if (b.isDefined) QuantNode.MetaLeaf | 1 else QuantNode.MetaEmpty).toByte
     Some(bytes)
   }
 

@@ -53,11 +53,13 @@ class RayBufferSpec extends AnyFlatSpec with ChiselScalatestTester {
         val updT = BigInt(32, rnd)
         val doEnter = rnd.nextBoolean() && enterId != updId
         dut.io.enter.valid.poke(doEnter.B)
-        dut.io.enter.bits.rayId.poke(enterId.U); dut.io.enter.bits.statics.poke(enterS.U); dut.io.enter.bits.tmax.poke(enterT.U)
+        dut.io.enter.bits.rayId.poke(enterId.U); dut.io.enter.bits.statics.poke(enterS.U);
+        dut.io.enter.bits.tmax.poke(enterT.U)
         dut.io.update.valid.poke(doUpdate.B)
         dut.io.update.bits.rayId.poke(updId.U); dut.io.update.bits.tmax.poke(updT.U)
         // Read rays whose data will not change in this cycle's write.
-        val reads = for (port <- 0 until 2; if known.nonEmpty && rnd.nextBoolean()) yield (port, known(rnd.nextInt(known.size)))
+        val reads = for (port <- 0 until 2; if known.nonEmpty && rnd.nextBoolean())
+          yield (port, known(rnd.nextInt(known.size)))
         val safe = reads.filterNot { case (_, id) => (doEnter && id == enterId) || (doUpdate && id == updId) }
         for (port <- 0 until 2) {
           val r = safe.find(_._1 == port)

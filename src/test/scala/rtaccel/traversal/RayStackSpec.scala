@@ -24,8 +24,14 @@ class RayStackSpec extends AnyFlatSpec with ChiselScalatestTester {
   for (layout <- Seq(BvhLayout.Nori, BvhLayout.Wide(4), BvhLayout.Wide(8))) {
     it should s"return every pushed entry of every ray, in LIFO order, on both ports (layout ${layout.name})" in
       Seeded(s"RayStack.${layout.name}") { rnd =>
-        val cfg = AccelConfig(numRayIds = 6, stackDepth = 9, maxNodes = 256, maxTriangles = 256, maxLeafSize = 4,
-          layout = layout)
+        val cfg = AccelConfig(
+          numRayIds = 6,
+          stackDepth = 9,
+          maxNodes = 256,
+          maxTriangles = 256,
+          maxLeafSize = 4,
+          layout = layout
+        )
         test(new RayStack(cfg)).withAnnotations(Backends.treadle) { dut =>
           val stacks = Array.fill(cfg.numRayIds)(mutable.ArrayBuffer.empty[Ref])
           def randomRef(): Ref =

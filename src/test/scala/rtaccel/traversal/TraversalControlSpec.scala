@@ -25,7 +25,14 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "TraversalControl"
 
   private def cfgOf(layout: BvhLayout, stackDepth: Int = 5, ids: Int = 8) =
-    AccelConfig(numRayIds = ids, stackDepth = stackDepth, maxNodes = 1024, maxTriangles = 4096, maxLeafSize = 8, layout = layout)
+    AccelConfig(
+      numRayIds = ids,
+      stackDepth = stackDepth,
+      maxNodes = 1024,
+      maxTriangles = 4096,
+      maxLeafSize = 8,
+      layout = layout
+    )
 
   /** One input: the ray, where it comes from, and the node's answer. */
   final case class In(tok: Token, fromLeaf: Boolean, occluded: Boolean, hits: Seq[(Boolean, Long)], node: NodeView)
@@ -60,10 +67,19 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
   }
 
   private def golden(cfg: AccelConfig, stack: mutable.ArrayBuffer[Ref], in: In): Out =
-    ControlGolden.step(cfg.layout, cfg.stackDepth, stack, in.tok, in.fromLeaf, in.occluded,
-      in.hits.map { case (h, near) => SlotHit(h, FpOrder.keyOf(cfg.boxFloat, BigInt(near))) }, in.node)
+    ControlGolden.step(
+      cfg.layout,
+      cfg.stackDepth,
+      stack,
+      in.tok,
+      in.fromLeaf,
+      in.occluded,
+      in.hits.map { case (h, near) => SlotHit(h, FpOrder.keyOf(cfg.boxFloat, BigInt(near))) },
+      in.node
+    )
 
-  private def lane(dut: TraversalControl, fromLeaf: Boolean): Valid[ControlOut] = if (fromLeaf) dut.io.retOut else dut.io.out
+  private def lane(dut: TraversalControl, fromLeaf: Boolean): Valid[ControlOut] =
+    if (fromLeaf) dut.io.retOut else dut.io.out
   private def latencyOf(dut: TraversalControl, fromLeaf: Boolean): Int = if (fromLeaf) 1 else dut.latency
   private def idle(dut: TraversalControl): Unit = { dut.io.in.valid.poke(false.B); dut.io.ret.valid.poke(false.B) }
 
@@ -91,7 +107,12 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
   /** Sends `ins` back to back (one per cycle, each to its lane), checking each
     * output its lane's latency later, and no output on a lane with nothing due.
     */
-  private def run(dut: TraversalControl, cfg: AccelConfig, stacks: Int => mutable.ArrayBuffer[Ref], ins: Seq[(In, String)]): Seq[Out] = {
+  private def run(
+      dut: TraversalControl,
+      cfg: AccelConfig,
+      stacks: Int => mutable.ArrayBuffer[Ref],
+      ins: Seq[(In, String)]
+  ): Seq[Out] = {
     val due = Map(false -> mutable.Queue.empty[(Int, Out, String)], true -> mutable.Queue.empty[(Int, Out, String)])
     val outs = mutable.ArrayBuffer.empty[Out]
     var cycle = 0
@@ -104,7 +125,10 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
       dut.clock.step(); cycle += 1
       for ((fromLeaf, q) <- due) {
         if (q.headOption.exists(_._1 == cycle)) { val (_, e, w) = q.dequeue(); expectOut(lane(dut, fromLeaf), e, w) }
-        else lane(dut, fromLeaf).valid.expect(false.B, s"cycle $cycle: nothing due on the ${if (fromLeaf) "leaf-return" else "box-result"} lane")
+        else lane(dut, fromLeaf).valid.expect(
+          false.B,
+          s"cycle $cycle: nothing due on the ${if (fromLeaf) "leaf-return" else "box-result"} lane"
+        )
       }
     }
     outs.toSeq
@@ -122,7 +146,10 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
       val hits = Seq(true -> f(5f), true -> f(-2f), true -> f(-2f), false -> f(1f))
       val t0 = Token(3, 0, 0, Seq(false, false, false), shadow = false, 0)
       val o1 = run(dut, cfg, stacks(_), Seq(In(t0, fromLeaf = false, occluded = false, hits, node) -> "root"))
-      assert(o1.head == Out(Leaf, t0.copy(sp = 2), 100, 3), s"nearest is the leaf in slot 1 (tie with slot 2): ${o1.head}")
+      assert(
+        o1.head == Out(Leaf, t0.copy(sp = 2), 100, 3),
+        s"nearest is the leaf in slot 1 (tie with slot 2): ${o1.head}"
+      )
       assert(stacks(3) == Seq(Ref(false, 10, 0), Ref(false, 30, 0)), s"pushed farthest first: ${stacks(3)}")
       val back = In(o1.head.token, fromLeaf = true, occluded = false, Seq.fill(4)(false -> 0L), none(4))
       val o2 = run(dut, cfg, stacks(_), Seq(back -> "back from the leaf"))
@@ -141,11 +168,14 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
       val stacks = Array.fill(cfg.numRayIds)(mutable.ArrayBuffer.empty[Ref])
       val node = NodeView(IndexedSeq(Ref(true, 7, 2), Ref(true, 9, 1)), 0, 0)
       val t0 = Token(1, 4, 0, Seq(true, true, true), shadow = true, 0)
-      val o1 = run(dut, cfg, stacks(_), Seq(In(t0, false, false, Seq(true -> f(3f), true -> f(1f)), node) -> "two leaves"))
+      val o1 =
+        run(dut, cfg, stacks(_), Seq(In(t0, false, false, Seq(true -> f(3f), true -> f(1f)), node) -> "two leaves"))
       assert(o1.head == Out(Leaf, t0.copy(sp = 1), 9, 1), s"${o1.head}")
-      val o2 = run(dut, cfg, stacks(_), Seq(In(o1.head.token, true, false, Seq.fill(2)(false -> 0L), none(2)) -> "back"))
+      val o2 =
+        run(dut, cfg, stacks(_), Seq(In(o1.head.token, true, false, Seq.fill(2)(false -> 0L), none(2)) -> "back"))
       assert(o2.head == Out(Leaf, t0, 7, 2), s"the popped leaf: ${o2.head}")
-      val o3 = run(dut, cfg, stacks(_), Seq(In(o2.head.token, true, true, Seq.fill(2)(false -> 0L), none(2)) -> "occluded"))
+      val o3 =
+        run(dut, cfg, stacks(_), Seq(In(o2.head.token, true, true, Seq.fill(2)(false -> 0L), none(2)) -> "occluded"))
       assert(o3.head.state == Done, s"an occluded shadow ray is done: ${o3.head}")
     }
   }
@@ -173,7 +203,9 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
       }
     }
 
-    it should s"match the golden model on random traffic from interleaved rays (layout ${layout.name})" in Seeded(s"TraversalControl.random.${layout.name}") { rnd =>
+    it should s"match the golden model on random traffic from interleaved rays (layout ${layout.name})" in Seeded(
+      s"TraversalControl.random.${layout.name}"
+    ) { rnd =>
       val cfg = cfgOf(layout, stackDepth = 7, ids = 16)
       val k = cfg.boxLanes
       // Verilator for the wide layouts: treadle takes minutes on K(K-1)/2 key comparators.
@@ -200,24 +232,32 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
               val occluded = fromLeaf && tok.shadow && rnd.nextInt(4) == 0
               val used = if (layout == BvhLayout.Nori) 1 else 1 + rnd.nextInt(k)
               val refs = IndexedSeq.tabulate(k)(_ =>
-                if (rnd.nextInt(3) == 0) Ref(isLeaf = true, rnd.nextInt(4000), rnd.nextInt(9)) else Ref(isLeaf = false, rnd.nextInt(1000), 0))
+                if (rnd.nextInt(3) == 0) Ref(isLeaf = true, rnd.nextInt(4000), rnd.nextInt(9))
+                else Ref(isLeaf = false, rnd.nextInt(1000), 0)
+              )
               val node = NodeView(refs, rnd.nextInt(3), if (rnd.nextInt(200) == 0) 1 << ErrorFlags.IndexOverflow else 0)
               val hits = Seq.tabulate(k)(i => (i < used && rnd.nextInt(3) != 0, nears(rnd.nextInt(nears.size))))
               val in = In(tok, fromLeaf, occluded, hits, node)
               val e = golden(cfg, stacks(id), in)
               poke(dut, cfg, in)
-              toks(id) = if (e.state == Done) { stacks(id).clear(); fresh(id) } else e.token
+              toks(id) = if (e.state == Done) { stacks(id).clear(); fresh(id) }
+              else e.token
               lastState(id) = if (e.state == Done) Traverse else e.state
               val lat = latencyOf(dut, fromLeaf)
               busyUntil(id) = cycle + lat - 1
               seen(e.state) += 1
-              due(fromLeaf).enqueue((cycle + lat, e, s"cycle $cycle ray $id (${if (fromLeaf) "leaf return" else "box result"})"))
+              due(fromLeaf).enqueue((
+                cycle + lat,
+                e,
+                s"cycle $cycle ray $id (${if (fromLeaf) "leaf return" else "box result"})"
+              ))
             }
           }
           dut.clock.step()
           for ((fromLeaf, q) <- due) {
-            if (q.headOption.exists(_._1 == cycle + 1)) { val (_, e, w) = q.dequeue(); expectOut(lane(dut, fromLeaf), e, w) }
-            else lane(dut, fromLeaf).valid.expect(false.B, s"cycle ${cycle + 1}: nothing due on this lane")
+            if (q.headOption.exists(_._1 == cycle + 1)) {
+              val (_, e, w) = q.dequeue(); expectOut(lane(dut, fromLeaf), e, w)
+            } else lane(dut, fromLeaf).valid.expect(false.B, s"cycle ${cycle + 1}: nothing due on this lane")
           }
         }
         assert(Seq(Traverse, Leaf, GoBack, Done).forall(seen(_) > 100), s"state coverage too thin: $seen")
@@ -233,7 +273,12 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
       val node = NodeView(IndexedSeq(Ref(false, 9, 0)), 1, 0)
       val a = Token(0, 4, 0, Seq(false, true, false), shadow = false, 0)
       val b = Token(1, 4, 0, Seq(true, false, true), shadow = false, 0)
-      val o = run(dut, cfg, stacks(_), Seq(In(a, false, false, Seq(true -> 0L), node) -> "A", In(b, false, false, Seq(true -> 0L), node) -> "B"))
+      val o = run(
+        dut,
+        cfg,
+        stacks(_),
+        Seq(In(a, false, false, Seq(true -> 0L), node) -> "A", In(b, false, false, Seq(true -> 0L), node) -> "B")
+      )
       assert(o(0).token.nodeIdx == 9 && stacks(0) == Seq(Ref(false, 5, 0)), s"A: ${o(0)} ${stacks(0)}")
       assert(o(1).token.nodeIdx == 5 && stacks(1) == Seq(Ref(false, 9, 0)), s"B: ${o(1)} ${stacks(1)}")
     }

@@ -24,14 +24,14 @@ class TraversalHarness(val cfg: AccelConfig) extends Module {
   val trav = Module(new Traversal(cfg, dp))
   private val rays = Module(new RayBuffer(cfg, dp.gen, readers = 1))
   val io = IO(new Bundle {
-    val write    = Flipped(Decoupled(new RayEntry(cfg, dp.gen)))
-    val entry    = Flipped(Decoupled(new TraversalToken(cfg)))
+    val write = Flipped(Decoupled(new RayEntry(cfg, dp.gen)))
+    val entry = Flipped(Decoupled(new TraversalToken(cfg)))
     val rootRecord = Input(UInt((cfg.layout.nodeBytes * 8).W))
     val nodeBase = Input(UInt(cfg.addrBits.W))
-    val mem      = chiselTypeOf(trav.io.mem)
-    val leafOut  = Decoupled(new LeafJob(cfg))
-    val leafIn   = Flipped(Decoupled(new LeafExit(cfg)))
-    val done     = Decoupled(new TraversalToken(cfg))
+    val mem = chiselTypeOf(trav.io.mem)
+    val leafOut = Decoupled(new LeafJob(cfg))
+    val leafIn = Flipped(Decoupled(new LeafExit(cfg)))
+    val done = Decoupled(new TraversalToken(cfg))
     val overflow = Output(Bool())
   })
   rays.io.enter <> io.write
@@ -61,7 +61,13 @@ class TraversalSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "Traversal"
 
   /** The leaf jobs and the final token of a ray whose leaves never hit. */
-  private def walk(cfg: AccelConfig, img: MemoryImage, statics: Int, tmax: Long, tok0: Token): (Seq[(Long, Int, Int)], Token) = {
+  private def walk(
+      cfg: AccelConfig,
+      img: MemoryImage,
+      statics: Int,
+      tmax: Long,
+      tok0: Token
+  ): (Seq[(Long, Int, Int)], Token) = {
     val stack = mutable.ArrayBuffer.empty[Ref]
     var tok = tok0
     var node = Records.node(img, 0)
@@ -74,8 +80,8 @@ class TraversalSpec extends AnyFlatSpec with ChiselScalatestTester {
       tok = out.token; state = out.state; fromLeaf = false
       state match {
         case Traverse | GoBack => node = Records.node(img, tok.nodeIdx)
-        case Leaf => leaves += ((out.leafFirst, out.leafCount, tok.sp)); fromLeaf = true
-        case Done => ()
+        case Leaf              => leaves += ((out.leafFirst, out.leafCount, tok.sp)); fromLeaf = true
+        case Done              => ()
       }
     }
     (leaves.toSeq, tok)
@@ -86,16 +92,28 @@ class TraversalSpec extends AnyFlatSpec with ChiselScalatestTester {
       Seeded(s"Traversal.${layout.name}") { rnd =>
         val (img, stack) = layout match {
           case BvhLayout.Nori => (SyntheticBvh(new Random(rnd.nextLong()), maxDepth = 7, maxLeaf = 4), 5)
-          case _ => (SyntheticBvh(new Random(rnd.nextLong()), maxDepth = 4, maxLeaf = 4, layout = layout), 3 * layout.maxPushes)
+          case _ =>
+            (SyntheticBvh(new Random(rnd.nextLong()), maxDepth = 4, maxLeaf = 4, layout = layout), 3 * layout.maxPushes)
         }
-        val cfg = AccelConfig(numRayIds = 8, stackDepth = stack, maxNodes = 4096, maxTriangles = 4096, maxLeafSize = 4, layout = layout)
+        val cfg = AccelConfig(
+          numRayIds = 8,
+          stackDepth = stack,
+          maxNodes = 4096,
+          maxTriangles = 4096,
+          maxLeafSize = 4,
+          layout = layout
+        )
         test(new TraversalHarness(cfg)).withAnnotations(Backends.verilator) { dut =>
           dut.clock.setTimeout(0)
           val io = dut.io
           io.nodeBase.poke(img.nodeOffset.U)
           io.rootRecord.poke(img.readLE(img.nodeAddr(0), img.nodeBytes.toInt).U)
-          val model = new MemorySystemModel(img, img.nodeBytes.toInt,
-            MemoryParams(Latency.Uniform(1, 40), maxOutstanding = 6, seed = rnd.nextLong()), "node")
+          val model = new MemorySystemModel(
+            img,
+            img.nodeBytes.toInt,
+            MemoryParams(Latency.Uniform(1, 40), maxOutstanding = 6, seed = rnd.nextLong()),
+            "node"
+          )
           val mem = new MemPortHarness(io.mem, model, refuse = 0.2, rnd = new Random(rnd.nextLong()))
           final class Ray(val tok: Token, val leaves: Seq[(Long, Int, Int)], val last: Token) { var seen = 0 }
           val inside = mutable.Map.empty[Int, Ray]
@@ -131,9 +149,12 @@ class TraversalSpec extends AnyFlatSpec with ChiselScalatestTester {
               val j = io.leafOut.bits
               val id = j.token.rayId.peek().litValue.toInt
               val r = inside.getOrElse(id, fail(s"cycle $cycle: leaf job for ray $id, which is not inside"))
-              val job = (j.first.peek().litValue.toLong, j.count.peek().litValue.toInt, j.token.sp.peek().litValue.toInt)
-              assert(r.seen < r.leaves.size && r.leaves(r.seen) == job,
-                s"cycle $cycle: ray $id's leaf job ${r.seen}: $job, golden ${r.leaves.lift(r.seen)}")
+              val job =
+                (j.first.peek().litValue.toLong, j.count.peek().litValue.toInt, j.token.sp.peek().litValue.toInt)
+              assert(
+                r.seen < r.leaves.size && r.leaves(r.seen) == job,
+                s"cycle $cycle: ray $id's leaf job ${r.seen}: $job, golden ${r.leaves.lift(r.seen)}"
+              )
               r.seen += 1; leafJobs += 1
               leafWait.enqueue((cycle + 1 + rnd.nextInt(15), id, r.tok.shadow))
             }
@@ -153,8 +174,13 @@ class TraversalSpec extends AnyFlatSpec with ChiselScalatestTester {
             io.done.ready.poke(rnd.nextInt(4) != 0)
             if (io.done.valid.peek().litToBoolean && io.done.ready.peek().litToBoolean) {
               val id = io.done.bits.rayId.peek().litValue.toInt
-              val r = inside.remove(id).getOrElse(fail(s"cycle $cycle: ray $id finished, but it is not inside (lost or duplicated)"))
-              assert(r.seen == r.leaves.size, s"cycle $cycle: ray $id finished after ${r.seen} of ${r.leaves.size} leaves")
+              val r = inside.remove(id).getOrElse(
+                fail(s"cycle $cycle: ray $id finished, but it is not inside (lost or duplicated)")
+              )
+              assert(
+                r.seen == r.leaves.size,
+                s"cycle $cycle: ray $id finished after ${r.seen} of ${r.leaves.size} leaves"
+              )
               io.done.bits.errors.expect(r.last.errors.U, s"ray $id: errors")
               if (r.last.errors != 0) overflows += 1
               finished += 1

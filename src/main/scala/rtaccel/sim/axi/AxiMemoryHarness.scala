@@ -20,8 +20,13 @@ final class AxiMemoryHarness(axi: Axi4Master, val model: AxiMemoryModel) {
   // chiseltest calls cost microseconds: poke only what changed.
   private var last: Option[AxiSlaveSignals] = None
 
-  private def addr(a: Axi4Addr): AxiAddrBeat = AxiAddrBeat(a.id.peek().litValue.toInt, a.addr.peek().litValue.toLong,
-    a.len.peek().litValue.toInt, a.size.peek().litValue.toInt, a.burst.peek().litValue.toInt)
+  private def addr(a: Axi4Addr): AxiAddrBeat = AxiAddrBeat(
+    a.id.peek().litValue.toInt,
+    a.addr.peek().litValue.toLong,
+    a.len.peek().litValue.toInt,
+    a.size.peek().litValue.toInt,
+    a.burst.peek().litValue.toInt
+  )
 
   def drive(): Unit = {
     val s = model.slave
@@ -31,7 +36,8 @@ final class AxiMemoryHarness(axi: Axi4Master, val model: AxiMemoryModel) {
       axi.w.ready.poke(s.wReady.B)
       axi.r.valid.poke(s.r.isDefined.B)
       s.r.foreach { r =>
-        axi.r.bits.id.poke(r.id.U); axi.r.bits.data.poke(r.data.U); axi.r.bits.resp.poke(r.resp.U); axi.r.bits.last.poke(r.last.B)
+        axi.r.bits.id.poke(r.id.U); axi.r.bits.data.poke(r.data.U); axi.r.bits.resp.poke(r.resp.U);
+        axi.r.bits.last.poke(r.last.B)
       }
       axi.b.valid.poke(s.b.isDefined.B)
       s.b.foreach { b => axi.b.bits.id.poke(b.id.U); axi.b.bits.resp.poke(b.resp.U) }
@@ -40,10 +46,12 @@ final class AxiMemoryHarness(axi: Axi4Master, val model: AxiMemoryModel) {
     val m = AxiMasterSignals(
       ar = Option.when(axi.ar.valid.peek().litToBoolean)(addr(axi.ar.bits)),
       aw = Option.when(axi.aw.valid.peek().litToBoolean)(addr(axi.aw.bits)),
-      w  = Option.when(axi.w.valid.peek().litToBoolean)(
-        AxiWBeat(axi.w.bits.data.peek().litValue, axi.w.bits.strb.peek().litValue, axi.w.bits.last.peek().litToBoolean)),
+      w = Option.when(axi.w.valid.peek().litToBoolean)(
+        AxiWBeat(axi.w.bits.data.peek().litValue, axi.w.bits.strb.peek().litValue, axi.w.bits.last.peek().litToBoolean)
+      ),
       rReady = s.r.isDefined && axi.r.ready.peek().litToBoolean,
-      bReady = s.b.isDefined && axi.b.ready.peek().litToBoolean)
+      bReady = s.b.isDefined && axi.b.ready.peek().litToBoolean
+    )
     model.commit(m)
   }
 

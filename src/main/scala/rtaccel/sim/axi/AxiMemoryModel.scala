@@ -33,8 +33,8 @@ import rtaccel.sim.mem.{DramModel, Latency}
   * read `mem` when the beat is offered.
   */
 final class AxiMemoryModel(val params: AxiMemoryParams, val mem: SparseMemory = new SparseMemory) {
-  private val B    = params.beatBytes
-  private val rnd  = new Random(params.seed)
+  private val B = params.beatBytes
+  private val rnd = new Random(params.seed)
   private val dram = new DramModel(params.ddr.bytesPerCycle, params.ddr.device.burstBytes)
   private val latency = params.latency.cycles(params.clock)
   private def drawLatency(): Int = latency match {
@@ -49,12 +49,12 @@ final class AxiMemoryModel(val params: AxiMemoryParams, val mem: SparseMemory = 
     var moved = false // the DRAM transfer is done
     var beatsDone = 0 // R beats sent, or W beats taken
   }
-  private val reads   = mutable.ArrayBuffer.empty[Burst] // accepted, not fully sent; in acceptance order
-  private val awWait  = mutable.Queue.empty[Burst]       // write addresses waiting for their data
-  private val wEarly  = mutable.Queue.empty[AxiWBeat]    // W beats before their AW
-  private val writes  = mutable.ArrayBuffer.empty[Burst] // data in, waiting for DRAM or for B
-  private val byId    = mutable.HashMap.empty[Long, Burst]
-  private val client  = new DramModel.Client {
+  private val reads = mutable.ArrayBuffer.empty[Burst] // accepted, not fully sent; in acceptance order
+  private val awWait = mutable.Queue.empty[Burst] // write addresses waiting for their data
+  private val wEarly = mutable.Queue.empty[AxiWBeat] // W beats before their AW
+  private val writes = mutable.ArrayBuffer.empty[Burst] // data in, waiting for DRAM or for B
+  private val byId = mutable.HashMap.empty[Long, Burst]
+  private val client = new DramModel.Client {
     def inOrder = false
     def completed(id: Long): Unit = byId.remove(id).foreach(_.moved = true)
   }
@@ -72,6 +72,7 @@ final class AxiMemoryModel(val params: AxiMemoryParams, val mem: SparseMemory = 
   private var lastRBurst: Option[Burst] = None
 
   def cycle: Long = now
+
   /** No burst accepted and unanswered. */
   def idle: Boolean = reads.isEmpty && awWait.isEmpty && wEarly.isEmpty && writes.isEmpty
 
@@ -80,19 +81,28 @@ final class AxiMemoryModel(val params: AxiMemoryParams, val mem: SparseMemory = 
       drawnAt = now
       if (offerR.isEmpty && rnd.nextDouble() < params.validProb) offerR = pickRead()
       if (offerB.isEmpty && rnd.nextDouble() < params.validProb) offerB = pickWrite()
-      val r = offerR.map(b => AxiRBeat(b.a.id, SparseMemory.toLE(mem.read(b.a.addr + b.beatsDone.toLong * B, B)), b.resp, b.beatsDone == b.beats - 1))
+      val r = offerR.map(b =>
+        AxiRBeat(
+          b.a.id,
+          SparseMemory.toLE(mem.read(b.a.addr + b.beatsDone.toLong * B, B)),
+          b.resp,
+          b.beatsDone == b.beats - 1
+        )
+      )
       out = AxiSlaveSignals(
         arReady = reads.size < params.maxReads && rnd.nextDouble() < params.readyProb,
         awReady = awWait.size + writes.size < params.maxWrites && rnd.nextDouble() < params.readyProb,
-        wReady  = rnd.nextDouble() < params.readyProb,
-        r = r, b = offerB.map(b => AxiBResp(b.a.id, b.resp)))
+        wReady = rnd.nextDouble() < params.readyProb,
+        r = r,
+        b = offerB.map(b => AxiBResp(b.a.id, b.resp))
+      )
     }
     out
   }
 
   private def pickRead(): Option[Burst] = {
     val unfinished = reads // a burst leaves `reads` with its last beat
-    val streaming  = unfinished.find(b => b.beatsDone > 0)
+    val streaming = unfinished.find(b => b.beatsDone > 0)
     val heads = unfinished.groupBy(_.a.id).values.map(_.minBy(_.seq)).filter(_.moved).toSeq.sortBy(_.seq)
     val eligible =
       if (!params.interleave && streaming.isDefined) streaming.filter(_.moved).toSeq
@@ -110,7 +120,8 @@ final class AxiMemoryModel(val params: AxiMemoryParams, val mem: SparseMemory = 
 
   private def checkAddr(ch: String, a: AxiAddrBeat): Unit = {
     if (a.burst != Axi4.BurstIncr) fail(s"$ch burst type ${a.burst}, expected INCR (1): $a")
-    if (a.size != Integer.numberOfTrailingZeros(B)) fail(s"$ch size ${a.size}, expected full-width beats (${Integer.numberOfTrailingZeros(B)}): $a")
+    if (a.size != Integer.numberOfTrailingZeros(B))
+      fail(s"$ch size ${a.size}, expected full-width beats (${Integer.numberOfTrailingZeros(B)}): $a")
     if (a.len < 0 || a.len > 255) fail(s"$ch len ${a.len} outside 0..255: $a")
     if (a.addr % B != 0) fail(s"$ch address 0x${a.addr.toHexString} not aligned to the $B-byte beat: $a")
     if ((a.addr % Axi4.BoundaryBytes) + (a.len + 1).toLong * B > Axi4.BoundaryBytes)
@@ -128,7 +139,7 @@ final class AxiMemoryModel(val params: AxiMemoryParams, val mem: SparseMemory = 
     m.aw.foreach(checkAddr("AW", _))
     heldAr = m.ar.filter(_ => !s.arReady)
     heldAw = m.aw.filter(_ => !s.awReady)
-    heldW  = m.w.filter(_ => !s.wReady)
+    heldW = m.w.filter(_ => !s.wReady)
 
     if (m.ar.isDefined && s.arReady) {
       val a = m.ar.get
@@ -153,7 +164,8 @@ final class AxiMemoryModel(val params: AxiMemoryParams, val mem: SparseMemory = 
       for (i <- 0 until B if w.strb.testBit(i)) mem.write(base + i, Array(((w.data >> (8 * i)) & 0xff).toByte))
       b.beatsDone += 1
       val lastExpected = b.beatsDone == b.beats
-      if (w.last != lastExpected) fail(s"wlast ${w.last} on beat ${b.beatsDone} of ${b.beats} of the write burst ${b.a}")
+      if (w.last != lastExpected)
+        fail(s"wlast ${w.last} on beat ${b.beatsDone} of ${b.beats} of the write burst ${b.a}")
       if (lastExpected) {
         awWait.dequeue()
         writes += b

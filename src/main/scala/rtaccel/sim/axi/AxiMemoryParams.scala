@@ -30,10 +30,22 @@ final case class AxiMemoryParams(
     seed: Long = 1
 ) {
   require(Integer.bitCount(beatBytes) == 1, s"AxiMemoryParams: beatBytes must be a power of two, got $beatBytes")
-  require(readyProb > 0 && readyProb <= 1 && validProb > 0 && validProb <= 1, s"AxiMemoryParams: probabilities must be in (0, 1]")
+  require(
+    readyProb > 0 && readyProb <= 1 && validProb > 0 && validProb <= 1,
+    s"AxiMemoryParams: probabilities must be in (0, 1]"
+  )
   require(maxReads >= 1 && maxWrites >= 1, s"AxiMemoryParams: maxReads and maxWrites must be >= 1")
   def clock: FabricClock = ddr.clock
+
   /** A harsh environment for tests: long random latency, stalls and gaps on every channel, reordering and interleaving. */
   def harsh(seed: Long): AxiMemoryParams =
-    copy(latency = LatencyNs(20, 400), readyProb = 0.6, validProb = 0.7, interleave = true, maxReads = 24, maxWrites = 8, seed = seed)
+    copy(
+      latency = LatencyNs(20, 400),
+      readyProb = 0.6,
+      validProb = 0.7,
+      interleave = true,
+      maxReads = 24,
+      maxWrites = 8,
+      seed = seed
+    )
 }

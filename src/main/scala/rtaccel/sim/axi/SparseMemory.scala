@@ -18,6 +18,7 @@ final class SparseMemory {
     require(addr >= 0 && n >= 0, s"SparseMemory: bad read of $n bytes at $addr")
     Array.tabulate(n)(i => pages.get((addr + i) >>> 12).fold(0.toByte)(_(((addr + i) & 4095).toInt)))
   }
+
   /** `n` bytes at `addr` as an unsigned little-endian integer (byte 0 in bits 7..0). */
   def readLE(addr: Long, n: Int): BigInt = SparseMemory.toLE(read(addr, n))
   def writeLE(addr: Long, n: Int, value: BigInt): Unit = write(addr, SparseMemory.fromLE(value, n))

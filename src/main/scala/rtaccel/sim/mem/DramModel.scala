@@ -48,7 +48,10 @@ final class DramModel(val bytesPerCycle: Double, val burstBytes: Int) {
 
   /** Moves cycle `now`'s data and tells each client which of its transfers completed. */
   def tick(now: Long): Unit = if (now != lastTick) {
-    require(now == lastTick + 1, s"DramModel: ticked for cycle $now after cycle $lastTick (a sharing port missed a tick)")
+    require(
+      now == lastTick + 1,
+      s"DramModel: ticked for cycle $now after cycle $lastTick (a sharing port missed a tick)"
+    )
     lastTick = now
     var budget = milliPerCycle
     var moved = false
@@ -83,6 +86,7 @@ final class DramModel(val bytesPerCycle: Double, val burstBytes: Int) {
 }
 
 object DramModel {
+
   /** A requester of transfers: told when each of its transfers has crossed the channel. */
   trait Client {
     def inOrder: Boolean

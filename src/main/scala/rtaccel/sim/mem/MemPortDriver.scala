@@ -10,6 +10,7 @@ import scala.util.Random
 final class MemPortDriver(val model: MemorySystemModel, refuse: Double, rnd: Random) {
   var requestsAccepted = 0L
   var responsesDelivered = 0L
+
   /** The request accepted in the last cycle, as (address, tag). */
   var lastRequest: Option[(Long, Int)] = None
 

@@ -20,9 +20,10 @@ final case class MemStats(
     mshrSum: Long
 ) {
   private def per(n: Long, d: Long): Double = if (d == 0) 0.0 else n.toDouble / d
-  def portBytes: Long         = requests * recordBytes
+  def portBytes: Long = requests * recordBytes
   def meanOutstanding: Double = per(outstandingSum, cycles)
-  def meanMshrs: Double       = per(mshrSum, cycles)
+  def meanMshrs: Double = per(mshrSum, cycles)
+
   /** Share of line lookups that found their line, or merged into a fetch already under way. */
   def hitRate: Double = per(lineHits, lineHits + primaryMisses + mergedMisses)
 
@@ -38,9 +39,15 @@ final case class MemStats(
   * ports) and the share of its peak bandwidth they used.
   */
 final case class DramStats(cycles: Long, bytes: Long, bytesPerCycle: Double, burstBytes: Int, busyCycles: Long) {
+
   /** Bytes moved over what the channel could have moved in the run's cycles. */
   def busyShare: Double = if (cycles == 0) 0.0 else bytes / (bytesPerCycle * cycles)
 
-  def toJson: ujson.Obj = ujson.Obj("bytes" -> bytes.toDouble, "bytesPerCycle" -> bytesPerCycle, "burstBytes" -> burstBytes,
-    "busyShare" -> busyShare, "busyCycles" -> busyCycles.toDouble)
+  def toJson: ujson.Obj = ujson.Obj(
+    "bytes" -> bytes.toDouble,
+    "bytesPerCycle" -> bytesPerCycle,
+    "burstBytes" -> burstBytes,
+    "busyShare" -> busyShare,
+    "busyCycles" -> busyCycles.toDouble
+  )
 }

@@ -10,8 +10,10 @@ package rtaccel.sim.mem
   */
 final case class FabricClock(mhz: Double = FabricClock.DefaultMhz) {
   require(mhz > 0 && !mhz.isInfinite, s"fabric clock: '$mhz' MHz is not a positive frequency")
+
   /** Whole cycles covering `ns` (ceil, in exact decimal arithmetic: 100 ns at 200 MHz is 20 cycles, not 21). */
-  def cycles(ns: Int): Int = (BigDecimal(ns) * BigDecimal(mhz) / 1000).setScale(0, BigDecimal.RoundingMode.CEILING).toInt.max(1)
+  def cycles(ns: Int): Int =
+    (BigDecimal(ns) * BigDecimal(mhz) / 1000).setScale(0, BigDecimal.RoundingMode.CEILING).toInt.max(1)
   def bytesPerCycle(bytesPerSecond: Double): Double = bytesPerSecond / (mhz * 1e6)
   def describe: String = s"${BigDecimal(mhz).bigDecimal.stripTrailingZeros.toPlainString} MHz"
 }
@@ -35,6 +37,7 @@ sealed trait MemoryKind {
   def describe: String
 }
 object MemoryKind {
+
   /** Off-chip DRAM, one for both ports: node and triangle transfers share its
     * bandwidth, and every access is charged whole bursts.
     */
@@ -45,6 +48,7 @@ object MemoryKind {
       f"ddr at ${clock.describe}: $bytesPerCycle%.1f B/cycle peak, ${device.burstBytes} B bursts shared by both ports"
   }
   object Ddr {
+
     /** Assumed read round trip through a MIG, request to data (not measured on
       * a board): DDR3-1600 CL11 is 13.75 ns, a row miss adds tRP + tRCD
       * (2 x 13.75 ns), and the MIG's command queue, PHY and read-data
@@ -59,6 +63,7 @@ object MemoryKind {
     * per port (the port's own limit), no shared bandwidth, no bursts.
     */
   case object OnChip extends MemoryKind {
+
     /** BRAM read with its output register, plus the address register: 2 cycles. */
     val LatencyCycles = 2
     def name = "onchip"

@@ -11,6 +11,7 @@ object Latency {
     def min: Int = cycles
     def describe: String = s"$cycles"
   }
+
   /** Uniform in [lo, hi], drawn from the model's seeded generator. */
   case class Uniform(lo: Int, hi: Int) extends Latency {
     require(lo >= 1 && hi >= lo, s"Latency.Uniform: need 1 <= lo <= hi, got [$lo, $hi]")
@@ -29,13 +30,17 @@ final case class LatencyNs(lo: Int, hi: Int) {
   def describe: String = if (lo == hi) s"$lo ns" else s"$lo-$hi ns"
 }
 object LatencyNs {
+
   /** Parses `100` or `80-300` (ns), as given to `make regress MEM_LATENCY=...`. */
   def parse(s: String): LatencyNs = {
     def ns(x: String) = x.trim.toIntOption.filter(_ >= 1)
     s.split("-", -1) match {
       case Array(n) if ns(n).isDefined => LatencyNs(ns(n).get, ns(n).get)
-      case Array(a, b) if ns(a).isDefined && ns(b).isDefined && ns(a).get <= ns(b).get => LatencyNs(ns(a).get, ns(b).get)
-      case _ => throw new IllegalArgumentException(s"memory latency '$s': expected N or LO-HI in ns (whole numbers, 1 <= LO <= HI), e.g. 100 or 80-300")
+      case Array(a, b) if ns(a).isDefined && ns(b).isDefined && ns(a).get <= ns(b).get =>
+        LatencyNs(ns(a).get, ns(b).get)
+      case _ => throw new IllegalArgumentException(
+          s"memory latency '$s': expected N or LO-HI in ns (whole numbers, 1 <= LO <= HI), e.g. 100 or 80-300"
+        )
     }
   }
 }
@@ -45,11 +50,22 @@ object LatencyNs {
   * instead of fetching it again, so many rays waiting on one node cost one
   * DRAM transfer.
   */
-case class CacheParams(lineBytes: Int = 64, capacityBytes: Int = 32 * 1024, ways: Int = 4, mshrs: Int = 16, hitLatency: Int = 2) {
-  require(Integer.bitCount(lineBytes) == 1 && lineBytes >= 8, s"CacheParams: lineBytes must be a power of two >= 8, got $lineBytes")
+case class CacheParams(
+    lineBytes: Int = 64,
+    capacityBytes: Int = 32 * 1024,
+    ways: Int = 4,
+    mshrs: Int = 16,
+    hitLatency: Int = 2
+) {
+  require(
+    Integer.bitCount(lineBytes) == 1 && lineBytes >= 8,
+    s"CacheParams: lineBytes must be a power of two >= 8, got $lineBytes"
+  )
   require(ways >= 1, s"CacheParams: ways must be >= 1, got $ways")
-  require(capacityBytes % (lineBytes * ways) == 0 && capacityBytes > 0,
-    s"CacheParams: capacityBytes ($capacityBytes) must be a positive multiple of lineBytes*ways (${lineBytes * ways})")
+  require(
+    capacityBytes % (lineBytes * ways) == 0 && capacityBytes > 0,
+    s"CacheParams: capacityBytes ($capacityBytes) must be a positive multiple of lineBytes*ways (${lineBytes * ways})"
+  )
   require(mshrs >= 1, s"CacheParams: mshrs must be >= 1, got $mshrs")
   require(hitLatency >= 1, s"CacheParams: hitLatency must be >= 1, got $hitLatency")
   val sets: Int = capacityBytes / (lineBytes * ways)

@@ -25,12 +25,20 @@ import scala.util.Random
   * shares its bandwidth; or on-chip memory, which answers every request after
   * the port's fixed latency with no bandwidth of its own to share.
   */
-final class MemorySystemModel(image: MemoryImage, val recordBytes: Int, params: MemoryParams, name: String,
-    backing: Backing = Backing.privateDdr()) {
+final class MemorySystemModel(
+    image: MemoryImage,
+    val recordBytes: Int,
+    params: MemoryParams,
+    name: String,
+    backing: Backing = Backing.privateDdr()
+) {
   backing match {
     case Backing.OnChip =>
       require(params.cache.isEmpty, s"$name: a cache in front of on-chip memory")
-      require(params.latency.isInstanceOf[Latency.Fixed], s"$name: on-chip memory has a fixed latency, got ${params.latency.describe}")
+      require(
+        params.latency.isInstanceOf[Latency.Fixed],
+        s"$name: on-chip memory has a fixed latency, got ${params.latency.describe}"
+      )
     case _: Backing.Dram => ()
   }
   private val rnd = new Random(params.seed)
@@ -56,11 +64,11 @@ final class MemorySystemModel(image: MemoryImage, val recordBytes: Int, params: 
   private var now: Long = 0
   private var nextSeq: Long = 0
   private val outstanding = mutable.LinkedHashMap.empty[Long, Req] // accepted, not yet answered; in seq order
-  private val ready = mutable.Queue.empty[Req]                     // out-of-order mode: available, in order of readiness
-  private val hitPipe = mutable.Queue.empty[Req]                   // cache hits and on-chip reads, ready at readyAt (fixed latency: FIFO)
+  private val ready = mutable.Queue.empty[Req] // out-of-order mode: available, in order of readiness
+  private val hitPipe = mutable.Queue.empty[Req] // cache hits and on-chip reads, ready at readyAt (fixed latency: FIFO)
 
   // Cache state: per set, line addresses in LRU order (head = least recent).
-  private val sets  = params.cache.map(c => Array.fill(c.sets)(mutable.ArrayBuffer.empty[Long]))
+  private val sets = params.cache.map(c => Array.fill(c.sets)(mutable.ArrayBuffer.empty[Long]))
   private val mshrs = mutable.LinkedHashMap.empty[Long, mutable.ArrayBuffer[Req]] // line -> waiting requests
 
   private var requests, responses, requestHits, lineHits, primaryMisses, mergedMisses, stallCycles = 0L
@@ -165,22 +173,40 @@ final class MemorySystemModel(image: MemoryImage, val recordBytes: Int, params: 
   def cycles: Long = now
   def idle: Boolean = outstanding.isEmpty
 
-  def stats: MemStats = MemStats(name, now, recordBytes, requests, responses, dramBytes, requestHits, lineHits,
-    primaryMisses, mergedMisses, stallCycles, outstandingSum, maxOutstandingSeen, mshrSum)
+  def stats: MemStats = MemStats(
+    name,
+    now,
+    recordBytes,
+    requests,
+    responses,
+    dramBytes,
+    requestHits,
+    lineHits,
+    primaryMisses,
+    mergedMisses,
+    stallCycles,
+    outstandingSum,
+    maxOutstandingSeen,
+    mshrSum
+  )
 }
 
 /** The store behind a port's memory system. */
 sealed trait Backing
 object Backing {
+
   /** A DRAM channel, private to the port or shared with the other one. */
   final case class Dram(model: DramModel) extends Backing
+
   /** Block RAM of the port's own: the port's fixed latency, one record per cycle. */
   case object OnChip extends Backing
 
-  def privateDdr(kind: MemoryKind.Ddr = MemoryKind.Ddr()): Dram = Dram(new DramModel(kind.bytesPerCycle, kind.device.burstBytes))
+  def privateDdr(kind: MemoryKind.Ddr = MemoryKind.Ddr()): Dram =
+    Dram(new DramModel(kind.bytesPerCycle, kind.device.burstBytes))
+
   /** The backings of a run's two ports: one shared DRAM, or on-chip memory each. */
   def forPorts(kind: MemoryKind): (Backing, Option[DramModel]) = kind match {
-    case d: MemoryKind.Ddr   => val b = privateDdr(d); (b, Some(b.model))
-    case MemoryKind.OnChip   => (OnChip, None)
+    case d: MemoryKind.Ddr => val b = privateDdr(d); (b, Some(b.model))
+    case MemoryKind.OnChip => (OnChip, None)
   }
 }

@@ -16,9 +16,9 @@ import scala.util.Random
 class DramModelSpec extends AnyFlatSpec {
   behavior of "DramModel and the memory kinds"
 
-  private val Tri  = MemoryImage.TriBytes
+  private val Tri = MemoryImage.TriBytes
   private val Node = MemoryImage.NodeBytes
-  private val ddr  = MemoryKind.Ddr()
+  private val ddr = MemoryKind.Ddr()
   private def image(seed: Long) = SyntheticImage(nodes = 64, tris = 512, new Random(seed))
   private def fixed(cycles: Int) = MemoryParams(latency = Latency.Fixed(cycles))
 
@@ -42,13 +42,20 @@ class DramModelSpec extends AnyFlatSpec {
 
   it should "charge every burst a record touches: a 48-byte record across a 64-byte boundary costs 128 bytes" in {
     assert(DramModel.burstCharge(0, 48, 64) == 64 && DramModel.burstCharge(48, 48, 64) == 128)
-    assert(DramModel.burstCharge(64, 64, 64) == 64 && DramModel.burstCharge(65, 64, 64) == 128 && DramModel.burstCharge(0, 256, 64) == 256)
+    assert(DramModel.burstCharge(64, 64, 64) == 64 && DramModel.burstCharge(65, 64, 64) == 128 && DramModel.burstCharge(
+      0,
+      256,
+      64
+    ) == 256)
     val img = image(1)
     for ((i, bytes, seen) <- Seq((0, 64, 10L), (1, 128, 11L), (2, 128, 11L), (3, 64, 10L))) {
       val m = new MemorySystemModel(img, Tri, fixed(10), "tri")
       val Seq((cycle, _, _)) = drive(m, Seq(img.triAddr(i.toLong)))
       // Latency 10, then one cycle of channel per 64-byte burst beyond the first.
-      assert(m.stats.dramBytes == bytes && cycle == seen, s"triangle $i: ${m.stats.dramBytes} bytes, seen at cycle $cycle")
+      assert(
+        m.stats.dramBytes == bytes && cycle == seen,
+        s"triangle $i: ${m.stats.dramBytes} bytes, seen at cycle $cycle"
+      )
     }
   }
 
@@ -56,7 +63,11 @@ class DramModelSpec extends AnyFlatSpec {
     val img = image(2)
     def pair() = {
       val b = Backing.privateDdr()
-      (new MemorySystemModel(img, Node, fixed(10), "node", b), new MemorySystemModel(img, Tri, fixed(10), "tri", b), b.model)
+      (
+        new MemorySystemModel(img, Node, fixed(10), "node", b),
+        new MemorySystemModel(img, Tri, fixed(10), "tri", b),
+        b.model
+      )
     }
     // Alone, each answers at cycle 10.
     val (n1, t1, d1) = pair()
@@ -68,11 +79,15 @@ class DramModelSpec extends AnyFlatSpec {
     // A two-burst triangle issued in cycle 0 holds the channel in cycles 9 and
     // 10; a node issued in cycle 1 (ready in 10) waits until 11, seen at 12.
     val (n2, t2, _) = pair()
-    val Seq(nr2, tr2) = drivePorts(Seq(n2, t2), Seq(Seq(img.nodeAddr(0)), Seq(img.triAddr(1))), from = Seq(Seq(1L), Seq(0L)))
+    val Seq(nr2, tr2) =
+      drivePorts(Seq(n2, t2), Seq(Seq(img.nodeAddr(0)), Seq(img.triAddr(1))), from = Seq(Seq(1L), Seq(0L)))
     assert(tr2.map(_._1) == Seq(11L) && nr2.map(_._1) == Seq(12L), s"node $nr2, triangle $tr2")
     // Private DRAMs would not interfere.
-    val Seq(nr3, tr3) = drivePorts(Seq(new MemorySystemModel(img, Node, fixed(10), "node"), new MemorySystemModel(img, Tri, fixed(10), "tri")),
-      Seq(Seq(img.nodeAddr(0)), Seq(img.triAddr(1))), from = Seq(Seq(1L), Seq(0L)))
+    val Seq(nr3, tr3) = drivePorts(
+      Seq(new MemorySystemModel(img, Node, fixed(10), "node"), new MemorySystemModel(img, Tri, fixed(10), "tri")),
+      Seq(Seq(img.nodeAddr(0)), Seq(img.triAddr(1))),
+      from = Seq(Seq(1L), Seq(0L))
+    )
     assert(tr3.map(_._1) == Seq(11L) && nr3.map(_._1) == Seq(11L))
   }
 
@@ -84,15 +99,22 @@ class DramModelSpec extends AnyFlatSpec {
     assert(rs.last._1 == 13, s"640 bytes at 51.2 B/cycle end in cycle 12, seen in 13; got ${rs.map(_._1)}")
   }
 
-  it should "under random traffic on both ports, never move more than the peak and lose nothing" in Seeded("dram.shared") { rnd =>
+  it should "under random traffic on both ports, never move more than the peak and lose nothing" in Seeded(
+    "dram.shared"
+  ) { rnd =>
     val img = image(rnd.nextLong())
     val b = Backing.privateDdr()
     val p = MemoryParams(latency = LatencyNs(80, 300).cycles(ddr.clock), maxOutstanding = 16, seed = rnd.nextLong())
-    val ms = Seq(new MemorySystemModel(img, Node, p, "node", b), new MemorySystemModel(img, Tri, p.copy(seed = rnd.nextLong()), "tri", b))
-    val addrs = Seq(Seq.fill(400)(img.nodeAddr(rnd.nextInt(64).toLong)), Seq.fill(400)(img.triAddr(rnd.nextInt(512).toLong)))
+    val ms = Seq(
+      new MemorySystemModel(img, Node, p, "node", b),
+      new MemorySystemModel(img, Tri, p.copy(seed = rnd.nextLong()), "tri", b)
+    )
+    val addrs =
+      Seq(Seq.fill(400)(img.nodeAddr(rnd.nextInt(64).toLong)), Seq.fill(400)(img.triAddr(rnd.nextInt(512).toLong)))
     val rs = drivePorts(ms, addrs)
     for (i <- 0 to 1) assert(rs(i).map(_._2).sorted == addrs(i).indices, s"port $i: tags lost or duplicated")
-    val charged = addrs(0).map(DramModel.burstCharge(_, Node, 64)).sum + addrs(1).map(DramModel.burstCharge(_, Tri, 64)).sum
+    val charged =
+      addrs(0).map(DramModel.burstCharge(_, Node, 64)).sum + addrs(1).map(DramModel.burstCharge(_, Tri, 64)).sum
     val d = b.model.stats(ms.head.cycles)
     assert(d.bytes == charged && ms.map(_.stats.dramBytes).sum == charged, s"charged $charged, dram ${d.toJson}")
     assert(d.busyCycles * 64 >= charged && d.busyShare <= 1.0, s"more than 64 B in a cycle: ${d.toJson}")
@@ -103,11 +125,21 @@ class DramModelSpec extends AnyFlatSpec {
   it should "serve on-chip memory with a fixed latency and one record per cycle per port, with no DRAM" in {
     val img = image(4)
     val onchip = MemoryParams(latency = Latency.Fixed(MemoryKind.OnChip.LatencyCycles))
-    val ms = Seq(new MemorySystemModel(img, Node, onchip, "node", Backing.OnChip), new MemorySystemModel(img, Tri, onchip, "tri", Backing.OnChip))
+    val ms = Seq(
+      new MemorySystemModel(img, Node, onchip, "node", Backing.OnChip),
+      new MemorySystemModel(img, Tri, onchip, "tri", Backing.OnChip)
+    )
     // Straddling triangles included: on chip a record is one read, whatever its alignment.
-    val rs = drivePorts(ms, Seq((0 until 20).map(i => img.nodeAddr(i.toLong)), (0 until 20).map(i => img.triAddr(i.toLong))))
+    val rs =
+      drivePorts(ms, Seq((0 until 20).map(i => img.nodeAddr(i.toLong)), (0 until 20).map(i => img.triAddr(i.toLong))))
     for (r <- rs) assert(r.map(_._1) == (2L to 21L), s"answers at ${r.map(_._1)}")
     assert(ms.forall(_.stats.dramBytes == 0))
-    intercept[IllegalArgumentException](new MemorySystemModel(img, Tri, onchip.copy(cache = Some(CacheParams())), "tri", Backing.OnChip))
+    intercept[IllegalArgumentException](new MemorySystemModel(
+      img,
+      Tri,
+      onchip.copy(cache = Some(CacheParams())),
+      "tri",
+      Backing.OnChip
+    ))
   }
 }

@@ -23,8 +23,8 @@ final class MemPortHarness(port: MemPort, model: MemorySystemModel, refuse: Doub
 
   def drive(): Unit = {
     val reqValid = port.req.valid.peek().litToBoolean
-    val addr     = if (reqValid) port.req.bits.addr.peek().litValue.toLong else 0L
-    val ready    = driver.ready(reqValid, addr)
+    val addr = if (reqValid) port.req.bits.addr.peek().litValue.toLong else 0L
+    val ready = driver.ready(reqValid, addr)
     if (!readyNow.contains(ready)) { port.req.ready.poke(ready.B); readyNow = Some(ready) }
     val resp = driver.response
     if (!respNow.contains(resp)) {

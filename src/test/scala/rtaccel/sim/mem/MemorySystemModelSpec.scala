@@ -31,7 +31,8 @@ class MemorySystemModelSpec extends AnyFlatSpec {
   it should "return each record's bytes, little-endian, as they stand in the image" in Seeded("mem.data") { rnd =>
     val img = image(rnd)
     val idx = Seq.fill(300)(rnd.nextInt(512).toLong)
-    val m = new MemorySystemModel(img, Tri, MemoryParams(latency = Latency.Uniform(1, 40), seed = rnd.nextLong()), "tri")
+    val m =
+      new MemorySystemModel(img, Tri, MemoryParams(latency = Latency.Uniform(1, 40), seed = rnd.nextLong()), "tri")
     for ((_, tag, data) <- drive(m, idx.map(img.triAddr))) {
       val base = img.triAddr(idx(tag)).toInt
       val expected = (0 until Tri).map(i => BigInt(img.bytes(base + i) & 0xff) << (8 * i)).sum
@@ -54,7 +55,8 @@ class MemorySystemModelSpec extends AnyFlatSpec {
     val img = image(rnd)
     val addrs = Seq.fill(500)(img.triAddr(rnd.nextInt(512).toLong))
     for (inOrder <- Seq(true, false)) {
-      val p = MemoryParams(latency = Latency.Uniform(50, 300), inOrder = inOrder, maxOutstanding = 32, seed = rnd.nextLong())
+      val p =
+        MemoryParams(latency = Latency.Uniform(50, 300), inOrder = inOrder, maxOutstanding = 32, seed = rnd.nextLong())
       val tags = drive(new MemorySystemModel(img, Tri, p, "tri"), addrs).map(_._2)
       assert(tags.sorted == addrs.indices, s"inOrder=$inOrder: tags lost or duplicated")
       val inversions = tags.zip(tags.tail).count { case (a, b) => a > b }
@@ -73,7 +75,8 @@ class MemorySystemModelSpec extends AnyFlatSpec {
   it should "be deterministic for a seed" in {
     val img = image(new Random(4))
     val addrs = (0 until 200).map(i => img.triAddr((i * 7 % 512).toLong))
-    def once() = drive(new MemorySystemModel(img, Tri, MemoryParams(latency = Latency.Uniform(10, 90), seed = 42), "tri"), addrs)
+    def once() =
+      drive(new MemorySystemModel(img, Tri, MemoryParams(latency = Latency.Uniform(10, 90), seed = 42), "tri"), addrs)
     assert(once() == once())
   }
 
@@ -83,7 +86,12 @@ class MemorySystemModelSpec extends AnyFlatSpec {
 
   it should "merge misses to a line under fetch into one DRAM transfer, then hit" in {
     val img = image(new Random(5))
-    val m = new MemorySystemModel(img, MemoryImage.NodeBytes, MemoryParams(latency = Latency.Fixed(50), cache = Some(cache)), "node")
+    val m = new MemorySystemModel(
+      img,
+      MemoryImage.NodeBytes,
+      MemoryParams(latency = Latency.Fixed(50), cache = Some(cache)),
+      "node"
+    )
     val a = img.nodeOffset // nodes 0 and 1 share the first 64-byte line
     val rs = drive(m, Seq(a, a + 32, a))
     val s = m.stats
@@ -97,13 +105,18 @@ class MemorySystemModelSpec extends AnyFlatSpec {
 
   it should "evict the least recently used line of a full set" in {
     val img = image(new Random(6))
-    val m = new MemorySystemModel(img, MemoryImage.NodeBytes, MemoryParams(latency = Latency.Fixed(5), cache = Some(cache)), "node")
+    val m = new MemorySystemModel(
+      img,
+      MemoryImage.NodeBytes,
+      MemoryParams(latency = Latency.Fixed(5), cache = Some(cache)),
+      "node"
+    )
     val setStride = cache.sets * cache.lineBytes // addresses this far apart share a set
     val base = img.nodeOffset
     drive(m, Seq(base, base + setStride, base + 2 * setStride)) // 3 lines into a 2-way set
-    drive(m, Seq(base + 2 * setStride, base + setStride))         // both still present
+    drive(m, Seq(base + 2 * setStride, base + setStride)) // both still present
     assert(m.stats.requestHits == 2, m.stats.toJson)
-    drive(m, Seq(base))                                           // was evicted first
+    drive(m, Seq(base)) // was evicted first
     assert(m.stats.primaryMisses == 4, m.stats.toJson)
   }
 

@@ -8,14 +8,19 @@ import scala.collection.mutable
   * accelerator harness, so a shared DRAM sees a whole cycle's requests.
   */
 object ModelDriver {
+
   /** A response: (cycle it was seen, tag = index of its request, data). */
   type Response = (Long, Int, BigInt)
 
   /** Port `i` issues `addrs(i)(k)` no earlier than cycle `from(i)(k)`
     * (default: as soon as accepted). Returns each port's responses.
     */
-  def drivePorts(ms: Seq[MemorySystemModel], addrs: Seq[Seq[Long]], from: Seq[Seq[Long]] = Nil,
-      maxCycles: Int = 100000): Seq[Seq[Response]] = {
+  def drivePorts(
+      ms: Seq[MemorySystemModel],
+      addrs: Seq[Seq[Long]],
+      from: Seq[Seq[Long]] = Nil,
+      maxCycles: Int = 100000
+  ): Seq[Seq[Response]] = {
     val out = ms.map(_ => mutable.ArrayBuffer.empty[Response])
     val next = Array.fill(ms.size)(0)
     def pending(i: Int) = next(i) < addrs(i).size

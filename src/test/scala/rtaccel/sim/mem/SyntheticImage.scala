@@ -9,16 +9,32 @@ import scala.util.Random
   * tests of the memory model that need bytes, not a meaningful BVH.
   */
 object SyntheticImage {
-  def apply(nodes: Int, tris: Int, rnd: Random, layout: rtaccel.bvh.BvhLayout = rtaccel.bvh.BvhLayout.Nori): MemoryImage = {
+  def apply(
+      nodes: Int,
+      tris: Int,
+      rnd: Random,
+      layout: rtaccel.bvh.BvhLayout = rtaccel.bvh.BvhLayout.Nori
+  ): MemoryImage = {
     def align64(x: Int) = (x + 63) / 64 * 64
     val nodeOffset = MemoryImage.HeaderBytes
-    val triOffset  = align64(nodeOffset + nodes * layout.nodeBytes)
-    val total      = triOffset + tris * MemoryImage.TriBytes
-    val bytes      = new Array[Byte](total)
+    val triOffset = align64(nodeOffset + nodes * layout.nodeBytes)
+    val total = triOffset + tris * MemoryImage.TriBytes
+    val bytes = new Array[Byte](total)
     rnd.nextBytes(bytes)
     val h = ByteBuffer.wrap(bytes, 0, MemoryImage.HeaderBytes).order(ByteOrder.LITTLE_ENDIAN)
     h.put(MemoryImage.Magic)
-    Seq(MemoryImage.Version, nodes, tris, nodeOffset, triOffset, layout.nodeBytes, MemoryImage.TriBytes, 4, 8, layout.code)
+    Seq(
+      MemoryImage.Version,
+      nodes,
+      tris,
+      nodeOffset,
+      triOffset,
+      layout.nodeBytes,
+      MemoryImage.TriBytes,
+      4,
+      8,
+      layout.code
+    )
       .foreach(v => h.putInt(v.toInt))
     while (h.position() < MemoryImage.HeaderBytes) h.put(0.toByte)
     MemoryImage.fromBytes("synthetic", bytes)
