@@ -71,7 +71,7 @@ test: setup test-hls test-scala test-rust ## Every test: what CI runs (about 30 
 	@echo "make test: all test suites passed"
 
 test-scala: setup-sbt ## The Chisel specs (sbt test)
-	$(SBT) test
+	$(SBT) scalafmtCheckAll Test/scalafmtCheckAll scalafmtSbtCheck test
 
 test-rust: setup-cargo ## The nori-bridge tests (cargo test)
 	$(CARGO) test --release --manifest-path $(BRIDGE_MANIFEST)

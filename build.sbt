@@ -1,7 +1,7 @@
 // rtaccel: a Chisel generator for a BVH-traversal and ray/triangle-intersection accelerator.
 ThisBuild / scalaVersion := "2.13.15"
 ThisBuild / organization := "rtaccel"
-ThisBuild / version      := "0.1.0"
+ThisBuild / version := "0.1.0"
 
 val chiselVersion = "6.7.0"
 
@@ -9,10 +9,10 @@ lazy val root = (project in file("."))
   .settings(
     name := "rtaccel",
     libraryDependencies ++= Seq(
-      "org.chipsalliance" %% "chisel"     % chiselVersion,
-      "com.lihaoyi"       %% "ujson"      % "3.1.0",
-      "edu.berkeley.cs"   %% "chiseltest" % "6.0.0",
-      "org.scalatest"     %% "scalatest"  % "3.2.19" % Test
+      "org.chipsalliance" %% "chisel" % chiselVersion,
+      "com.lihaoyi" %% "ujson" % "3.1.0",
+      "edu.berkeley.cs" %% "chiseltest" % "6.0.0",
+      "org.scalatest" %% "scalatest" % "3.2.19" % Test
     ),
     addCompilerPlugin("org.chipsalliance" % "chisel-plugin" % chiselVersion cross CrossVersion.full),
     scalacOptions ++= Seq("-deprecation", "-feature", "-unchecked", "-language:reflectiveCalls", "-Ymacro-annotations"),

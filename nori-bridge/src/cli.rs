@@ -1,19 +1,23 @@
 //! Command line (clap derive). Errors go up to main as `Error: {:#}`.
 
+use crate::bvh::Layout;
 use crate::compare::judge::Tolerances;
 use crate::compare::render::Shade;
-use crate::shade::{Integrator, ShadeOpts};
-use crate::bvh::Layout;
 use crate::compare::{compare, summary};
 use crate::package::compile::{compile, write_json, CompileOpts, RaySpec};
 use crate::package::Package;
 use crate::scene::transform::parse_vec3;
+use crate::shade::{Integrator, ShadeOpts};
 use anyhow::{anyhow, Result};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 
 #[derive(Parser)]
-#[command(name = "nori-bridge", version, about = "Nori scenes to rtaccel memory images, rays and Embree reference hits; hits back to reports and images")]
+#[command(
+    name = "nori-bridge",
+    version,
+    about = "Nori scenes to rtaccel memory images, rays and Embree reference hits; hits back to reports and images"
+)]
 struct Cli {
     #[command(subcommand)]
     cmd: Cmd,
@@ -44,7 +48,11 @@ struct ShadeInput {
 
 impl ShadeInput {
     fn opts(&self) -> ShadeOpts {
-        ShadeOpts { integrator: self.integrator, samples: self.samples, seed: self.seed }
+        ShadeOpts {
+            integrator: self.integrator,
+            samples: self.samples,
+            seed: self.seed,
+        }
     }
 }
 
@@ -223,89 +231,214 @@ enum Cmd {
 }
 
 pub fn run() -> Result<()> {
-    rayon::ThreadPoolBuilder::new().num_threads(2).build_global().ok();
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build_global()
+        .ok();
     match Cli::parse().cmd {
-        Cmd::Compile { scene, out, rays, spp, seed, max_leaf_size, bvh, robust, reference, width, height, count, light } => {
+        Cmd::Compile {
+            scene,
+            out,
+            rays,
+            spp,
+            seed,
+            max_leaf_size,
+            bvh,
+            robust,
+            reference,
+            width,
+            height,
+            count,
+            light,
+        } => {
             if spp == 0 {
                 return Err(anyhow!("--spp must be at least 1"));
             }
-            let light = light.map(|l| parse_vec3(&l).map_err(|e| anyhow!("--light: {e}"))).transpose()?;
+            let light = light
+                .map(|l| parse_vec3(&l).map_err(|e| anyhow!("--light: {e}")))
+                .transpose()?;
             let o = CompileOpts {
-                scene, out, rays: RaySpec::parse(&rays), spp, seed, max_leaf_size, layout: bvh, robust,
-                double_reference: reference == RefKind::Double, width, height, count, light,
+                scene,
+                out,
+                rays: RaySpec::parse(&rays),
+                spp,
+                seed,
+                max_leaf_size,
+                layout: bvh,
+                robust,
+                double_reference: reference == RefKind::Double,
+                width,
+                height,
+                count,
+                light,
             };
             let m = compile(&o)?;
             println!(
                 "{}: {} triangles, {} nodes, {} rays ({} hit), build {:.3} s, total {:.3} s",
-                o.out.display(), m.counts.triangles, m.counts.nodes, m.counts.rays, m.counts.reference_hits,
-                m.timings_seconds.bvh_build, m.timings_seconds.total
+                o.out.display(),
+                m.counts.triangles,
+                m.counts.nodes,
+                m.counts.rays,
+                m.counts.reference_hits,
+                m.timings_seconds.bvh_build,
+                m.timings_seconds.total
             );
         }
-        Cmd::Compare { package, hits, out, precision_bits, slack } => {
+        Cmd::Compare {
+            package,
+            hits,
+            out,
+            precision_bits,
+            slack,
+        } => {
             let pkg = Package::load(&package)?;
             let got = crate::ray::csv_io::read_hits(&hits)?;
-            let tol = Tolerances { precision_bits, slack };
+            let tol = Tolerances {
+                precision_bits,
+                slack,
+            };
             let (acc, _) = compare(&pkg.image.by_prim(), &pkg.rays, &got, &pkg.reference, tol)?;
             write_json(&out, &acc)?;
             println!("{}", summary(&acc));
         }
-        Cmd::Render { package, hits, out_dir, shade } => {
+        Cmd::Render {
+            package,
+            hits,
+            out_dir,
+            shade,
+        } => {
             let pkg = Package::load(&package)?;
             let got = crate::ray::csv_io::read_hits(&hits)?;
-            let (_, classes) = compare(&pkg.image.by_prim(), &pkg.rays, &got, &pkg.reference, Tolerances::default())?;
+            let (_, classes) = compare(
+                &pkg.image.by_prim(),
+                &pkg.rays,
+                &got,
+                &pkg.reference,
+                Tolerances::default(),
+            )?;
             crate::compare::render::render(&pkg, &got, &classes, shade, &out_dir)?;
             println!("{}: hits.png reference.png diff.png", out_dir.display());
         }
         Cmd::ShadeRays { input, out } => {
             let pkg = Package::load(&input.package)?;
-            let scene = crate::scene::xml::load_scene(std::path::Path::new(&pkg.manifest.source_scene))?;
+            let scene =
+                crate::scene::xml::load_scene(std::path::Path::new(&pkg.manifest.source_scene))?;
             let got = crate::ray::csv_io::read_hits(&input.hits)?;
             let sec = crate::shade::secondary(&scene, &pkg, &got, &input.opts())?;
             crate::shade::write_rays_txt(&out, &sec)?;
             println!("{}: {} secondary rays", out.display(), sec.len());
         }
-        Cmd::Shade { input, secondary, secondary_hits, source, out_dir } => {
-            crate::shade::run::shade(&crate::shade::run::ShadeArgs {
-                opts: input.opts(), package: input.package, hits: input.hits, secondary, secondary_hits, source, out_dir,
-            })?
-        }
+        Cmd::Shade {
+            input,
+            secondary,
+            secondary_hits,
+            source,
+            out_dir,
+        } => crate::shade::run::shade(&crate::shade::run::ShadeArgs {
+            opts: input.opts(),
+            package: input.package,
+            hits: input.hits,
+            secondary,
+            secondary_hits,
+            source,
+            out_dir,
+        })?,
         Cmd::Trace { package, out } => {
             let pkg = Package::load(&package)?;
             let (hits, stats) = crate::memory::mt_walk::trace_all(&pkg.image, &pkg.rays);
             crate::ray::csv_io::write_hits(&out, &hits)?;
-            println!("{}: {} rays, largest stack {} (bvhDepth {})", out.display(), hits.len(), stats.max_stack, pkg.image.bvh_depth);
+            println!(
+                "{}: {} rays, largest stack {} (bvhDepth {})",
+                out.display(),
+                hits.len(),
+                stats.max_stack,
+                pkg.image.bvh_depth
+            );
         }
-        Cmd::RegressReport { out, prepared, rays, golden_mismatches, wall_seconds } => {
-            crate::regress::report::run(&crate::regress::report::ReportArgs { out, prepared, rays, golden_mismatches, wall_seconds })?
-        }
-        Cmd::SweepReport { sweep, json, md, plots, baseline_format, runtime_note } => {
-            crate::sweep::report::run(&crate::sweep::report::ReportOpts { sweep, json, md, plots, baseline_format, runtime_note })?
-        }
-        Cmd::Bench { package, min_rays, robust } => crate::reference::bench::bench(&Package::load(&package)?, min_rays, robust)?,
+        Cmd::RegressReport {
+            out,
+            prepared,
+            rays,
+            golden_mismatches,
+            wall_seconds,
+        } => crate::regress::report::run(&crate::regress::report::ReportArgs {
+            out,
+            prepared,
+            rays,
+            golden_mismatches,
+            wall_seconds,
+        })?,
+        Cmd::SweepReport {
+            sweep,
+            json,
+            md,
+            plots,
+            baseline_format,
+            runtime_note,
+        } => crate::sweep::report::run(&crate::sweep::report::ReportOpts {
+            sweep,
+            json,
+            md,
+            plots,
+            baseline_format,
+            runtime_note,
+        })?,
+        Cmd::Bench {
+            package,
+            min_rays,
+            robust,
+        } => crate::reference::bench::bench(&Package::load(&package)?, min_rays, robust)?,
         Cmd::DiffPng { a, b, out } => {
-            let load = |p: &PathBuf| image::open(p).map(|i| i.to_rgb8()).map_err(|e| anyhow!("{}: {e}", p.display()));
+            let load = |p: &PathBuf| {
+                image::open(p)
+                    .map(|i| i.to_rgb8())
+                    .map_err(|e| anyhow!("{}: {e}", p.display()))
+            };
             let (ia, ib) = (load(&a)?, load(&b)?);
             if ia.dimensions() != ib.dimensions() {
-                return Err(anyhow!("{} is {:?}, {} is {:?}: not the same size", a.display(), ia.dimensions(), b.display(), ib.dimensions()));
+                return Err(anyhow!(
+                    "{} is {:?}, {} is {:?}: not the same size",
+                    a.display(),
+                    ia.dimensions(),
+                    b.display(),
+                    ib.dimensions()
+                ));
             }
             let (d, n) = crate::shade::montage::diff(&ia, &ib);
             if let Some(o) = &out {
                 d.save(o).map_err(|e| anyhow!("{}: {e}", o.display()))?;
             }
-            println!("{} pixels of {} differ between {} and {}", n, ia.width() * ia.height(), a.display(), b.display());
+            println!(
+                "{} pixels of {} differ between {} and {}",
+                n,
+                ia.width() * ia.height(),
+                a.display(),
+                b.display()
+            );
             if n > 0 {
                 std::process::exit(1);
             }
         }
         Cmd::HardCases { out } => {
             let n = crate::hard::cases::generate(&out)?;
-            println!("{}: {n} hard cases, seed {}", out.display(), crate::hard::cases::SEED);
+            println!(
+                "{}: {n} hard cases, seed {}",
+                out.display(),
+                crate::hard::cases::SEED
+            );
         }
-        Cmd::HardScore { package, hits, expect, out } => {
+        Cmd::HardScore {
+            package,
+            hits,
+            expect,
+            out,
+        } => {
             let s = crate::hard::score::hard_score(&package, &hits, &expect)?;
             write_json(&out, &s)?;
-            println!("{}: {} rays, {} leaks, {} false hits, {} wrong prims, {} flagged, {} ok",
-                     s.case, s.rays, s.leaks, s.false_hits, s.wrong_prims, s.flagged, s.ok);
+            println!(
+                "{}: {} rays, {} leaks, {} false hits, {} wrong prims, {} flagged, {} ok",
+                s.case, s.rays, s.leaks, s.false_hits, s.wrong_prims, s.flagged, s.ok
+            );
         }
     }
     Ok(())

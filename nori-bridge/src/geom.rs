@@ -47,7 +47,10 @@ pub struct Aabb {
 
 impl Aabb {
     pub fn empty() -> Aabb {
-        Aabb { min: [f32::INFINITY; 3], max: [f32::NEG_INFINITY; 3] }
+        Aabb {
+            min: [f32::INFINITY; 3],
+            max: [f32::NEG_INFINITY; 3],
+        }
     }
 
     pub fn grow(&mut self, p: V3) {
@@ -70,7 +73,9 @@ impl Aabb {
 
     /// Surface area in f64 (used for SAH statistics only).
     pub fn area64(&self) -> f64 {
-        let d: Vec<f64> = (0..3).map(|k| (self.max[k] as f64 - self.min[k] as f64).max(0.0)).collect();
+        let d: Vec<f64> = (0..3)
+            .map(|k| (self.max[k] as f64 - self.min[k] as f64).max(0.0))
+            .collect();
         2.0 * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0])
     }
 }
@@ -96,7 +101,11 @@ pub fn dot64(a: D3, b: D3) -> f64 {
 }
 
 pub fn cross64(a: D3, b: D3) -> D3 {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
 }
 
 pub fn len64(a: D3) -> f64 {

@@ -37,14 +37,25 @@ pub fn bar(len: u64, msg: &'static str) -> Progress {
         _ if tty => {
             // Hidden for the quiet period: drawn from the first update after it.
             let pb = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::hidden());
-            let style = "{msg} [{bar:24}] {percent:>3}%  {pos}/{len} rays  {elapsed} elapsed, ETA {eta}";
-            pb.set_style(ProgressStyle::with_template(style).unwrap_or(ProgressStyle::default_bar()));
+            let style =
+                "{msg} [{bar:24}] {percent:>3}%  {pos}/{len} rays  {elapsed} elapsed, ETA {eta}";
+            pb.set_style(
+                ProgressStyle::with_template(style).unwrap_or(ProgressStyle::default_bar()),
+            );
             pb.set_message(msg);
             Kind::Tty(pb)
         }
         _ => Kind::Plain,
     };
-    Progress { msg, len, done: 0, start: Instant::now(), next: Duration::ZERO, printed: false, kind }
+    Progress {
+        msg,
+        len,
+        done: 0,
+        start: Instant::now(),
+        next: Duration::ZERO,
+        printed: false,
+        kind,
+    }
 }
 
 impl Progress {
@@ -77,7 +88,10 @@ impl Progress {
             Kind::Tty(pb) => pb.finish_and_clear(),
             Kind::Plain => {
                 if self.printed {
-                    eprintln!("{}", line(self.msg, self.done, self.len, self.start.elapsed()));
+                    eprintln!(
+                        "{}",
+                        line(self.msg, self.done, self.len, self.start.elapsed())
+                    );
                 }
             }
         }
@@ -89,8 +103,18 @@ fn line(msg: &str, done: u64, len: u64, t: Duration) -> String {
     let d = done.min(len);
     let frac = if len > 0 { d as f64 / len as f64 } else { 1.0 };
     let s = t.as_secs_f64();
-    let eta = if done > 0 { clock(s * (len - d) as f64 / done as f64) } else { "?".into() };
-    format!("{msg} {:5.1}%  {}/{} rays  {} elapsed, ETA {eta}", 100.0 * frac, grouped(done), grouped(len), clock(s))
+    let eta = if done > 0 {
+        clock(s * (len - d) as f64 / done as f64)
+    } else {
+        "?".into()
+    };
+    format!(
+        "{msg} {:5.1}%  {}/{} rays  {} elapsed, ETA {eta}",
+        100.0 * frac,
+        grouped(done),
+        grouped(len),
+        clock(s)
+    )
 }
 
 fn grouped(n: u64) -> String {

@@ -14,7 +14,9 @@ fn inverse(m: &Mat4) -> Mat4 {
     let mut a = m.m;
     let mut inv = Mat4::identity().m;
     for c in 0..4 {
-        let p = (c..4).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs())).unwrap();
+        let p = (c..4)
+            .max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))
+            .unwrap();
         a.swap(c, p);
         inv.swap(c, p);
         let d = a[c][c];
@@ -44,12 +46,36 @@ fn nori_ray(cam: &Camera, sx: f64, sy: f64) -> ([f64; 3], [f64; 3], f64, f64) {
     let cot = 1.0 / (cam.fov_deg.to_radians() / 2.0).tan();
     let (n, f) = (cam.near, cam.far);
     let recip = 1.0 / (f - n);
-    let persp = Mat4::from_rows(&[cot, 0., 0., 0., 0., cot, 0., 0., 0., 0., f * recip, -n * f * recip, 0., 0., 1., 0.]);
-    let to_sample = Mat4::scale([-0.5, -0.5 * aspect, 1.0]).mul(&Mat4::translate([-1.0, -1.0 / aspect, 0.0])).mul(&persp);
+    let persp = Mat4::from_rows(&[
+        cot,
+        0.,
+        0.,
+        0.,
+        0.,
+        cot,
+        0.,
+        0.,
+        0.,
+        0.,
+        f * recip,
+        -n * f * recip,
+        0.,
+        0.,
+        1.,
+        0.,
+    ]);
+    let to_sample = Mat4::scale([-0.5, -0.5 * aspect, 1.0])
+        .mul(&Mat4::translate([-1.0, -1.0 / aspect, 0.0]))
+        .mul(&persp);
     let near_p = inverse(&to_sample).point([sx / cam.width as f64, sy / cam.height as f64, 0.0]);
     let len = (near_p[0] * near_p[0] + near_p[1] * near_p[1] + near_p[2] * near_p[2]).sqrt();
     let d = [near_p[0] / len, near_p[1] / len, near_p[2] / len];
-    (cam.to_world.point([0.0; 3]), cam.to_world.vector(d), n / d[2], f / d[2])
+    (
+        cam.to_world.point([0.0; 3]),
+        cam.to_world.vector(d),
+        n / d[2],
+        f / d[2],
+    )
 }
 
 #[test]
@@ -66,9 +92,17 @@ fn primary_rays_match_nori_matrices() {
                 let (o, d, mint, maxt) = nori_ray(&cam, sx, sy);
                 let close = |a: f32, b: f64| (a as f64 - b).abs() <= 1e-6 * b.abs().max(1.0);
                 for k in 0..3 {
-                    assert!(close(r.o[k], o[k]) && close(r.d[k], d[k]), "{name} {w}x{h} seed {seed} ({sx},{sy}): {r:?} vs o {o:?} d {d:?}");
+                    assert!(
+                        close(r.o[k], o[k]) && close(r.d[k], d[k]),
+                        "{name} {w}x{h} seed {seed} ({sx},{sy}): {r:?} vs o {o:?} d {d:?}"
+                    );
                 }
-                assert!(close(r.tmin, mint) && close(r.tmax, maxt), "{name} ({sx},{sy}): t range {} {} vs {mint} {maxt}", r.tmin, r.tmax);
+                assert!(
+                    close(r.tmin, mint) && close(r.tmax, maxt),
+                    "{name} ({sx},{sy}): t range {} {} vs {mint} {maxt}",
+                    r.tmin,
+                    r.tmax
+                );
             }
         }
     }
@@ -85,27 +119,74 @@ fn csv_floats_round_trip_bit_exactly() {
             2 => -rng.gen::<f32>() * 1e30,
             _ => {
                 let x = f32::from_bits(rng.gen());
-                if x.is_nan() { 1.5 } else { x }
+                if x.is_nan() {
+                    1.5
+                } else {
+                    x
+                }
             }
         }
     };
     let rays: Vec<Ray> = (0..5000)
-        .map(|i| Ray { o: [f(), f(), f()], d: [f(), f(), f()], tmin: f().abs(), tmax: f(), shadow: i % 3 == 0 })
+        .map(|i| Ray {
+            o: [f(), f(), f()],
+            d: [f(), f(), f()],
+            tmin: f().abs(),
+            tmax: f(),
+            shadow: i % 3 == 0,
+        })
         .collect();
     let hits: Vec<Hit> = (0..5000)
-        .map(|i| if i % 4 == 0 { Hit::MISS } else { Hit { hit: true, t: f(), u: f(), v: f(), prim: i as i64 * 7, error: (i % 3) as u32 } })
+        .map(|i| {
+            if i % 4 == 0 {
+                Hit::MISS
+            } else {
+                Hit {
+                    hit: true,
+                    t: f(),
+                    u: f(),
+                    v: f(),
+                    prim: i as i64 * 7,
+                    error: (i % 3) as u32,
+                }
+            }
+        })
         .collect();
     let dir = tempfile::tempdir().unwrap();
     let (rp, hp) = (dir.path().join("rays.csv"), dir.path().join("hits.csv"));
     write_rays(&rp, &rays).unwrap();
     write_hits(&hp, &hits).unwrap();
-    let bits = |r: &Ray| [r.o, r.d].concat().iter().chain([r.tmin, r.tmax].iter()).map(|x| x.to_bits()).collect::<Vec<_>>();
+    let bits = |r: &Ray| {
+        [r.o, r.d]
+            .concat()
+            .iter()
+            .chain([r.tmin, r.tmax].iter())
+            .map(|x| x.to_bits())
+            .collect::<Vec<_>>()
+    };
     for (a, b) in rays.iter().zip(read_rays(&rp).unwrap()) {
         assert_eq!(bits(a), bits(&b), "seed {seed}: {a:?} vs {b:?}");
         assert_eq!(a.shadow, b.shadow);
     }
     for (a, b) in hits.iter().zip(read_hits(&hp).unwrap()) {
-        assert_eq!((a.hit, a.t.to_bits(), a.u.to_bits(), a.v.to_bits(), a.prim, a.error),
-                   (b.hit, b.t.to_bits(), b.u.to_bits(), b.v.to_bits(), b.prim, b.error), "seed {seed}");
+        assert_eq!(
+            (
+                a.hit,
+                a.t.to_bits(),
+                a.u.to_bits(),
+                a.v.to_bits(),
+                a.prim,
+                a.error
+            ),
+            (
+                b.hit,
+                b.t.to_bits(),
+                b.u.to_bits(),
+                b.v.to_bits(),
+                b.prim,
+                b.error
+            ),
+            "seed {seed}"
+        );
     }
 }

@@ -5,8 +5,8 @@
 
 mod common;
 use common::*;
-use nori_bridge::compare::compare;
 use nori_bridge::bvh::Layout;
+use nori_bridge::compare::compare;
 use nori_bridge::compile::{compile, CompileOpts, RaySpec};
 use nori_bridge::exact::{eval64, eval64_plane};
 use nori_bridge::geom::{dot64, len64, normalize64, to64};
@@ -19,8 +19,19 @@ use std::path::Path;
 
 fn opts(scene: &str, out: &Path, rays: RaySpec) -> CompileOpts {
     CompileOpts {
-        scene: scene_path(scene), out: out.to_path_buf(), rays, spp: 1, seed: 5, max_leaf_size: 4, layout: Layout::Nori, robust: false,
-        double_reference: false, width: None, height: None, count: 20_000, light: None,
+        scene: scene_path(scene),
+        out: out.to_path_buf(),
+        rays,
+        spp: 1,
+        seed: 5,
+        max_leaf_size: 4,
+        layout: Layout::Nori,
+        robust: false,
+        double_reference: false,
+        width: None,
+        height: None,
+        count: 20_000,
+        light: None,
     }
 }
 
@@ -39,15 +50,31 @@ fn reference_as_hits_has_no_mismatch_and_corruptions_are_all_reported() {
     compile(&opts("multi-mesh", dir.path(), RaySpec::Random)).unwrap();
     let pkg = Package::load(dir.path()).unwrap();
     let tris = pkg.image.by_prim();
-    let (acc, classes) = compare(&tris, &pkg.rays, &pkg.reference, &pkg.reference, Tolerances::default()).unwrap();
+    let (acc, classes) = compare(
+        &tris,
+        &pkg.rays,
+        &pkg.reference,
+        &pkg.reference,
+        Tolerances::default(),
+    )
+    .unwrap();
     assert_eq!(acc.mismatches, 0);
-    assert!(classes.iter().all(|c| *c == Class::Agree), "{:?}", acc.counts);
+    assert!(
+        classes.iter().all(|c| *c == Class::Agree),
+        "{:?}",
+        acc.counts
+    );
 
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut hits = pkg.reference.clone();
     let mut expect: Vec<(usize, Class)> = Vec::new();
     let mut used = std::collections::HashSet::new();
-    let kinds = [Class::FalseMiss, Class::TError, Class::WrongPrim, Class::FalseHit];
+    let kinds = [
+        Class::FalseMiss,
+        Class::TError,
+        Class::WrongPrim,
+        Class::FalseHit,
+    ];
     while expect.len() < 400 {
         let i = rng.gen_range(0..pkg.rays.len());
         let kind = kinds[expect.len() % kinds.len()];
@@ -67,7 +94,14 @@ fn reference_as_hits_has_no_mismatch_and_corruptions_are_all_reported() {
                     let p = rng.gen_range(0..tris.len());
                     let far = eval64_plane(&tris[p], r).is_none_or(|e| e.margin < -0.5);
                     if far {
-                        hits[i] = Hit { hit: true, t: if h.hit { h.t } else { 1.0 }, u: 0.2, v: 0.2, prim: p as i64, error: 0 };
+                        hits[i] = Hit {
+                            hit: true,
+                            t: if h.hit { h.t } else { 1.0 },
+                            u: 0.2,
+                            v: 0.2,
+                            prim: p as i64,
+                            error: 0,
+                        };
                     }
                     far
                 }
@@ -85,12 +119,31 @@ fn reference_as_hits_has_no_mismatch_and_corruptions_are_all_reported() {
         used.insert(i);
         expect.push((i, kind));
     }
-    let (acc, classes) = compare(&tris, &pkg.rays, &hits, &pkg.reference, Tolerances::default()).unwrap();
+    let (acc, classes) = compare(
+        &tris,
+        &pkg.rays,
+        &hits,
+        &pkg.reference,
+        Tolerances::default(),
+    )
+    .unwrap();
     for &(i, kind) in &expect {
-        assert_eq!(classes[i], kind, "seed {seed}: ray {i} corrupted as {kind:?} classified {:?}", classes[i]);
-        assert!(acc.ray_lists[&kind].contains(&i), "ray {i} missing from the {kind:?} list");
+        assert_eq!(
+            classes[i], kind,
+            "seed {seed}: ray {i} corrupted as {kind:?} classified {:?}",
+            classes[i]
+        );
+        assert!(
+            acc.ray_lists[&kind].contains(&i),
+            "ray {i} missing from the {kind:?} list"
+        );
     }
-    assert_eq!(acc.mismatches, expect.len(), "seed {seed}: only the corrupted rays may mismatch: {:?}", acc.counts);
+    assert_eq!(
+        acc.mismatches,
+        expect.len(),
+        "seed {seed}: only the corrupted rays may mismatch: {:?}",
+        acc.counts
+    );
     assert_eq!(acc.worst.len(), 20);
     assert!(acc.worst.iter().all(|c| c.class.is_mismatch()));
 }
@@ -107,17 +160,35 @@ fn shadow_corruptions_are_reported() {
     for &i in &flipped {
         hits[i].hit = !hits[i].hit;
     }
-    let (acc, classes) = compare(&tris, &pkg.rays, &hits, &pkg.reference, Tolerances::default()).unwrap();
+    let (acc, classes) = compare(
+        &tris,
+        &pkg.rays,
+        &hits,
+        &pkg.reference,
+        Tolerances::default(),
+    )
+    .unwrap();
     for (i, c) in classes.iter().enumerate() {
         if flipped.contains(&i) {
-            let want = if hits[i].hit { Class::FalseHit } else { Class::FalseMiss };
-            assert!(*c == want || *c == Class::Edge, "ray {i}: flipped shadow answer classified {c:?}");
+            let want = if hits[i].hit {
+                Class::FalseHit
+            } else {
+                Class::FalseMiss
+            };
+            assert!(
+                *c == want || *c == Class::Edge,
+                "ray {i}: flipped shadow answer classified {c:?}"
+            );
         } else {
             assert_eq!(*c, Class::Agree, "ray {i}");
         }
     }
     let edge = classes.iter().filter(|c| **c == Class::Edge).count();
-    assert!(edge * 10 < flipped.len(), "{edge} of {} flips excused as edge cases", flipped.len());
+    assert!(
+        edge * 10 < flipped.len(),
+        "{edge} of {} flips excused as edge cases",
+        flipped.len()
+    );
     assert_eq!(acc.mismatches + edge, flipped.len());
 }
 
@@ -133,9 +204,15 @@ fn vertex_aimed_rays_judge_embree_escapes_as_reference_wrong() {
     let mut rays = Vec::new();
     for t in &scene.tris {
         for k in 0..3 {
-            let target = if rays.len() % 2 == 0 { to64(t.v[k]) } else {
+            let target = if rays.len() % 2 == 0 {
+                to64(t.v[k])
+            } else {
                 let (a, b) = (to64(t.v[k]), to64(t.v[(k + 1) % 3]));
-                [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0, (a[2] + b[2]) / 2.0]
+                [
+                    (a[0] + b[0]) / 2.0,
+                    (a[1] + b[1]) / 2.0,
+                    (a[2] + b[2]) / 2.0,
+                ]
             };
             for o in [[0.0, 0.0, -5.0], [3.0, 2.0, 1.0], [-2.0, -4.0, 0.5]] {
                 let d = [target[0] - o[0], target[1] - o[1], target[2] - o[2]];
@@ -143,24 +220,51 @@ fn vertex_aimed_rays_judge_embree_escapes_as_reference_wrong() {
                 if -dot64(normalize64(target), normalize64(d)) < 0.3 {
                     continue;
                 }
-                rays.push(Ray { o: [o[0] as f32, o[1] as f32, o[2] as f32], d: [d[0] as f32, d[1] as f32, d[2] as f32], tmin: 0.0, tmax: f32::INFINITY, shadow: false });
+                rays.push(Ray {
+                    o: [o[0] as f32, o[1] as f32, o[2] as f32],
+                    d: [d[0] as f32, d[1] as f32, d[2] as f32],
+                    tmin: 0.0,
+                    tmax: f32::INFINITY,
+                    shadow: false,
+                });
             }
         }
     }
     rays.retain(|r| len64(to64(r.d)) > 0.0);
     let exact = nori_bridge::double_ref::trace_double(&scene.tris, &rays).unwrap();
     let escapes64 = exact.iter().filter(|h| !h.hit).count();
-    assert_eq!(escapes64, 0, "the f64 reference let {escapes64} of {} vertex/edge-aimed rays escape a closed mesh", rays.len());
+    assert_eq!(
+        escapes64,
+        0,
+        "the f64 reference let {escapes64} of {} vertex/edge-aimed rays escape a closed mesh",
+        rays.len()
+    );
     for robust in [false, true] {
-        let embree = nori_bridge::embree_ref::EmbreeScene::new(device(), &scene.tris, robust).unwrap();
+        let embree =
+            nori_bridge::embree_ref::EmbreeScene::new(device(), &scene.tris, robust).unwrap();
         let reference = embree.trace(&rays);
-        let (acc, classes) = compare(&scene.tris, &rays, &exact, &reference, Tolerances::default()).unwrap();
+        let (acc, classes) = compare(
+            &scene.tris,
+            &rays,
+            &exact,
+            &reference,
+            Tolerances::default(),
+        )
+        .unwrap();
         let escapes = reference.iter().filter(|h| !h.hit).count();
-        println!("Embree robust={robust}: {escapes} of {} vertex/edge-aimed rays escape; judge: {:?}", rays.len(), acc.counts);
+        println!(
+            "Embree robust={robust}: {escapes} of {} vertex/edge-aimed rays escape; judge: {:?}",
+            rays.len(),
+            acc.counts
+        );
         assert_eq!(acc.mismatches, 0, "{:?}", acc.counts);
         for (i, c) in classes.iter().enumerate() {
             if !reference[i].hit {
-                assert_eq!(*c, Class::ReferenceWrong, "ray {i}: Embree escape judged {c:?}");
+                assert_eq!(
+                    *c,
+                    Class::ReferenceWrong,
+                    "ray {i}: Embree escape judged {c:?}"
+                );
             }
         }
     }

@@ -22,14 +22,24 @@ fn check_layout(what: &str, tris: &[Tri], img: &Image) {
     let mut order = Vec::with_capacity(n);
     let mut stack = vec![0usize];
     while let Some(i) = stack.pop() {
-        assert!(i < n && !visited[i], "{what}: node {i} out of range or reached twice");
+        assert!(
+            i < n && !visited[i],
+            "{what}: node {i} out of range or reached twice"
+        );
         visited[i] = true;
         order.push(i);
         let node = img.nodes[i];
         if node.is_leaf() {
             let (first, count) = (node.word1, node.count());
-            assert!(count >= 1 && count <= img.max_leaf_size, "{what}: leaf {i} holds {count} (max {})", img.max_leaf_size);
-            assert_eq!(first, next_slot, "{what}: leaf {i} slots are not in leaf order");
+            assert!(
+                count >= 1 && count <= img.max_leaf_size,
+                "{what}: leaf {i} holds {count} (max {})",
+                img.max_leaf_size
+            );
+            assert_eq!(
+                first, next_slot,
+                "{what}: leaf {i} slots are not in leaf order"
+            );
             next_slot += count;
             let mut b = Aabb::empty();
             for s in first..first + count {
@@ -37,22 +47,43 @@ fn check_layout(what: &str, tris: &[Tri], img: &Image) {
                 slot_seen[s as usize] = true;
                 b = b.union(&img.tris[s as usize].tri.bounds());
             }
-            assert_eq!(node.bounds, b, "{what}: leaf {i} box is not the exact bounds of its triangles");
+            assert_eq!(
+                node.bounds, b,
+                "{what}: leaf {i} box is not the exact bounds of its triangles"
+            );
         } else {
             let r = node.word1 as usize;
             assert!(node.axis() < 3, "{what}: node {i} axis {}", node.axis());
             assert!(r > i + 1 && r < n, "{what}: node {i} right child {r}");
             let (lb, rb) = (img.nodes[i + 1].bounds, img.nodes[r].bounds);
-            assert!(node.bounds.contains(&lb) && node.bounds.contains(&rb), "{what}: node {i} does not contain its children");
-            assert_eq!(node.bounds, lb.union(&rb), "{what}: node {i} box is not the union of its children");
+            assert!(
+                node.bounds.contains(&lb) && node.bounds.contains(&rb),
+                "{what}: node {i} does not contain its children"
+            );
+            assert_eq!(
+                node.bounds,
+                lb.union(&rb),
+                "{what}: node {i} box is not the union of its children"
+            );
             stack.push(r);
             stack.push(i + 1);
         }
     }
-    assert_eq!(order, (0..n).collect::<Vec<_>>(), "{what}: nodes are not in depth-first order");
-    assert!(slot_seen.iter().all(|&s| s), "{what}: some slot is in no leaf");
+    assert_eq!(
+        order,
+        (0..n).collect::<Vec<_>>(),
+        "{what}: nodes are not in depth-first order"
+    );
+    assert!(
+        slot_seen.iter().all(|&s| s),
+        "{what}: some slot is in no leaf"
+    );
     check_tri_records(what, tris, img);
-    assert_eq!(img.bvh_depth, Bvh::compute_depth(&img.nodes), "{what}: header depth");
+    assert_eq!(
+        img.bvh_depth,
+        Bvh::compute_depth(&img.nodes),
+        "{what}: header depth"
+    );
 }
 
 #[test]
@@ -74,7 +105,11 @@ fn random_soups_satisfy_layout_invariants() {
         let tris = random_soup(&mut rng, n);
         for leaf in [1, 2, 4, 32] {
             let bvh = nori_bridge::bvh_build::build_bvh(&device(), &tris, leaf).unwrap();
-            check_layout(&format!("soup seed {seed} n {n} leaf {leaf}"), &tris, &Image::from_bvh(&bvh, &tris));
+            check_layout(
+                &format!("soup seed {seed} n {n} leaf {leaf}"),
+                &tris,
+                &Image::from_bvh(&bvh, &tris),
+            );
         }
     }
 }
@@ -91,10 +126,16 @@ fn image_bytes_round_trip_and_header() {
     assert_eq!(u(16) as usize, scene.tris.len());
     assert_eq!(u(20), 64);
     assert_eq!(u(24) % 64, 0);
-    assert!(u(24) as usize >= 64 + 32 * img.nodes.len() && (u(24) as usize) < 64 + 32 * img.nodes.len() + 64);
+    assert!(
+        u(24) as usize >= 64 + 32 * img.nodes.len()
+            && (u(24) as usize) < 64 + 32 * img.nodes.len() + 64
+    );
     assert_eq!((u(28), u(32), u(36)), (32, 48, 4));
     assert_eq!(u(44), 0, "layout word: nori");
-    assert!(b[48..64].iter().all(|&x| x == 0), "reserved header bytes must be zero");
+    assert!(
+        b[48..64].iter().all(|&x| x == 0),
+        "reserved header bytes must be zero"
+    );
     assert_eq!(b.len(), u(24) as usize + 48 * scene.tris.len());
     // node 0 = root box = scene bounds
     let f = |o: usize| f32::from_le_bytes(b[o..o + 4].try_into().unwrap());
@@ -115,6 +156,9 @@ fn leaf_size_outside_embree_limit_is_an_error() {
     let scene = load("icosphere");
     for bad in [0, 33] {
         let e = nori_bridge::bvh_build::build_bvh(&device(), &scene.tris, bad).unwrap_err();
-        assert!(format!("{e:#}").contains(&format!("--max-leaf-size {bad}")), "{e:#}");
+        assert!(
+            format!("{e:#}").contains(&format!("--max-leaf-size {bad}")),
+            "{e:#}"
+        );
     }
 }

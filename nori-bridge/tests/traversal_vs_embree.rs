@@ -8,7 +8,7 @@ use nori_bridge::compare::compare;
 use nori_bridge::embree_ref::EmbreeScene;
 use nori_bridge::judge::{Class, Tolerances};
 use nori_bridge::ray::Ray;
-use nori_bridge::{double_ref, ray_gen, mt_walk};
+use nori_bridge::{double_ref, mt_walk, ray_gen};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -20,23 +20,50 @@ fn check(name: &str, rays: &[Ray], robust: bool, seed: u64) {
     let embree = EmbreeScene::new(device(), &scene.tris, robust).unwrap();
     let want = embree.trace(rays);
     let (got, stats) = mt_walk::trace_all(&img, rays);
-    assert!(stats.max_stack <= img.bvh_depth as usize, "{name}: stack {} > bvhDepth {}", stats.max_stack, img.bvh_depth);
+    assert!(
+        stats.max_stack <= img.bvh_depth as usize,
+        "{name}: stack {} > bvhDepth {}",
+        stats.max_stack,
+        img.bvh_depth
+    );
     let (acc, _) = compare(&scene.tris, rays, &got, &want, Tolerances::default()).unwrap();
     let hits = want.iter().filter(|h| h.hit).count();
-    println!("{name} seed {seed} robust {robust}: {} rays, {hits} Embree hits: {:?}", rays.len(), acc.counts);
-    assert!(hits > rays.len() / 10, "{name}: only {hits} hits, the ray set is too easy");
-    assert_eq!(acc.mismatches, 0, "{name} seed {seed}: mismatches {:?}, worst {}", acc.counts,
-               serde_json::to_string(&acc.worst).unwrap());
+    println!(
+        "{name} seed {seed} robust {robust}: {} rays, {hits} Embree hits: {:?}",
+        rays.len(),
+        acc.counts
+    );
+    assert!(
+        hits > rays.len() / 10,
+        "{name}: only {hits} hits, the ray set is too easy"
+    );
+    assert_eq!(
+        acc.mismatches,
+        0,
+        "{name} seed {seed}: mismatches {:?}, worst {}",
+        acc.counts,
+        serde_json::to_string(&acc.worst).unwrap()
+    );
 }
 
 fn random_rays(name: &str, seed: u64, count: usize) -> Vec<Ray> {
     let scene = load(name);
-    ray_gen::random(&scene.tris, &scene.bounds(), count, &mut ChaCha8Rng::seed_from_u64(seed))
+    ray_gen::random(
+        &scene.tris,
+        &scene.bounds(),
+        count,
+        &mut ChaCha8Rng::seed_from_u64(seed),
+    )
 }
 
 #[test]
 fn cornell_box_agrees_with_embree() {
-    check("cornell-box", &random_rays("cornell-box", 11, RAYS), false, 11);
+    check(
+        "cornell-box",
+        &random_rays("cornell-box", 11, RAYS),
+        false,
+        11,
+    );
 }
 
 #[test]
@@ -61,7 +88,11 @@ fn shadow_rays_agree_with_embree() {
         let mut rays = random_rays(name, seed, 20_000);
         for (k, r) in rays.iter_mut().enumerate() {
             r.shadow = true;
-            r.tmax = if k % 3 == 0 { f32::INFINITY } else { 0.05 * (k % 40) as f32 };
+            r.tmax = if k % 3 == 0 {
+                f32::INFINITY
+            } else {
+                0.05 * (k % 40) as f32
+            };
         }
         check(name, &rays, false, seed);
     }
@@ -80,8 +111,14 @@ fn icosphere_agrees_with_double_reference() {
     let (acc, classes) = compare(&scene.tris, &rays, &got, &want, Tolerances::default()).unwrap();
     println!("icosphere vs double, seed {seed}: {:?}", acc.counts);
     assert_eq!(acc.mismatches, 0, "seed {seed}: {:?}", acc.counts);
-    assert_eq!(classes.iter().filter(|c| **c == Class::ReferenceWrong).count(), 0,
-               "the f64 brute force must never be judged wrong by the f64 judge");
+    assert_eq!(
+        classes
+            .iter()
+            .filter(|c| **c == Class::ReferenceWrong)
+            .count(),
+        0,
+        "the f64 brute force must never be judged wrong by the f64 judge"
+    );
 }
 
 /// Axis-aligned rays lying exactly in the planes of flat boxes and faces
@@ -95,17 +132,39 @@ fn in_plane_axis_aligned_rays_on_cornell_box() {
     for y in [0.0f32, 165.0, 330.0, 548.8, 100.0] {
         for k in 0..=40 {
             let s = -20.0 + 15.0 * k as f32;
-            for (o, d) in [([s, y, -100.0], [0.0, 0.0, 1.0]), ([-50.0, y, s], [1.0, 0.0, 0.0]),
-                           ([600.0, y, s], [-1.0, 0.0, 0.0]), ([s, y, 700.0], [0.0, 0.0, -1.0])] {
-                rays.push(Ray { o, d, tmin: 0.0, tmax: f32::INFINITY, shadow: false });
+            for (o, d) in [
+                ([s, y, -100.0], [0.0, 0.0, 1.0]),
+                ([-50.0, y, s], [1.0, 0.0, 0.0]),
+                ([600.0, y, s], [-1.0, 0.0, 0.0]),
+                ([s, y, 700.0], [0.0, 0.0, -1.0]),
+            ] {
+                rays.push(Ray {
+                    o,
+                    d,
+                    tmin: 0.0,
+                    tmax: f32::INFINITY,
+                    shadow: false,
+                });
             }
         }
     }
     for x in [0.0f32, 556.0, 130.0] {
         for k in 0..=40 {
             let s = -20.0 + 15.0 * k as f32;
-            rays.push(Ray { o: [x, s, -100.0], d: [0.0, 0.0, 1.0], tmin: 0.0, tmax: f32::INFINITY, shadow: false });
-            rays.push(Ray { o: [x, -10.0, s], d: [0.0, 1.0, 0.0], tmin: 0.0, tmax: f32::INFINITY, shadow: false });
+            rays.push(Ray {
+                o: [x, s, -100.0],
+                d: [0.0, 0.0, 1.0],
+                tmin: 0.0,
+                tmax: f32::INFINITY,
+                shadow: false,
+            });
+            rays.push(Ray {
+                o: [x, -10.0, s],
+                d: [0.0, 1.0, 0.0],
+                tmin: 0.0,
+                tmax: f32::INFINITY,
+                shadow: false,
+            });
         }
     }
     let exact = double_ref::trace_double(&scene.tris, &rays).unwrap();
@@ -113,8 +172,16 @@ fn in_plane_axis_aligned_rays_on_cornell_box() {
     let (ours, _) = mt_walk::trace_all(&img, &rays);
     let (acc, _) = compare(&scene.tris, &rays, &ours, &exact, Tolerances::default()).unwrap();
     println!("in-plane rays, ours vs f64: {:?}", acc.counts);
-    assert_eq!(acc.mismatches, 0, "{:?} worst {}", acc.counts, serde_json::to_string(&acc.worst).unwrap());
-    let embree = EmbreeScene::new(device(), &scene.tris, false).unwrap().trace(&rays);
+    assert_eq!(
+        acc.mismatches,
+        0,
+        "{:?} worst {}",
+        acc.counts,
+        serde_json::to_string(&acc.worst).unwrap()
+    );
+    let embree = EmbreeScene::new(device(), &scene.tris, false)
+        .unwrap()
+        .trace(&rays);
     let (acc, _) = compare(&scene.tris, &rays, &exact, &embree, Tolerances::default()).unwrap();
     println!("in-plane rays, f64 as hits vs Embree: {:?}", acc.counts);
     assert_eq!(acc.mismatches, 0, "{:?}", acc.counts);
@@ -128,7 +195,9 @@ fn soup(seed: u64, slivers: bool) -> (Vec<nori_bridge::geom::Tri>, Vec<Ray>) {
     use nori_bridge::geom::Tri;
     use rand::Rng;
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let grid = |rng: &mut ChaCha8Rng, r: i32| -> [f32; 3] { std::array::from_fn(|_| rng.gen_range(-r..=r) as f32 / 8.0) };
+    let grid = |rng: &mut ChaCha8Rng, r: i32| -> [f32; 3] {
+        std::array::from_fn(|_| rng.gen_range(-r..=r) as f32 / 8.0)
+    };
     let tris: Vec<Tri> = (0..3000)
         .map(|i| {
             let (a, e, f) = if slivers && i % 3 == 0 {
@@ -144,10 +213,14 @@ fn soup(seed: u64, slivers: bool) -> (Vec<nori_bridge::geom::Tri>, Vec<Ray>) {
                 }
             };
             let add = |p: [f32; 3], q: [f32; 3]| [p[0] + q[0], p[1] + q[1], p[2] + q[2]];
-            Tri { v: [a, add(a, e), add(a, f)] }
+            Tri {
+                v: [a, add(a, e), add(a, f)],
+            }
         })
         .collect();
-    let bounds = tris.iter().fold(nori_bridge::geom::Aabb::empty(), |b, t| b.union(&t.bounds()));
+    let bounds = tris.iter().fold(nori_bridge::geom::Aabb::empty(), |b, t| {
+        b.union(&t.bounds())
+    });
     let rays = ray_gen::random(&tris, &bounds, 50_000, &mut rng);
     (tris, rays)
 }
@@ -158,12 +231,27 @@ fn soup(seed: u64, slivers: bool) -> (Vec<nori_bridge::geom::Tri>, Vec<Ray>) {
 fn degenerate_triangles_are_never_hit() {
     let seed = 31;
     let (tris, rays) = soup(seed, false);
-    let img = nori_bridge::image_bin::Image::from_bvh(&nori_bridge::bvh_build::build_bvh(&device(), &tris, 4).unwrap(), &tris);
-    assert_eq!(img.tris.iter().filter(|r| r.flags & nori_bridge::image_bin::FLAG_ZERO_AREA != 0).count(), 2000);
-    let want = EmbreeScene::new(device(), &tris, false).unwrap().trace(&rays);
+    let img = nori_bridge::image_bin::Image::from_bvh(
+        &nori_bridge::bvh_build::build_bvh(&device(), &tris, 4).unwrap(),
+        &tris,
+    );
+    assert_eq!(
+        img.tris
+            .iter()
+            .filter(|r| r.flags & nori_bridge::image_bin::FLAG_ZERO_AREA != 0)
+            .count(),
+        2000
+    );
+    let want = EmbreeScene::new(device(), &tris, false)
+        .unwrap()
+        .trace(&rays);
     let (got, _) = mt_walk::trace_all(&img, &rays);
     for (i, h) in got.iter().enumerate() {
-        assert!(!h.hit || tris[h.prim as usize].double_area64() > 0.0, "seed {seed}: ray {i} hit zero-area prim {}", h.prim);
+        assert!(
+            !h.hit || tris[h.prim as usize].double_area64() > 0.0,
+            "seed {seed}: ray {i} hit zero-area prim {}",
+            h.prim
+        );
     }
     let (acc, _) = compare(&tris, &rays, &got, &want, Tolerances::default()).unwrap();
     println!("degenerate soup seed {seed}: {:?}", acc.counts);
@@ -179,19 +267,37 @@ fn degenerate_triangles_are_never_hit() {
 fn sliver_hits_are_judged_edge_cases() {
     let seed = 32;
     let (tris, rays) = soup(seed, true);
-    let img = nori_bridge::image_bin::Image::from_bvh(&nori_bridge::bvh_build::build_bvh(&device(), &tris, 4).unwrap(), &tris);
-    let want = EmbreeScene::new(device(), &tris, false).unwrap().trace(&rays);
+    let img = nori_bridge::image_bin::Image::from_bvh(
+        &nori_bridge::bvh_build::build_bvh(&device(), &tris, 4).unwrap(),
+        &tris,
+    );
+    let want = EmbreeScene::new(device(), &tris, false)
+        .unwrap()
+        .trace(&rays);
     let (got, _) = mt_walk::trace_all(&img, &rays);
     let (acc, classes) = compare(&tris, &rays, &got, &want, Tolerances::default()).unwrap();
     println!("sliver soup seed {seed}: {:?}", acc.counts);
-    assert_eq!(acc.mismatches, 0, "seed {seed}: {:?} worst {}", acc.counts, serde_json::to_string(&acc.worst).unwrap());
+    assert_eq!(
+        acc.mismatches,
+        0,
+        "seed {seed}: {:?} worst {}",
+        acc.counts,
+        serde_json::to_string(&acc.worst).unwrap()
+    );
     let sliver = |p: i64| p >= 0 && p % 3 == 0 && tris[p as usize].double_area64() > 0.0;
     let edge = classes.iter().filter(|c| **c == Class::Edge).count();
-    assert!(edge > 50, "seed {seed}: only {edge} edge cases; the slivers should produce many");
+    assert!(
+        edge > 50,
+        "seed {seed}: only {edge} edge cases; the slivers should produce many"
+    );
     for (i, c) in classes.iter().enumerate() {
         if *c == Class::Edge {
-            assert!(sliver(got[i].prim) || sliver(want[i].prim),
-                    "seed {seed}: ray {i} judged edge without a sliver: {:?} vs {:?}", got[i], want[i]);
+            assert!(
+                sliver(got[i].prim) || sliver(want[i].prim),
+                "seed {seed}: ray {i} judged edge without a sliver: {:?} vs {:?}",
+                got[i],
+                want[i]
+            );
         }
     }
 }

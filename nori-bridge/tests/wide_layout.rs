@@ -39,19 +39,38 @@ fn walk(what: &str, img: &Image) -> Below {
     let n_nodes = img.node_count();
     let (mut met, mut next_slot) = (1usize, 0u32); // node 0, the root, is met first
     for n in 0..n_nodes {
-        assert!(n < met, "{what}: node {n} is reached from no node before it");
+        assert!(
+            n < met,
+            "{what}: node {n} is reached from no node before it"
+        );
         let slots = img.wide_node(n);
         let used = slots.iter().take_while(|s| s.slot() != Slot::Empty).count();
-        assert!(slots[used..].iter().all(|s| s.slot() == Slot::Empty), "{what}: node {n}: a used slot follows an empty one");
+        assert!(
+            slots[used..].iter().all(|s| s.slot() == Slot::Empty),
+            "{what}: node {n}: a used slot follows an empty one"
+        );
         for s in &slots[used..] {
-            assert_eq!((s.word1, s.bounds.min, s.bounds.max), (0, [0.0; 3], [0.0; 3]), "{what}: node {n}: empty slot not zero");
+            assert_eq!(
+                (s.word1, s.bounds.min, s.bounds.max),
+                (0, [0.0; 3], [0.0; 3]),
+                "{what}: node {n}: empty slot not zero"
+            );
         }
-        assert!(used >= 2 || n == 0, "{what}: node {n} has {used} used slots");
+        assert!(
+            used >= 2 || n == 0,
+            "{what}: node {n} has {used} used slots"
+        );
         for (i, s) in slots[..used].iter().enumerate() {
             match s.slot() {
                 Slot::Leaf { first, count } => {
-                    assert!(count >= 1 && count <= img.max_leaf_size, "{what}: node {n} slot {i}: leaf of {count}");
-                    assert_eq!(first, next_slot, "{what}: node {n} slot {i}: leaf triangles not in breadth-first leaf order");
+                    assert!(
+                        count >= 1 && count <= img.max_leaf_size,
+                        "{what}: node {n} slot {i}: leaf of {count}"
+                    );
+                    assert_eq!(
+                        first, next_slot,
+                        "{what}: node {n} slot {i}: leaf triangles not in breadth-first leaf order"
+                    );
                     next_slot += count;
                 }
                 Slot::Inner { node } => {
@@ -62,17 +81,24 @@ fn walk(what: &str, img: &Image) -> Below {
             }
         }
     }
-    assert_eq!(met, n_nodes, "{what}: not every node reached once in breadth-first order");
-    assert_eq!(next_slot as usize, img.tris.len(), "{what}: leaves do not cover every triangle slot");
+    assert_eq!(
+        met, n_nodes,
+        "{what}: not every node reached once in breadth-first order"
+    );
+    assert_eq!(
+        next_slot as usize,
+        img.tris.len(),
+        "{what}: leaves do not cover every triangle slot"
+    );
     let mut below: Vec<Option<Below>> = vec![None; n_nodes];
     for n in (0..n_nodes).rev() {
         let slots = img.wide_node(n);
         let (mut bounds, mut stack, mut depth, mut used) = (Aabb::empty(), 0, 0, 0u32);
         for (i, s) in slots.iter().enumerate() {
             let b = match s.slot() {
-                Slot::Leaf { first, count } => {
-                    img.tris[first as usize..(first + count) as usize].iter().fold(Aabb::empty(), |b, r| b.union(&r.tri.bounds()))
-                }
+                Slot::Leaf { first, count } => img.tris[first as usize..(first + count) as usize]
+                    .iter()
+                    .fold(Aabb::empty(), |b, r| b.union(&r.tri.bounds())),
                 Slot::Inner { node } => {
                     let sub = below[node as usize].expect("child below its parent");
                     stack = stack.max(sub.stack);
@@ -81,11 +107,18 @@ fn walk(what: &str, img: &Image) -> Below {
                 }
                 _ => continue,
             };
-            assert_eq!(s.bounds, b, "{what}: node {n} slot {i}: box is not the exact bounds of the triangles below");
+            assert_eq!(
+                s.bounds, b,
+                "{what}: node {n} slot {i}: box is not the exact bounds of the triangles below"
+            );
             bounds = bounds.union(&b);
             used += 1;
         }
-        below[n] = Some(Below { bounds, stack: used.saturating_sub(1) + stack, depth: 1 + depth });
+        below[n] = Some(Below {
+            bounds,
+            stack: used.saturating_sub(1) + stack,
+            depth: 1 + depth,
+        });
     }
     below[0].unwrap()
 }
@@ -95,8 +128,14 @@ fn check_wide(what: &str, tris: &[Tri], bvh: &Bvh, img: &Image) {
     let root = walk(what, img);
     check_tri_records(what, tris, img);
     let scene = tris.iter().fold(Aabb::empty(), |b, t| b.union(&t.bounds()));
-    assert_eq!(root.bounds, scene, "{what}: root slots do not cover the scene");
-    assert_eq!(img.bvh_depth, root.stack, "{what}: header bvhDepth is not the stack bound");
+    assert_eq!(
+        root.bounds, scene,
+        "{what}: root slots do not cover the scene"
+    );
+    assert_eq!(
+        img.bvh_depth, root.stack,
+        "{what}: header bvhDepth is not the stack bound"
+    );
     assert_eq!(bvh.tree_depth, root.depth, "{what}: tree depth");
 }
 
@@ -109,8 +148,13 @@ fn shipped_scenes_satisfy_wide_invariants() {
                 let (bvh, img) = build_as(&scene, leaf, layout);
                 let what = format!("{name} --bvh {layout} leaf {leaf}");
                 check_wide(&what, &scene.tris, &bvh, &img);
-                let back = Image::parse(&img.to_bytes()).unwrap_or_else(|e| panic!("{what}: {e:#}"));
-                assert_eq!((back.layout, back.nodes, back.tris, back.bvh_depth), (img.layout, img.nodes, img.tris, img.bvh_depth), "{what}: round trip");
+                let back =
+                    Image::parse(&img.to_bytes()).unwrap_or_else(|e| panic!("{what}: {e:#}"));
+                assert_eq!(
+                    (back.layout, back.nodes, back.tris, back.bvh_depth),
+                    (img.layout, img.nodes, img.tris, img.bvh_depth),
+                    "{what}: round trip"
+                );
             }
         }
     }
@@ -127,21 +171,38 @@ fn wide2_is_the_nori_tree() {
         let (wide, wide_img) = build_as(&scene, 4, Layout::Wide2);
         let inner = nori.nodes.iter().filter(|n| !n.is_leaf()).count();
         assert_eq!(wide.node_count(), inner.max(1), "{name}");
-        assert_eq!((wide.depth, wide.tree_depth), (nori.depth, nori.depth), "{name}");
+        assert_eq!(
+            (wide.depth, wide.tree_depth),
+            (nori.depth, nori.depth),
+            "{name}"
+        );
         // The same leaves (as sets of prims), though stored in breadth-first order, not nori's depth-first one.
         let leaves = |img: &Image, layout: Layout| {
             let mut v: Vec<Vec<u32>> = (0..img.nodes.len())
                 .filter_map(|r| match (layout, img.nodes[r].slot()) {
-                    (Layout::Nori, _) if img.nodes[r].is_leaf() => Some((img.nodes[r].word1, img.nodes[r].count())),
+                    (Layout::Nori, _) if img.nodes[r].is_leaf() => {
+                        Some((img.nodes[r].word1, img.nodes[r].count()))
+                    }
                     (Layout::Wide2, Slot::Leaf { first, count }) => Some((first, count)),
                     _ => None,
                 })
-                .map(|(first, count)| { let mut p: Vec<u32> = img.tris[first as usize..(first + count) as usize].iter().map(|t| t.prim).collect(); p.sort(); p })
+                .map(|(first, count)| {
+                    let mut p: Vec<u32> = img.tris[first as usize..(first + count) as usize]
+                        .iter()
+                        .map(|t| t.prim)
+                        .collect();
+                    p.sort();
+                    p
+                })
                 .collect();
             v.sort();
             v
         };
-        assert_eq!(leaves(&wide_img, Layout::Wide2), leaves(&nori_img, Layout::Nori), "{name}: leaves differ from nori's");
+        assert_eq!(
+            leaves(&wide_img, Layout::Wide2),
+            leaves(&nori_img, Layout::Nori),
+            "{name}: leaves differ from nori's"
+        );
         assert_eq!(wide.mean_children(), 2.0, "{name}");
     }
 }
@@ -157,17 +218,29 @@ fn random_soups_satisfy_wide_invariants() {
         let tris = random_soup(&mut rng, n);
         for layout in WIDE {
             for leaf in [1, 2, 4, 32] {
-                let bvh = nori_bridge::bvh_build::build_layout(&device(), &tris, leaf, layout).unwrap();
+                let bvh =
+                    nori_bridge::bvh_build::build_layout(&device(), &tris, leaf, layout).unwrap();
                 let img = Image::from_bvh(&bvh, &tris);
-                check_wide(&format!("soup seed {seed} n {n} --bvh {layout} leaf {leaf}"), &tris, &bvh, &img);
+                check_wide(
+                    &format!("soup seed {seed} n {n} --bvh {layout} leaf {leaf}"),
+                    &tris,
+                    &bvh,
+                    &img,
+                );
                 if img.nodes[1].slot() == Slot::Empty {
                     root_is_leaf += 1;
-                    assert_eq!(img.bvh_depth, 0, "seed {seed} n {n}: root-is-leaf stack bound");
+                    assert_eq!(
+                        img.bvh_depth, 0,
+                        "seed {seed} n {n}: root-is-leaf stack bound"
+                    );
                 }
             }
         }
     }
-    assert!(root_is_leaf >= WIDE.len() * 4, "seed {seed}: the one-triangle soups must give a root that is a leaf");
+    assert!(
+        root_is_leaf >= WIDE.len() * 4,
+        "seed {seed}: the one-triangle soups must give a root that is a leaf"
+    );
 }
 
 #[test]
@@ -179,11 +252,22 @@ fn wide_header_fields() {
         let u = |o: usize| u32::from_le_bytes(b[o..o + 4].try_into().unwrap());
         let k = layout.word();
         assert_eq!((u(8), u(44)), (2, k), "version, layout");
-        assert_eq!(u(12) as usize, img.nodes.len() / k as usize, "nodeCount counts wide nodes");
+        assert_eq!(
+            u(12) as usize,
+            img.nodes.len() / k as usize,
+            "nodeCount counts wide nodes"
+        );
         assert_eq!((u(28), u(32)), (32 * k, 48), "nodeBytes = 32 K");
-        assert_eq!(u(24) as usize, (64 + 32 * img.nodes.len()).div_ceil(64) * 64, "triOffset");
+        assert_eq!(
+            u(24) as usize,
+            (64 + 32 * img.nodes.len()).div_ceil(64) * 64,
+            "triOffset"
+        );
         assert_eq!(u(40), img.bvh_depth);
-        assert!(b[48..64].iter().all(|&x| x == 0), "reserved header bytes must be zero");
+        assert!(
+            b[48..64].iter().all(|&x| x == 0),
+            "reserved header bytes must be zero"
+        );
         // Node i starts at 64 + 32 K i: whole 64-byte bursts, 64-byte aligned.
         assert_eq!((32 * k) % 64, 0);
     }

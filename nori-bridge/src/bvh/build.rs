@@ -35,14 +35,30 @@ struct BLeaf {
     // followed by `count` u32 prim numbers
 }
 
-unsafe extern "C" fn create_node(alloc: sys::RTCThreadLocalAllocator, n: c_uint, _: *mut c_void) -> *mut c_void {
-    assert!(n as usize <= MAX_BRANCHING, "Embree asked for a node of {n} children");
+unsafe extern "C" fn create_node(
+    alloc: sys::RTCThreadLocalAllocator,
+    n: c_uint,
+    _: *mut c_void,
+) -> *mut c_void {
+    assert!(
+        n as usize <= MAX_BRANCHING,
+        "Embree asked for a node of {n} children"
+    );
     let p = sys::rtcThreadLocalAlloc(alloc, std::mem::size_of::<BInner>(), 16) as *mut BInner;
-    p.write(BInner { is_leaf: 0, count: n, children: [std::ptr::null(); MAX_BRANCHING] });
+    p.write(BInner {
+        is_leaf: 0,
+        count: n,
+        children: [std::ptr::null(); MAX_BRANCHING],
+    });
     p as *mut c_void
 }
 
-unsafe extern "C" fn set_children(node: *mut c_void, ch: *mut *mut c_void, n: c_uint, _: *mut c_void) {
+unsafe extern "C" fn set_children(
+    node: *mut c_void,
+    ch: *mut *mut c_void,
+    n: c_uint,
+    _: *mut c_void,
+) {
     let node = &mut *(node as *mut BInner);
     node.count = n;
     for i in 0..n as usize {
@@ -50,7 +66,12 @@ unsafe extern "C" fn set_children(node: *mut c_void, ch: *mut *mut c_void, n: c_
     }
 }
 
-unsafe extern "C" fn set_bounds(_: *mut c_void, _: *mut *const sys::RTCBounds, _: c_uint, _: *mut c_void) {
+unsafe extern "C" fn set_bounds(
+    _: *mut c_void,
+    _: *mut *const sys::RTCBounds,
+    _: c_uint,
+    _: *mut c_void,
+) {
     // Boxes are recomputed from the exact f32 vertices when flattening.
 }
 
@@ -62,7 +83,10 @@ unsafe extern "C" fn create_leaf(
 ) -> *mut c_void {
     let bytes = std::mem::size_of::<BLeaf>() + 4 * n;
     let p = sys::rtcThreadLocalAlloc(alloc, bytes, 16) as *mut BLeaf;
-    p.write(BLeaf { is_leaf: 1, count: n as u32 });
+    p.write(BLeaf {
+        is_leaf: 1,
+        count: n as u32,
+    });
     let ids = (p as *mut u8).add(std::mem::size_of::<BLeaf>()) as *mut u32;
     for i in 0..n {
         ids.add(i).write((*prims.add(i)).primID);
@@ -75,18 +99,31 @@ pub fn build_bvh(device: &Device, tris: &[Tri], max_leaf_size: u32) -> Result<Bv
     build_layout(device, tris, max_leaf_size, Layout::Nori)
 }
 
-pub fn build_layout(device: &Device, tris: &[Tri], max_leaf_size: u32, layout: Layout) -> Result<Bvh> {
+pub fn build_layout(
+    device: &Device,
+    tris: &[Tri],
+    max_leaf_size: u32,
+    layout: Layout,
+) -> Result<Bvh> {
     let tree = build_tree(device, tris, max_leaf_size, layout.branching())?;
     flatten(&tree, tris, max_leaf_size, layout)
 }
 
 /// Embree's tree with at most `branching` children per inner node.
-pub fn build_tree(device: &Device, tris: &[Tri], max_leaf_size: u32, branching: u32) -> Result<Tree> {
+pub fn build_tree(
+    device: &Device,
+    tris: &[Tri],
+    max_leaf_size: u32,
+    branching: u32,
+) -> Result<Tree> {
     if !(1..=MAX_LEAF_LIMIT).contains(&max_leaf_size) {
         bail!("--max-leaf-size {max_leaf_size} must be in 1..={MAX_LEAF_LIMIT} (Embree's builder limit)");
     }
     if tris.len() >= (1usize << 31) {
-        bail!("{} triangles exceed the 31-bit index fields of the format", tris.len());
+        bail!(
+            "{} triangles exceed the 31-bit index fields of the format",
+            tris.len()
+        );
     }
     let mut prims: Vec<sys::RTCBuildPrimitive> = tris
         .iter()
@@ -94,8 +131,14 @@ pub fn build_tree(device: &Device, tris: &[Tri], max_leaf_size: u32, branching: 
         .map(|(i, t)| {
             let b = t.bounds();
             sys::RTCBuildPrimitive {
-                lower_x: b.min[0], lower_y: b.min[1], lower_z: b.min[2], geomID: 0,
-                upper_x: b.max[0], upper_y: b.max[1], upper_z: b.max[2], primID: i as u32,
+                lower_x: b.min[0],
+                lower_y: b.min[1],
+                lower_z: b.min[2],
+                geomID: 0,
+                upper_x: b.max[0],
+                upper_y: b.max[1],
+                upper_z: b.max[2],
+                primID: i as u32,
             }
         })
         .collect();
@@ -126,7 +169,10 @@ pub fn build_tree(device: &Device, tris: &[Tri], max_leaf_size: u32, branching: 
         };
         let root = sys::rtcBuildBVH(&args);
         let result = if root.is_null() {
-            Err(anyhow::anyhow!("Embree's rtcBuildBVH failed: {:?}", device.error()))
+            Err(anyhow::anyhow!(
+                "Embree's rtcBuildBVH failed: {:?}",
+                device.error()
+            ))
         } else {
             copy_tree(root, 0)
         };
@@ -144,9 +190,13 @@ unsafe fn copy_tree(p: *const c_void, level: usize) -> Result<Tree> {
     if *(p as *const u32) == 1 {
         let leaf = &*(p as *const BLeaf);
         let ids = (p as *const u8).add(std::mem::size_of::<BLeaf>()) as *const u32;
-        return Ok(Tree::Leaf((0..leaf.count as usize).map(|i| *ids.add(i)).collect()));
+        return Ok(Tree::Leaf(
+            (0..leaf.count as usize).map(|i| *ids.add(i)).collect(),
+        ));
     }
     let inner = &*(p as *const BInner);
-    let kids = inner.children[..inner.count as usize].iter().map(|&c| copy_tree(c, level + 1));
+    let kids = inner.children[..inner.count as usize]
+        .iter()
+        .map(|&c| copy_tree(c, level + 1));
     Ok(Tree::Inner(kids.collect::<Result<_>>()?))
 }

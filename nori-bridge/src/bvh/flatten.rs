@@ -20,19 +20,48 @@ pub enum Tree {
 
 pub fn flatten(tree: &Tree, tris: &[Tri], max_leaf_size: u32, layout: Layout) -> Result<Bvh> {
     if layout == Layout::Nori {
-        let mut f = Flattener { tris, nodes: Vec::new(), slot_prim: Vec::new() };
+        let mut f = Flattener {
+            tris,
+            nodes: Vec::new(),
+            slot_prim: Vec::new(),
+        };
         let d = f.nori(tree)?;
-        return Ok(Bvh { layout, nodes: f.nodes, slot_prim: f.slot_prim, depth: d, tree_depth: d, max_leaf_size, quant: Vec::new() });
+        return Ok(Bvh {
+            layout,
+            nodes: f.nodes,
+            slot_prim: f.slot_prim,
+            depth: d,
+            tree_depth: d,
+            max_leaf_size,
+            quant: Vec::new(),
+        });
     }
     let k = layout.records_per_node();
     let w = wide_breadth_first(tree, tris, k)?;
     let quant = if layout.is_quant() {
-        w.nodes.chunks(k).map(|slots| QuantNode::encode(&slots.iter().map(|s| (s.slot() != Slot::Empty).then_some(s.bounds)).collect::<Vec<_>>()))
+        w.nodes
+            .chunks(k)
+            .map(|slots| {
+                QuantNode::encode(
+                    &slots
+                        .iter()
+                        .map(|s| (s.slot() != Slot::Empty).then_some(s.bounds))
+                        .collect::<Vec<_>>(),
+                )
+            })
             .collect::<Result<Vec<_>>>()?
     } else {
         Vec::new()
     };
-    Ok(Bvh { layout, nodes: w.nodes, slot_prim: w.slot_prim, depth: w.stack, tree_depth: w.depth, max_leaf_size, quant })
+    Ok(Bvh {
+        layout,
+        nodes: w.nodes,
+        slot_prim: w.slot_prim,
+        depth: w.stack,
+        tree_depth: w.depth,
+        max_leaf_size,
+        quant,
+    })
 }
 
 struct Flattener<'a> {
@@ -46,20 +75,31 @@ impl Flattener<'_> {
     /// (inner nodes on its longest root-to-leaf path).
     fn nori(&mut self, t: &Tree) -> Result<u32> {
         let me = self.nodes.len();
-        self.nodes.push(Node { word0: 0, word1: 0, bounds: Aabb::empty() });
+        self.nodes.push(Node {
+            word0: 0,
+            word1: 0,
+            bounds: Aabb::empty(),
+        });
         let kids = match t {
             Tree::Leaf(prims) => {
                 self.nodes[me] = leaf(self.tris, &mut self.slot_prim, prims);
                 return Ok(0);
             }
             Tree::Inner(kids) if kids.len() == 2 => kids,
-            Tree::Inner(kids) => bail!("Embree gave a node of {} children for the binary nori layout", kids.len()),
+            Tree::Inner(kids) => bail!(
+                "Embree gave a node of {} children for the binary nori layout",
+                kids.len()
+            ),
         };
         let dl = self.nori(&kids[0])?;
         let right = self.nodes.len();
         let dr = self.nori(&kids[1])?;
         let (lb, rb) = (self.nodes[me + 1].bounds, self.nodes[right].bounds);
-        self.nodes[me] = Node { word0: split_axis(&lb, &rb), word1: right as u32, bounds: lb.union(&rb) };
+        self.nodes[me] = Node {
+            word0: split_axis(&lb, &rb),
+            word1: right as u32,
+            bounds: lb.union(&rb),
+        };
         Ok(1 + dl.max(dr))
     }
 }
@@ -72,7 +112,11 @@ fn leaf(tris: &[Tri], slot_prim: &mut Vec<u32>, prims: &[u32]) -> Node {
         b = b.union(&tris[prim as usize].bounds());
         slot_prim.push(prim);
     }
-    Node { word0: LEAF_BIT | prims.len() as u32, word1: first, bounds: b }
+    Node {
+        word0: LEAF_BIT | prims.len() as u32,
+        word1: first,
+        bounds: b,
+    }
 }
 
 /// A wide tree laid out: K records per node, the stack bound (sum of used
@@ -99,15 +143,30 @@ pub fn wide_breadth_first(tree: &Tree, tris: &[Tri], k: usize) -> Result<WideTre
         Tree::Leaf(_) => std::slice::from_ref(tree),
         Tree::Inner(kids) => kids.as_slice(),
     };
-    let empty = Node { word0: EMPTY_SLOT, word1: 0, bounds: Aabb { min: [0.0; 3], max: [0.0; 3] } };
-    let mut out = WideTree { nodes: Vec::new(), slot_prim: Vec::new(), stack: 0, depth: 0 };
+    let empty = Node {
+        word0: EMPTY_SLOT,
+        word1: 0,
+        bounds: Aabb {
+            min: [0.0; 3],
+            max: [0.0; 3],
+        },
+    };
+    let mut out = WideTree {
+        nodes: Vec::new(),
+        slot_prim: Vec::new(),
+        stack: 0,
+        depth: 0,
+    };
     // The queue holds each node's children in index order: queue[n] is node n.
     let mut queue: Vec<&[Tree]> = vec![root];
     let mut n = 0;
     while n < queue.len() {
         let kids = queue[n];
         if kids.len() > k {
-            bail!("Embree gave a node of {} children for {k}-wide nodes", kids.len());
+            bail!(
+                "Embree gave a node of {} children for {k}-wide nodes",
+                kids.len()
+            );
         }
         for kid in kids {
             let slot = match kid {
@@ -115,7 +174,11 @@ pub fn wide_breadth_first(tree: &Tree, tris: &[Tri], k: usize) -> Result<WideTre
                 Tree::Inner(grand) => {
                     queue.push(grand.as_slice());
                     // The box is the union of the child's slots, filled in below.
-                    Node { word0: 0, word1: (queue.len() - 1) as u32, bounds: Aabb::empty() }
+                    Node {
+                        word0: 0,
+                        word1: (queue.len() - 1) as u32,
+                        bounds: Aabb::empty(),
+                    }
                 }
             };
             out.nodes.push(slot);
@@ -132,7 +195,10 @@ pub fn wide_breadth_first(tree: &Tree, tris: &[Tri], k: usize) -> Result<WideTre
         for i in 0..used as usize {
             if let Slot::Inner { node } = out.nodes[m * k + i].slot() {
                 let c = node as usize;
-                out.nodes[m * k + i].bounds = out.nodes[c * k..c * k + k].iter().take(queue[c].len()).fold(Aabb::empty(), |b, x| b.union(&x.bounds));
+                out.nodes[m * k + i].bounds = out.nodes[c * k..c * k + k]
+                    .iter()
+                    .take(queue[c].len())
+                    .fold(Aabb::empty(), |b, x| b.union(&x.bounds));
                 s = s.max(stack[c]);
                 d = d.max(depth[c]);
             }

@@ -31,7 +31,14 @@ pub enum Layout {
 }
 
 impl Layout {
-    pub const ALL: [Layout; 6] = [Layout::Nori, Layout::Wide2, Layout::Wide4, Layout::Wide8, Layout::Quant4, Layout::Quant8];
+    pub const ALL: [Layout; 6] = [
+        Layout::Nori,
+        Layout::Wide2,
+        Layout::Wide4,
+        Layout::Wide8,
+        Layout::Quant4,
+        Layout::Quant8,
+    ];
 
     /// The header's `layout` word: 0 for nori, K for the wide layouts,
     /// 16 + K for the quantized ones (20 = 4q, 24 = 8q).
@@ -125,8 +132,13 @@ impl FromStr for Layout {
 /// What a wide node's slot holds, decoded from its word0 / word1.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Slot {
-    Leaf { first: u32, count: u32 },
-    Inner { node: u32 },
+    Leaf {
+        first: u32,
+        count: u32,
+    },
+    Inner {
+        node: u32,
+    },
     Empty,
     /// Any other word0: the hardware flags the ray with IndexOverflow.
     Corrupt,
@@ -135,7 +147,10 @@ pub enum Slot {
 impl Slot {
     pub fn decode(word0: u32, word1: u32) -> Slot {
         match word0 {
-            w if w & LEAF_BIT != 0 => Slot::Leaf { first: word1, count: w & !LEAF_BIT },
+            w if w & LEAF_BIT != 0 => Slot::Leaf {
+                first: word1,
+                count: w & !LEAF_BIT,
+            },
             0 => Slot::Inner { node: word1 },
             EMPTY_SLOT => Slot::Empty,
             _ => Slot::Corrupt,

@@ -87,17 +87,28 @@ impl Bvh {
             }
             _ => (self.used_records().count(), self.node_count()),
         };
-        if inner == 0 { 0.0 } else { children as f64 / inner as f64 }
+        if inner == 0 {
+            0.0
+        } else {
+            children as f64 / inner as f64
+        }
     }
 
     /// Every record but the empty slots of wide nodes.
     fn used_records(&self) -> impl Iterator<Item = &Node> + '_ {
         let wide = self.layout.is_wide();
-        self.nodes.iter().filter(move |n| !(wide && n.slot() == Slot::Empty))
+        self.nodes
+            .iter()
+            .filter(move |n| !(wide && n.slot() == Slot::Empty))
     }
 
     pub fn largest_leaf(&self) -> u32 {
-        self.nodes.iter().filter(|n| n.is_leaf()).map(|n| n.count()).max().unwrap_or(0)
+        self.nodes
+            .iter()
+            .filter(|n| n.is_leaf())
+            .map(|n| n.count())
+            .max()
+            .unwrap_or(0)
     }
 
     pub fn leaf_count(&self) -> usize {
@@ -118,7 +129,11 @@ impl Bvh {
             .into_iter()
             .chain(self.used_records().map(|n| {
                 let a = n.bounds.area64() / root;
-                if n.is_leaf() { a * n.count() as f64 } else { a }
+                if n.is_leaf() {
+                    a * n.count() as f64
+                } else {
+                    a
+                }
             }))
             .sum()
     }

@@ -75,14 +75,25 @@ impl QuantNode {
     pub fn encode(boxes: &[Option<Aabb>]) -> Result<QuantNode> {
         let used: Vec<&Aabb> = boxes.iter().flatten().collect();
         let k = boxes.len();
-        let mut q = QuantNode { origin: [0.0; 3], exp: [127; 3], lo: vec![[0; 3]; k], hi: vec![[0; 3]; k] };
+        let mut q = QuantNode {
+            origin: [0.0; 3],
+            exp: [127; 3],
+            lo: vec![[0; 3]; k],
+            hi: vec![[0; 3]; k],
+        };
         if used.is_empty() {
             return Ok(q);
         }
         for a in 0..3 {
             let lo = used.iter().map(|b| b.min[a]).fold(f32::INFINITY, f32::min);
-            let hi = used.iter().map(|b| b.max[a]).fold(f32::NEG_INFINITY, f32::max);
-            ensure!(lo.is_finite() && hi.is_finite() && lo <= hi, "cannot quantize the non-finite or inverted bounds [{lo}, {hi}]");
+            let hi = used
+                .iter()
+                .map(|b| b.max[a])
+                .fold(f32::NEG_INFINITY, f32::max);
+            ensure!(
+                lo.is_finite() && hi.is_finite() && lo <= hi,
+                "cannot quantize the non-finite or inverted bounds [{lo}, {hi}]"
+            );
             let (s, m) = axis_scale(lo, hi)?;
             let sc = 2f64.powi(s);
             q.origin[a] = (m * sc) as f32;
@@ -93,7 +104,10 @@ impl QuantNode {
                     // f32 / 2^s is exact in f64; floor/ceil round outward.
                     let ql = (b.min[a] as f64 / sc).floor() - m;
                     let qh = (b.max[a] as f64 / sc).ceil() - m;
-                    ensure!((0.0..=255.0).contains(&ql) && (0.0..=255.0).contains(&qh), "quantization out of range");
+                    ensure!(
+                        (0.0..=255.0).contains(&ql) && (0.0..=255.0).contains(&qh),
+                        "quantization out of range"
+                    );
                     q.lo[i][a] = ql as u8;
                     q.hi[i][a] = qh as u8;
                 }
@@ -116,7 +130,10 @@ fn axis_scale(lo: f32, hi: f32) -> Result<(i32, f64)> {
         s = s.max(mag.log2().floor() as i32 - 25);
     }
     loop {
-        ensure!(s <= 104, "bounds [{lo}, {hi}] are too wide for 8-bit quantization");
+        ensure!(
+            s <= 104,
+            "bounds [{lo}, {hi}] are too wide for 8-bit quantization"
+        );
         let sc = 2f64.powi(s);
         let m = (lo as f64 / sc).floor();
         if m.abs() <= ORIGIN_LIMIT && (hi as f64 / sc).ceil() - m <= 255.0 {
@@ -140,7 +157,10 @@ pub fn encode_bytes(q: &QuantNode, slots: &[Node], node_bytes: usize) -> Result<
     }
     b.extend_from_slice(&q.exp);
     b.push(0);
-    let child_base = slots.iter().find(|s| matches!(s.slot(), Slot::Inner { .. })).map_or(0, |s| s.word1);
+    let child_base = slots
+        .iter()
+        .find(|s| matches!(s.slot(), Slot::Inner { .. }))
+        .map_or(0, |s| s.word1);
     let tri_base = slots.iter().find(|s| s.is_leaf()).map_or(0, |s| s.word1);
     b.extend_from_slice(&child_base.to_le_bytes());
     b.extend_from_slice(&tri_base.to_le_bytes());
@@ -153,8 +173,11 @@ pub fn encode_bytes(q: &QuantNode, slots: &[Node], node_bytes: usize) -> Result<
             other => bail!("slot {other:?} has no quantized encoding"),
         })
         .collect::<Result<_>>()?;
-    ensure!(decode_refs(&meta, child_base, tri_base) == slots.iter().map(|s| (s.word0, s.word1)).collect::<Vec<_>>(),
-        "a node's children or leaf triangles are not contiguous in slot order");
+    ensure!(
+        decode_refs(&meta, child_base, tri_base)
+            == slots.iter().map(|s| (s.word0, s.word1)).collect::<Vec<_>>(),
+        "a node's children or leaf triangles are not contiguous in slot order"
+    );
     b.extend_from_slice(&meta);
     for hi in [false, true] {
         for a in 0..3 {
@@ -200,16 +223,31 @@ pub fn decode_bytes(b: &[u8], k: usize) -> (Vec<Node>, QuantNode) {
     let q = QuantNode {
         origin: [f(0), f(4), f(8)],
         exp: [b[12], b[13], b[14]],
-        lo: (0..k).map(|i| [plane(0, i), plane(1, i), plane(2, i)]).collect(),
-        hi: (0..k).map(|i| [plane(3, i), plane(4, i), plane(5, i)]).collect(),
+        lo: (0..k)
+            .map(|i| [plane(0, i), plane(1, i), plane(2, i)])
+            .collect(),
+        hi: (0..k)
+            .map(|i| [plane(3, i), plane(4, i), plane(5, i)])
+            .collect(),
     };
     let nodes = decode_refs(meta, u(16), u(20))
         .into_iter()
         .enumerate()
         .map(|(i, (word0, word1))| {
             let empty = word0 == EMPTY_SLOT;
-            let bounds = if empty { Aabb { min: [0.0; 3], max: [0.0; 3] } } else { q.decoded(i) };
-            Node { word0, word1, bounds }
+            let bounds = if empty {
+                Aabb {
+                    min: [0.0; 3],
+                    max: [0.0; 3],
+                }
+            } else {
+                q.decoded(i)
+            };
+            Node {
+                word0,
+                word1,
+                bounds,
+            }
         })
         .collect();
     (nodes, q)

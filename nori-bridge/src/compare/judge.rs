@@ -29,7 +29,10 @@ pub enum Class {
 
 impl Class {
     pub fn is_mismatch(self) -> bool {
-        matches!(self, Class::FalseMiss | Class::FalseHit | Class::WrongPrim | Class::TError)
+        matches!(
+            self,
+            Class::FalseMiss | Class::FalseHit | Class::WrongPrim | Class::TError
+        )
     }
 }
 
@@ -59,7 +62,10 @@ pub struct Tolerances {
 
 impl Default for Tolerances {
     fn default() -> Self {
-        Tolerances { precision_bits: 24, slack: 16.0 }
+        Tolerances {
+            precision_bits: 24,
+            slack: 16.0,
+        }
     }
 }
 
@@ -97,10 +103,16 @@ impl Judge<'_> {
         let d = to64(ray.d);
         let cos = (dot64(n, d) / (len64(n) * len64(d))).abs().max(1e-300);
         let c = tri.vertices64();
-        let longest = (0..3).map(|i| len64(sub64(c[(i + 1) % 3], c[i]))).fold(0.0, f64::max);
+        let longest = (0..3)
+            .map(|i| len64(sub64(c[(i + 1) % 3], c[i])))
+            .fold(0.0, f64::max);
         let centroid = scale64(add64(add64(c[0], c[1]), c[2]), 1.0 / 3.0);
         let dist = len64(sub64(centroid, to64(ray.o)));
-        let m = c.iter().chain(std::iter::once(&to64(ray.o))).flatten().fold(0.0f64, |a, x| a.max(x.abs()));
+        let m = c
+            .iter()
+            .chain(std::iter::once(&to64(ray.o)))
+            .flatten()
+            .fold(0.0f64, |a, x| a.max(x.abs()));
         let u = self.tol.unit();
         let dl = len64(d);
         let k = (len64(sub64(c[1], c[0])) * len64(sub64(c[2], c[0])) / len64(n)).max(1.0);
@@ -125,9 +137,12 @@ impl Judge<'_> {
     /// Within the error bound of an edge/vertex or of tmin/tmax: an f32
     /// evaluator may go either way.
     fn ambiguous(&self, prim: i64, ray: &Ray) -> bool {
-        let Some(c) = self.cond(prim, ray) else { return false };
+        let Some(c) = self.cond(prim, ray) else {
+            return false;
+        };
         let near_end = |end: f32| end.is_finite() && Self::t_close(c.h.t, end as f64, c.t_tol);
-        c.h.margin > -c.bary_tol && (c.h.margin < c.bary_tol || near_end(ray.tmin) || near_end(ray.tmax))
+        c.h.margin > -c.bary_tol
+            && (c.h.margin < c.bary_tol || near_end(ray.tmin) || near_end(ray.tmax))
     }
 
     fn in_range_within(&self, c: &Cond, ray: &Ray) -> bool {
@@ -146,7 +161,14 @@ impl Judge<'_> {
         match (got.hit, want.hit) {
             (false, false) => Class::Agree,
             (true, true) if got.prim == want.prim => match self.cond(got.prim, ray) {
-                None if Self::t_close(got.t as f64, want.t as f64, self.tol.unit() * (want.t as f64).abs()) => Class::Agree,
+                None if Self::t_close(
+                    got.t as f64,
+                    want.t as f64,
+                    self.tol.unit() * (want.t as f64).abs(),
+                ) =>
+                {
+                    Class::Agree
+                }
                 None => Class::TError,
                 Some(c) => {
                     let (got_ok, want_ok) = (self.t_ok(got.t, &c), self.t_ok(want.t, &c));
@@ -179,10 +201,17 @@ impl Judge<'_> {
     fn classify_prims(&self, ray: &Ray, got: &Hit, want: &Hit) -> Class {
         // Tie: both prims hit, or within their error bound of being hit, at
         // the same t (shared edges and vertices, coplanar overlaps).
-        let near = |p: i64| self.cond(p, ray).filter(|c| c.h.margin > -c.bary_tol && self.in_range_within(c, ray));
+        let near = |p: i64| {
+            self.cond(p, ray)
+                .filter(|c| c.h.margin > -c.bary_tol && self.in_range_within(c, ray))
+        };
         if let (Some(a), Some(b)) = (near(got.prim), near(want.prim)) {
             if Self::t_close(a.h.t, b.h.t, a.t_tol.max(b.t_tol)) {
-                return if self.t_ok(got.t, &a) { Class::Tie } else { Class::TError };
+                return if self.t_ok(got.t, &a) {
+                    Class::Tie
+                } else {
+                    Class::TError
+                };
             }
         }
         let (hg, hw) = (self.eval(got.prim, ray), self.eval(want.prim, ray));
@@ -207,7 +236,11 @@ impl Judge<'_> {
             return Class::Agree;
         }
         if !self.judge_shadow {
-            return if got.hit { Class::FalseHit } else { Class::FalseMiss };
+            return if got.hit {
+                Class::FalseHit
+            } else {
+                Class::FalseMiss
+            };
         }
         let (mut occluded, mut edge) = (false, false);
         for (i, t) in self.tris.iter().enumerate() {

@@ -37,7 +37,11 @@ pub struct HitView {
 
 impl From<&Hit> for HitView {
     fn from(h: &Hit) -> Self {
-        HitView { hit: h.hit, t: h.t, prim: h.prim }
+        HitView {
+            hit: h.hit,
+            t: h.t,
+            prim: h.prim,
+        }
     }
 }
 
@@ -66,17 +70,35 @@ pub struct Accuracy {
 
 pub fn classify_all(judge: &Judge, rays: &[Ray], got: &[Hit], want: &[Hit]) -> Result<Vec<Class>> {
     if got.len() != rays.len() || want.len() != rays.len() {
-        bail!("{} rays, {} hits, {} reference rows: the counts must match", rays.len(), got.len(), want.len());
+        bail!(
+            "{} rays, {} hits, {} reference rows: the counts must match",
+            rays.len(),
+            got.len(),
+            want.len()
+        );
     }
-    Ok((0..rays.len()).into_par_iter().map(|i| judge.classify(&rays[i], &got[i], &want[i])).collect())
+    Ok((0..rays.len())
+        .into_par_iter()
+        .map(|i| judge.classify(&rays[i], &got[i], &want[i]))
+        .collect())
 }
 
-pub fn compare(tris: &[crate::geom::Tri], rays: &[Ray], got: &[Hit], want: &[Hit], tol: Tolerances) -> Result<(Accuracy, Vec<Class>)> {
+pub fn compare(
+    tris: &[crate::geom::Tri],
+    rays: &[Ray],
+    got: &[Hit],
+    want: &[Hit],
+    tol: Tolerances,
+) -> Result<(Accuracy, Vec<Class>)> {
     let shadow_disagreements = (0..rays.len().min(got.len()).min(want.len()))
         .filter(|&i| rays[i].shadow && got[i].hit != want[i].hit)
         .count();
     let judge_shadow = shadow_disagreements as f64 * tris.len() as f64 <= SHADOW_JUDGE_BUDGET;
-    let judge = Judge { tris, tol, judge_shadow };
+    let judge = Judge {
+        tris,
+        tol,
+        judge_shadow,
+    };
     let classes = classify_all(&judge, rays, got, want)?;
     let mut counts = BTreeMap::new();
     let mut lists: BTreeMap<Class, Vec<usize>> = BTreeMap::new();
@@ -94,7 +116,9 @@ pub fn compare(tris: &[crate::geom::Tri], rays: &[Ray], got: &[Hit], want: &[Hit
             }
         }
     }
-    let mut order: Vec<usize> = (0..rays.len()).filter(|&i| classes[i] != Class::Agree).collect();
+    let mut order: Vec<usize> = (0..rays.len())
+        .filter(|&i| classes[i] != Class::Agree)
+        .collect();
     order.sort_by(|&a, &b| {
         (!classes[a].is_mismatch(), -rel(got[a].t, want[a].t))
             .partial_cmp(&(!classes[b].is_mismatch(), -rel(got[b].t, want[b].t)))
@@ -103,7 +127,12 @@ pub fn compare(tris: &[crate::geom::Tri], rays: &[Ray], got: &[Hit], want: &[Hit
     let worst = order
         .iter()
         .take(WORST_CAP)
-        .map(|&i| Case { ray: i, class: classes[i], hits: (&got[i]).into(), reference: (&want[i]).into() })
+        .map(|&i| Case {
+            ray: i,
+            class: classes[i],
+            hits: (&got[i]).into(),
+            reference: (&want[i]).into(),
+        })
         .collect();
     let acc = Accuracy {
         format_version: crate::memory::VERSION,
@@ -132,13 +161,22 @@ pub fn rel(a: f32, b: f32) -> f64 {
 }
 
 pub fn summary(acc: &Accuracy) -> String {
-    let mut s = format!("{} rays ({} shadow, compared on occlusion only): {} mismatches", acc.rays, acc.shadow_rays, acc.mismatches);
+    let mut s = format!(
+        "{} rays ({} shadow, compared on occlusion only): {} mismatches",
+        acc.rays, acc.shadow_rays, acc.mismatches
+    );
     if !acc.shadow_judged {
         s.push_str(" (shadow disagreements too many to judge in f64: all counted)");
     }
     for (c, n) in &acc.counts {
-        s.push_str(&format!(", {} {n}", serde_json::to_value(c).unwrap().as_str().unwrap_or("?")));
+        s.push_str(&format!(
+            ", {} {n}",
+            serde_json::to_value(c).unwrap().as_str().unwrap_or("?")
+        ));
     }
-    s.push_str(&format!("; max agreeing t rel diff {:.3e}", acc.max_t_rel_agree));
+    s.push_str(&format!(
+        "; max agreeing t rel diff {:.3e}",
+        acc.max_t_rel_agree
+    ));
     s
 }

@@ -44,11 +44,19 @@ pub fn write_ao_pixels(path: &Path, pixels: &[u32]) -> Result<()> {
 
 /// Reads ao_pixels.csv; every pixel must be below `pixel_count`.
 pub fn read_ao_pixels(path: &Path, pixel_count: u64) -> Result<Vec<u32>> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("{}: cannot read", path.display()))?;
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("{}: cannot read", path.display()))?;
     let mut lines = text.lines().enumerate();
     match lines.next() {
         Some((_, h)) if h.trim() == AO_PIXELS_HEADER => {}
-        other => bail!(at_line(path, 1, format!("header is '{}', expected '{AO_PIXELS_HEADER}'", other.map_or("", |l| l.1)))),
+        other => bail!(at_line(
+            path,
+            1,
+            format!(
+                "header is '{}', expected '{AO_PIXELS_HEADER}'",
+                other.map_or("", |l| l.1)
+            )
+        )),
     }
     let mut out = Vec::new();
     for (n, line) in lines.filter(|(_, l)| !l.trim().is_empty()) {
@@ -58,11 +66,19 @@ pub fn read_ao_pixels(path: &Path, pixel_count: u64) -> Result<Vec<u32>> {
             _ => (None, None),
         };
         if ray != Some(out.len()) {
-            bail!(at_line(path, n + 1, format!("'{line}': expected ray number {} and a pixel", out.len())));
+            bail!(at_line(
+                path,
+                n + 1,
+                format!("'{line}': expected ray number {} and a pixel", out.len())
+            ));
         }
         match pixel {
             Some(p) if (p as u64) < pixel_count => out.push(p),
-            _ => bail!(at_line(path, n + 1, format!("pixel in '{line}' is not below the image's {pixel_count} pixels"))),
+            _ => bail!(at_line(
+                path,
+                n + 1,
+                format!("pixel in '{line}' is not below the image's {pixel_count} pixels")
+            )),
         }
     }
     Ok(out)
@@ -92,7 +108,14 @@ mod tests {
     use super::*;
 
     fn hit(prim: i64) -> Hit {
-        Hit { hit: prim >= 0, t: if prim >= 0 { 1.0 } else { f32::INFINITY }, u: 0.0, v: 0.0, prim, error: 0 }
+        Hit {
+            hit: prim >= 0,
+            t: if prim >= 0 { 1.0 } else { f32::INFINITY },
+            u: 0.0,
+            v: 0.0,
+            prim,
+            error: 0,
+        }
     }
 
     #[test]
@@ -133,6 +156,9 @@ mod tests {
         write_ao_pixels(&p, &[3, 3, 0, 7]).unwrap();
         assert_eq!(read_ao_pixels(&p, 8).unwrap(), vec![3, 3, 0, 7]);
         let e = format!("{:#}", read_ao_pixels(&p, 7).unwrap_err());
-        assert!(e.contains("ao_pixels.csv:5:") && e.contains("7 pixels"), "{e}");
+        assert!(
+            e.contains("ao_pixels.csv:5:") && e.contains("7 pixels"),
+            "{e}"
+        );
     }
 }

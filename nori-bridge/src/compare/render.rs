@@ -20,10 +20,20 @@ pub enum Shade {
 const MISMATCH: Rgb<u8> = Rgb([255, 0, 255]);
 const DEBATABLE: Rgb<u8> = Rgb([0, 255, 255]);
 
-pub fn render(pkg: &Package, hits: &[Hit], classes: &[Class], shade: Shade, out: &Path) -> Result<()> {
+pub fn render(
+    pkg: &Package,
+    hits: &[Hit],
+    classes: &[Class],
+    shade: Shade,
+    out: &Path,
+) -> Result<()> {
     let m = &pkg.manifest;
     let (Some(w), Some(h)) = (m.width, m.height) else {
-        bail!("{}: ray kind '{}' has no camera image; render needs --rays primary", pkg.dir.display(), m.ray_kind);
+        bail!(
+            "{}: ray kind '{}' has no camera image; render needs --rays primary",
+            pkg.dir.display(),
+            m.ray_kind
+        );
     };
     let spp = m.spp.max(1) as usize;
     let tris = pkg.image.by_prim();
@@ -56,23 +66,32 @@ pub fn render(pkg: &Package, hits: &[Hit], classes: &[Class], shade: Shade, out:
             r.put_pixel(x, y, rp);
             let cls = &classes[i0..i0 + spp];
             let grey = ((rp[0] as u32 + rp[1] as u32 + rp[2] as u32) / 6) as u8;
-            d.put_pixel(x, y, if cls.iter().any(|c| c.is_mismatch()) {
-                MISMATCH
-            } else if cls.iter().any(|c| *c != Class::Agree) {
-                DEBATABLE
-            } else {
-                Rgb([grey, grey, grey])
-            });
+            d.put_pixel(
+                x,
+                y,
+                if cls.iter().any(|c| c.is_mismatch()) {
+                    MISMATCH
+                } else if cls.iter().any(|c| *c != Class::Agree) {
+                    DEBATABLE
+                } else {
+                    Rgb([grey, grey, grey])
+                },
+            );
         }
     }
     std::fs::create_dir_all(out).with_context(|| format!("{}: cannot create", out.display()))?;
     for (name, img) in [("hits.png", &a), ("reference.png", &r), ("diff.png", &d)] {
         let p = out.join(name);
-        img.save(&p).with_context(|| format!("{}: cannot write PNG", p.display()))?;
+        img.save(&p)
+            .with_context(|| format!("{}: cannot write PNG", p.display()))?;
     }
     Ok(())
 }
 
 fn depth_range(hits: &[Hit]) -> (f32, f32) {
-    hits.iter().filter(|h| h.hit).fold((f32::INFINITY, 0.0f32), |(lo, hi), h| (lo.min(h.t), hi.max(h.t)))
+    hits.iter()
+        .filter(|h| h.hit)
+        .fold((f32::INFINITY, 0.0f32), |(lo, hi), h| {
+            (lo.min(h.t), hi.max(h.t))
+        })
 }

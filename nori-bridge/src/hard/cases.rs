@@ -7,11 +7,11 @@
 
 use crate::geom::Tri;
 use crate::hard::exact::{coplanar, hit_t_units, hit_units, meets_box, Grid, I3};
-use std::collections::{HashMap, HashSet};
 use crate::hard::mesh::{fmt_f32, Mesh};
 use crate::ray::Ray;
 use anyhow::{Context, Result};
 use rayon::prelude::*;
+use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -23,7 +23,10 @@ pub const SEED: u64 = 20_261_122;
 pub enum Intent {
     /// Origin strictly inside a convex closed mesh (global prims `own`):
     /// the first hit is a triangle of `allowed` (global prim numbers).
-    Star { allowed: Vec<usize>, own: std::ops::Range<usize> },
+    Star {
+        allowed: Vec<usize>,
+        own: std::ops::Range<usize>,
+    },
     /// Must hit / must miss by construction; the exact test confirms.
     Hit,
     Miss,
@@ -58,7 +61,13 @@ pub enum Expect {
 }
 
 pub fn ray(o: [f32; 3], d: [f32; 3]) -> Ray {
-    Ray { o, d, tmin: 0.0, tmax: f32::INFINITY, shadow: false }
+    Ray {
+        o,
+        d,
+        tmin: 0.0,
+        tmax: f32::INFINITY,
+        shadow: false,
+    }
 }
 
 impl Case {
@@ -79,12 +88,19 @@ fn border_edges(tris: &[Tri]) -> HashSet<[[u32; 3]; 2]> {
             *count.entry(edge_key(t, k)).or_default() += 1;
         }
     }
-    count.into_iter().filter(|e| e.1 == 1).map(|e| e.0).collect()
+    count
+        .into_iter()
+        .filter(|e| e.1 == 1)
+        .map(|e| e.0)
+        .collect()
 }
 
 /// The edge opposite vertex k, as sorted f32 bit patterns.
 fn edge_key(t: &Tri, k: usize) -> [[u32; 3]; 2] {
-    let (a, b) = (t.v[(k + 1) % 3].map(f32::to_bits), t.v[(k + 2) % 3].map(f32::to_bits));
+    let (a, b) = (
+        t.v[(k + 1) % 3].map(f32::to_bits),
+        t.v[(k + 2) % 3].map(f32::to_bits),
+    );
     [a.min(b), a.max(b)]
 }
 
@@ -93,17 +109,35 @@ fn edge_key(t: &Tri, k: usize) -> [[u32; 3]; 2] {
 /// final rounding); the next distinct t must be 1e-6 relative further,
 /// otherwise the case is too close to call and the generator panics.
 /// The flag is true when a first hit lies exactly on a border edge.
-fn first_hits(case: &Case, units: &[[I3; 3]], tris: &[Tri], border: &HashSet<[[u32; 3]; 2]>, r: &Ray) -> (Vec<usize>, bool) {
+fn first_hits(
+    case: &Case,
+    units: &[[I3; 3]],
+    tris: &[Tri],
+    border: &HashSet<[[u32; 3]; 2]>,
+    r: &Ray,
+) -> (Vec<usize>, bool) {
     let (o, d) = (case.grid.pos(r.o), case.grid.dir(r.d));
-    let mut h: Vec<(f64, usize, [bool; 3])> =
-        units.iter().enumerate().filter_map(|(i, v)| hit_units(&case.grid, v, o, d).map(|(t, e)| (t, i, e))).collect();
+    let mut h: Vec<(f64, usize, [bool; 3])> = units
+        .iter()
+        .enumerate()
+        .filter_map(|(i, v)| hit_units(&case.grid, v, o, d).map(|(t, e)| (t, i, e)))
+        .collect();
     h.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    let Some(&(t0, _, _)) = h.first() else { return (Vec::new(), false) };
+    let Some(&(t0, _, _)) = h.first() else {
+        return (Vec::new(), false);
+    };
     let first: Vec<_> = h.iter().filter(|x| x.0 <= t0 + t0 * 1e-9).collect();
     if let Some(next) = h.iter().find(|x| x.0 > t0 + t0 * 1e-9) {
-        assert!(next.0 > t0 * (1.0 + 1e-6), "{}: ray {r:?}: hits at t {t0} and {} are too close to order", case.name, next.0);
+        assert!(
+            next.0 > t0 * (1.0 + 1e-6),
+            "{}: ray {r:?}: hits at t {t0} and {} are too close to order",
+            case.name,
+            next.0
+        );
     }
-    let on_border = first.iter().any(|x| (0..3).any(|k| x.2[k] && border.contains(&edge_key(&tris[x.1], k))));
+    let on_border = first
+        .iter()
+        .any(|x| (0..3).any(|k| x.2[k] && border.contains(&edge_key(&tris[x.1], k))));
     (first.iter().map(|x| x.1).collect(), on_border)
 }
 
@@ -164,7 +198,11 @@ pub fn all_cases() -> Vec<Case> {
 
 fn counts(ex: &[Expect]) -> [usize; 3] {
     let n = |f: fn(&Expect) -> bool| ex.iter().filter(|e| f(e)).count();
-    [n(|e| matches!(e, Expect::Hit(_))), n(|e| matches!(e, Expect::Miss)), n(|e| matches!(e, Expect::Any(_)))]
+    [
+        n(|e| matches!(e, Expect::Hit(_))),
+        n(|e| matches!(e, Expect::Miss)),
+        n(|e| matches!(e, Expect::Any(_))),
+    ]
 }
 
 fn write(path: &Path, text: &str) -> Result<()> {
@@ -188,26 +226,50 @@ pub fn generate(out: &Path) -> Result<usize> {
     let mut json = Vec::new();
     for case in &cases {
         let dir = out.join(case.name);
-        std::fs::create_dir_all(&dir).with_context(|| format!("{}: cannot create", dir.display()))?;
+        std::fs::create_dir_all(&dir)
+            .with_context(|| format!("{}: cannot create", dir.display()))?;
         let ex = resolve(case);
         let ntris = case.tris().len();
-        let mut xml = format!("<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<!-- hard case {}: {} -->\n<scene>\n", case.name, case.description);
+        let mut xml = format!(
+            "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<!-- hard case {}: {} -->\n<scene>\n",
+            case.name, case.description
+        );
         for (file, mesh) in &case.meshes {
-            write(&dir.join(file), &mesh.to_obj(&format!("hard case {}, {} triangles", case.name, mesh.faces.len())))?;
+            write(
+                &dir.join(file),
+                &mesh.to_obj(&format!(
+                    "hard case {}, {} triangles",
+                    case.name,
+                    mesh.faces.len()
+                )),
+            )?;
             let _ = writeln!(xml, "\t<mesh type=\"obj\">\n\t\t<string name=\"filename\" value=\"{file}\"/>\n\t</mesh>");
         }
         xml.push_str("</scene>\n");
         write(&dir.join(format!("{}.xml", case.name)), &xml)?;
-        let mut rays = format!("# hard case {}: ox oy oz dx dy dz (tmin 0, tmax inf)\n", case.name);
+        let mut rays = format!(
+            "# hard case {}: ox oy oz dx dy dz (tmin 0, tmax inf)\n",
+            case.name
+        );
         let mut csv = String::from("ray,expect,prims\n");
         let mut i = 0;
         for (comment, group) in &case.groups {
             let _ = writeln!(rays, "# {comment}");
             for cr in group {
                 let (o, d) = (cr.ray.o.map(fmt_f32), cr.ray.d.map(fmt_f32));
-                let _ = write!(rays, "{} {} {} {} {} {}", o[0], o[1], o[2], d[0], d[1], d[2]);
+                let _ = write!(
+                    rays,
+                    "{} {} {} {} {} {}",
+                    o[0], o[1], o[2], d[0], d[1], d[2]
+                );
                 let (word, prims) = match &ex[i] {
-                    Expect::Hit(p) => ("hit", p.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(";")),
+                    Expect::Hit(p) => (
+                        "hit",
+                        p.iter()
+                            .map(|x| x.to_string())
+                            .collect::<Vec<_>>()
+                            .join(";"),
+                    ),
                     Expect::Miss => ("miss", String::new()),
                     Expect::Any(why) => {
                         let _ = write!(rays, " # any: {why}");
@@ -222,13 +284,21 @@ pub fn generate(out: &Path) -> Result<usize> {
         write(&dir.join("rays.txt"), &rays)?;
         write(&dir.join("expect.csv"), &csv)?;
         let [h, m, a] = counts(&ex);
-        let _ = writeln!(readme, "| {} | {ntris} | {i} | {h} | {m} | {a} | {} | {} |", case.name, case.description, case.derivation);
+        let _ = writeln!(
+            readme,
+            "| {} | {ntris} | {i} | {h} | {m} | {a} | {} | {} |",
+            case.name, case.description, case.derivation
+        );
         json.push(serde_json::json!({"name": case.name, "description": case.description, "triangles": ntris,
                                      "rays": i, "expect_hit": h, "expect_miss": m, "expect_any": a}));
     }
     write(&out.join("README.md"), &readme)?;
-    let doc = serde_json::json!({"seed": SEED, "generator": "nori-bridge hard-cases", "cases": json});
-    write(&out.join("cases.json"), &(serde_json::to_string_pretty(&doc)? + "\n"))?;
+    let doc =
+        serde_json::json!({"seed": SEED, "generator": "nori-bridge hard-cases", "cases": json});
+    write(
+        &out.join("cases.json"),
+        &(serde_json::to_string_pretty(&doc)? + "\n"),
+    )?;
     Ok(cases.len())
 }
 

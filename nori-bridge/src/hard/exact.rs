@@ -23,7 +23,10 @@ const DIR_LIMIT: i128 = 1 << 41;
 /// `x / 2^exp` as an exact integer; panics if x is off the grid or too big.
 pub fn units(x: f32, exp: i32, limit: i128) -> i128 {
     let s = x as f64 * 2f64.powi(-exp); // power-of-two scaling: exact
-    assert!(s.fract() == 0.0 && s.abs() < limit as f64, "{x} is not a multiple of 2^{exp} below {limit} units");
+    assert!(
+        s.fract() == 0.0 && s.abs() < limit as f64,
+        "{x} is not a multiple of 2^{exp} below {limit} units"
+    );
     s as i128
 }
 
@@ -50,15 +53,23 @@ fn sub(a: I3, b: I3) -> I3 {
 }
 
 fn mul(a: i128, b: i128) -> i128 {
-    a.checked_mul(b).expect("hard_exact: i128 overflow (grid too fine for these coordinates)")
+    a.checked_mul(b)
+        .expect("hard_exact: i128 overflow (grid too fine for these coordinates)")
 }
 
 fn cross(a: I3, b: I3) -> I3 {
-    [mul(a[1], b[2]) - mul(a[2], b[1]), mul(a[2], b[0]) - mul(a[0], b[2]), mul(a[0], b[1]) - mul(a[1], b[0])]
+    [
+        mul(a[1], b[2]) - mul(a[2], b[1]),
+        mul(a[2], b[0]) - mul(a[0], b[2]),
+        mul(a[0], b[1]) - mul(a[1], b[0]),
+    ]
 }
 
 fn dot(a: I3, b: I3) -> i128 {
-    mul(a[0], b[0]).checked_add(mul(a[1], b[1])).and_then(|s| s.checked_add(mul(a[2], b[2]))).expect("hard_exact: i128 overflow")
+    mul(a[0], b[0])
+        .checked_add(mul(a[1], b[1]))
+        .and_then(|s| s.checked_add(mul(a[2], b[2])))
+        .expect("hard_exact: i128 overflow")
 }
 
 /// Sign of (q - p0) . ((p1 - p0) x (p2 - p0)): > 0 when q is on the side the
@@ -86,7 +97,11 @@ pub fn hit_t_units(g: &Grid, v: &[I3; 3], o: I3, d: I3) -> Option<f64> {
 /// edge opposite vertex k (its edge function is zero).
 pub fn hit_units(g: &Grid, v: &[I3; 3], o: I3, d: I3) -> Option<(f64, [bool; 3])> {
     let [a0, a1, a2] = v.map(|p| sub(p, o));
-    let w = [dot(d, cross(a1, a2)), dot(d, cross(a2, a0)), dot(d, cross(a0, a1))];
+    let w = [
+        dot(d, cross(a1, a2)),
+        dot(d, cross(a2, a0)),
+        dot(d, cross(a0, a1)),
+    ];
     let det = w[0] + w[1] + w[2];
     if det == 0 || w.iter().any(|x| x.signum() == -det.signum()) {
         return None;
@@ -95,7 +110,10 @@ pub fn hit_units(g: &Grid, v: &[I3; 3], o: I3, d: I3) -> Option<(f64, [bool; 3])
     if num != 0 && num.signum() != det.signum() {
         return None; // behind the origin
     }
-    Some((num as f64 / det as f64 * 2f64.powi(g.pos_exp - g.dir_exp), w.map(|x| x == 0)))
+    Some((
+        num as f64 / det as f64 * 2f64.powi(g.pos_exp - g.dir_exp),
+        w.map(|x| x == 0),
+    ))
 }
 
 /// True when the ray lies in the triangle's plane (parallel and the origin

@@ -15,7 +15,12 @@ pub struct Mesh {
 
 impl Mesh {
     pub fn tris(&self) -> Vec<Tri> {
-        self.faces.iter().map(|f| Tri { v: f.map(|i| self.verts[i]) }).collect()
+        self.faces
+            .iter()
+            .map(|f| Tri {
+                v: f.map(|i| self.verts[i]),
+            })
+            .collect()
     }
 
     /// Each undirected edge once, as (low index, high index), in face order.
@@ -42,17 +47,23 @@ impl Mesh {
                 *count.entry((f[k], f[(k + 1) % 3])).or_default() += 1;
             }
         }
-        count.iter().all(|(&(a, b), &n)| n == 1 && count.get(&(b, a)) == Some(&1))
+        count
+            .iter()
+            .all(|(&(a, b), &n)| n == 1 && count.get(&(b, a)) == Some(&1))
     }
 
     /// Faces incident to vertex `v`, as local face numbers.
     pub fn star(&self, v: usize) -> Vec<usize> {
-        (0..self.faces.len()).filter(|&i| self.faces[i].contains(&v)).collect()
+        (0..self.faces.len())
+            .filter(|&i| self.faces[i].contains(&v))
+            .collect()
     }
 
     /// Faces containing both ends of an edge.
     pub fn edge_faces(&self, a: usize, b: usize) -> Vec<usize> {
-        (0..self.faces.len()).filter(|&i| self.faces[i].contains(&a) && self.faces[i].contains(&b)).collect()
+        (0..self.faces.len())
+            .filter(|&i| self.faces[i].contains(&a) && self.faces[i].contains(&b))
+            .collect()
     }
 
     pub fn to_obj(&self, header: &str) -> String {
@@ -70,7 +81,11 @@ impl Mesh {
 /// Shortest text that reads back to exactly this f32 (Rust's Display /
 /// LowerExp are both round-trip exact); exponent form for small magnitudes.
 pub fn fmt_f32(x: f32) -> String {
-    if x != 0.0 && x.abs() < 1e-3 { format!("{x:e}") } else { format!("{x}") }
+    if x != 0.0 && x.abs() < 1e-3 {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
 }
 
 /// Icosphere: icosahedron subdivided `levels` times, vertices projected to
@@ -78,13 +93,40 @@ pub fn fmt_f32(x: f32) -> String {
 pub fn icosphere(levels: u32, radius: f64, centre: [f64; 3], grid_exp: i32) -> Mesh {
     let p = (1.0 + 5f64.sqrt()) / 2.0;
     let mut v: Vec<[f64; 3]> = vec![
-        [-1.0, p, 0.0], [1.0, p, 0.0], [-1.0, -p, 0.0], [1.0, -p, 0.0],
-        [0.0, -1.0, p], [0.0, 1.0, p], [0.0, -1.0, -p], [0.0, 1.0, -p],
-        [p, 0.0, -1.0], [p, 0.0, 1.0], [-p, 0.0, -1.0], [-p, 0.0, 1.0],
+        [-1.0, p, 0.0],
+        [1.0, p, 0.0],
+        [-1.0, -p, 0.0],
+        [1.0, -p, 0.0],
+        [0.0, -1.0, p],
+        [0.0, 1.0, p],
+        [0.0, -1.0, -p],
+        [0.0, 1.0, -p],
+        [p, 0.0, -1.0],
+        [p, 0.0, 1.0],
+        [-p, 0.0, -1.0],
+        [-p, 0.0, 1.0],
     ];
     let mut f: Vec<[usize; 3]> = vec![
-        [0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4], [11, 10, 2], [10, 7, 6], [7, 1, 8],
-        [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8], [3, 8, 9], [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1],
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
     ];
     for _ in 0..levels {
         let mut mid: HashMap<(usize, usize), usize> = HashMap::new();
@@ -94,11 +136,20 @@ pub fn icosphere(levels: u32, radius: f64, centre: [f64; 3], grid_exp: i32) -> M
             for k in 0..3 {
                 let (a, b) = (t[k], t[(k + 1) % 3]);
                 m[k] = *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                    v.push([(v[a][0] + v[b][0]) / 2.0, (v[a][1] + v[b][1]) / 2.0, (v[a][2] + v[b][2]) / 2.0]);
+                    v.push([
+                        (v[a][0] + v[b][0]) / 2.0,
+                        (v[a][1] + v[b][1]) / 2.0,
+                        (v[a][2] + v[b][2]) / 2.0,
+                    ]);
                     v.len() - 1
                 });
             }
-            next.extend([[t[0], m[0], m[2]], [t[1], m[1], m[0]], [t[2], m[2], m[1]], [m[0], m[1], m[2]]]);
+            next.extend([
+                [t[0], m[0], m[2]],
+                [t[1], m[1], m[0]],
+                [t[2], m[2], m[1]],
+                [m[0], m[1], m[2]],
+            ]);
         }
         f = next;
     }
@@ -135,7 +186,11 @@ pub fn grid_box(lo: V3, hi: V3, n: usize) -> Mesh {
                 for j in 0..n {
                     let (a, b, c, d) = (vid(i, j), vid(i + 1, j), vid(i + 1, j + 1), vid(i, j + 1));
                     // (u, w, axis) is right-handed: a,b,c winds towards +axis.
-                    let quad = if side == n { [[a, b, c], [a, c, d]] } else { [[a, c, b], [a, d, c]] };
+                    let quad = if side == n {
+                        [[a, b, c], [a, c, d]]
+                    } else {
+                        [[a, c, b], [a, d, c]]
+                    };
                     m.faces.extend(quad);
                 }
             }
@@ -155,5 +210,13 @@ pub fn quad(axis: usize, level: f32, lo: [f32; 2], hi: [f32; 2]) -> Mesh {
         v[w] = b;
         v
     };
-    Mesh { verts: vec![p(lo[0], lo[1]), p(hi[0], lo[1]), p(hi[0], hi[1]), p(lo[0], hi[1])], faces: vec![[0, 1, 2], [0, 2, 3]] }
+    Mesh {
+        verts: vec![
+            p(lo[0], lo[1]),
+            p(hi[0], lo[1]),
+            p(hi[0], hi[1]),
+            p(lo[0], hi[1]),
+        ],
+        faces: vec![[0, 1, 2], [0, 2, 3]],
+    }
 }

@@ -32,7 +32,10 @@ fn axis_dirs(axis: usize, s: f32) -> Vec<V3> {
 }
 
 fn axis_aligned() -> Case {
-    let g = Grid { pos_exp: -4, dir_exp: -4 };
+    let g = Grid {
+        pos_exp: -4,
+        dir_exp: -4,
+    };
     let bx = grid_box([-1.0; 3], [1.0; 3], 2);
     let perp = [-1.5f32, -1.0, -0.0, 0.0, 0.5, 1.0];
     let mut groups = Vec::new();
@@ -49,8 +52,17 @@ fn axis_aligned() -> Case {
                             o[(axis + 2) % 3] = q;
                             let strictly_inside = o.iter().all(|c| c.abs() < 1.0);
                             let outside_slab = p.abs() > 1.0 || q.abs() > 1.0;
-                            let intent = if strictly_inside { Intent::Hit } else if outside_slab { Intent::Miss } else { Intent::Derive };
-                            rays.push(CaseRay { ray: ray(o, d), intent });
+                            let intent = if strictly_inside {
+                                Intent::Hit
+                            } else if outside_slab {
+                                Intent::Miss
+                            } else {
+                                Intent::Derive
+                            };
+                            rays.push(CaseRay {
+                                ray: ray(o, d),
+                                intent,
+                            });
                         }
                     }
                 }
@@ -69,9 +81,16 @@ fn axis_aligned() -> Case {
 }
 
 fn slab_planes() -> Case {
-    let g = Grid { pos_exp: -4, dir_exp: -4 };
+    let g = Grid {
+        pos_exp: -4,
+        dir_exp: -4,
+    };
     let mut meshes: Vec<(String, Mesh)> = Vec::new();
-    for (lo, hi) in [([0.0, 0.0, 0.0], [1.0, 1.0, 1.0]), ([2.0, 0.0, 0.0], [3.0, 1.0, 1.0]), ([0.0, 2.0, 0.0], [1.0, 3.0, 1.0])] {
+    for (lo, hi) in [
+        ([0.0, 0.0, 0.0], [1.0, 1.0, 1.0]),
+        ([2.0, 0.0, 0.0], [3.0, 1.0, 1.0]),
+        ([0.0, 2.0, 0.0], [1.0, 3.0, 1.0]),
+    ] {
         let name = format!("box{}.obj", meshes.len());
         meshes.push((name, grid_box(lo, hi, 1)));
     }
@@ -87,7 +106,15 @@ fn slab_planes() -> Case {
             dirs.push(d[3]); // -0, -0
         }
     }
-    dirs.extend([[1.0, 1.0, 0.0], [-1.0, 1.0, -0.0], [1.0, 0.0, -1.0], [0.0, -1.0, 1.0], [1.0, 2.0, 3.0], [-3.0, 1.0, -2.0], [2.0, -3.0, -1.0]]);
+    dirs.extend([
+        [1.0, 1.0, 0.0],
+        [-1.0, 1.0, -0.0],
+        [1.0, 0.0, -1.0],
+        [0.0, -1.0, 1.0],
+        [1.0, 2.0, 3.0],
+        [-3.0, 1.0, -2.0],
+        [2.0, -3.0, -1.0],
+    ]);
     // An origin on a triangle would make t = 0 a hit by one rule and not by
     // another; those origins are left out (the planes still hold them).
     let on_geometry = |o: V3| {
@@ -104,7 +131,10 @@ fn slab_planes() -> Case {
                 if on_geometry([x, y, z]) {
                     continue;
                 }
-                rays.extend(dirs.iter().map(|&d| CaseRay { ray: ray([x, y, z], d), intent: Intent::Derive }));
+                rays.extend(dirs.iter().map(|&d| CaseRay {
+                    ray: ray([x, y, z], d),
+                    intent: Intent::Derive,
+                }));
             }
         }
         groups.push((format!("origins with x = {x}, y in {{-0,0.5,1,1.5,2,3}}, z in {{0,0.5,1,1.5,2,2.5}} (not on geometry), 19 directions each"), rays));

@@ -23,11 +23,19 @@ const LIST_MAX: usize = 1000;
 
 /// Read expect.csv; errors name the file, line and value.
 pub fn read_expect(path: &Path) -> Result<Vec<Expected>> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("{}: cannot read", path.display()))?;
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("{}: cannot read", path.display()))?;
     let mut lines = text.lines().enumerate();
     match lines.next() {
         Some((_, h)) if h.trim() == EXPECT_HEADER => {}
-        other => bail!(at_line(path, 1, format!("header is '{}', expected '{EXPECT_HEADER}'", other.map_or("", |l| l.1)))),
+        other => bail!(at_line(
+            path,
+            1,
+            format!(
+                "header is '{}', expected '{EXPECT_HEADER}'",
+                other.map_or("", |l| l.1)
+            )
+        )),
     }
     let mut out = Vec::new();
     for (n, line) in lines {
@@ -37,21 +45,39 @@ pub fn read_expect(path: &Path) -> Result<Vec<Expected>> {
         let err = |msg: String| -> anyhow::Error { at_line(path, n + 1, msg).into() };
         let f: Vec<&str> = line.split(',').map(str::trim).collect();
         if f.len() != 3 {
-            return Err(err(format!("{} columns, expected 3 ({EXPECT_HEADER}): '{line}'", f.len())));
+            return Err(err(format!(
+                "{} columns, expected 3 ({EXPECT_HEADER}): '{line}'",
+                f.len()
+            )));
         }
         if f[0].parse::<usize>().ok() != Some(out.len()) {
-            return Err(err(format!("ray number '{}', expected {}", f[0], out.len())));
+            return Err(err(format!(
+                "ray number '{}', expected {}",
+                f[0],
+                out.len()
+            )));
         }
         let prims = if f[2].is_empty() {
             Vec::new()
         } else {
             f[2].split(';')
-                .map(|p| p.trim().parse::<i64>().ok().filter(|&x| x >= 0).ok_or_else(|| err(format!("prim '{p}' is not a prim number"))))
+                .map(|p| {
+                    p.trim()
+                        .parse::<i64>()
+                        .ok()
+                        .filter(|&x| x >= 0)
+                        .ok_or_else(|| err(format!("prim '{p}' is not a prim number")))
+                })
                 .collect::<Result<Vec<_>>>()?
         };
         let e = match f[1] {
             "hit" => Expected::Hit(prims),
-            "miss" | "any" if !prims.is_empty() => return Err(err(format!("'{}' ray lists prims '{}'; only 'hit' may", f[1], f[2]))),
+            "miss" | "any" if !prims.is_empty() => {
+                return Err(err(format!(
+                    "'{}' ray lists prims '{}'; only 'hit' may",
+                    f[1], f[2]
+                )))
+            }
             "miss" => Expected::Miss,
             "any" => Expected::Any,
             other => return Err(err(format!("expect '{other}' must be hit, miss or any"))),
@@ -96,7 +122,11 @@ fn note(count: &mut usize, list: &mut Vec<usize>, ray: usize) {
 
 /// Score hits against expectations (same length, checked by the caller).
 pub fn score(case: &str, expect: &[Expected], hits: &[Hit]) -> Score {
-    let mut s = Score { case: case.to_string(), rays: expect.len(), ..Score::default() };
+    let mut s = Score {
+        case: case.to_string(),
+        rays: expect.len(),
+        ..Score::default()
+    };
     for (i, (e, h)) in expect.iter().zip(hits).enumerate() {
         match e {
             Expected::Hit(_) => s.expect_hit += 1,
@@ -107,7 +137,9 @@ pub fn score(case: &str, expect: &[Expected], hits: &[Hit]) -> Score {
         match e {
             _ if h.error != 0 => note(&mut s.flagged, &mut l.flagged, i),
             Expected::Hit(_) if !h.hit => note(&mut s.leaks, &mut l.leaks, i),
-            Expected::Hit(p) if !p.is_empty() && !p.contains(&h.prim) => note(&mut s.wrong_prims, &mut l.wrong_prims, i),
+            Expected::Hit(p) if !p.is_empty() && !p.contains(&h.prim) => {
+                note(&mut s.wrong_prims, &mut l.wrong_prims, i)
+            }
             Expected::Miss if h.hit => note(&mut s.false_hits, &mut l.false_hits, i),
             _ => s.ok += 1,
         }
@@ -123,25 +155,44 @@ pub fn hard_score(package: &Path, hits: &Path, expect: &Path) -> Result<Score> {
     let got = crate::ray::csv_io::read_hits(hits)?;
     let ex = read_expect(expect)?;
     if ex.len() != got.len() || ex.len() != pkg.rays.len() {
-        bail!("ray counts differ: {} has {} rows, {} has {} rows, package {} has {} rays",
-              expect.display(), ex.len(), hits.display(), got.len(), package.display(), pkg.rays.len());
+        bail!(
+            "ray counts differ: {} has {} rows, {} has {} rows, package {} has {} rays",
+            expect.display(),
+            ex.len(),
+            hits.display(),
+            got.len(),
+            package.display(),
+            pkg.rays.len()
+        );
     }
     let rays_txt = expect.with_file_name("rays.txt");
     if rays_txt.exists() {
         let want = crate::ray::txt::read_rays_txt(&rays_txt)?;
         if let Some(i) = (0..want.len()).find(|&i| want[i] != pkg.rays[i]) {
-            bail!("{}: ray {i} is {:?} but package {} has {:?}: compiled from other rays?", rays_txt.display(), want[i], package.display(), pkg.rays[i]);
+            bail!(
+                "{}: ray {i} is {:?} but package {} has {:?}: compiled from other rays?",
+                rays_txt.display(),
+                want[i],
+                package.display(),
+                pkg.rays[i]
+            );
         }
     }
     let tris = pkg.manifest.counts.triangles as i64;
     for (i, e) in ex.iter().enumerate() {
         if let Expected::Hit(p) = e {
             if let Some(bad) = p.iter().find(|&&x| x >= tris) {
-                bail!("{}: ray {i} allows prim {bad}, the package has {tris} triangles", expect.display());
+                bail!(
+                    "{}: ray {i} allows prim {bad}, the package has {tris} triangles",
+                    expect.display()
+                );
             }
         }
     }
-    let case = expect.parent().and_then(|d| d.file_name()).map_or("?".to_string(), |n| n.to_string_lossy().into_owned());
+    let case = expect
+        .parent()
+        .and_then(|d| d.file_name())
+        .map_or("?".to_string(), |n| n.to_string_lossy().into_owned());
     Ok(score(&case, &ex, &got))
 }
 

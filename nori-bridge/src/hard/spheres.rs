@@ -11,8 +11,8 @@ use crate::hard::cases::{ray, Case, CaseRay, Intent, SEED};
 use crate::hard::exact::{orient, snap, Grid};
 use crate::hard::mesh::{icosphere, Mesh};
 use rand::{Rng, SeedableRng};
-use rayon::prelude::*;
 use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
 
 /// Panics unless every vertex off a face and every origin lies strictly on
 /// the inner side of that face's plane.
@@ -21,11 +21,17 @@ fn check_convex(g: &Grid, m: &Mesh, origins: &[V3]) {
     m.tris().par_iter().enumerate().for_each(|(fi, t)| {
         for (vi, v) in m.verts.iter().enumerate() {
             if !m.faces[fi].contains(&vi) {
-                assert!(orient(g, t, *v) < 0, "face {fi} vertex {vi}: not strictly convex");
+                assert!(
+                    orient(g, t, *v) < 0,
+                    "face {fi} vertex {vi}: not strictly convex"
+                );
             }
         }
         for o in origins {
-            assert!(orient(g, t, *o) < 0, "origin {o:?} not strictly inside face {fi}");
+            assert!(
+                orient(g, t, *o) < 0,
+                "origin {o:?} not strictly inside face {fi}"
+            );
         }
     });
 }
@@ -34,7 +40,11 @@ fn check_convex(g: &Grid, m: &Mesh, origins: &[V3]) {
 fn origins(centre: [f64; 3], radius: f64, extra: usize, g: &Grid, rng: &mut ChaCha8Rng) -> Vec<V3> {
     let mut out = vec![centre.map(|c| snap(c, g.pos_exp))];
     while out.len() < extra + 1 {
-        let u: [f64; 3] = [rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0)];
+        let u: [f64; 3] = [
+            rng.gen_range(-1.0..1.0),
+            rng.gen_range(-1.0..1.0),
+            rng.gen_range(-1.0..1.0),
+        ];
         let n = (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt();
         if !(0.1..=1.0).contains(&n) {
             continue;
@@ -53,21 +63,49 @@ fn aimed(g: &Grid, m: &Mesh, first_prim: usize, os: &[V3]) -> Vec<(String, Vec<C
     let mk = |k: usize, target: V3, allowed: Vec<usize>| {
         let o = os[k % os.len()];
         let d = [0, 1, 2].map(|c| (target[c] as f64 - o[c] as f64) as f32);
-        CaseRay { ray: ray(o, d), intent: Intent::Star { allowed, own: own.clone() } }
+        CaseRay {
+            ray: ray(o, d),
+            intent: Intent::Star {
+                allowed,
+                own: own.clone(),
+            },
+        }
     };
-    let verts = (0..m.verts.len()).map(|i| mk(i, m.verts[i], global(m.star(i)))).collect();
+    let verts = (0..m.verts.len())
+        .map(|i| mk(i, m.verts[i], global(m.star(i))))
+        .collect();
     let mids = m
         .edges()
         .into_iter()
         .enumerate()
         .map(|(k, (a, b))| {
-            let mid = [0, 1, 2].map(|c| snap((m.verts[a][c] as f64 + m.verts[b][c] as f64) / 2.0, g.pos_exp));
+            let mid = [0, 1, 2].map(|c| {
+                snap(
+                    (m.verts[a][c] as f64 + m.verts[b][c] as f64) / 2.0,
+                    g.pos_exp,
+                )
+            });
             mk(k, mid, global(m.edge_faces(a, b)))
         })
         .collect();
     vec![
-        (format!("{} rays at the vertices of prims {} to {}", m.verts.len(), own.start, own.end - 1), verts),
-        (format!("rays at the edge midpoints of prims {} to {}", own.start, own.end - 1), mids),
+        (
+            format!(
+                "{} rays at the vertices of prims {} to {}",
+                m.verts.len(),
+                own.start,
+                own.end - 1
+            ),
+            verts,
+        ),
+        (
+            format!(
+                "rays at the edge midpoints of prims {} to {}",
+                own.start,
+                own.end - 1
+            ),
+            mids,
+        ),
     ]
 }
 
@@ -78,7 +116,13 @@ struct Sphere {
     extra_origins: usize,
 }
 
-fn sphere_case(name: &'static str, description: String, g: Grid, spheres: &[Sphere], salt: u64) -> Case {
+fn sphere_case(
+    name: &'static str,
+    description: String,
+    g: Grid,
+    spheres: &[Sphere],
+    salt: u64,
+) -> Case {
     let mut rng = ChaCha8Rng::seed_from_u64(SEED ^ salt);
     let (mut meshes, mut groups, mut first) = (Vec::new(), Vec::new(), 0);
     for (i, s) in spheres.iter().enumerate() {
@@ -87,20 +131,38 @@ fn sphere_case(name: &'static str, description: String, g: Grid, spheres: &[Sphe
         check_convex(&g, &m, &os);
         groups.extend(aimed(&g, &m, first, &os));
         first += m.faces.len();
-        meshes.push((if spheres.len() == 1 { "mesh.obj".to_string() } else { format!("mesh{i}.obj") }, m));
+        meshes.push((
+            if spheres.len() == 1 {
+                "mesh.obj".to_string()
+            } else {
+                format!("mesh{i}.obj")
+            },
+            m,
+        ));
     }
     // Disjoint bounding boxes: a point of another sphere is outside this
     // one, hence beyond the exit point of a ray leaving it (convexity).
     for i in 0..meshes.len() {
         for j in 0..i {
             let (a, b) = (bounds(&meshes[i].1), bounds(&meshes[j].1));
-            assert!((0..3).any(|k| a.1[k] < b.0[k] || b.1[k] < a.0[k]), "{name}: spheres {i} and {j} overlap");
+            assert!(
+                (0..3).any(|k| a.1[k] < b.0[k] || b.1[k] < a.0[k]),
+                "{name}: spheres {i} and {j} overlap"
+            );
         }
     }
-    let derivation = "closed + strictly convex f32 mesh and origins strictly inside, checked exactly; \
+    let derivation =
+        "closed + strictly convex f32 mesh and origins strictly inside, checked exactly; \
                       allowed prims = star of the target, exact hit set checked to lie in it"
-        .to_string();
-    Case { name, description, derivation, grid: g, meshes, groups }
+            .to_string();
+    Case {
+        name,
+        description,
+        derivation,
+        grid: g,
+        meshes,
+        groups,
+    }
 }
 
 fn bounds(m: &Mesh) -> (V3, V3) {
@@ -116,7 +178,12 @@ fn bounds(m: &Mesh) -> (V3, V3) {
 }
 
 pub fn cases() -> Vec<Case> {
-    let one = |radius: f64, c: f64| Sphere { levels: 3, radius, centre: [c; 3], extra_origins: 3 };
+    let one = |radius: f64, c: f64| Sphere {
+        levels: 3,
+        radius,
+        centre: [c; 3],
+        extra_origins: 3,
+    };
     vec![
         sphere_case("sphere-closed", "unit icosphere (1280 tris) at the origin; rays from 4 inside points at every vertex and edge midpoint".into(),
                     Grid { pos_exp: -30, dir_exp: -30 }, &[one(1.0, 0.0)], 1),

@@ -54,8 +54,16 @@ impl Image {
             .iter()
             .map(|&p| {
                 let tri = tris[p as usize];
-                let flags = if tri.double_area64() == 0.0 { FLAG_ZERO_AREA } else { 0 };
-                TriRecord { tri, prim: p, flags }
+                let flags = if tri.double_area64() == 0.0 {
+                    FLAG_ZERO_AREA
+                } else {
+                    0
+                };
+                TriRecord {
+                    tri,
+                    prim: p,
+                    flags,
+                }
             })
             .collect();
         let mut nodes = bvh.nodes.clone();
@@ -63,12 +71,23 @@ impl Image {
             // What the image holds is the decoded box, not the exact one.
             let k = bvh.layout.records_per_node();
             for (n, q) in nodes.chunks_mut(k).zip(&bvh.quant) {
-                for (i, s) in n.iter_mut().enumerate().filter(|(_, s)| s.slot() != Slot::Empty) {
+                for (i, s) in n
+                    .iter_mut()
+                    .enumerate()
+                    .filter(|(_, s)| s.slot() != Slot::Empty)
+                {
                     s.bounds = q.decoded(i);
                 }
             }
         }
-        Image { layout: bvh.layout, max_leaf_size: bvh.max_leaf_size, bvh_depth: bvh.depth, nodes, quant: bvh.quant.clone(), tris: records }
+        Image {
+            layout: bvh.layout,
+            max_leaf_size: bvh.max_leaf_size,
+            bvh_depth: bvh.depth,
+            nodes,
+            quant: bvh.quant.clone(),
+            tris: records,
+        }
     }
 
     pub fn node_offset() -> usize {
@@ -103,8 +122,18 @@ impl Image {
         let tri_off = self.tri_offset();
         let mut b = Vec::with_capacity(tri_off + TRI_BYTES * self.tris.len());
         b.extend_from_slice(MAGIC);
-        for w in [VERSION, self.node_count() as u32, self.tris.len() as u32, Self::node_offset() as u32, tri_off as u32,
-                  self.layout.node_bytes() as u32, TRI_BYTES as u32, self.max_leaf_size, self.bvh_depth, self.layout.word()] {
+        for w in [
+            VERSION,
+            self.node_count() as u32,
+            self.tris.len() as u32,
+            Self::node_offset() as u32,
+            tri_off as u32,
+            self.layout.node_bytes() as u32,
+            TRI_BYTES as u32,
+            self.max_leaf_size,
+            self.bvh_depth,
+            self.layout.word(),
+        ] {
             b.extend_from_slice(&w.to_le_bytes());
         }
         b.resize(HEADER_BYTES, 0);
@@ -112,7 +141,10 @@ impl Image {
             let k = self.layout.records_per_node();
             for (slots, q) in self.nodes.chunks(k).zip(&self.quant) {
                 // Image::from_bvh and parse only make images that encode.
-                b.extend(quant::encode_bytes(q, slots, self.layout.node_bytes()).expect("a quantized node that does not encode"));
+                b.extend(
+                    quant::encode_bytes(q, slots, self.layout.node_bytes())
+                        .expect("a quantized node that does not encode"),
+                );
             }
         }
         for n in self.nodes.iter().filter(|_| !self.layout.is_quant()) {
@@ -135,11 +167,13 @@ impl Image {
     }
 
     pub fn write(&self, path: &Path) -> Result<()> {
-        std::fs::write(path, self.to_bytes()).with_context(|| format!("{}: cannot write", path.display()))
+        std::fs::write(path, self.to_bytes())
+            .with_context(|| format!("{}: cannot write", path.display()))
     }
 
     pub fn read(path: &Path) -> Result<Image> {
-        let b = std::fs::read(path).with_context(|| format!("{}: cannot read memory image", path.display()))?;
+        let b = std::fs::read(path)
+            .with_context(|| format!("{}: cannot read memory image", path.display()))?;
         Image::parse(&b).with_context(|| format!("{}: bad memory image", path.display()))
     }
 
@@ -149,43 +183,83 @@ impl Image {
         }
         let u = |off: usize| u32::from_le_bytes(b[off..off + 4].try_into().unwrap());
         let f = |off: usize| f32::from_le_bytes(b[off..off + 4].try_into().unwrap());
-        let (version, nodes, tris, node_off, tri_off) = (u(8), u(12) as usize, u(16) as usize, u(20) as usize, u(24) as usize);
+        let (version, nodes, tris, node_off, tri_off) = (
+            u(8),
+            u(12) as usize,
+            u(16) as usize,
+            u(20) as usize,
+            u(24) as usize,
+        );
         if version != VERSION {
             bail!("format version {version}, this tool reads {VERSION}");
         }
-        let layout = Layout::from_word(u(44))
-            .with_context(|| format!("header layout {} (bytes 44-47) is not 0 (nori), 2, 4, 8, 20 (4q) or 24 (8q)", u(44)))?;
+        let layout = Layout::from_word(u(44)).with_context(|| {
+            format!(
+                "header layout {} (bytes 44-47) is not 0 (nori), 2, 4, 8, 20 (4q) or 24 (8q)",
+                u(44)
+            )
+        })?;
         if u(28) as usize != layout.node_bytes() || u(32) as usize != TRI_BYTES {
-            bail!("record sizes {}/{} differ from {}/{TRI_BYTES} (layout {layout})", u(28), u(32), layout.node_bytes());
+            bail!(
+                "record sizes {}/{} differ from {}/{TRI_BYTES} (layout {layout})",
+                u(28),
+                u(32),
+                layout.node_bytes()
+            );
         }
         let records = nodes * layout.records_per_node();
-        if node_off + layout.node_bytes() * nodes > tri_off || tri_off + TRI_BYTES * tris > b.len() {
+        if node_off + layout.node_bytes() * nodes > tri_off || tri_off + TRI_BYTES * tris > b.len()
+        {
             bail!("offsets/counts ({nodes} nodes at {node_off}, {tris} triangles at {tri_off}) exceed the file ({} bytes)", b.len());
         }
         let (nodes, quant): (Vec<Node>, Vec<QuantNode>) = if layout.is_quant() {
             let (nb, k) = (layout.node_bytes(), layout.records_per_node());
-            let decoded: Vec<(Vec<Node>, QuantNode)> = (0..nodes).map(|i| quant::decode_bytes(&b[node_off + nb * i..node_off + nb * (i + 1)], k)).collect();
-            (decoded.iter().flat_map(|d| d.0.clone()).collect(), decoded.into_iter().map(|d| d.1).collect())
+            let decoded: Vec<(Vec<Node>, QuantNode)> = (0..nodes)
+                .map(|i| quant::decode_bytes(&b[node_off + nb * i..node_off + nb * (i + 1)], k))
+                .collect();
+            (
+                decoded.iter().flat_map(|d| d.0.clone()).collect(),
+                decoded.into_iter().map(|d| d.1).collect(),
+            )
         } else {
-            ((0..records)
-            .map(|i| {
-                let o = node_off + RECORD_BYTES * i;
-                Node {
-                    word0: u(o),
-                    word1: u(o + 4),
-                    bounds: Aabb { min: [f(o + 8), f(o + 12), f(o + 16)], max: [f(o + 20), f(o + 24), f(o + 28)] },
-                }
-            })
-            .collect(), Vec::new())
+            (
+                (0..records)
+                    .map(|i| {
+                        let o = node_off + RECORD_BYTES * i;
+                        Node {
+                            word0: u(o),
+                            word1: u(o + 4),
+                            bounds: Aabb {
+                                min: [f(o + 8), f(o + 12), f(o + 16)],
+                                max: [f(o + 20), f(o + 24), f(o + 28)],
+                            },
+                        }
+                    })
+                    .collect(),
+                Vec::new(),
+            )
         };
         let tris = (0..tris)
             .map(|i| {
                 let o = tri_off + TRI_BYTES * i;
                 let v = |k: usize| [f(o + 12 * k), f(o + 12 * k + 4), f(o + 12 * k + 8)];
-                TriRecord { tri: Tri { v: [v(0), v(1), v(2)] }, prim: u(o + 36), flags: u(o + 40) }
+                TriRecord {
+                    tri: Tri {
+                        v: [v(0), v(1), v(2)],
+                    },
+                    prim: u(o + 36),
+                    flags: u(o + 40),
+                }
             })
             .collect();
-        let img = Image { layout, max_leaf_size: u(36), bvh_depth: u(40), nodes, quant, tris };
+        let img = Image {
+            layout,
+            max_leaf_size: u(36),
+            bvh_depth: u(40),
+            nodes,
+            quant,
+            tris,
+        };
         if layout.is_wide() {
             img.check_wide_slots()?;
         }
@@ -208,17 +282,35 @@ impl Image {
                         None
                     }
                     _ if seen_empty => Some("used slot after an empty one".into()),
-                    _ if !(s.bounds.min.iter().chain(&s.bounds.max).all(|x| x.is_finite())) => {
-                        Some(format!("non-finite box {:?} (quantized: a scale exponent outside {}..={})", s.bounds, quant::EXP_MIN, quant::EXP_MAX))
+                    _ if !(s
+                        .bounds
+                        .min
+                        .iter()
+                        .chain(&s.bounds.max)
+                        .all(|x| x.is_finite())) =>
+                    {
+                        Some(format!(
+                            "non-finite box {:?} (quantized: a scale exponent outside {}..={})",
+                            s.bounds,
+                            quant::EXP_MIN,
+                            quant::EXP_MAX
+                        ))
                     }
-                    Slot::Inner { node } if node as usize >= nodes || node as usize <= n => Some(format!("child node {node}")),
-                    Slot::Leaf { first, count } if count == 0 || first as usize + count as usize > self.tris.len() => {
+                    Slot::Inner { node } if node as usize >= nodes || node as usize <= n => {
+                        Some(format!("child node {node}"))
+                    }
+                    Slot::Leaf { first, count }
+                        if count == 0 || first as usize + count as usize > self.tris.len() =>
+                    {
                         Some(format!("leaf of {count} triangles at slot {first}"))
                     }
                     _ => None,
                 };
                 if let Some(what) = bad {
-                    bail!("node {n} slot {i}: {what} ({nodes} nodes, {} triangles)", self.tris.len());
+                    bail!(
+                        "node {n} slot {i}: {what} ({nodes} nodes, {} triangles)",
+                        self.tris.len()
+                    );
                 }
             }
         }

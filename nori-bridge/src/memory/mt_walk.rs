@@ -20,7 +20,8 @@ use rayon::prelude::*;
 /// within gamma(3) relative of exact, so scaling the far distance by
 /// 1 + 2*gamma(3) makes the box test conservative (never misses a box the
 /// exact ray touches).
-const BOX_FAR_SCALE: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+const BOX_FAR_SCALE: f32 =
+    1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
 
 pub struct TraceStats {
     pub max_stack: usize,
@@ -29,13 +30,22 @@ pub struct TraceStats {
 pub fn trace_all(img: &Image, rays: &[Ray]) -> (Vec<Hit>, TraceStats) {
     let res: Vec<(Hit, usize)> = rays.par_iter().map(|r| trace(img, r)).collect();
     let max_stack = res.iter().map(|x| x.1).max().unwrap_or(0);
-    (res.into_iter().map(|x| x.0).collect(), TraceStats { max_stack })
+    (
+        res.into_iter().map(|x| x.0).collect(),
+        TraceStats { max_stack },
+    )
 }
 
 /// Closest hit (or occlusion for shadow rays) in the image's own layout;
 /// also returns the largest stack occupancy this ray needed.
 pub fn trace(img: &Image, ray: &Ray) -> (Hit, usize) {
-    let mut walk = Walk { img, ray, inv: [1.0 / ray.d[0], 1.0 / ray.d[1], 1.0 / ray.d[2]], best: Hit::MISS, tfar: ray.tmax };
+    let mut walk = Walk {
+        img,
+        ray,
+        inv: [1.0 / ray.d[0], 1.0 / ray.d[1], 1.0 / ray.d[2]],
+        best: Hit::MISS,
+        tfar: ray.tmax,
+    };
     let max_stack = match img.layout {
         Layout::Nori => walk.nori(),
         _ => walk.wide(),
@@ -112,7 +122,9 @@ impl Walk<'_> {
                     for (i, s) in self.img.wide_node(n).iter().enumerate() {
                         let e = match s.slot() {
                             Slot::Inner { node } => Entry::Inner(node as usize),
-                            Slot::Leaf { first, count } => Entry::Leaf(first as usize, count as usize),
+                            Slot::Leaf { first, count } => {
+                                Entry::Leaf(first as usize, count as usize)
+                            }
                             // Image::parse rejects corrupt slots; used slots come first.
                             Slot::Empty | Slot::Corrupt => break,
                         };
@@ -149,7 +161,14 @@ impl Walk<'_> {
                         return true;
                     }
                     if t < self.tfar || (rec.prim as i64) < self.best.prim || !self.best.hit {
-                        self.best = Hit { hit: true, t, u, v, prim: rec.prim as i64, error: 0 };
+                        self.best = Hit {
+                            hit: true,
+                            t,
+                            u,
+                            v,
+                            prim: rec.prim as i64,
+                            error: 0,
+                        };
                         self.tfar = t;
                     }
                 }
@@ -190,7 +209,13 @@ pub fn box_near(b: &Aabb, ray: &Ray, inv: &V3, tfar: f32) -> Option<f32> {
 /// u,v convention.
 pub fn moller_trumbore(v: &[V3; 3], ray: &Ray) -> Option<(f32, f32, f32)> {
     let sub = |a: V3, b: V3| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-    let cross = |a: V3, b: V3| [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+    let cross = |a: V3, b: V3| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
     let dot = |a: V3, b: V3| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     let e1 = sub(v[1], v[0]);
     let e2 = sub(v[2], v[0]);

@@ -86,7 +86,8 @@ pub fn compile(o: &CompileOpts) -> Result<Manifest> {
     let bvh = build_layout(&device, &scene.tris, o.max_leaf_size, o.layout)?;
     tm.bvh_build = t.elapsed().as_secs_f64();
     let t = Instant::now();
-    std::fs::create_dir_all(&o.out).with_context(|| format!("{}: cannot create package directory", o.out.display()))?;
+    std::fs::create_dir_all(&o.out)
+        .with_context(|| format!("{}: cannot create package directory", o.out.display()))?;
     let image = Image::from_bvh(&bvh, &scene.tris);
     image.write(&o.out.join("image.bin"))?;
     let needs = needs::compute(&scene.tris, &bvh);
@@ -101,13 +102,20 @@ pub fn compile(o: &CompileOpts) -> Result<Manifest> {
     tm.rays = t.elapsed().as_secs_f64();
     let t = Instant::now();
     let reference = with_progress("reference", &rays, |chunk| {
-        if o.double_reference { trace_double(&scene.tris, chunk) } else { Ok(embree.trace(chunk)) }
+        if o.double_reference {
+            trace_double(&scene.tris, chunk)
+        } else {
+            Ok(embree.trace(chunk))
+        }
     })?;
     tm.reference = t.elapsed().as_secs_f64();
     write_rays(&o.out.join("rays.csv"), &rays)?;
     write_hits(&o.out.join("reference.csv"), &reference)?;
     if let Some(p) = &ao_pixels {
-        crate::compare::pixels::write_ao_pixels(&o.out.join(crate::compare::pixels::AO_PIXELS_FILE), p)?;
+        crate::compare::pixels::write_ao_pixels(
+            &o.out.join(crate::compare::pixels::AO_PIXELS_FILE),
+            p,
+        )?;
     }
     tm.total = t0.elapsed().as_secs_f64();
 
@@ -117,40 +125,88 @@ pub fn compile(o: &CompileOpts) -> Result<Manifest> {
         tool: format!("nori-bridge {}", env!("CARGO_PKG_VERSION")),
         source_scene: o.scene.display().to_string(),
         ray_kind: o.rays.name().into(),
-        ray_file: match &o.rays { RaySpec::File(f) => Some(f.display().to_string()), _ => None },
+        ray_file: match &o.rays {
+            RaySpec::File(f) => Some(f.display().to_string()),
+            _ => None,
+        },
         seed: o.seed,
         spp: o.spp,
         width: cam.map(|c| c.width),
         height: cam.map(|c| c.height),
-        ao_image: scene.camera.as_ref().filter(|_| ao_pixels.is_some()).map(|c| ImageSize { width: c.width, height: c.height }),
-        counts: Counts { triangles: scene.tris.len(), nodes: bvh.node_count(), rays: rays.len(), reference_hits: reference.iter().filter(|h| h.hit).count() },
+        ao_image: scene
+            .camera
+            .as_ref()
+            .filter(|_| ao_pixels.is_some())
+            .map(|c| ImageSize {
+                width: c.width,
+                height: c.height,
+            }),
+        counts: Counts {
+            triangles: scene.tris.len(),
+            nodes: bvh.node_count(),
+            rays: rays.len(),
+            reference_hits: reference.iter().filter(|h| h.hit).count(),
+        },
         build: BuildParams {
-            builder: format!("Embree 3 rtcBuildBVH, binned SAH, MEDIUM quality, branching {}", o.layout.branching()),
+            builder: format!(
+                "Embree 3 rtcBuildBVH, binned SAH, MEDIUM quality, branching {}",
+                o.layout.branching()
+            ),
             layout: o.layout.name().into(),
             max_leaf_size: o.max_leaf_size,
             traversal_cost: 1.0,
             intersection_cost: 1.0,
         },
-        reference: ReferenceParams { kind: if o.double_reference { "double" } else { "embree" }.into(), robust: o.robust },
+        reference: ReferenceParams {
+            kind: if o.double_reference {
+                "double"
+            } else {
+                "embree"
+            }
+            .into(),
+            robust: o.robust,
+        },
         files: Vec::new(),
         timings_seconds: tm,
     };
-    let extra = ao_pixels.as_ref().map(|_| crate::compare::pixels::AO_PIXELS_FILE);
-    for name in FILES.iter().filter(|n| **n != "package.json").chain(extra.iter()) {
+    let extra = ao_pixels
+        .as_ref()
+        .map(|_| crate::compare::pixels::AO_PIXELS_FILE);
+    for name in FILES
+        .iter()
+        .filter(|n| **n != "package.json")
+        .chain(extra.iter())
+    {
         let bytes = std::fs::metadata(o.out.join(name))?.len();
-        m.files.push(FileEntry { name: name.to_string(), bytes: Some(bytes) });
+        m.files.push(FileEntry {
+            name: name.to_string(),
+            bytes: Some(bytes),
+        });
     }
-    m.files.push(FileEntry { name: "package.json".into(), bytes: None });
+    m.files.push(FileEntry {
+        name: "package.json".into(),
+        bytes: None,
+    });
     write_json(&o.out.join("package.json"), &m)?;
     Ok(m)
 }
 
 /// The rays, and for AO rays the pixel of each (see compare/pixels.rs).
-fn make_rays(o: &CompileOpts, scene: &Scene, embree: &EmbreeScene) -> Result<(Vec<Ray>, Option<Vec<u32>>)> {
+fn make_rays(
+    o: &CompileOpts,
+    scene: &Scene,
+    embree: &EmbreeScene,
+) -> Result<(Vec<Ray>, Option<Vec<u32>>)> {
     let mut rng = ChaCha8Rng::seed_from_u64(o.seed);
     let bounds = scene.bounds();
     let primary = |rng: &mut ChaCha8Rng| -> Result<(Vec<Ray>, Vec<Hit>)> {
-        let cam = scene.camera.as_ref().with_context(|| format!("{}: --rays {} needs a <camera>", o.scene.display(), o.rays.name()))?;
+        let cam = scene.camera.as_ref().with_context(|| {
+            format!(
+                "{}: --rays {} needs a <camera>",
+                o.scene.display(),
+                o.rays.name()
+            )
+        })?;
         let rays = generate::primary(cam, o.spp, rng);
         let hits = embree.trace(&rays);
         Ok((rays, hits))
@@ -167,15 +223,25 @@ fn make_rays(o: &CompileOpts, scene: &Scene, embree: &EmbreeScene) -> Result<(Ve
             let (r, h) = primary(&mut rng)?;
             let diag = len64(sub64(to64(bounds.max), to64(bounds.min)));
             let rays = generate::ambient_occlusion(&scene.tris, &r, &h, o.spp, diag, &mut rng);
-            (rays, Some(crate::compare::pixels::ao_pixels(&h, o.spp, o.spp)))
+            (
+                rays,
+                Some(crate::compare::pixels::ao_pixels(&h, o.spp, o.spp)),
+            )
         }
-        RaySpec::Random => (generate::random(&scene.tris, &bounds, o.count, &mut rng), None),
+        RaySpec::Random => (
+            generate::random(&scene.tris, &bounds, o.count, &mut rng),
+            None,
+        ),
         RaySpec::File(f) => (txt::read_rays_txt(f)?, None),
     })
 }
 
 /// Trace in chunks so the progress line (crate::progress) can advance.
-fn with_progress(what: &'static str, rays: &[Ray], f: impl Fn(&[Ray]) -> Result<Vec<Hit>>) -> Result<Vec<Hit>> {
+fn with_progress(
+    what: &'static str,
+    rays: &[Ray],
+    f: impl Fn(&[Ray]) -> Result<Vec<Hit>>,
+) -> Result<Vec<Hit>> {
     let mut pb = crate::progress::bar(rays.len() as u64, what);
     let mut out = Vec::with_capacity(rays.len());
     for chunk in rays.chunks(1 << 15) {

@@ -11,7 +11,13 @@ use anyhow::{Context, Result};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
-pub const FILES: [&str; 5] = ["image.bin", "rays.csv", "reference.csv", "scene.json", "package.json"];
+pub const FILES: [&str; 5] = [
+    "image.bin",
+    "rays.csv",
+    "reference.csv",
+    "scene.json",
+    "package.json",
+];
 
 #[derive(Serialize, Deserialize, Clone, Debug)]
 pub struct Manifest {
@@ -93,16 +99,27 @@ impl Manifest {
     /// package.json of a package directory, format version checked.
     pub fn load(dir: &Path) -> Result<Manifest> {
         let mpath = dir.join("package.json");
-        let text = std::fs::read_to_string(&mpath)
-            .with_context(|| format!("{}: cannot read (is {} a package made by `nori-bridge compile`?)", mpath.display(), dir.display()))?;
+        let text = std::fs::read_to_string(&mpath).with_context(|| {
+            format!(
+                "{}: cannot read (is {} a package made by `nori-bridge compile`?)",
+                mpath.display(),
+                dir.display()
+            )
+        })?;
         // The version first: an older manifest lacks fields this one has.
         #[derive(Deserialize)]
         struct Version {
             format_version: u32,
         }
-        let v: Version = serde_json::from_str(&text).with_context(|| format!("{}: bad manifest", mpath.display()))?;
+        let v: Version = serde_json::from_str(&text)
+            .with_context(|| format!("{}: bad manifest", mpath.display()))?;
         if v.format_version != crate::memory::VERSION {
-            anyhow::bail!("{}: format version {}, this tool reads {}", mpath.display(), v.format_version, crate::memory::VERSION);
+            anyhow::bail!(
+                "{}: format version {}, this tool reads {}",
+                mpath.display(),
+                v.format_version,
+                crate::memory::VERSION
+            );
         }
         serde_json::from_str(&text).with_context(|| format!("{}: bad manifest", mpath.display()))
     }
@@ -124,8 +141,19 @@ impl Package {
         let rays = read_rays(&dir.join("rays.csv"))?;
         let reference = read_hits(&dir.join("reference.csv"))?;
         if reference.len() != rays.len() {
-            anyhow::bail!("{}: {} reference rows for {} rays", dir.display(), reference.len(), rays.len());
+            anyhow::bail!(
+                "{}: {} reference rows for {} rays",
+                dir.display(),
+                reference.len(),
+                rays.len()
+            );
         }
-        Ok(Package { dir: dir.to_path_buf(), manifest, image, rays, reference })
+        Ok(Package {
+            dir: dir.to_path_buf(),
+            manifest,
+            image,
+            rays,
+            reference,
+        })
     }
 }

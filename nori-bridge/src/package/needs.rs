@@ -64,7 +64,11 @@ pub fn compute(tris: &[Tri], bvh: &Bvh) -> Needs {
     let (mut smallest_edge, mut degenerate, mut sliver) = (f64::INFINITY, 0, 0);
     for t in tris {
         let p = t.vertices64();
-        let edges = [len64(sub64(p[1], p[0])), len64(sub64(p[2], p[1])), len64(sub64(p[0], p[2]))];
+        let edges = [
+            len64(sub64(p[1], p[0])),
+            len64(sub64(p[2], p[1])),
+            len64(sub64(p[0], p[2])),
+        ];
         let longest = edges.iter().cloned().fold(0.0, f64::max);
         smallest_edge = edges.iter().cloned().fold(smallest_edge, f64::min);
         let area2 = t.double_area64();

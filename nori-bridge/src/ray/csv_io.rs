@@ -16,8 +16,11 @@ pub fn write_rays(path: &Path, rays: &[Ray]) -> Result<()> {
     s.push_str(RAYS_HEADER);
     s.push('\n');
     for (i, r) in rays.iter().enumerate() {
-        let _ = writeln!(s, "{i},{},{},{},{},{},{},{},{},{}", r.o[0], r.o[1], r.o[2], r.d[0], r.d[1], r.d[2],
-                         r.tmin, r.tmax, r.shadow as u8);
+        let _ = writeln!(
+            s,
+            "{i},{},{},{},{},{},{},{},{},{}",
+            r.o[0], r.o[1], r.o[2], r.d[0], r.d[1], r.d[2], r.tmin, r.tmax, r.shadow as u8
+        );
     }
     std::fs::write(path, s).with_context(|| format!("{}: cannot write", path.display()))
 }
@@ -39,11 +42,19 @@ pub fn write_hits(path: &Path, hits: &[Hit]) -> Result<()> {
 /// Read the data rows of a CSV with the given header; checks that column
 /// `ray` counts 0,1,2,... so a dropped or reordered line is caught.
 fn read_rows(path: &Path, header: &str) -> Result<Vec<(usize, Vec<String>)>> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("{}: cannot read", path.display()))?;
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("{}: cannot read", path.display()))?;
     let mut lines = text.lines().enumerate();
     match lines.next() {
         Some((_, h)) if h.trim() == header => {}
-        other => bail!(at_line(path, 1, format!("header is '{}', expected '{header}'", other.map_or("", |l| l.1)))),
+        other => bail!(at_line(
+            path,
+            1,
+            format!(
+                "header is '{}', expected '{header}'",
+                other.map_or("", |l| l.1)
+            )
+        )),
     }
     let cols = header.split(',').count();
     let mut rows = Vec::new();
@@ -53,10 +64,18 @@ fn read_rows(path: &Path, header: &str) -> Result<Vec<(usize, Vec<String>)>> {
         }
         let f: Vec<String> = line.split(',').map(|x| x.trim().to_string()).collect();
         if f.len() != cols {
-            bail!(at_line(path, n + 1, format!("{} columns, expected {cols}: '{line}'", f.len())));
+            bail!(at_line(
+                path,
+                n + 1,
+                format!("{} columns, expected {cols}: '{line}'", f.len())
+            ));
         }
         if f[0].parse::<usize>().ok() != Some(rows.len()) {
-            bail!(at_line(path, n + 1, format!("ray number '{}', expected {}", f[0], rows.len())));
+            bail!(at_line(
+                path,
+                n + 1,
+                format!("ray number '{}', expected {}", f[0], rows.len())
+            ));
         }
         rows.push((n + 1, f));
     }
@@ -64,7 +83,8 @@ fn read_rows(path: &Path, header: &str) -> Result<Vec<(usize, Vec<String>)>> {
 }
 
 fn num<T: std::str::FromStr>(path: &Path, line: usize, name: &str, v: &str) -> Result<T> {
-    v.parse::<T>().map_err(|_| at_line(path, line, format!("{name} '{v}' is not a valid number")).into())
+    v.parse::<T>()
+        .map_err(|_| at_line(path, line, format!("{name} '{v}' is not a valid number")).into())
 }
 
 pub fn read_rays(path: &Path) -> Result<Vec<Ray>> {

@@ -16,10 +16,20 @@ use rand_chacha::ChaCha8Rng;
 pub fn camera_ray(cam: &Camera, sx: f64, sy: f64) -> Ray {
     let aspect = cam.width as f64 / cam.height as f64;
     let tan = (cam.fov_deg.to_radians() * 0.5).tan();
-    let d_cam = normalize64([(1.0 - 2.0 * sx / cam.width as f64) * tan, (1.0 - 2.0 * sy / cam.height as f64) * tan / aspect, 1.0]);
+    let d_cam = normalize64([
+        (1.0 - 2.0 * sx / cam.width as f64) * tan,
+        (1.0 - 2.0 * sy / cam.height as f64) * tan / aspect,
+        1.0,
+    ]);
     let o = cam.to_world.point([0.0; 3]);
     let d = cam.to_world.vector(d_cam);
-    Ray { o: to32(o), d: to32(d), tmin: (cam.near / d_cam[2]) as f32, tmax: (cam.far / d_cam[2]) as f32, shadow: false }
+    Ray {
+        o: to32(o),
+        d: to32(d),
+        tmin: (cam.near / d_cam[2]) as f32,
+        tmax: (cam.far / d_cam[2]) as f32,
+        shadow: false,
+    }
 }
 
 /// Primary rays, ray number = (y * width + x) * spp + s. With spp = 1 the
@@ -29,7 +39,11 @@ pub fn primary(cam: &Camera, spp: u32, rng: &mut ChaCha8Rng) -> Vec<Ray> {
     for y in 0..cam.height {
         for x in 0..cam.width {
             for _ in 0..spp {
-                let (jx, jy) = if spp == 1 { (0.5, 0.5) } else { (rng.gen::<f64>(), rng.gen::<f64>()) };
+                let (jx, jy) = if spp == 1 {
+                    (0.5, 0.5)
+                } else {
+                    (rng.gen::<f64>(), rng.gen::<f64>())
+                };
                 rays.push(camera_ray(cam, x as f64 + jx, y as f64 + jy));
             }
         }
@@ -57,7 +71,13 @@ pub fn shadow(tris: &[Tri], prim_rays: &[Ray], hits: &[Hit], light: D3) -> Vec<R
         .filter(|(_, h)| h.hit)
         .map(|(r, h)| {
             let (p, _) = hit_frame(tris, r, h);
-            Ray { o: to32(p), d: to32(sub64(light, p)), tmin: 1e-4, tmax: 1.0 - 1e-4, shadow: true }
+            Ray {
+                o: to32(p),
+                d: to32(sub64(light, p)),
+                tmin: 1e-4,
+                tmax: 1.0 - 1e-4,
+                shadow: true,
+            }
         })
         .collect()
 }
@@ -65,13 +85,26 @@ pub fn shadow(tris: &[Tri], prim_rays: &[Ray], hits: &[Hit], light: D3) -> Vec<R
 /// Ambient-occlusion rays: `per_hit` cosine-distributed directions about the
 /// face normal per primary hit. tmin = 1e-5 x the scene diagonal keeps the
 /// ray off its own surface (f32 hit points are off by ~1e-7 relative).
-pub fn ambient_occlusion(tris: &[Tri], prim_rays: &[Ray], hits: &[Hit], per_hit: u32, diag: f64, rng: &mut ChaCha8Rng) -> Vec<Ray> {
+pub fn ambient_occlusion(
+    tris: &[Tri],
+    prim_rays: &[Ray],
+    hits: &[Hit],
+    per_hit: u32,
+    diag: f64,
+    rng: &mut ChaCha8Rng,
+) -> Vec<Ray> {
     let mut rays = Vec::new();
     for (r, h) in prim_rays.iter().zip(hits).filter(|(_, h)| h.hit) {
         let (p, n) = hit_frame(tris, r, h);
         for _ in 0..per_hit {
             let d = cosine_dir(n, rng);
-            rays.push(Ray { o: to32(p), d: to32(d), tmin: (1e-5 * diag) as f32, tmax: f32::INFINITY, shadow: false });
+            rays.push(Ray {
+                o: to32(p),
+                d: to32(d),
+                tmin: (1e-5 * diag) as f32,
+                tmax: f32::INFINITY,
+                shadow: false,
+            });
         }
     }
     rays
@@ -83,11 +116,18 @@ pub fn cosine_dir(n: D3, rng: &mut ChaCha8Rng) -> D3 {
     let (u1, u2): (f64, f64) = (rng.gen(), rng.gen());
     let (rad, phi) = (u1.sqrt(), 2.0 * std::f64::consts::PI * u2);
     let z = (1.0 - u1).max(0.0).sqrt();
-    add64(add64(scale64(t, rad * phi.cos()), scale64(b, rad * phi.sin())), scale64(n, z))
+    add64(
+        add64(scale64(t, rad * phi.cos()), scale64(b, rad * phi.sin())),
+        scale64(n, z),
+    )
 }
 
 fn basis(n: D3) -> (D3, D3) {
-    let a = if n[0].abs() > 0.9 { [0.0, 1.0, 0.0] } else { [1.0, 0.0, 0.0] };
+    let a = if n[0].abs() > 0.9 {
+        [0.0, 1.0, 0.0]
+    } else {
+        [1.0, 0.0, 0.0]
+    };
     let t = normalize64(cross64(n, a));
     (t, cross64(n, t))
 }
@@ -101,7 +141,8 @@ pub fn random(tris: &[Tri], bounds: &Aabb, count: usize, rng: &mut ChaCha8Rng) -
     let size = sub64(to64(bounds.max), lo);
     (0..count)
         .map(|i| {
-            let o: D3 = std::array::from_fn(|k| lo[k] - 0.5 * size[k] + 2.0 * size[k] * rng.gen::<f64>());
+            let o: D3 =
+                std::array::from_fn(|k| lo[k] - 0.5 * size[k] + 2.0 * size[k] * rng.gen::<f64>());
             let d = if i % 2 == 0 {
                 let t = &tris[rng.gen_range(0..tris.len())];
                 let (mut a, mut b): (f64, f64) = (rng.gen(), rng.gen());
@@ -109,7 +150,10 @@ pub fn random(tris: &[Tri], bounds: &Aabb, count: usize, rng: &mut ChaCha8Rng) -
                     (a, b) = (1.0 - a, 1.0 - b);
                 }
                 let [p0, p1, p2] = t.vertices64();
-                let target = add64(p0, add64(scale64(sub64(p1, p0), a), scale64(sub64(p2, p0), b)));
+                let target = add64(
+                    p0,
+                    add64(scale64(sub64(p1, p0), a), scale64(sub64(p2, p0), b)),
+                );
                 sub64(target, o)
             } else {
                 let z: f64 = 2.0 * rng.gen::<f64>() - 1.0;
@@ -117,8 +161,18 @@ pub fn random(tris: &[Tri], bounds: &Aabb, count: usize, rng: &mut ChaCha8Rng) -
                 let r = (1.0 - z * z).max(0.0).sqrt();
                 [r * phi.cos(), r * phi.sin(), z]
             };
-            let d = if d == [0.0; 3] { [0.0, 0.0, 1.0] } else { normalize64(d) };
-            Ray { o: to32(o), d: to32(d), tmin: 0.0, tmax: f32::INFINITY, shadow: false }
+            let d = if d == [0.0; 3] {
+                [0.0, 0.0, 1.0]
+            } else {
+                normalize64(d)
+            };
+            Ray {
+                o: to32(o),
+                d: to32(d),
+                tmin: 0.0,
+                tmax: f32::INFINITY,
+                shadow: false,
+            }
         })
         .collect()
 }

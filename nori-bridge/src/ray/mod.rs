@@ -37,9 +37,19 @@ pub struct Hit {
 }
 
 impl Hit {
-    pub const MISS: Hit = Hit { hit: false, t: f32::INFINITY, u: 0.0, v: 0.0, prim: -1, error: 0 };
+    pub const MISS: Hit = Hit {
+        hit: false,
+        t: f32::INFINITY,
+        u: 0.0,
+        v: 0.0,
+        prim: -1,
+        error: 0,
+    };
 
     pub fn occluded(yes: bool) -> Hit {
-        Hit { hit: yes, ..Hit::MISS }
+        Hit {
+            hit: yes,
+            ..Hit::MISS
+        }
     }
 }

@@ -8,7 +8,8 @@ use anyhow::{Context, Result};
 use std::path::Path;
 
 pub fn read_rays_txt(path: &Path) -> Result<Vec<Ray>> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("{}: cannot read ray file", path.display()))?;
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("{}: cannot read ray file", path.display()))?;
     let mut rays = Vec::new();
     for (n, raw) in text.lines().enumerate() {
         let line = raw.split('#').next().unwrap_or("").trim();
@@ -18,14 +19,20 @@ pub fn read_rays_txt(path: &Path) -> Result<Vec<Ray>> {
         let err = |msg: String| at_line(path, n + 1, msg);
         let mut v = Vec::new();
         for tok in line.split_whitespace() {
-            let x: f32 = tok.parse().map_err(|_| err(format!("'{tok}' is not a number")))?;
+            let x: f32 = tok
+                .parse()
+                .map_err(|_| err(format!("'{tok}' is not a number")))?;
             if x.is_nan() {
                 return Err(err(format!("'{tok}' is NaN")).into());
             }
             v.push(x);
         }
         if !(6..=8).contains(&v.len()) {
-            return Err(err(format!("{} numbers; a ray is 'ox oy oz dx dy dz [tmin [tmax]]'", v.len())).into());
+            return Err(err(format!(
+                "{} numbers; a ray is 'ox oy oz dx dy dz [tmin [tmax]]'",
+                v.len()
+            ))
+            .into());
         }
         let ray = Ray {
             o: [v[0], v[1], v[2]],
@@ -41,7 +48,11 @@ pub fn read_rays_txt(path: &Path) -> Result<Vec<Ray>> {
             return Err(err(format!("direction {:?} must be finite and non-zero", ray.d)).into());
         }
         if !(ray.tmin >= 0.0 && ray.tmin.is_finite() && ray.tmin <= ray.tmax) {
-            return Err(err(format!("need 0 <= tmin ({}) <= tmax ({}), tmin finite", ray.tmin, ray.tmax)).into());
+            return Err(err(format!(
+                "need 0 <= tmin ({}) <= tmax ({}), tmin finite",
+                ray.tmin, ray.tmax
+            ))
+            .into());
         }
         rays.push(ray);
     }

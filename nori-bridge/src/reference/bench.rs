@@ -25,7 +25,11 @@ pub fn bench(pkg: &Package, min_rays: usize, robust: bool) -> Result<()> {
         std::hint::black_box(scene.trace_single(&pkg.rays));
     }
     let single = n as f64 / t.elapsed().as_secs_f64() / 1e6;
-    assert_eq!(scene.trace_single(&pkg.rays), scene.trace(&pkg.rays), "packet and single-ray paths disagree");
+    assert_eq!(
+        scene.trace_single(&pkg.rays),
+        scene.trace(&pkg.rays),
+        "packet and single-ray paths disagree"
+    );
     let t = Instant::now();
     std::hint::black_box(crate::memory::mt_walk::trace_all(&pkg.image, &pkg.rays));
     let ours = pkg.rays.len() as f64 / t.elapsed().as_secs_f64() / 1e6;

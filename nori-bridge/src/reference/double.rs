@@ -12,7 +12,10 @@ pub const MAX_TRIS: usize = 20_000;
 
 pub fn trace_double(tris: &[Tri], rays: &[Ray]) -> Result<Vec<Hit>> {
     if tris.len() > MAX_TRIS {
-        bail!("--reference double is for scenes of at most {MAX_TRIS} triangles; this one has {}", tris.len());
+        bail!(
+            "--reference double is for scenes of at most {MAX_TRIS} triangles; this one has {}",
+            tris.len()
+        );
     }
     Ok(rays.par_iter().map(|r| closest(tris, r)).collect())
 }
@@ -31,6 +34,13 @@ fn closest(tris: &[Tri], ray: &Ray) -> Hit {
     }
     match best {
         None => Hit::MISS,
-        Some((i, h)) => Hit { hit: true, t: h.t as f32, u: h.u as f32, v: h.v as f32, prim: i as i64, error: 0 },
+        Some((i, h)) => Hit {
+            hit: true,
+            t: h.t as f32,
+            u: h.u as f32,
+            v: h.v as f32,
+            prim: i as i64,
+            error: 0,
+        },
     }
 }

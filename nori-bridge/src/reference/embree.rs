@@ -23,12 +23,27 @@ impl EmbreeScene {
         unsafe {
             let dev = device.raw();
             let geom = sys::rtcNewGeometry(dev, sys::RTCGeometryType::TRIANGLE);
-            let verts = sys::rtcSetNewGeometryBuffer(geom, sys::RTCBufferType::VERTEX, 0, sys::RTCFormat::FLOAT3,
-                                                     12, 3 * tris.len()) as *mut f32;
-            let idx = sys::rtcSetNewGeometryBuffer(geom, sys::RTCBufferType::INDEX, 0, sys::RTCFormat::UINT3,
-                                                   12, tris.len()) as *mut u32;
+            let verts = sys::rtcSetNewGeometryBuffer(
+                geom,
+                sys::RTCBufferType::VERTEX,
+                0,
+                sys::RTCFormat::FLOAT3,
+                12,
+                3 * tris.len(),
+            ) as *mut f32;
+            let idx = sys::rtcSetNewGeometryBuffer(
+                geom,
+                sys::RTCBufferType::INDEX,
+                0,
+                sys::RTCFormat::UINT3,
+                12,
+                tris.len(),
+            ) as *mut u32;
             if verts.is_null() || idx.is_null() {
-                bail!("Embree: cannot allocate geometry buffers: {:?}", device.error());
+                bail!(
+                    "Embree: cannot allocate geometry buffers: {:?}",
+                    device.error()
+                );
             }
             for (i, t) in tris.iter().enumerate() {
                 for (k, p) in t.v.iter().enumerate() {
@@ -51,7 +66,10 @@ impl EmbreeScene {
             if err != sys::RTCError::NONE {
                 bail!("Embree: scene commit failed: {err:?}");
             }
-            Ok(EmbreeScene { scene, _device: device })
+            Ok(EmbreeScene {
+                scene,
+                _device: device,
+            })
         }
     }
 
@@ -59,9 +77,13 @@ impl EmbreeScene {
     pub fn trace(&self, rays: &[Ray]) -> Vec<Hit> {
         let mut hits = vec![Hit::MISS; rays.len()];
         // 256 rays per rayon task, traced as packets of 8.
-        hits.par_chunks_mut(256).zip(rays.par_chunks(256)).for_each(|(h, r)| {
-            h.chunks_mut(8).zip(r.chunks(8)).for_each(|(h, r)| self.trace8(r, h))
-        });
+        hits.par_chunks_mut(256)
+            .zip(rays.par_chunks(256))
+            .for_each(|(h, r)| {
+                h.chunks_mut(8)
+                    .zip(r.chunks(8))
+                    .for_each(|(h, r)| self.trace8(r, h))
+            });
         hits
     }
 
@@ -89,7 +111,14 @@ impl EmbreeScene {
         if rh.hit.geomID == u32::MAX {
             Hit::MISS
         } else {
-            Hit { hit: true, t: rh.ray.tfar, u: rh.hit.u, v: rh.hit.v, prim: rh.hit.primID as i64, error: 0 }
+            Hit {
+                hit: true,
+                t: rh.ray.tfar,
+                u: rh.hit.u,
+                v: rh.hit.v,
+                prim: rh.hit.primID as i64,
+                error: 0,
+            }
         }
     }
 
@@ -133,7 +162,14 @@ impl EmbreeScene {
             } else if r.shadow {
                 Hit::occluded(true)
             } else {
-                Hit { hit: true, t: rh.ray.tfar[i], u: rh.hit.u[i], v: rh.hit.v[i], prim: rh.hit.primID[i] as i64, error: 0 }
+                Hit {
+                    hit: true,
+                    t: rh.ray.tfar[i],
+                    u: rh.hit.u[i],
+                    v: rh.hit.v[i],
+                    prim: rh.hit.primID[i] as i64,
+                    error: 0,
+                }
             };
         }
     }

@@ -29,16 +29,24 @@ fn read_json(p: &Path) -> Result<Value> {
 }
 
 fn num(v: &Value, what: &str) -> Result<f64> {
-    v.as_f64().with_context(|| format!("{what}: not a number ({v})"))
+    v.as_f64()
+        .with_context(|| format!("{what}: not a number ({v})"))
 }
 
 /// Hit records whose error bits are set (hits.bin: status word at +4, errors in bits 8..).
 fn error_rays(hits_bin: &Path, rays: usize) -> Result<usize> {
-    let b = std::fs::read(hits_bin).with_context(|| format!("{}: cannot read", hits_bin.display()))?;
+    let b =
+        std::fs::read(hits_bin).with_context(|| format!("{}: cannot read", hits_bin.display()))?;
     if b.len() != 32 * rays {
-        bail!("{}: {} bytes, expected {rays} hit records of 32 bytes", hits_bin.display(), b.len());
+        bail!(
+            "{}: {} bytes, expected {rays} hit records of 32 bytes",
+            hits_bin.display(),
+            b.len()
+        );
     }
-    Ok(b.chunks(32).filter(|r| (u32::from_le_bytes(r[4..8].try_into().unwrap()) >> 8) & 0xff != 0).count())
+    Ok(b.chunks(32)
+        .filter(|r| (u32::from_le_bytes(r[4..8].try_into().unwrap()) >> 8) & 0xff != 0)
+        .count())
 }
 
 /// One port's statistics as the Scala MemStats writes them: the system has one AXI port, so requests are the
@@ -55,31 +63,71 @@ pub fn stats(a: &ReportArgs) -> Result<Map<String, Value>> {
     let sim = read_json(&a.out.join("sim.json"))?;
     let mem = read_json(&a.out.join("sim-memory.json"))?;
     if let Some(v) = mem["violations"].as_array().filter(|v| !v.is_empty()) {
-        bail!("cppsim: AXI protocol violations by rtaccel_system:\n  {}", v.iter().map(|x| x.to_string()).collect::<Vec<_>>().join("\n  "));
+        bail!(
+            "cppsim: AXI protocol violations by rtaccel_system:\n  {}",
+            v.iter()
+                .map(|x| x.to_string())
+                .collect::<Vec<_>>()
+                .join("\n  ")
+        );
     }
-    let counters = sim["counters"].as_object().context("sim.json: no counters")?;
-    let c = |k: &str| -> Result<f64> { num(counters.get(k).unwrap_or(&Value::Null), &format!("sim.json counters.{k}")) };
+    let counters = sim["counters"]
+        .as_object()
+        .context("sim.json: no counters")?;
+    let c = |k: &str| -> Result<f64> {
+        num(
+            counters.get(k).unwrap_or(&Value::Null),
+            &format!("sim.json counters.{k}"),
+        )
+    };
     let cycles = c("cycles")?;
     let rays = a.rays as f64;
     let region = |k: &str| mem["regions"][k]["readBytes"].as_f64().unwrap_or(0.0);
     let dram = &mem["dram"];
-    let (dram_bytes, bytes_per_cycle) = (num(&dram["bytes"], "sim-memory.json dram.bytes")?, num(&dram["bytesPerCycle"], "dram.bytesPerCycle")?);
-    let node = port("node", cycles, num(&prep["nodeBytes"], "regress.json nodeBytes")?, c("nodeFetches")?, region("nodes"));
-    let tri = port("triangle", cycles, num(&prep["triBytes"], "regress.json triBytes")?, c("triFetches")?, region("triangles"));
+    let (dram_bytes, bytes_per_cycle) = (
+        num(&dram["bytes"], "sim-memory.json dram.bytes")?,
+        num(&dram["bytesPerCycle"], "dram.bytesPerCycle")?,
+    );
+    let node = port(
+        "node",
+        cycles,
+        num(&prep["nodeBytes"], "regress.json nodeBytes")?,
+        c("nodeFetches")?,
+        region("nodes"),
+    );
+    let tri = port(
+        "triangle",
+        cycles,
+        num(&prep["triBytes"], "regress.json triBytes")?,
+        c("triFetches")?,
+        region("triangles"),
+    );
     // Report.Bound: each resource's capacity per cycle over the run's use of it per ray; the smallest bounds.
     let per_ray = |x: f64| (x / rays.max(1.0)).max(1e-9);
     let terms = [
         ("boxLanes", 1.0 / per_ray(c("boxTests")?)),
         ("triangleLanes", 1.0 / per_ray(c("triTests")?)),
-        ("control", 1.0 / per_ray((c("decisions")? - c("leafReturns")?).max(c("leafReturns")?))),
+        (
+            "control",
+            1.0 / per_ray((c("decisions")? - c("leafReturns")?).max(c("leafReturns")?)),
+        ),
         ("dram", bytes_per_cycle / per_ray(dram_bytes)),
     ];
-    let (limited_by, bound) = terms.iter().fold(terms[0], |m, t| if t.1 < m.1 { *t } else { m });
-    let mut simulation = sim["simulation"].as_object().cloned().context("sim.json: no simulation")?;
+    let (limited_by, bound) = terms
+        .iter()
+        .fold(terms[0], |m, t| if t.1 < m.1 { *t } else { m });
+    let mut simulation = sim["simulation"]
+        .as_object()
+        .cloned()
+        .context("sim.json: no simulation")?;
     simulation.insert("wallSeconds".into(), json!(a.wall_seconds));
     simulation.insert("harness".into(), json!("cpp"));
     let per = |k: &str| -> Result<f64> { Ok(c(k)? / rays.max(1.0)) };
-    let busy_share = if cycles == 0.0 { 0.0 } else { dram_bytes / (bytes_per_cycle * cycles) };
+    let busy_share = if cycles == 0.0 {
+        0.0
+    } else {
+        dram_bytes / (bytes_per_cycle * cycles)
+    };
     let out = json!({
         "rays": a.rays,
         "cycles": cycles,
@@ -106,13 +154,32 @@ pub fn stats(a: &ReportArgs) -> Result<Map<String, Value>> {
     Ok(out.as_object().cloned().unwrap())
 }
 
-const CLASSES: [(&str, &str); 8] = [("false_miss", "falseMiss"), ("false_hit", "falseHit"), ("wrong_prim", "wrongPrim"),
-    ("t_error", "tOutOfTolerance"), ("tie", "ties"), ("edge", "edgeCases"), ("reference_wrong", "referenceWrong"), ("agree", "agree")];
+const CLASSES: [(&str, &str); 8] = [
+    ("false_miss", "falseMiss"),
+    ("false_hit", "falseHit"),
+    ("wrong_prim", "wrongPrim"),
+    ("t_error", "tOutOfTolerance"),
+    ("tie", "ties"),
+    ("edge", "edgeCases"),
+    ("reference_wrong", "referenceWrong"),
+    ("agree", "agree"),
+];
 
 /// report.json: stats plus the mismatch classes and nori-bridge's accuracy (Report.combine).
 pub fn combine(stats: &Map<String, Value>, accuracy: &Value) -> Map<String, Value> {
-    let mut m: Map<String, Value> = CLASSES.iter().map(|(k, name)| (name.to_string(), accuracy["counts"].get(*k).cloned().unwrap_or(json!(0)))).collect();
-    m.insert("total".into(), accuracy.get("mismatches").cloned().unwrap_or(json!(0)));
+    let mut m: Map<String, Value> = CLASSES
+        .iter()
+        .map(|(k, name)| {
+            (
+                name.to_string(),
+                accuracy["counts"].get(*k).cloned().unwrap_or(json!(0)),
+            )
+        })
+        .collect();
+    m.insert(
+        "total".into(),
+        accuracy.get("mismatches").cloned().unwrap_or(json!(0)),
+    );
     let mut out = stats.clone();
     out.insert("mismatches".into(), Value::Object(m));
     out.insert("accuracy".into(), accuracy.clone());
@@ -131,10 +198,17 @@ fn n(v: &Value, digits: usize) -> String {
                 }
                 g.push(ch);
             }
-            if x < 0.0 { format!("-{g}") } else { g }
+            if x < 0.0 {
+                format!("-{g}")
+            } else {
+                g
+            }
         }
         Some(x) => format!("{x:.digits$}"),
-        None => v.as_str().map(str::to_string).unwrap_or_else(|| v.to_string()),
+        None => v
+            .as_str()
+            .map(str::to_string)
+            .unwrap_or_else(|| v.to_string()),
     }
 }
 
@@ -147,12 +221,25 @@ pub fn table(r: &Map<String, Value>) -> String {
         let node = r["memory"]["node"]["dramBytes"].as_f64().unwrap_or(0.0) / rays;
         let tri = r["memory"]["triangle"]["dramBytes"].as_f64().unwrap_or(0.0) / rays;
         let other = v.as_f64().unwrap_or(0.0) - node - tri;
-        format!("{} (node {}, triangle {}{}; DRAM busy {})", n(v, 1), n(&json!(node), 1), n(&json!(tri), 1),
-            if other > 0.05 { format!(", rays and hits {}", n(&json!(other), 1)) } else { String::new() }, n(&r["memory"]["dram"]["busyShare"], 2))
+        format!(
+            "{} (node {}, triangle {}{}; DRAM busy {})",
+            n(v, 1),
+            n(&json!(node), 1),
+            n(&json!(tri), 1),
+            if other > 0.05 {
+                format!(", rays and hits {}", n(&json!(other), 1))
+            } else {
+                String::new()
+            },
+            n(&r["memory"]["dram"]["busyShare"], 2)
+        )
     };
     // In Report.Bound's order (serde_json's maps are sorted).
-    let terms = ["boxLanes", "triangleLanes", "control", "dram"].iter().filter_map(|k| r["boundTerms"].get(*k).map(|v| format!("{k} {}", n(v, 4))))
-        .collect::<Vec<_>>().join(", ");
+    let terms = ["boxLanes", "triangleLanes", "control", "dram"]
+        .iter()
+        .filter_map(|k| r["boundTerms"].get(*k).map(|v| format!("{k} {}", n(v, 4))))
+        .collect::<Vec<_>>()
+        .join(", ");
     let rows = [
         ("rays", n(&r["rays"], 4)),
         ("cycles", n(&r["cycles"], 4)),
@@ -170,17 +257,46 @@ pub fn table(r: &Map<String, Value>) -> String {
         ("rays with errors", n(&r["errorRays"], 4)),
         ("simulator", format!("{} cycles/s, {} s", n(&r["simulation"]["cyclesPerSecond"], 0), n(&r["simulation"]["wallSeconds"], 1))),
     ];
-    rows.iter().map(|(k, v)| format!("  {k:<30} {v}")).collect::<Vec<_>>().join("\n")
+    rows.iter()
+        .map(|(k, v)| format!("  {k:<30} {v}"))
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 /// report.md (Report.markdown).
 pub fn markdown(r: &Map<String, Value>) -> String {
-    let mut lines = vec!["# Regression report".to_string(), String::new(), "Generated by `make regress`; do not edit.".into(), String::new(),
-        "```".into(), table(r), "```".into(), String::new(), "| configuration | value |".into(), "| --- | --- |".into()];
+    let mut lines = vec![
+        "# Regression report".to_string(),
+        String::new(),
+        "Generated by `make regress`; do not edit.".into(),
+        String::new(),
+        "```".into(),
+        table(r),
+        "```".into(),
+        String::new(),
+        "| configuration | value |".into(),
+        "| --- | --- |".into(),
+    ];
     // In Report.configuration's order (serde_json's maps are sorted).
-    const KEYS: [&str; 12] = ["datapath", "float", "triangle", "rounding", "numRayIds", "stackDepth", "nodeIndexBits", "triIndexBits",
-        "maxLeafSize", "memory", "fabricMhz", "seed"];
-    lines.extend(KEYS.iter().filter_map(|k| r["configuration"].get(*k).map(|v| format!("| {k} | {} |", n(v, 4)))));
+    const KEYS: [&str; 12] = [
+        "datapath",
+        "float",
+        "triangle",
+        "rounding",
+        "numRayIds",
+        "stackDepth",
+        "nodeIndexBits",
+        "triIndexBits",
+        "maxLeafSize",
+        "memory",
+        "fabricMhz",
+        "seed",
+    ];
+    lines.extend(KEYS.iter().filter_map(|k| {
+        r["configuration"]
+            .get(*k)
+            .map(|v| format!("| {k} | {} |", n(v, 4)))
+    }));
     lines.push(String::new());
     lines.join("\n")
 }
@@ -219,14 +335,25 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let counters = json!({"cycles": 100, "nodeFetches": 10, "triFetches": 4, "boxTests": 10, "triTests": 8, "decisions": 12,
             "leafReturns": 2, "inFlightSum": 150});
-        std::fs::write(dir.join("sim.json"), json!({"counters": counters, "simulation": {"seconds": 0.5, "cyclesPerSecond": 200.0}}).to_string()).unwrap();
+        std::fs::write(
+            dir.join("sim.json"),
+            json!({"counters": counters, "simulation": {"seconds": 0.5, "cyclesPerSecond": 200.0}})
+                .to_string(),
+        )
+        .unwrap();
         std::fs::write(dir.join("sim-memory.json"), json!({"violations": [], "regions": {"nodes": {"readBytes": 640}, "triangles": {"readBytes": 192}},
             "dram": {"bytes": 256, "bytesPerCycle": 64.0, "burstBytes": 64, "busyCycles": 16}}).to_string()).unwrap();
         let mut hits = vec![0u8; 64];
         hits[32 + 4..32 + 8].copy_from_slice(&(1u32 << 8).to_le_bytes());
         std::fs::write(dir.join("hits.bin"), hits).unwrap();
         std::fs::write(dir.join("regress.json"), json!({"nodeBytes": 128, "triBytes": 48, "memoryKind": "ddr", "configuration": {"seed": 1}}).to_string()).unwrap();
-        let a = ReportArgs { out: dir.clone(), prepared: dir.join("regress.json"), rays: 2, golden_mismatches: 0, wall_seconds: 1.0 };
+        let a = ReportArgs {
+            out: dir.clone(),
+            prepared: dir.join("regress.json"),
+            rays: 2,
+            golden_mismatches: 0,
+            wall_seconds: 1.0,
+        };
         let s = stats(&a).unwrap();
         assert_eq!(s["errorRays"], json!(2 - 1));
         assert_eq!(s["raysPerCycle"], json!(0.02));

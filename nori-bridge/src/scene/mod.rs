@@ -41,6 +41,8 @@ pub struct Scene {
 
 impl Scene {
     pub fn bounds(&self) -> Aabb {
-        self.tris.iter().fold(Aabb::empty(), |b, t| b.union(&t.bounds()))
+        self.tris
+            .iter()
+            .fold(Aabb::empty(), |b, t| b.union(&t.bounds()))
     }
 }

@@ -34,14 +34,21 @@ pub fn load_obj(path: &Path, to_world: &Mat4) -> Result<Vec<Tri>> {
             let mut v = [[0.0f32; 3]; 3];
             for (k, &i) in face.iter().enumerate() {
                 let i = i as usize;
-                let p = [pos[3 * i] as f64, pos[3 * i + 1] as f64, pos[3 * i + 2] as f64];
+                let p = [
+                    pos[3 * i] as f64,
+                    pos[3 * i + 1] as f64,
+                    pos[3 * i + 2] as f64,
+                ];
                 if !p.iter().all(|c| c.is_finite()) {
                     return Err(locate_bad_vertex(path, &text).into());
                 }
                 let q = to32(to_world.point(p));
                 if !q.iter().all(|c| c.is_finite()) {
-                    return Err(in_file(path, format!(
-                        "vertex {p:?} is not finite after the toWorld transform: {q:?}")).into());
+                    return Err(in_file(
+                        path,
+                        format!("vertex {p:?} is not finite after the toWorld transform: {q:?}"),
+                    )
+                    .into());
                 }
                 v[k] = q;
             }
@@ -49,7 +56,11 @@ pub fn load_obj(path: &Path, to_world: &Mat4) -> Result<Vec<Tri>> {
         }
     }
     if tris.is_empty() {
-        return Err(in_file(path, "empty mesh: no triangle (faces need at least 3 vertices)").into());
+        return Err(in_file(
+            path,
+            "empty mesh: no triangle (faces need at least 3 vertices)",
+        )
+        .into());
     }
     Ok(tris)
 }
@@ -64,19 +75,31 @@ fn locate_face_error(path: &Path, text: &str, e: tobj::LoadError) -> crate::erro
                 vertex_count += 1;
                 let coords: Vec<&str> = toks.take(3).collect();
                 if coords.len() < 3 || coords.iter().any(|c| c.parse::<f64>().is_err()) {
-                    return at_line(path, n + 1, format!("vertex '{}' needs 3 numbers", line.trim()));
+                    return at_line(
+                        path,
+                        n + 1,
+                        format!("vertex '{}' needs 3 numbers", line.trim()),
+                    );
                 }
             }
             Some("f") => {
                 for tok in toks {
                     let first = tok.split('/').next().unwrap_or("");
                     let Ok(i) = first.parse::<i64>() else {
-                        return at_line(path, n + 1, format!("face vertex '{tok}' is not an index"));
+                        return at_line(
+                            path,
+                            n + 1,
+                            format!("face vertex '{tok}' is not an index"),
+                        );
                     };
                     let ok = (i >= 1 && i <= vertex_count) || (i < 0 && -i <= vertex_count);
                     if !ok {
-                        return at_line(path, n + 1, format!(
-                            "face index {i} out of range: {vertex_count} vertices defined so far"));
+                        return at_line(
+                            path,
+                            n + 1,
+                            format!(
+                            "face index {i} out of range: {vertex_count} vertices defined so far"),
+                        );
                     }
                 }
             }
@@ -92,7 +115,11 @@ fn locate_bad_vertex(path: &Path, text: &str) -> crate::error::InputError {
         if toks.next() == Some("v") {
             for tok in toks.take(3) {
                 if tok.parse::<f64>().map(|x| !x.is_finite()).unwrap_or(false) {
-                    return at_line(path, n + 1, format!("vertex coordinate '{tok}' is not finite"));
+                    return at_line(
+                        path,
+                        n + 1,
+                        format!("vertex coordinate '{tok}' is not finite"),
+                    );
                 }
             }
         }

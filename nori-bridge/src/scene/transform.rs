@@ -55,10 +55,22 @@ impl Mat4 {
         let t = 1.0 - c;
         let (x, y, z) = (a[0], a[1], a[2]);
         Mat4::from_rows(&[
-            t * x * x + c, t * x * y - s * z, t * x * z + s * y, 0.0,
-            t * x * y + s * z, t * y * y + c, t * y * z - s * x, 0.0,
-            t * x * z - s * y, t * y * z + s * x, t * z * z + c, 0.0,
-            0.0, 0.0, 0.0, 1.0,
+            t * x * x + c,
+            t * x * y - s * z,
+            t * x * z + s * y,
+            0.0,
+            t * x * y + s * z,
+            t * y * y + c,
+            t * y * z - s * x,
+            0.0,
+            t * x * z - s * y,
+            t * y * z + s * x,
+            t * z * z + c,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            1.0,
         ])
     }
 
@@ -111,7 +123,10 @@ fn dot4(a: [f64; 4], b: [f64; 4]) -> f64 {
 pub fn parse_floats(text: &str) -> Result<Vec<f64>, String> {
     text.split(|c: char| c == ',' || c.is_whitespace())
         .filter(|t| !t.is_empty())
-        .map(|t| t.parse::<f64>().map_err(|_| format!("'{t}' is not a number")))
+        .map(|t| {
+            t.parse::<f64>()
+                .map_err(|_| format!("'{t}' is not a number"))
+        })
         .collect()
 }
 

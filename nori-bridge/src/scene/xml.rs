@@ -11,20 +11,47 @@ use anyhow::{Context, Result};
 use roxmltree::{Document, Node};
 use std::path::Path;
 
-const IGNORED: &[&str] = &["bsdf", "emitter", "integrator", "sampler", "rfilter", "medium", "phase"];
-const PARAMS: &[&str] = &["float", "integer", "string", "boolean", "point", "vector", "color", "transform"];
+const IGNORED: &[&str] = &[
+    "bsdf",
+    "emitter",
+    "integrator",
+    "sampler",
+    "rfilter",
+    "medium",
+    "phase",
+];
+const PARAMS: &[&str] = &[
+    "float",
+    "integer",
+    "string",
+    "boolean",
+    "point",
+    "vector",
+    "color",
+    "transform",
+];
 
 pub fn load_scene(path: &Path) -> Result<Scene> {
     let text = std::fs::read_to_string(path)
         .with_context(|| format!("{}: cannot read scene file", path.display()))?;
     let doc = Document::parse(&text).map_err(|e| {
         let p = e.pos();
-        at_line(path, p.row as usize, format!("malformed XML (column {}): {e}", p.col))
+        at_line(
+            path,
+            p.row as usize,
+            format!("malformed XML (column {}): {e}", p.col),
+        )
     })?;
     let ctx = Ctx { path, doc: &doc };
     let root = doc.root_element();
     if root.tag_name().name() != "scene" {
-        return Err(ctx.err(root, format!("root element is <{}>, expected <scene>", root.tag_name().name())));
+        return Err(ctx.err(
+            root,
+            format!(
+                "root element is <{}>, expected <scene>",
+                root.tag_name().name()
+            ),
+        ));
     }
     let base = path.parent().unwrap_or(Path::new("."));
     let mut scene = Scene {
@@ -43,10 +70,16 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
             "camera" => scene.camera = Some(ctx.camera(el)?),
             "mesh" => {
                 let (file, to_world) = ctx.mesh(el, base)?;
-                let tris = load_obj(&file, &to_world)
-                    .with_context(|| format!("{}:{}: in this <mesh>", path.display(), ctx.line(el)))?;
+                let tris = load_obj(&file, &to_world).with_context(|| {
+                    format!("{}:{}: in this <mesh>", path.display(), ctx.line(el))
+                })?;
                 let emitter = ctx.area_emitter(el)?;
-                scene.meshes.push(MeshInfo { file, first_prim: scene.tris.len(), tri_count: tris.len(), emitter });
+                scene.meshes.push(MeshInfo {
+                    file,
+                    first_prim: scene.tris.len(),
+                    tri_count: tris.len(),
+                    emitter,
+                });
                 scene.tris.extend(tris);
             }
             "emitter" if el.attribute("type") == Some("point") => {
@@ -56,7 +89,10 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
             }
             name if IGNORED.contains(&name) || PARAMS.contains(&name) => {}
             name => scene.warnings.push(format!(
-                "{}:{}: warning: unknown tag <{name}> ignored", path.display(), ctx.line(el))),
+                "{}:{}: warning: unknown tag <{name}> ignored",
+                path.display(),
+                ctx.line(el)
+            )),
         }
     }
     if scene.tris.is_empty() {
@@ -81,8 +117,12 @@ impl Ctx<'_, '_> {
         for c in el.children().filter(|n| n.is_element()) {
             let name = c.tag_name().name();
             if !PARAMS.contains(&name) && !IGNORED.contains(&name) {
-                warnings.push(format!("{}:{}: warning: unknown tag <{name}> in <{}> ignored",
-                                      self.path.display(), self.line(c), el.tag_name().name()));
+                warnings.push(format!(
+                    "{}:{}: warning: unknown tag <{name}> in <{}> ignored",
+                    self.path.display(),
+                    self.line(c),
+                    el.tag_name().name()
+                ));
             }
         }
     }
@@ -92,12 +132,18 @@ impl Ctx<'_, '_> {
     }
 
     fn attr<'n>(&self, n: Node<'n, '_>, name: &str) -> Result<&'n str> {
-        n.attribute(name)
-            .ok_or_else(|| self.err(n, format!("<{}> needs a '{name}' attribute", n.tag_name().name())))
+        n.attribute(name).ok_or_else(|| {
+            self.err(
+                n,
+                format!("<{}> needs a '{name}' attribute", n.tag_name().name()),
+            )
+        })
     }
 
     fn param<'n, 'i>(&self, el: Node<'n, 'i>, tag: &str, name: &str) -> Option<Node<'n, 'i>> {
-        el.children().find(|c| c.is_element() && c.tag_name().name() == tag && c.attribute("name") == Some(name))
+        el.children().find(|c| {
+            c.is_element() && c.tag_name().name() == tag && c.attribute("name") == Some(name)
+        })
     }
 
     fn number(&self, n: Node) -> Result<f64> {
@@ -115,17 +161,26 @@ impl Ctx<'_, '_> {
     fn camera(&self, el: Node) -> Result<Camera> {
         let kind = self.attr(el, "type")?;
         if kind != "perspective" {
-            return Err(self.err(el, format!("camera type '{kind}' is not supported (only 'perspective')")));
+            return Err(self.err(
+                el,
+                format!("camera type '{kind}' is not supported (only 'perspective')"),
+            ));
         }
         let float = |name: &str, default: f64| -> Result<f64> {
-            self.param(el, "float", name).map_or(Ok(default), |n| self.number(n))
+            self.param(el, "float", name)
+                .map_or(Ok(default), |n| self.number(n))
         };
         let size = |name: &str, default: u32| -> Result<u32> {
-            let Some(n) = self.param(el, "integer", name) else { return Ok(default) };
+            let Some(n) = self.param(el, "integer", name) else {
+                return Ok(default);
+            };
             let v = self.attr(n, "value")?;
             match v.trim().parse::<u32>() {
                 Ok(x) if x > 0 && x <= 1 << 16 => Ok(x),
-                _ => Err(self.err(n, format!("camera {name} '{v}' must be an integer in 1..=65536"))),
+                _ => Err(self.err(
+                    n,
+                    format!("camera {name} '{v}' must be an integer in 1..=65536"),
+                )),
             }
         };
         let cam = Camera {
@@ -137,28 +192,48 @@ impl Ctx<'_, '_> {
             far: float("farClip", 1e4)?,
         };
         if !(cam.fov_deg > 0.0 && cam.fov_deg < 180.0 && cam.near > 0.0 && cam.near < cam.far) {
-            return Err(self.err(el, format!(
-                "camera fov {} must be in (0,180) and 0 < nearClip {} < farClip {}", cam.fov_deg, cam.near, cam.far)));
+            return Err(self.err(
+                el,
+                format!(
+                    "camera fov {} must be in (0,180) and 0 < nearClip {} < farClip {}",
+                    cam.fov_deg, cam.near, cam.far
+                ),
+            ));
         }
         Ok(cam)
     }
 
     /// A mesh's `<emitter type="area">` radiance (Nori's `radiance` colour), if it has one.
     fn area_emitter(&self, el: Node) -> Result<Option<[f64; 3]>> {
-        let Some(e) = el.children().find(|c| c.is_element() && c.tag_name().name() == "emitter") else { return Ok(None) };
+        let Some(e) = el
+            .children()
+            .find(|c| c.is_element() && c.tag_name().name() == "emitter")
+        else {
+            return Ok(None);
+        };
         if e.attribute("type") != Some("area") {
             return Ok(None);
         }
-        let c = self.param(e, "color", "radiance").ok_or_else(|| self.err(e, "<emitter type=\"area\"> needs <color name=\"radiance\">".into()))?;
+        let c = self.param(e, "color", "radiance").ok_or_else(|| {
+            self.err(
+                e,
+                "<emitter type=\"area\"> needs <color name=\"radiance\">".into(),
+            )
+        })?;
         Ok(Some(self.vec3(c)?))
     }
 
     fn mesh(&self, el: Node, base: &Path) -> Result<(std::path::PathBuf, Mat4)> {
         let kind = self.attr(el, "type")?;
         if kind != "obj" {
-            return Err(self.err(el, format!("mesh type '{kind}' is not supported (only 'obj')")));
+            return Err(self.err(
+                el,
+                format!("mesh type '{kind}' is not supported (only 'obj')"),
+            ));
         }
-        let f = self.param(el, "string", "filename").ok_or_else(|| self.err(el, "<mesh> needs <string name=\"filename\">".into()))?;
+        let f = self
+            .param(el, "string", "filename")
+            .ok_or_else(|| self.err(el, "<mesh> needs <string name=\"filename\">".into()))?;
         let file = base.join(self.attr(f, "value")?);
         Ok((file, self.transform_param(el, "toWorld")?))
     }
@@ -180,7 +255,10 @@ impl Ctx<'_, '_> {
                 "rotate" => {
                     let axis = parse_vec3(self.attr(c, "axis")?).map_err(|e| self.err(c, e))?;
                     let angle = self.attr(c, "angle")?;
-                    let deg = angle.trim().parse::<f64>().map_err(|_| self.err(c, format!("angle '{angle}' is not a number")))?;
+                    let deg = angle
+                        .trim()
+                        .parse::<f64>()
+                        .map_err(|_| self.err(c, format!("angle '{angle}' is not a number")))?;
                     if axis == [0.0; 3] {
                         return Err(self.err(c, "rotate axis is zero".into()));
                     }
@@ -188,11 +266,15 @@ impl Ctx<'_, '_> {
                 }
                 "matrix" => {
                     let v = parse_floats(self.attr(c, "value")?).map_err(|e| self.err(c, e))?;
-                    let arr: [f64; 16] = v.try_into().map_err(|v: Vec<f64>| self.err(c, format!("matrix needs 16 numbers, got {}", v.len())))?;
+                    let arr: [f64; 16] = v.try_into().map_err(|v: Vec<f64>| {
+                        self.err(c, format!("matrix needs 16 numbers, got {}", v.len()))
+                    })?;
                     Mat4::from_rows(&arr)
                 }
                 "lookat" => {
-                    let g = |a: &str| -> Result<[f64; 3]> { parse_vec3(self.attr(c, a)?).map_err(|e| self.err(c, e)) };
+                    let g = |a: &str| -> Result<[f64; 3]> {
+                        parse_vec3(self.attr(c, a)?).map_err(|e| self.err(c, e))
+                    };
                     Mat4::lookat(g("origin")?, g("target")?, g("up")?)
                 }
                 other => return Err(self.err(c, format!("unknown transform element <{other}>"))),
@@ -200,7 +282,10 @@ impl Ctx<'_, '_> {
             m = step.mul(&m);
         }
         if m.m.iter().flatten().any(|x| !x.is_finite()) {
-            return Err(self.err(t, "transform is not finite (degenerate lookat or rotate?)".into()));
+            return Err(self.err(
+                t,
+                "transform is not finite (degenerate lookat or rotate?)".into(),
+            ));
         }
         Ok(m)
     }

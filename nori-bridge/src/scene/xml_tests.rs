@@ -5,7 +5,10 @@ use std::io::Write;
 
 fn write(dir: &Path, name: &str, text: &str) -> std::path::PathBuf {
     let p = dir.join(name);
-    std::fs::File::create(&p).unwrap().write_all(text.as_bytes()).unwrap();
+    std::fs::File::create(&p)
+        .unwrap()
+        .write_all(text.as_bytes())
+        .unwrap();
     p
 }
 
@@ -16,7 +19,8 @@ fn scene_with(transform: &str) -> Scene {
     write(dir.path(), "t.obj", TRI);
     let xml = format!(
         "<scene><mesh type=\"obj\"><string name=\"filename\" value=\"t.obj\"/>\
-         <transform name=\"toWorld\">{transform}</transform></mesh></scene>");
+         <transform name=\"toWorld\">{transform}</transform></mesh></scene>"
+    );
     let p = write(dir.path(), "s.xml", &xml);
     load_scene(&p).unwrap()
 }
@@ -30,7 +34,12 @@ fn children_compose_in_nori_order() {
     let want = [[10.0, 2.0, 0.0], [8.0, 0.0, 0.0], [10.0, 0.0, 2.0]];
     for k in 0..3 {
         for c in 0..3 {
-            assert!((v[k][c] - want[k][c]).abs() < 1e-6, "vertex {k}: {:?} want {:?}", v[k], want[k]);
+            assert!(
+                (v[k][c] - want[k][c]).abs() < 1e-6,
+                "vertex {k}: {:?} want {:?}",
+                v[k],
+                want[k]
+            );
         }
     }
 }
@@ -38,7 +47,10 @@ fn children_compose_in_nori_order() {
 #[test]
 fn matrix_element_is_row_major() {
     let s = scene_with("<matrix value=\"1 0 0 5  0 2 0 0  0 0 3 0  0 0 0 1\"/>");
-    assert_eq!(s.tris[0].v, [[6.0, 0.0, 0.0], [5.0, 2.0, 0.0], [5.0, 0.0, 3.0]]);
+    assert_eq!(
+        s.tris[0].v,
+        [[6.0, 0.0, 0.0], [5.0, 2.0, 0.0], [5.0, 0.0, 3.0]]
+    );
 }
 
 #[test]
@@ -49,8 +61,16 @@ fn unknown_tags_warn_with_name_and_line() {
         "<scene>\n<integrator type=\"path\"/>\n<volume type=\"x\"/>\n<mesh type=\"obj\"><string name=\"filename\" value=\"t.obj\"/><bsdf type=\"diffuse\"/>\n<texture/></mesh>\n</scene>");
     let s = load_scene(&p).unwrap();
     assert_eq!(s.warnings.len(), 2, "{:?}", s.warnings);
-    assert!(s.warnings[0].contains(":3: warning: unknown tag <volume>"), "{}", s.warnings[0]);
-    assert!(s.warnings[1].contains(":5: warning: unknown tag <texture> in <mesh>"), "{}", s.warnings[1]);
+    assert!(
+        s.warnings[0].contains(":3: warning: unknown tag <volume>"),
+        "{}",
+        s.warnings[0]
+    );
+    assert!(
+        s.warnings[1].contains(":5: warning: unknown tag <texture> in <mesh>"),
+        "{}",
+        s.warnings[1]
+    );
 }
 
 #[test]
@@ -63,5 +83,8 @@ fn shipped_cornell_box_camera_and_light() {
     assert_eq!(s.point_light, Some([278.0, 500.0, 279.5]));
     // room 5 quads + short 5 + tall 5 + light 1 = 16 quads = 32 triangles.
     assert_eq!(s.tris.len(), 32);
-    assert_eq!(s.meshes.iter().map(|m| m.first_prim).collect::<Vec<_>>(), vec![0, 10, 20, 30]);
+    assert_eq!(
+        s.meshes.iter().map(|m| m.first_prim).collect::<Vec<_>>(),
+        vec![0, 10, 20, 30]
+    );
 }

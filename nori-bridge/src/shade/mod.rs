@@ -66,7 +66,11 @@ fn lights(scene: &Scene) -> Lights {
             }
         }
     }
-    Lights { tris, total_area, point: scene.point_light }
+    Lights {
+        tris,
+        total_area,
+        point: scene.point_light,
+    }
 }
 
 /// Radiance a primary ray sees directly: the emitter's, if it hit one.
@@ -77,7 +81,9 @@ fn emitted(scene: &Scene, hit: &Hit) -> D3 {
     scene
         .meshes
         .iter()
-        .find(|m| (hit.prim as usize) >= m.first_prim && (hit.prim as usize) < m.first_prim + m.tri_count)
+        .find(|m| {
+            (hit.prim as usize) >= m.first_prim && (hit.prim as usize) < m.first_prim + m.tri_count
+        })
         .and_then(|m| m.emitter)
         .unwrap_or([0.0; 3])
 }
@@ -96,13 +102,22 @@ fn camera(pkg: &Package) -> Result<(u32, u32, usize)> {
     let m = &pkg.manifest;
     match (m.width, m.height) {
         (Some(w), Some(h)) if m.ray_kind == "primary" => Ok((w, h, m.spp.max(1) as usize)),
-        _ => bail!("{}: ray kind '{}' has no camera image; shading needs a --rays primary package", pkg.dir.display(), m.ray_kind),
+        _ => bail!(
+            "{}: ray kind '{}' has no camera image; shading needs a --rays primary package",
+            pkg.dir.display(),
+            m.ray_kind
+        ),
     }
 }
 
 /// The secondary rays of `primary_hits` (ray order: primary ray order, then
 /// sample), deterministic in `o.seed`. Normals has none.
-pub fn secondary(scene: &Scene, pkg: &Package, primary_hits: &[Hit], o: &ShadeOpts) -> Result<Vec<Secondary>> {
+pub fn secondary(
+    scene: &Scene,
+    pkg: &Package,
+    primary_hits: &[Hit],
+    o: &ShadeOpts,
+) -> Result<Vec<Secondary>> {
     let (_, _, spp) = camera(pkg)?;
     let tris = pkg.image.by_prim();
     let lights = lights(scene);
@@ -128,9 +143,19 @@ pub fn secondary(scene: &Scene, pkg: &Package, primary_hits: &[Hit], o: &ShadeOp
                     // tmin = 1e-5 x the scene diagonal keeps the ray off its own surface (as
                     // nori-bridge's AO rays); d is a unit vector, so tmax = AO_RADIUS x the diagonal
                     // is the occlusion radius (an unbounded radius turns a closed room black).
-                    let ray = Ray { o: to32(p), d: to32(d), tmin: (1e-5 * diag) as f32, tmax: (AO_RADIUS * diag) as f32, shadow: true };
+                    let ray = Ray {
+                        o: to32(p),
+                        d: to32(d),
+                        tmin: (1e-5 * diag) as f32,
+                        tmax: (AO_RADIUS * diag) as f32,
+                        shadow: true,
+                    };
                     let w = 1.0 / (n as f64 * spp as f64);
-                    out.push(Secondary { pixel, ray, weight: [w; 3] });
+                    out.push(Secondary {
+                        pixel,
+                        ray,
+                        weight: [w; 3],
+                    });
                 }
             }
             Integrator::Direct => {
@@ -138,13 +163,27 @@ pub fn secondary(scene: &Scene, pkg: &Package, primary_hits: &[Hit], o: &ShadeOp
                     for _ in 0..n {
                         // A triangle by area, then a uniform point on it.
                         let pick: f64 = rng.gen::<f64>() * lights.total_area;
-                        let k = lights.tris.partition_point(|x| x.2 < pick).min(lights.tris.len() - 1);
+                        let k = lights
+                            .tris
+                            .partition_point(|x| x.2 < pick)
+                            .min(lights.tris.len() - 1);
                         let (lt, le, _) = &lights.tris[k];
                         let (u1, u2): (f64, f64) = (rng.gen(), rng.gen());
                         let su = u1.sqrt();
                         let [a, b, c] = lt.vertices64();
-                        let y = add64(add64(scale64(a, 1.0 - su), scale64(b, su * (1.0 - u2))), scale64(c, su * u2));
-                        out.extend(light_sample(p, nrm, y, normalize64(lt.normal64()), *le, lights.total_area / (n as f64 * spp as f64), pixel));
+                        let y = add64(
+                            add64(scale64(a, 1.0 - su), scale64(b, su * (1.0 - u2))),
+                            scale64(c, su * u2),
+                        );
+                        out.extend(light_sample(
+                            p,
+                            nrm,
+                            y,
+                            normalize64(lt.normal64()),
+                            *le,
+                            lights.total_area / (n as f64 * spp as f64),
+                            pixel,
+                        ));
                     }
                 } else if let Some(lp) = lights.point {
                     // No area emitter: the point light, with an intensity that gives
@@ -155,7 +194,11 @@ pub fn secondary(scene: &Scene, pkg: &Package, primary_hits: &[Hit], o: &ShadeOp
                     let cos = dot64(nrm, d) / r2.sqrt();
                     if cos > 0.0 {
                         let w = ALBEDO / std::f64::consts::PI * i * cos / r2 / spp as f64;
-                        out.push(Secondary { pixel, ray: shadow_ray(p, d), weight: [w; 3] });
+                        out.push(Secondary {
+                            pixel,
+                            ray: shadow_ray(p, d),
+                            weight: [w; 3],
+                        });
                     }
                 }
             }
@@ -166,13 +209,27 @@ pub fn secondary(scene: &Scene, pkg: &Package, primary_hits: &[Hit], o: &ShadeOp
 
 /// Shadow ray from p to p + d: t in [1e-4, 1 - 1e-4] (as nori-bridge's shadow rays).
 fn shadow_ray(p: D3, d: D3) -> Ray {
-    Ray { o: to32(p), d: to32(d), tmin: 1e-4, tmax: 1.0 - 1e-4, shadow: true }
+    Ray {
+        o: to32(p),
+        d: to32(d),
+        tmin: 1e-4,
+        tmax: 1.0 - 1e-4,
+        shadow: true,
+    }
 }
 
 /// One area-light sample at y (light normal nl, radiance le) seen from p
 /// (normal n): the estimator albedo/pi Le cos_x cos_y / r^2 x area_over_n.
 /// The light emits on both sides. None when the light is behind the surface.
-fn light_sample(p: D3, n: D3, y: D3, nl: D3, le: D3, area_over_n: f64, pixel: usize) -> Option<Secondary> {
+fn light_sample(
+    p: D3,
+    n: D3,
+    y: D3,
+    nl: D3,
+    le: D3,
+    area_over_n: f64,
+    pixel: usize,
+) -> Option<Secondary> {
     let d = sub64(y, p);
     let r2 = dot64(d, d);
     let r = r2.sqrt();
@@ -182,15 +239,31 @@ fn light_sample(p: D3, n: D3, y: D3, nl: D3, le: D3, area_over_n: f64, pixel: us
         return None;
     }
     let g = ALBEDO / std::f64::consts::PI * cos_x * cos_y / r2 * area_over_n;
-    Some(Secondary { pixel, ray: shadow_ray(p, d), weight: scale64(le, g) })
+    Some(Secondary {
+        pixel,
+        ray: shadow_ray(p, d),
+        weight: scale64(le, g),
+    })
 }
 
 /// Linear radiance per pixel from the primary hits and (ao, direct) the
 /// secondary rays with their answers (`blocked[i]`: secondary ray i hit something).
-pub fn radiance(scene: &Scene, pkg: &Package, primary_hits: &[Hit], sec: &[Secondary], blocked: &[bool], o: &ShadeOpts) -> Result<Vec<D3>> {
+pub fn radiance(
+    scene: &Scene,
+    pkg: &Package,
+    primary_hits: &[Hit],
+    sec: &[Secondary],
+    blocked: &[bool],
+    o: &ShadeOpts,
+) -> Result<Vec<D3>> {
     let (w, h, spp) = camera(pkg)?;
     if primary_hits.len() != pkg.rays.len() {
-        bail!("{}: {} primary hits for {} rays", pkg.dir.display(), primary_hits.len(), pkg.rays.len());
+        bail!(
+            "{}: {} primary hits for {} rays",
+            pkg.dir.display(),
+            primary_hits.len(),
+            pkg.rays.len()
+        );
     }
     if blocked.len() != sec.len() {
         bail!("{} secondary answers for {} secondary rays (were they made with the same --integrator, --samples and --seed?)", blocked.len(), sec.len());
@@ -227,7 +300,8 @@ pub fn radiance(scene: &Scene, pkg: &Package, primary_hits: &[Hit], sec: &[Secon
 pub fn to_rgb8(img: &[D3], w: u32, h: u32, gamma: f64) -> image::RgbImage {
     let mut out = image::RgbImage::new(w, h);
     for (i, p) in img.iter().enumerate() {
-        let c = std::array::from_fn(|k| (p[k].clamp(0.0, 1.0).powf(1.0 / gamma) * 255.0).round() as u8);
+        let c =
+            std::array::from_fn(|k| (p[k].clamp(0.0, 1.0).powf(1.0 / gamma) * 255.0).round() as u8);
         out.put_pixel(i as u32 % w, i as u32 / w, image::Rgb(c));
     }
     out
@@ -237,11 +311,20 @@ pub fn to_rgb8(img: &[D3], w: u32, h: u32, gamma: f64) -> image::RgbImage {
 /// `make regress RAYS=file`): `ox oy oz dx dy dz tmin tmax`, each f32 in its
 /// shortest exact decimal, so the file is the rays bit for bit.
 pub fn write_rays_txt(path: &Path, sec: &[Secondary]) -> Result<()> {
-    let mut f = std::io::BufWriter::new(std::fs::File::create(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?);
-    writeln!(f, "# secondary rays of nori-bridge shade-rays: ox oy oz dx dy dz tmin tmax")?;
+    let mut f = std::io::BufWriter::new(
+        std::fs::File::create(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?,
+    );
+    writeln!(
+        f,
+        "# secondary rays of nori-bridge shade-rays: ox oy oz dx dy dz tmin tmax"
+    )?;
     for s in sec {
         let r = &s.ray;
-        writeln!(f, "{} {} {} {} {} {} {} {}", r.o[0], r.o[1], r.o[2], r.d[0], r.d[1], r.d[2], r.tmin, r.tmax)?;
+        writeln!(
+            f,
+            "{} {} {} {} {} {} {} {}",
+            r.o[0], r.o[1], r.o[2], r.d[0], r.d[1], r.d[2], r.tmin, r.tmax
+        )?;
     }
     Ok(())
 }
@@ -253,7 +336,9 @@ mod tests {
 
     #[test]
     fn cornell_light_is_an_area_emitter() {
-        let scene = crate::scene::xml::load_scene(Path::new("../scenes/cornell-box/cornell-box.xml")).unwrap();
+        let scene =
+            crate::scene::xml::load_scene(Path::new("../scenes/cornell-box/cornell-box.xml"))
+                .unwrap();
         let e: Vec<_> = scene.meshes.iter().map(|m| m.emitter).collect();
         assert_eq!(e, vec![None, None, None, Some([17.0, 12.0, 4.0])]);
         let l = lights(&scene);
@@ -270,9 +355,26 @@ mod tests {
         let sec: Vec<Secondary> = (0..2000)
             .map(|i| {
                 let mut f = || f32::from_bits(rng.gen::<u32>() & 0xbfff_ffff); // finite: exponent never all ones
-                let ray = Ray { o: [f(), f(), f()], d: [f(), f(), 1.0 + f().abs()], tmin: f().abs(), tmax: f32::INFINITY, shadow: false };
-                let ray = Ray { tmax: if i % 2 == 0 { f32::INFINITY } else { ray.tmin * 2.0 + 1.0 }, ..ray };
-                Secondary { pixel: i, ray, weight: [0.0; 3] }
+                let ray = Ray {
+                    o: [f(), f(), f()],
+                    d: [f(), f(), 1.0 + f().abs()],
+                    tmin: f().abs(),
+                    tmax: f32::INFINITY,
+                    shadow: false,
+                };
+                let ray = Ray {
+                    tmax: if i % 2 == 0 {
+                        f32::INFINITY
+                    } else {
+                        ray.tmin * 2.0 + 1.0
+                    },
+                    ..ray
+                };
+                Secondary {
+                    pixel: i,
+                    ray,
+                    weight: [0.0; 3],
+                }
             })
             .collect();
         let dir = tempfile::tempdir().unwrap();
@@ -281,7 +383,14 @@ mod tests {
         let back = read_rays_txt(&p).unwrap();
         assert_eq!(back.len(), sec.len());
         for (i, (a, b)) in sec.iter().zip(&back).enumerate() {
-            let bits = |r: &Ray| [r.o, r.d].concat().iter().chain([r.tmin, r.tmax].iter()).map(|x| x.to_bits()).collect::<Vec<_>>();
+            let bits = |r: &Ray| {
+                [r.o, r.d]
+                    .concat()
+                    .iter()
+                    .chain([r.tmin, r.tmax].iter())
+                    .map(|x| x.to_bits())
+                    .collect::<Vec<_>>()
+            };
             assert_eq!(bits(&a.ray), bits(b), "ray {i}");
         }
     }

@@ -44,7 +44,10 @@ fn nori_layout() -> String {
 
 /// Exponent + mantissa bits of an `eXmY` name (0 if it is not one).
 pub fn format_bits(f: &str) -> u32 {
-    f.strip_prefix('e').and_then(|r| r.split_once('m')).and_then(|(e, m)| Some(e.parse::<u32>().ok()? + m.parse::<u32>().ok()?)).unwrap_or(0)
+    f.strip_prefix('e')
+        .and_then(|r| r.split_once('m'))
+        .and_then(|(e, m)| Some(e.parse::<u32>().ok()? + m.parse::<u32>().ok()?))
+        .unwrap_or(0)
 }
 
 impl PointConfig {
@@ -53,10 +56,18 @@ impl PointConfig {
         format!("{}/{}", self.rounding, self.triangle)
     }
     pub fn box_fmt(&self) -> &str {
-        if self.box_float.is_empty() { &self.float } else { &self.box_float }
+        if self.box_float.is_empty() {
+            &self.float
+        } else {
+            &self.box_float
+        }
     }
     pub fn tri_fmt(&self) -> &str {
-        if self.tri_float.is_empty() { &self.float } else { &self.tri_float }
+        if self.tri_float.is_empty() {
+            &self.float
+        } else {
+            &self.tri_float
+        }
     }
     /// The unquantized layout of the same width: the FP32 layout a point is measured against ("4q" -> "4").
     pub fn plain_layout(&self) -> &str {
@@ -184,14 +195,20 @@ pub struct SweepIn {
 pub const HARD_REFS: [&str; 3] = ["embree", "robust", "double"];
 
 fn read_json<T: DeserializeOwned>(path: &Path) -> Result<T> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("{}: cannot read", path.display()))?;
-    serde_json::from_str(&text).with_context(|| format!("{}: not the expected JSON", path.display()))
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("{}: cannot read", path.display()))?;
+    serde_json::from_str(&text)
+        .with_context(|| format!("{}: not the expected JSON", path.display()))
 }
 
 /// The JSON files of a directory, sorted by name (error if there are none).
 fn json_files(dir: &Path, what: &str) -> Result<Vec<PathBuf>> {
-    let rd = std::fs::read_dir(dir).with_context(|| format!("{}: cannot list {what}", dir.display()))?;
-    let mut v: Vec<PathBuf> = rd.filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.extension().is_some_and(|x| x == "json")).collect();
+    let rd =
+        std::fs::read_dir(dir).with_context(|| format!("{}: cannot list {what}", dir.display()))?;
+    let mut v: Vec<PathBuf> = rd
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
     v.sort();
     if v.is_empty() {
         bail!("{}: no {what} (*.json) found", dir.display());
@@ -200,7 +217,9 @@ fn json_files(dir: &Path, what: &str) -> Result<Vec<PathBuf>> {
 }
 
 fn stem(p: &Path) -> String {
-    p.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
+    p.file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default()
 }
 
 impl RunIn {
@@ -212,12 +231,20 @@ impl RunIn {
     fn check(&self, file: &Path) -> Result<()> {
         let at = |msg: String| anyhow::anyhow!("{}: run '{}': {msg}", file.display(), self.run);
         match (&self.hard_case, &self.accuracy, &self.hard) {
-            (None, None, _) => Err(at("field `accuracy` is missing (a non-hard run needs compare's accuracy JSON)".into())),
-            (Some(c), _, None) => Err(at(format!("field `hard` is missing (hard case '{c}' needs hard-score's JSON)"))),
-            (Some(c), _, Some(h)) if &h.case != c => Err(at(format!("`hard.case` is '{}' but `hard_case` is '{c}'", h.case))),
-            (None, Some(a), _) if a.rays != self.rays_total => {
-                Err(at(format!("`accuracy.rays` {} differs from `rays_total` {}", a.rays, self.rays_total)))
-            }
+            (None, None, _) => Err(at(
+                "field `accuracy` is missing (a non-hard run needs compare's accuracy JSON)".into(),
+            )),
+            (Some(c), _, None) => Err(at(format!(
+                "field `hard` is missing (hard case '{c}' needs hard-score's JSON)"
+            ))),
+            (Some(c), _, Some(h)) if &h.case != c => Err(at(format!(
+                "`hard.case` is '{}' but `hard_case` is '{c}'",
+                h.case
+            ))),
+            (None, Some(a), _) if a.rays != self.rays_total => Err(at(format!(
+                "`accuracy.rays` {} differs from `rays_total` {}",
+                a.rays, self.rays_total
+            ))),
             _ => Ok(()),
         }
     }
@@ -236,13 +263,23 @@ pub fn load(dir: &Path) -> Result<SweepIn> {
         if hard_file.exists() {
             let h: PointIn = read_json(&hard_file)?;
             if h.config.name != p.config.name {
-                bail!("{}: `config.name` is '{}', expected '{}'", hard_file.display(), h.config.name, p.config.name);
+                bail!(
+                    "{}: `config.name` is '{}', expected '{}'",
+                    hard_file.display(),
+                    h.config.name,
+                    p.config.name
+                );
             }
             p.runs.extend(h.runs);
             p.seconds += h.seconds;
         }
         if p.config.name != stem(&f) {
-            bail!("{}: `config.name` is '{}', expected the file name '{}'", f.display(), p.config.name, stem(&f));
+            bail!(
+                "{}: `config.name` is '{}', expected the file name '{}'",
+                f.display(),
+                p.config.name,
+                stem(&f)
+            );
         }
         if p.runs.iter().all(|r| r.is_hard()) {
             bail!("{}: `runs` has no regression run (only hard cases or none): its error rate would read as zero", f.display());
@@ -253,19 +290,28 @@ pub fn load(dir: &Path) -> Result<SweepIn> {
         let af = dir.join("area").join(format!("{}.json", p.config.name));
         let a: AreaIn = read_json(&af).with_context(|| format!("area of point {}", f.display()))?;
         if a.config != p.config.name {
-            bail!("{}: `config` is '{}', expected '{}'", af.display(), a.config, p.config.name);
+            bail!(
+                "{}: `config` is '{}', expected '{}'",
+                af.display(),
+                a.config,
+                p.config.name
+            );
         }
         points.push((p, a));
     }
     let mut hard_refs: BTreeMap<String, BTreeMap<String, HardIn>> = BTreeMap::new();
-    for case in points.iter().flat_map(|(p, _)| p.runs.iter().filter_map(|r| r.hard_case.clone())) {
+    for case in points
+        .iter()
+        .flat_map(|(p, _)| p.runs.iter().filter_map(|r| r.hard_case.clone()))
+    {
         if hard_refs.contains_key(&case) {
             continue;
         }
         let mut refs = BTreeMap::new();
         for r in HARD_REFS {
             let f = dir.join("hard-ref").join(format!("{case}-{r}.json"));
-            let h: HardIn = read_json(&f).with_context(|| format!("reference '{r}' on hard case '{case}'"))?;
+            let h: HardIn =
+                read_json(&f).with_context(|| format!("reference '{r}' on hard case '{case}'"))?;
             if h.case != case {
                 bail!("{}: `case` is '{}', expected '{case}'", f.display(), h.case);
             }
@@ -273,5 +319,9 @@ pub fn load(dir: &Path) -> Result<SweepIn> {
         }
         hard_refs.insert(case, refs);
     }
-    Ok(SweepIn { dir: dir.to_path_buf(), points, hard_refs })
+    Ok(SweepIn {
+        dir: dir.to_path_buf(),
+        points,
+        hard_refs,
+    })
 }

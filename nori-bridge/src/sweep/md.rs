@@ -21,7 +21,13 @@ fn pct1(v: Option<f64>) -> String {
 }
 
 fn sci(v: Option<f64>) -> String {
-    opt(v, |x| if x == 0.0 { "0".into() } else { format!("{x:.2e}") })
+    opt(v, |x| {
+        if x == 0.0 {
+            "0".into()
+        } else {
+            format!("{x:.2e}")
+        }
+    })
 }
 
 fn x2(v: Option<f64>) -> String {
@@ -31,8 +37,14 @@ fn x2(v: Option<f64>) -> String {
 /// `target` as a link from a document in `base` (both relative to the same
 /// directory, or both absolute).
 fn relative(target: &Path, base: &Path) -> PathBuf {
-    let t: Vec<Component> = target.components().filter(|c| *c != Component::CurDir).collect();
-    let b: Vec<Component> = base.components().filter(|c| *c != Component::CurDir).collect();
+    let t: Vec<Component> = target
+        .components()
+        .filter(|c| *c != Component::CurDir)
+        .collect();
+    let b: Vec<Component> = base
+        .components()
+        .filter(|c| *c != Component::CurDir)
+        .collect();
     let common = t.iter().zip(&b).take_while(|(x, y)| x == y).count();
     let mut out: PathBuf = b[common..].iter().map(|_| Component::ParentDir).collect();
     out.extend(&t[common..]);
@@ -40,7 +52,10 @@ fn relative(target: &Path, base: &Path) -> PathBuf {
 }
 
 pub fn notes_path(md: &Path) -> PathBuf {
-    let stem = md.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let stem = md
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
     md.with_file_name(format!("{stem}-notes.md"))
 }
 
@@ -119,11 +134,28 @@ fn ratio_table(points: &[PointOut]) -> Vec<String> {
     ];
     for p in points {
         let r = &p.vs_baseline;
-        let front = [(p.pareto_error_lut, "LUT"), (p.pareto_error_speed, "rays/cyc"), (p.pareto_error_bytes, "node B/ray")].iter().filter(|f| f.0).map(|f| f.1).collect::<Vec<_>>().join(", ");
+        let front = [
+            (p.pareto_error_lut, "LUT"),
+            (p.pareto_error_speed, "rays/cyc"),
+            (p.pareto_error_bytes, "node B/ray"),
+        ]
+        .iter()
+        .filter(|f| f.0)
+        .map(|f| f.1)
+        .collect::<Vec<_>>()
+        .join(", ");
         out.push(format!(
             "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
-            p.name, p.baseline, x2(r.box_lane_lut), x2(r.lut), x2(r.ff), x2(r.dsp), x2(r.instances_zc706), x2(r.node_bytes_per_ray),
-            x2(r.rays_per_cycle), front
+            p.name,
+            p.baseline,
+            x2(r.box_lane_lut),
+            x2(r.lut),
+            x2(r.ff),
+            x2(r.dsp),
+            x2(r.instances_zc706),
+            x2(r.node_bytes_per_ray),
+            x2(r.rays_per_cycle),
+            front
         ));
     }
     out
@@ -157,21 +189,41 @@ fn fronts(r: &Report) -> Vec<String> {
             .iter()
             .filter_map(|n| r.points.iter().find(|p| &p.name == n))
             .map(|p| {
-                let x = if speed { format!("{} rays/cyc", x2(p.speed.map(|s| s.rays_per_cycle))) } else { format!("{} LUT", p.area.lut) };
-                format!("{} ({:.1} errors/Mray, {x})", p.name, p.errors_per_million_rays)
+                let x = if speed {
+                    format!("{} rays/cyc", x2(p.speed.map(|s| s.rays_per_cycle)))
+                } else {
+                    format!("{} LUT", p.area.lut)
+                };
+                format!(
+                    "{} ({:.1} errors/Mray, {x})",
+                    p.name, p.errors_per_million_rays
+                )
             })
             .collect();
-        if items.is_empty() { "none".into() } else { items.join("; ") }
+        if items.is_empty() {
+            "none".into()
+        } else {
+            items.join("; ")
+        }
     };
     let mut out = vec![
         "## Pareto fronts".to_string(),
         String::new(),
         format!("- error vs LUT: {}", describe(&r.pareto.error_lut, false)),
-        format!("- error vs rays/cycle: {}", describe(&r.pareto.error_speed, true)),
-        format!("- error vs node bytes per ray: {}", r.pareto.error_bytes.join(", ")),
+        format!(
+            "- error vs rays/cycle: {}",
+            describe(&r.pareto.error_speed, true)
+        ),
+        format!(
+            "- error vs node bytes per ray: {}",
+            r.pareto.error_bytes.join(", ")
+        ),
     ];
     if !r.pareto.without_speed.is_empty() {
-        out.push(format!("- not timed, so not on the speed front or plot: {}", r.pareto.without_speed.join(", ")));
+        out.push(format!(
+            "- not timed, so not on the speed front or plot: {}",
+            r.pareto.without_speed.join(", ")
+        ));
     }
     out
 }
@@ -202,27 +254,58 @@ pub fn document(r: &Report, o: &ReportOpts, plots: &[Plot]) -> Result<String> {
     ];
     l.push("Per variant:".into());
     l.push(String::new());
-    l.extend(crate::sweep::summary::per_variant(&r.points, &r.baseline_format));
+    l.extend(crate::sweep::summary::per_variant(
+        &r.points,
+        &r.baseline_format,
+    ));
     l.push(String::new());
     l.extend(method(r));
     l.extend([String::new(), "## Points".into(), String::new()]);
     l.extend(main_table(&r.points));
-    let golden: Vec<String> =
-        r.points.iter().filter_map(|p| p.speed.filter(|s| s.golden_mismatches > 0).map(|s| format!("{} ({})", p.name, s.golden_mismatches))).collect();
-    let timed = |p: &PointOut| p.runs.iter().filter(|r| r.speed.is_some() && r.hard_case.is_none()).map(|r| r.run.clone()).collect::<Vec<_>>();
-    let sets: Vec<Vec<String>> = r.points.iter().map(timed).filter(|v| !v.is_empty()).collect();
+    let golden: Vec<String> = r
+        .points
+        .iter()
+        .filter_map(|p| {
+            p.speed
+                .filter(|s| s.golden_mismatches > 0)
+                .map(|s| format!("{} ({})", p.name, s.golden_mismatches))
+        })
+        .collect();
+    let timed = |p: &PointOut| {
+        p.runs
+            .iter()
+            .filter(|r| r.speed.is_some() && r.hard_case.is_none())
+            .map(|r| r.run.clone())
+            .collect::<Vec<_>>()
+    };
+    let sets: Vec<Vec<String>> = r
+        .points
+        .iter()
+        .map(timed)
+        .filter(|v| !v.is_empty())
+        .collect();
     if sets.windows(2).any(|w| w[0] != w[1]) {
         l.extend([String::new(), "**Warning:** the points were timed on different runs, so their mean rays/cycle are not directly comparable (see the per-run table).".into()]);
     }
     if !golden.is_empty() {
-        l.extend([String::new(), format!("**Warning:** the timed simulation disagreed with its golden model on: {}.", golden.join(", "))]);
+        l.extend([
+            String::new(),
+            format!(
+                "**Warning:** the timed simulation disagreed with its golden model on: {}.",
+                golden.join(", ")
+            ),
+        ]);
     }
     l.extend([String::new(), format!("## Against {} (ratio point / baseline: same rounding and test, the unquantized layout of the same width)", r.baseline_format), String::new()]);
     l.extend(ratio_table(&r.points));
     l.extend([String::new(), "## Plots".into(), String::new()]);
     for p in plots {
         match &p.missing {
-            None => l.push(format!("![{}]({})", p.title, relative(&p.file, md_dir).display())),
+            None => l.push(format!(
+                "![{}]({})",
+                p.title,
+                relative(&p.file, md_dir).display()
+            )),
             Some(why) => l.push(format!("{}: not drawn, {why}.", p.title)),
         }
         l.push(String::new());
@@ -232,10 +315,19 @@ pub fn document(r: &Report, o: &ReportOpts, plots: &[Plot]) -> Result<String> {
     l.extend(run_table(&r.points));
     l.push(String::new());
     l.extend(crate::sweep::md_hard::section(r, &notes_path(&o.md)));
-    l.extend([String::new(), "## Notes (hand-written)".into(), String::new()]);
+    l.extend([
+        String::new(),
+        "## Notes (hand-written)".into(),
+        String::new(),
+    ]);
     let notes = notes_path(&o.md);
     if notes.exists() {
-        l.push(std::fs::read_to_string(&notes).with_context(|| format!("{}: cannot read", notes.display()))?.trim_end().to_string());
+        l.push(
+            std::fs::read_to_string(&notes)
+                .with_context(|| format!("{}: cannot read", notes.display()))?
+                .trim_end()
+                .to_string(),
+        );
     } else {
         l.push(format!("None yet: write them in `{}`.", notes.display()));
     }
@@ -248,8 +340,20 @@ mod tests {
 
     #[test]
     fn links_are_relative_to_the_document() {
-        assert_eq!(relative(Path::new("docs/reports/speed-vs-error/a.png"), Path::new("docs/reports")), PathBuf::from("speed-vs-error/a.png"));
-        assert_eq!(relative(Path::new("build/p/a.png"), Path::new("./docs")), PathBuf::from("../build/p/a.png"));
-        assert_eq!(notes_path(Path::new("docs/reports/speed-vs-error.md")), PathBuf::from("docs/reports/speed-vs-error-notes.md"));
+        assert_eq!(
+            relative(
+                Path::new("docs/reports/speed-vs-error/a.png"),
+                Path::new("docs/reports")
+            ),
+            PathBuf::from("speed-vs-error/a.png")
+        );
+        assert_eq!(
+            relative(Path::new("build/p/a.png"), Path::new("./docs")),
+            PathBuf::from("../build/p/a.png")
+        );
+        assert_eq!(
+            notes_path(Path::new("docs/reports/speed-vs-error.md")),
+            PathBuf::from("docs/reports/speed-vs-error-notes.md")
+        );
     }
 }

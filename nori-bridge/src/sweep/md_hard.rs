@@ -6,7 +6,11 @@
 use crate::sweep::input::HardIn;
 use crate::sweep::report::Report;
 
-const REF_COLUMNS: [(&str, &str); 3] = [("embree", "Embree"), ("robust", "Embree ROBUST"), ("double", "f64 reference")];
+const REF_COLUMNS: [(&str, &str); 3] = [
+    ("embree", "Embree"),
+    ("robust", "Embree ROBUST"),
+    ("double", "f64 reference"),
+];
 
 fn cell(h: &HardIn) -> String {
     let mut s = format!("{}/{}/{}", h.leaks, h.false_hits, h.wrong_prims);
@@ -39,7 +43,10 @@ pub fn section(r: &Report, notes: &std::path::Path) -> Vec<String> {
     let mut head = "| configuration |".to_string();
     let mut rule = "| --- |".to_string();
     for case in &cases {
-        head.push_str(&format!(" {case} ({} rays) |", r.hard_references[*case]["double"].rays));
+        head.push_str(&format!(
+            " {case} ({} rays) |",
+            r.hard_references[*case]["double"].rays
+        ));
         rule.push_str(" --- |");
     }
     out.push(head);
@@ -48,12 +55,21 @@ pub fn section(r: &Report, notes: &std::path::Path) -> Vec<String> {
     for p in &r.points {
         let mut row = format!("| {} |", p.name);
         for case in &cases {
-            let runs = p.runs.iter().filter(|x| x.hard_case.as_deref() == Some(case.as_str()));
+            let runs = p
+                .runs
+                .iter()
+                .filter(|x| x.hard_case.as_deref() == Some(case.as_str()));
             let cells: Vec<String> = runs
                 .filter_map(|x| x.hard.as_ref())
                 .inspect(|h| {
-                    if p.config.triangle == "watertight" && p.config.rounding == "conservative" && dirty(h) {
-                        bad.push(format!("- `{case}` on `{}`: {} leaks, {} false hits, {} wrong prims", p.name, h.leaks, h.false_hits, h.wrong_prims));
+                    if p.config.triangle == "watertight"
+                        && p.config.rounding == "conservative"
+                        && dirty(h)
+                    {
+                        bad.push(format!(
+                            "- `{case}` on `{}`: {} leaks, {} false hits, {} wrong prims",
+                            p.name, h.leaks, h.false_hits, h.wrong_prims
+                        ));
                     }
                 })
                 .map(cell)
@@ -72,7 +88,11 @@ pub fn section(r: &Report, notes: &std::path::Path) -> Vec<String> {
     out.push(String::new());
     out.push("### Watertight + conservative configurations".into());
     out.push(String::new());
-    let wc = r.points.iter().filter(|p| p.config.triangle == "watertight" && p.config.rounding == "conservative").count();
+    let wc = r
+        .points
+        .iter()
+        .filter(|p| p.config.triangle == "watertight" && p.config.rounding == "conservative")
+        .count();
     if wc == 0 {
         out.push("The sweep has no watertight + conservative configuration.".into());
     } else if bad.is_empty() {

@@ -89,8 +89,16 @@ impl RunOut {
             node_tests_per_ray: r.node_tests_per_ray,
             tri_tests_per_ray: r.tri_tests_per_ray,
             node_bytes_per_ray: r.node_bytes_per_ray,
-            errors: r.accuracy.as_ref().filter(|_| !r.is_hard()).map(ErrorCounts::of),
-            max_t_rel_agree: r.accuracy.as_ref().filter(|_| !r.is_hard()).map(|a| a.max_t_rel_agree),
+            errors: r
+                .accuracy
+                .as_ref()
+                .filter(|_| !r.is_hard())
+                .map(ErrorCounts::of),
+            max_t_rel_agree: r
+                .accuracy
+                .as_ref()
+                .filter(|_| !r.is_hard())
+                .map(|a| a.max_t_rel_agree),
             t_rel_mean: t_rel.and_then(|t| t.mean()),
             t_rel,
             pixels,
@@ -117,7 +125,6 @@ pub struct HardTotals {
     pub wrong_prims: usize,
     pub flagged: usize,
 }
-
 
 /// point / baseline; None when the baseline's value is zero or absent.
 #[derive(Serialize, Clone, Copy, Debug, Default, PartialEq)]
@@ -173,9 +180,20 @@ pub struct PointOut {
 
 impl PointOut {
     /// Pools the runs; ratios and Pareto flags are filled in later.
-    pub fn pool(config: &PointConfig, latency: Latency, area: &AreaIn, baseline: &str, mut runs: Vec<RunOut>) -> PointOut {
+    pub fn pool(
+        config: &PointConfig,
+        latency: Latency,
+        area: &AreaIn,
+        baseline: &str,
+        mut runs: Vec<RunOut>,
+    ) -> PointOut {
         runs.sort_by(|a, b| a.run.cmp(&b.run));
-        let (mut errors, mut t_rel, mut pixels, mut hard) = (ErrorCounts::default(), TRel::default(), PixelDiff::default(), HardTotals::default());
+        let (mut errors, mut t_rel, mut pixels, mut hard) = (
+            ErrorCounts::default(),
+            TRel::default(),
+            PixelDiff::default(),
+            HardTotals::default(),
+        );
         let (mut rays, mut flagged, mut node, mut tri) = (0usize, 0usize, 0.0, 0.0);
         let (mut bytes, mut images_differing) = (Some(0.0), 0usize);
         let mut speeds = Vec::new();
@@ -186,7 +204,9 @@ impl PointOut {
                 flagged += r.error_flagged;
                 node += r.node_tests_per_ray * r.rays_total as f64;
                 tri += r.tri_tests_per_ray * r.rays_total as f64;
-                bytes = bytes.zip(r.node_bytes_per_ray).map(|(b, x)| b + x * r.rays_total as f64);
+                bytes = bytes
+                    .zip(r.node_bytes_per_ray)
+                    .map(|(b, x)| b + x * r.rays_total as f64);
                 if let Some(s) = &r.speed {
                     speeds.push(*s);
                 }
@@ -240,16 +260,28 @@ impl PointOut {
     }
 
     pub fn set_ratios(&mut self, base: &PointOut) {
-        let a = |p: &PointOut| [p.area.lut, p.area.ff, p.area.dsp, p.area.instances_zc706].map(|x| x as f64);
+        let a = |p: &PointOut| {
+            [p.area.lut, p.area.ff, p.area.dsp, p.area.instances_zc706].map(|x| x as f64)
+        };
         let (x, b) = (a(self), a(base));
         self.vs_baseline = Ratios {
             lut: ratio(x[0], b[0]),
             ff: ratio(x[1], b[1]),
             dsp: ratio(x[2], b[2]),
             instances_zc706: ratio(x[3], b[3]),
-            rays_per_cycle: self.speed.zip(base.speed).and_then(|(s, t)| ratio(s.rays_per_cycle, t.rays_per_cycle)),
-            node_bytes_per_ray: self.node_bytes_per_ray.zip(base.node_bytes_per_ray).and_then(|(s, t)| ratio(s, t)),
-            box_lane_lut: self.area.box_lanes.zip(base.area.box_lanes).and_then(|(s, t)| ratio(s.lut as f64, t.lut as f64)),
+            rays_per_cycle: self
+                .speed
+                .zip(base.speed)
+                .and_then(|(s, t)| ratio(s.rays_per_cycle, t.rays_per_cycle)),
+            node_bytes_per_ray: self
+                .node_bytes_per_ray
+                .zip(base.node_bytes_per_ray)
+                .and_then(|(s, t)| ratio(s, t)),
+            box_lane_lut: self
+                .area
+                .box_lanes
+                .zip(base.area.box_lanes)
+                .and_then(|(s, t)| ratio(s.lut as f64, t.lut as f64)),
         };
     }
 }

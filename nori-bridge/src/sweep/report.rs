@@ -93,13 +93,25 @@ fn check_hard_cases(s: &SweepIn) -> Result<()> {
         mine.dedup();
         if mine != all {
             let missing: Vec<&&String> = all.iter().filter(|c| !mine.contains(c)).collect();
-            bail!("{}: point '{}' lacks hard case(s) {missing:?} that other points run", s.dir.join("points").join(format!("{}.json", p.config.name)).display(), p.config.name);
+            bail!(
+                "{}: point '{}' lacks hard case(s) {missing:?} that other points run",
+                s.dir
+                    .join("points")
+                    .join(format!("{}.json", p.config.name))
+                    .display(),
+                p.config.name
+            );
         }
     }
     Ok(())
 }
 
-fn point_runs(p: &PointIn, base: &PointIn, base_hits: &BTreeMap<String, Vec<Hit>>, pkgs: &BTreeMap<PathBuf, PackageData>) -> Result<Vec<RunOut>> {
+fn point_runs(
+    p: &PointIn,
+    base: &PointIn,
+    base_hits: &BTreeMap<String, Vec<Hit>>,
+    pkgs: &BTreeMap<PathBuf, PackageData>,
+) -> Result<Vec<RunOut>> {
     p.runs
         .iter()
         .map(|r| {
@@ -138,11 +150,19 @@ pub fn build(sweep: &Path, baseline_format: &str) -> Result<Report> {
     let s = input::load(sweep)?;
     check_hard_cases(&s)?;
     let base_of = baselines(&s, baseline_format)?;
-    let mut dirs: Vec<&PathBuf> = s.points.iter().flat_map(|(p, _)| p.runs.iter().filter(|r| !r.is_hard()).map(|r| &r.package)).collect();
+    let mut dirs: Vec<&PathBuf> = s
+        .points
+        .iter()
+        .flat_map(|(p, _)| p.runs.iter().filter(|r| !r.is_hard()).map(|r| &r.package))
+        .collect();
     dirs.sort();
     dirs.dedup();
-    let pkgs: BTreeMap<PathBuf, PackageData> =
-        dirs.par_iter().map(|d| Ok(((*d).clone(), PackageData::load(d)?))).collect::<Result<Vec<_>>>()?.into_iter().collect();
+    let pkgs: BTreeMap<PathBuf, PackageData> = dirs
+        .par_iter()
+        .map(|d| Ok(((*d).clone(), PackageData::load(d)?)))
+        .collect::<Result<Vec<_>>>()?
+        .into_iter()
+        .collect();
     let mut bases: Vec<usize> = base_of.clone();
     bases.sort();
     bases.dedup();
@@ -150,7 +170,11 @@ pub fn build(sweep: &Path, baseline_format: &str) -> Result<Report> {
         .par_iter()
         .map(|&b| {
             let p = &s.points[b].0;
-            let runs = p.runs.iter().filter(|r| !r.is_hard()).map(|r| Ok((r.run.clone(), pkgs[&r.package].read_answer(&r.hits)?)));
+            let runs = p
+                .runs
+                .iter()
+                .filter(|r| !r.is_hard())
+                .map(|r| Ok((r.run.clone(), pkgs[&r.package].read_answer(&r.hits)?)));
             Ok((b, runs.collect::<Result<BTreeMap<_, _>>>()?))
         })
         .collect::<Result<Vec<_>>>()?
@@ -161,7 +185,13 @@ pub fn build(sweep: &Path, baseline_format: &str) -> Result<Report> {
         .map(|i| {
             let ((p, area), b) = (&s.points[i], base_of[i]);
             let runs = point_runs(p, &s.points[b].0, &base_hits[&b], &pkgs)?;
-            Ok(PointOut::pool(&p.config, p.latency, area, &s.points[b].0.config.name, runs))
+            Ok(PointOut::pool(
+                &p.config,
+                p.latency,
+                area,
+                &s.points[b].0.config.name,
+                runs,
+            ))
         })
         .collect::<Result<_>>()?;
     let snapshot = points.clone();
@@ -191,15 +221,26 @@ pub fn build(sweep: &Path, baseline_format: &str) -> Result<Report> {
 fn mark_fronts(points: &mut [PointOut]) -> Fronts {
     let err = |p: &PointOut| p.errors_per_million_rays;
     let lut: Vec<(f64, f64)> = points.iter().map(|p| (err(p), p.area.lut as f64)).collect();
-    let timed: Vec<usize> = (0..points.len()).filter(|&i| points[i].speed.is_some()).collect();
-    let speed: Vec<(f64, f64)> = timed.iter().map(|&i| (err(&points[i]), -points[i].speed.unwrap().rays_per_cycle)).collect();
-    let bytes: Vec<(f64, f64)> = points.iter().map(|p| (err(p), p.node_bytes_per_ray.unwrap_or(f64::INFINITY))).collect();
+    let timed: Vec<usize> = (0..points.len())
+        .filter(|&i| points[i].speed.is_some())
+        .collect();
+    let speed: Vec<(f64, f64)> = timed
+        .iter()
+        .map(|&i| (err(&points[i]), -points[i].speed.unwrap().rays_per_cycle))
+        .collect();
+    let bytes: Vec<(f64, f64)> = points
+        .iter()
+        .map(|p| (err(p), p.node_bytes_per_ray.unwrap_or(f64::INFINITY)))
+        .collect();
     let f_bytes = pareto::front(&bytes);
     for &i in &f_bytes {
         points[i].pareto_error_bytes = true;
     }
     let f_lut = pareto::front(&lut);
-    let f_speed: Vec<usize> = pareto::front(&speed).into_iter().map(|k| timed[k]).collect();
+    let f_speed: Vec<usize> = pareto::front(&speed)
+        .into_iter()
+        .map(|k| timed[k])
+        .collect();
     for &i in &f_lut {
         points[i].pareto_error_lut = true;
     }
@@ -211,7 +252,11 @@ fn mark_fronts(points: &mut [PointOut]) -> Fronts {
         error_lut: names(&f_lut),
         error_speed: names(&f_speed),
         error_bytes: names(&f_bytes),
-        without_speed: points.iter().filter(|p| p.speed.is_none()).map(|p| p.name.clone()).collect(),
+        without_speed: points
+            .iter()
+            .filter(|p| p.speed.is_none())
+            .map(|p| p.name.clone())
+            .collect(),
     }
 }
 
@@ -219,13 +264,20 @@ pub fn run(o: &ReportOpts) -> Result<()> {
     let report = build(&o.sweep, &o.baseline_format)?;
     for f in [&o.json, &o.md] {
         if let Some(d) = f.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(d).with_context(|| format!("{}: cannot create", d.display()))?;
+            std::fs::create_dir_all(d)
+                .with_context(|| format!("{}: cannot create", d.display()))?;
         }
     }
     write_json(&o.json, &report)?;
     let plots = crate::sweep::plot::write_all(&report, &o.plots)?;
     let md = crate::sweep::md::document(&report, o, &plots)?;
     std::fs::write(&o.md, md).with_context(|| format!("{}: cannot write", o.md.display()))?;
-    println!("{}: {} points; {}; plots in {}", o.md.display(), report.points.len(), o.json.display(), o.plots.display());
+    println!(
+        "{}: {} points; {}; plots in {}",
+        o.md.display(),
+        report.points.len(),
+        o.json.display(),
+        o.plots.display()
+    );
     Ok(())
 }

