@@ -20,7 +20,7 @@ import scala.util.Random
 class RtAccelControlSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "RtAccel (control path)"
 
-  import ControlWorkload.{check, makeRays, treeOf}
+  import ControlWorkload.{check, config, makeRays, treeOf}
 
   private val envs = Seq(
     "latency 1" -> Environment(MemoryParams(Latency.Fixed(1)), MemoryParams(Latency.Fixed(1))),
@@ -55,15 +55,7 @@ class RtAccelControlSpec extends AnyFlatSpec with ChiselScalatestTester {
   ) {
     it should s"answer every ray exactly once, bit-exact with the golden model, with $ids ray IDs in every environment (layout ${layout.name})" in
       Seeded(s"RtAccelControl.${layout.name}.ids$ids") { rnd =>
-        val (_, stack) = treeOf(layout, new Random(0))
-        val cfg = AccelConfig(
-          numRayIds = ids,
-          stackDepth = stack,
-          maxNodes = 4096,
-          maxTriangles = 4096,
-          maxLeafSize = 4,
-          layout = layout
-        )
+        val cfg = config(layout, ids)
         Waves.onFailure(Backends.verilator) { annos =>
           test(new SimTop(cfg, FieldDatapath)).withAnnotations(annos) { dut =>
             var first = true

@@ -26,9 +26,7 @@ class SpecsMirrorMainSpec extends AnyFlatSpec {
     "GridLane" -> ("one child's grid box test, instantiated K times inside GridBboxIntersect; traversal/GridBboxIntersectSpec " +
       "checks every lane's answer bit for bit against GridLane.soft"),
     "GridNodeStage" -> ("the grid box test's per-node stage inside GridBboxIntersect; traversal/GridBboxIntersectSpec checks it " +
-      "through the lanes' answers against GridNode.soft"),
-    "SystemCore" -> ("the system in bundle form (RtAccelSystem only renames its ports to Vivado's): its cycle-level spec " +
-      "is system/RtAccelSystemSpec, which drives SystemCore through SystemSimTop; each of its units has a spec of its own")
+      "through the lanes' answers against GridNode.soft")
   )
 
   private val moduleClass = raw"""(?m)^\s*(?:abstract\s+|final\s+)?class\s+(\w+)[^\n{]*\bextends\s+(?:Raw)?Module\b""".r

@@ -49,6 +49,18 @@ object ControlWorkload {
     }
   }
 
+  /** The core configuration the control workload runs on (RtAccelControlSpec and `make soak`): `ids` ray IDs and a
+    * stack as deep as [[treeOf]]'s trees need, so that only the trees built deeper than it overflow.
+    */
+  def config(layout: BvhLayout, ids: Int): AccelConfig = AccelConfig(
+    numRayIds = ids,
+    stackDepth = treeOf(layout, new Random(0))._2,
+    maxNodes = 4096,
+    maxTriangles = 4096,
+    maxLeafSize = 4,
+    layout = layout
+  )
+
   /** A synthetic tree of `layout`, and a stack that overflows on its deepest paths only. */
   def treeOf(layout: BvhLayout, rnd: Random, leafChance: Double = 0.3): (MemoryImage, Int) = layout match {
     case BvhLayout.Nori => (SyntheticBvh(rnd, maxDepth = 7, maxLeaf = 4, leafChance), 5)

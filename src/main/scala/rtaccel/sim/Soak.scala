@@ -3,7 +3,6 @@ package rtaccel.sim
 import chisel3._
 import chiseltest._
 import firrtl2.options.TargetDirAnnotation
-import rtaccel.AccelConfig
 import rtaccel.bvh.BvhLayout
 import rtaccel.sim.mem.{Latency, MemoryKind, MemoryParams}
 
@@ -31,15 +30,7 @@ object Soak {
     println(s"soak: seed $seed (replay: make soak SOAK_SEED=$seed), $cycles cycles per configuration")
     val rnd = new Random(seed)
     val rows = for (layout <- layouts; ids <- idCounts) yield {
-      val (_, stack) = ControlWorkload.treeOf(layout, new Random(0))
-      val cfg = AccelConfig(
-        numRayIds = ids,
-        stackDepth = stack,
-        maxNodes = 4096,
-        maxTriangles = 4096,
-        maxLeafSize = 4,
-        layout = layout
-      )
+      val cfg = ControlWorkload.config(layout, ids)
       val annos = Seq(
         VerilatorBackendAnnotation,
         chiseltest.internal.CachingAnnotation,

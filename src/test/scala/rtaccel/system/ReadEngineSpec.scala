@@ -34,7 +34,7 @@ class ReadEngineSpec extends AnyFlatSpec with ChiselScalatestTester {
         val span = 1 << 16
         val mem = new SparseMemory
         mem.write(0, Array.fill(span + 4096)(rnd.nextInt(256).toByte))
-        test(new ReadEngine(p, recordBytes, tagBits, slots)).withAnnotations(Backends.treadle) { dut =>
+        test(new ReadEngine(p, recordBytes, tagBits, slots)).withAnnotations(Backends.verilator) { dut =>
           val requests = 150
           var issued = 0
           var offer: Option[(Long, Int, Int)] = None // (addr, client, tag)
