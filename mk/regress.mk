@@ -3,7 +3,7 @@
 # rays simulated per run, strided over the set;
 # BENCH_RUNS: a subset of the runs (e.g. for a quick look).
 BVH_LAYOUTS ?= nori 2 4 8
-BENCH_RUNS  ?= cornell-box-primary dragon-primary dragon-shadow dragon-ao
+BENCH_RUNS  ?= cornell-box-primary dragon-primary dragon-shadow dragon-ao monastery-primary monastery-shadow monastery-ao
 BENCH_OUT   ?= docs/reports/performance.md
 bench_list   = $(subst $(space),$(comma),$(strip $(1)))
 
@@ -20,8 +20,8 @@ BENCH_SYSTEM ?= 1
 BENCH_RENDER_ONLY ?= $(if $(filter cached embree,$(BENCH_SYSTEM)),1,0)
 
 .PHONY: bench bench-embree
-bench: setup $(if $(filter 1,$(BENCH_SYSTEM)),verilog) ## Rays/cycle per layout and memory; ZC706 estimate vs Embree
+bench: setup $(if $(filter monastery-%,$(BENCH_RUNS)),bridge-scenes-monastery) $(if $(filter 1,$(BENCH_SYSTEM)),verilog) ## Rays/cycle per layout and memory; ZC706 estimate vs Embree
 	$(SBT) "runMain rtaccel.bench.Bench --out $(BENCH_OUT) --layouts $(call bench_list,$(BVH_LAYOUTS)) --runs $(call bench_list,$(BENCH_RUNS)) --max-rays $(or $(MAX_RAYS),2048) --system $(BENCH_SYSTEM) --render-only $(BENCH_RENDER_ONLY)"
 
-bench-embree: setup ## Re-measure only Embree and redraw docs/reports/performance.md
+bench-embree: setup $(if $(filter monastery-%,$(BENCH_RUNS)),bridge-scenes-monastery) ## Re-measure only Embree and redraw docs/reports/performance.md
 	$(MAKE) bench BENCH_SYSTEM=embree

@@ -66,20 +66,20 @@ if [ "$which" != probes ]; then
     "/^module RayDma(/,/^endmodule/s/addrReg <= addrReg + 12'hC0;/addrReg <= addrReg;/" \
     "addrReg <= addrReg + 12'hC0;" ray_block_read_once_1
   maybe_mutant hit_twice "HitDma never pops its queue: the same hit record is written again and again" \
-    "/^module HitDma(/,/^endmodule/s/\.io_deq_ready     (io_write_ready),/.io_deq_ready     (1'b0),/" \
-    ".io_deq_ready     (io_write_ready)," hit_written_once_1
-  maybe_mutant hit_stride "HitDma writes hit i at HIT_BASE + 64 i (the record size doubled): outside the buffer" \
-    "/^module HitDma(/,/^endmodule/s/{_arb_io_out_bits_number\[6:0\], 5'h0}/{_arb_io_out_bits_number[5:0], 6'h0}/" \
-    "{_arb_io_out_bits_number[6:0], 5'h0}" hit_in_buffer_1
+    "/^module HitDma(/,/^endmodule/s/\.io_deq_ready       (io_write_ready),/.io_deq_ready       (1'b0),/" \
+    ".io_deq_ready       (io_write_ready)," hit_written_once_1
+  maybe_mutant hit_stride "HitDma writes line p at HIT_BASE + 128 p (the line size doubled): outside the buffer" \
+    "/^module HitDma(/,/^endmodule/s/_arb_io_out_bits_number\[6:1\], 6'h0}/_arb_io_out_bits_number[6:1], 7'h0}/" \
+    "_arb_io_out_bits_number[6:1], 6'h0}" hit_in_buffer_1
   maybe_mutant rays_early "RayDma hands out rays without waiting for their block: a hit for a ray not read" \
     "/^module RayDma(/,/^endmodule/s/assign io_rays_valid = _q_io_deq_valid \& present;/assign io_rays_valid = present;/" \
     "assign io_rays_valid = _q_io_deq_valid & present;" hit_after_fetch_1
   maybe_mutant ray_skip "RayDma ends a block after its third ray: the fourth ray of a full block is never handed out (lost)" \
     "/^module RayDma(/,/^endmodule/s/wire          last = (\&subReg) | ~present/wire          last = subReg == 2'h2 | ~present/" \
     "wire          last = (&subReg) | ~present" system_ray_conservation_1
-  maybe_mutant hit_drop "HitDma takes ray 0's hit from the core but never queues it: the hit is lost" \
-    "/^module HitDma(/,/^endmodule/s/\.io_enq_valid     (_arb_io_out_valid \& inBatch),/.io_enq_valid     (_arb_io_out_valid \& inBatch \& (|_arb_io_out_bits_number)),/" \
-    ".io_enq_valid     (_arb_io_out_valid & inBatch)," system_ray_conservation_1
+  maybe_mutant hit_drop "HitDma takes ray 0's hit from the core but never queues its line (alone or paired): the hit is lost" \
+    "/^module HitDma(/,/^endmodule/s/= flushing | _arb_io_out_valid \& inBatch \& ~store;/= flushing | _arb_io_out_valid \& inBatch \& ~store \& (|_arb_io_out_bits_number);/" \
+    "= flushing | _arb_io_out_valid & inBatch & ~store;" system_ray_conservation_1
 fi
 # The DMA window (case w1: the host sets a free window first): the guard made to pass reads outside it.
 # (No hit write happens within w1's depth, so a guard passing writes outside is not caught there:
@@ -108,9 +108,9 @@ if [ "$which" != probes ]; then
   maybe_mutant hit_count_short "HitDma latches RAY_COUNT - 1: the batch's last hit is out of its batch" \
     "/^module HitDma(/,/^endmodule/s/countReg <= io_rayCount;/countReg <= io_rayCount - 32'h1;/" \
     "countReg <= io_rayCount;" hit_in_batch_1
-  maybe_mutant hit_drop_unit "HitDma takes ray 0's hit but never queues it: the hit is lost" \
-    "/^module HitDma(/,/^endmodule/s/\.io_enq_valid     (_arb_io_out_valid \& inBatch),/.io_enq_valid     (_arb_io_out_valid \& inBatch \& (|_arb_io_out_bits_number)),/" \
-    ".io_enq_valid     (_arb_io_out_valid & inBatch)," hitdma_bounded_response_1
+  maybe_mutant hit_drop_unit "HitDma takes ray 0's hit but never queues its line (alone or paired): the hit is lost" \
+    "/^module HitDma(/,/^endmodule/s/= flushing | _arb_io_out_valid \& inBatch \& ~store;/= flushing | _arb_io_out_valid \& inBatch \& ~store \& (|_arb_io_out_bits_number);/" \
+    "= flushing | _arb_io_out_valid & inBatch & ~store;" hitdma_bounded_response_1
   case_=readeng; cdepth=$(unit_depth readeng); formal_wrap "$dir" readeng
   maybe_mutant wrong_tag "ReadEngine answers every record with tag 0" \
     "/^module ReadEngine(/,/^endmodule/s/pickTagReg <= _meta_ext_R1_data\[[0-9]*:[0-9]*\];/pickTagReg <= 2'h0;/" \

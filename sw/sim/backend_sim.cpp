@@ -63,9 +63,11 @@ rtaccel_status memRead(void* c, uint64_t addr, void* dst, size_t n, char* err, s
   return s;
 }
 // runUntilInterrupt(maxCycles) in slices of 2^16 cycles, showing between them the
-// hit records written so far: the "hits" region's write bytes since the batch
-// started over one beat, as the system's WriteEngine writes each 32-byte record
-// as a single-beat burst (strobes on its half; the model counts whole beats).
+// hit lines written so far: the "hits" region's write bytes since the batch
+// started over one beat, as the system's WriteEngine writes each 64-byte line of
+// two neighbouring 32-byte records (or one, strobes on its half) as a
+// single-beat burst (the model counts whole beats); the bar's end is the
+// batch's lines, a few short when a record had to leave without its neighbour.
 // Observed in the memory model, so the simulated cycles and hits are the same
 // as without it (checked: hits.bin and cycles equal on Cornell AO, 244,780 rays).
 bool runShowingProgress(SimCtx& x) {
@@ -73,7 +75,7 @@ bool runShowingProgress(SimCtx& x) {
   const rtaccel::sim::AxiMemory::Region* hits = nullptr;
   for (const auto& r : regions) if (r.name == "hits") hits = &r;
   const auto written = [&] { return uint64_t(hits->writeBytes) / uint64_t(x.sim.memory().beatBytes()); };
-  rtaccel::Progress bar("rtaccel sim:", hits ? (hits->hi - hits->lo) / 32 : 0);
+  rtaccel::Progress bar("rtaccel sim:", hits ? (hits->hi - hits->lo + 63) / 64 : 0);
   const uint64_t start = x.sim.cycles(), slice = 1 << 16;
   for (;;) {
     const uint64_t left = x.maxCycles ? x.maxCycles - (x.sim.cycles() - start) : slice;

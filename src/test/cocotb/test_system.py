@@ -89,6 +89,9 @@ async def _check_batch(bench, rays, want, blob, cycles, what, ar_before):
     assert c["AXI_WRITE_BEATS"] == w_beats, f"{what}: AXI_WRITE_BEATS {c['AXI_WRITE_BEATS']}, the monitor counted {w_beats}"
     assert c["AXI_READ_STALL"] == stalls, f"{what}: AXI_READ_STALL {c['AXI_READ_STALL']}, the monitor counted {stalls}"
     assert w_beats >= (HIT_BYTES * n + 63) // 64, f"{what}: {w_beats} W beats cannot carry {n} hit records"
+    # HitDma writes neighbouring hits as one line where it can, else alone: never more lines than records.
+    assert w_beats <= n, f"{what}: {w_beats} W beats for {n} hit records (a record written twice, or a line without one)"
+    bench.log.info("%s: %d hit records in %d lines", what, n, w_beats)
     assert c["IN_FLIGHT_SUM"] <= c["CYCLES"] * bench.cfg["cores"] * bench.cfg["ray_ids"], f"{what}: IN_FLIGHT_SUM {c}"
     assert axi.outstanding() == 0, f"{what}: AXI transactions still open after DONE"
     bench.monitor.check()

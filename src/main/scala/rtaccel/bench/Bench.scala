@@ -29,7 +29,11 @@ object Bench {
     Run("cornell-box", "scenes/cornell-box/cornell-box.xml", "primary"),
     Run("dragon", "scenes/dragon/dragon.xml", "primary"),
     Run("dragon", "scenes/dragon/dragon.xml", "shadow"),
-    Run("dragon", "scenes/dragon/dragon.xml", "ao")
+    Run("dragon", "scenes/dragon/dragon.xml", "ao"),
+    // The second large scene, of another kind (docs/dram-traffic.md): fetched by make bridge-scenes-monastery.
+    Run("monastery", "scenes/monastery/monastery.xml", "primary"),
+    Run("monastery", "scenes/monastery/monastery.xml", "shadow"),
+    Run("monastery", "scenes/monastery/monastery.xml", "ao")
   )
   val Memories: Seq[String] = Seq("onchip", "ddr")
 

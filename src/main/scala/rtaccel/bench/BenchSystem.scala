@@ -33,13 +33,15 @@ object BenchSystem {
     Seq(s"RtAccel ${dp.name},", s"(${cfg.boxLanes} box lanes)", s"${cfg.numRayIds} ray IDs")
 
   /** One Embree figure and the conditions it was taken under: the 1-minute load average (/proc/loadavg) just before
-    * the try that gave it (the machine is shared, so a high load understates Embree) and when (UTC). */
+    * the try that gave it (the machine is shared, so a high load understates Embree), when (UTC), and the host
+    * ([[host]]: Embree's speed varies up to 2x from one host of these shared VMs to the next). */
   final case class Embree(
       packetsMrays: Double,
       singleMrays: Double,
       threads: Int,
       load1: Double = Double.NaN,
-      at: String = "unknown"
+      at: String = "unknown",
+      host: String = "unknown"
   )
   private val embreeRe =
     """Embree(?: ROBUST)? ([\d.]+) Mrays/s in packets of 8, ([\d.]+) Mrays/s one by one, on (\d+) threads""".r
@@ -50,6 +52,20 @@ object BenchSystem {
     if (Files.exists(f)) Files.readString(f).trim.split(' ').head.toDouble else Double.NaN
   }
 
+  /** The flags of /proc/cpuinfo that choose Embree's kernels (its SSE, AVX, AVX2 and AVX-512 paths). */
+  val SimdFlags: Seq[String] = Seq("sse", "ssse3", "avx", "fma", "f16c", "bmi")
+
+  /** This host as Embree sees it: /proc/cpuinfo's model name, its logical CPUs and its SIMD flags ([[SimdFlags]]);
+    * "unknown" where /proc/cpuinfo is missing. */
+  def host(cpuinfo: Path = Paths.get("/proc/cpuinfo")): String =
+    if (!Files.exists(cpuinfo)) "unknown"
+    else {
+      val lines = Files.readAllLines(cpuinfo).asScala.toSeq
+      def field(k: String) = lines.find(l => l.startsWith(k) && l.contains(':')).map(_.split(":", 2)(1).trim)
+      val flags = field("flags").toSeq.flatMap(_.split(' ')).filter(f => SimdFlags.exists(f.startsWith)).distinct.sorted
+      s"${field("model name").getOrElse("unknown model")}, ${lines.count(_.startsWith("processor"))} CPUs, SIMD flags ${flags.mkString(" ")}"
+    }
+
   def utcNow(): String = java.time.Instant.now().truncatedTo(java.time.temporal.ChronoUnit.SECONDS).toString
 
   /** `nori-bridge bench` on a whole ray set: the best of `tries` (the machine is shared; others' load only slows it). */
@@ -57,7 +73,7 @@ object BenchSystem {
     val (load, at) = (load1(), utcNow())
     val out = Process(Seq(bridge.toString, "bench", "--package", pkg.toString)).!!
     embreeRe.findFirstMatchIn(out).map(m =>
-      Embree(m.group(1).toDouble, m.group(2).toDouble, m.group(3).toInt, load, at)
+      Embree(m.group(1).toDouble, m.group(2).toDouble, m.group(3).toInt, load, at, host())
     )
       .getOrElse(throw new IllegalStateException(
         s"nori-bridge bench --package $pkg: no Embree figure in its output:\n$out"
@@ -159,7 +175,8 @@ object BenchSystem {
         "singleMrays" -> e.singleMrays,
         "threads" -> e.threads,
         "load1" -> nanOr(e.load1),
-        "at" -> e.at
+        "at" -> e.at,
+        "host" -> e.host
       )
     })
   )
@@ -175,7 +192,8 @@ object BenchSystem {
           e("singleMrays").num,
           e("threads").num.toInt,
           e.obj.get("load1").flatMap(_.numOpt).getOrElse(Double.NaN),
-          str(e, "at")
+          str(e, "at"),
+          str(e, "host")
         )
       }.toMap,
       verilogOf(j("verilog")),

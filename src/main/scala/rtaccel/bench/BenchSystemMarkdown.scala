@@ -84,6 +84,26 @@ object BenchSystemMarkdown {
       s"| $run | ${f(estimate(run), 1)} (= $fit × ${f(rpc(run, fit) / fit, 4)} rays/cycle per core × ${f(mhz, 0)} MHz) | ${f(e.packetsMrays, 1)} | " +
         s"${if (e.load1.isNaN) "unknown" else f(e.load1, 2)} | ${e.at} | ${f(estimate(run) / e.packetsMrays, 2)} |"
     }
+    // Embree's host beside its figures: these shared VMs differ up to 2x from one host to the next.
+    val hosts = runs.groupBy(run => r.embree(run).host).toSeq.sortBy(_._2.map(runs.indexOf).min).map { case (h, rs) =>
+      s"- Embree's host${if (rs.size == runs.size) "" else s" for ${rs.mkString(", ")}"} (`/proc/cpuinfo`): $h"
+    }
+    val traffic = Seq(
+      "",
+      "**DRAM traffic per ray set and core count** (the DDR model's count in the batch, every burst whole:",
+      "reads and writes by the image region they touched; R channel busy = m_axi's R beats per cycle, at most one;",
+      "DDR busy = the share of cycles the DDR model's channel was moving data):",
+      "",
+      "| rays | cores | rays/cycle | DRAM bytes/ray | nodes | triangles | rays | hits | m_axi R bytes/ray | R channel busy | DDR busy |",
+      "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
+    ) ++
+      (for (run <- runs; n <- cores) yield {
+        val x = row(run, n)
+        def region(k: String) = x.obj.get("dramRegionBytesPerRay").flatMap(_.obj.get(k)).fold("–")(v => f(v.num, 0))
+        s"| $run | $n | ${f(rpc(run, n), 4)} | ${f(x("dramBytesPerRay").num, 0)} | ${region("nodes")} | ${region("triangles")} | " +
+          s"${region("rays")} | ${region("hits")} | ${f(x("readBytesPerRay").num, 0)} | ${f(x("readBeatsPerCycle").num, 2)} | " +
+          s"${x.obj.get("dramBusy").fold("–")(v => f(v.num, 2))} |"
+      })
     val goals = Seq("", "**Throughput goals** (the estimate, not run on a board):", "") ++
       runs.find(_ == "cornell-box-primary").map(run =>
         goal(
@@ -102,7 +122,7 @@ object BenchSystemMarkdown {
           r
         )
       }.toSeq
-    (header ++ table ++ answer ++ goals).mkString("\n")
+    (header ++ table ++ answer ++ hosts ++ traffic ++ goals).mkString("\n")
   }
 
   /** Where the estimate's cores and Fmax differ from those the rays/cycle were simulated with: say which came from where. */

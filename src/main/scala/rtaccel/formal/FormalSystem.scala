@@ -31,7 +31,7 @@ final case class SystemCase(name: String, sys: SystemConfig, env: SystemEnv, dep
 object SystemCase {
 
   /** 1 core of 2 ray IDs, 12-bit addresses (the AXI minimum), 2 AXI ID bits (3 read slots + the store's fill),
-    * a 64-byte node store (one node), no triangle store, 2 ray blocks in flight, a 2-deep hit queue. */
+    * a 64-byte node store (one node), no triangle store, 2 ray blocks in flight, a 2-deep hit queue, 2 pair slots. */
   val sys2: SystemConfig = {
     val core = AccelConfig(
       numRayIds = 2,
@@ -54,7 +54,8 @@ object SystemCase {
       triStoreBytes = 0,
       raysPerBlock = 4,
       rayBlockTags = 2,
-      hitQueue = 2
+      hitQueue = 2,
+      hitPairSlots = 2
     )
   }
   val env: SystemEnv = SystemEnv(readLatency = 3, stall = 1, bLatency = 2, maxRays = 8, bursts = 4)
@@ -97,7 +98,8 @@ object SystemCase {
         hd,
         hd + 8,
         deep = true,
-        terms = s"hit queue ${sys2.hitQueue} x (writer refusals ${SystemUnitBound.writeStall(e)} + 1) + 2"
+        terms =
+          s"after the batch's last hit: (hit queue ${sys2.hitQueue} + pair slots ${sys2.hitPairSlots}) x (writer refusals ${SystemUnitBound.writeStall(e)} + 1) + 2"
       ),
       // bmc3's frames on this harness double from frame 15 (frame 18: 130 s of CPU), so BMC stops at 18, short of
       // the bound (its bounded response is VACUOUS there, the log says so); the safety properties hold to 18.
@@ -312,19 +314,28 @@ class FormalSystemTop(c: SystemCase, bound: Int => Int, dp: FormalDatapath) exte
   a.aw.ready := awQ.io.enq.ready && !awStall
   a.w.ready := awQ.io.deq.valid && !stalled(a.w.valid, a.w.ready)
   awQ.io.deq.ready := a.w.fire
-  private val halfMask = (BigInt(1) << SystemConfig.HitBytes) - 1
-  private val lowHalf = a.w.bits.strb === halfMask.U(sys.axiDataBytes.W)
-  private val highHalf = a.w.bits.strb === (halfMask << SystemConfig.HitBytes).U(sys.axiDataBytes.W)
+  // A W beat carries whole 32-byte hit records (HitDma writes a record alone or two neighbours as one line):
+  // strobe group g (32 bytes) all set or all clear, at least one set, record (beat - HIT_BASE) / 32 + g in the batch.
+  private val groups = (0 until sys.axiDataBytes / SystemConfig.HitBytes).map(g =>
+    a.w.bits.strb(SystemConfig.HitBytes * (g + 1) - 1, SystemConfig.HitBytes * g)
+  )
+  private val groupOn = groups.map(_.andR)
   private val offset = awQ.io.deq.bits - hbReg
-  private val index = Cat(offset(addrBits - 1, beatBits), highHalf)
-  private val inBuffer = awQ.io.deq.bits >= hbReg && (lowHalf || highHalf) && index < countReg && a.w.bits.last
+  private val firstIndex = offset(addrBits - 1, log2Ceil(SystemConfig.HitBytes))
+  private val indices = groups.indices.map(g => firstIndex + g.U)
+  private val inBuffer = awQ.io.deq.bits >= hbReg && a.w.bits.last && groupOn.reduce(_ || _) &&
+    groups.zip(groupOn).map { case (x, on) => on || x === 0.U }.reduce(_ && _) &&
+    groupOn.zip(indices).map { case (on, i) => !on || i < countReg }.reduce(_ && _)
   private val writtenRegs = RegInit(VecInit(Seq.fill(env.maxRays)(false.B)))
-  private val idx = index(log2Ceil(env.maxRays) - 1, 0)
-  assert(!a.w.fire || inBuffer, "hit_in_buffer: a write outside the hit buffer, or not one whole hit record")
-  assert(!(a.w.fire && inBuffer) || !writtenRegs(idx), "hit_written_once: a hit record written twice")
-  assert(!(a.w.fire && inBuffer) || fetched(idx), "hit_after_fetch: a hit written for a ray not read from DDR")
-  when(a.w.fire && inBuffer) { writtenRegs(idx) := true.B }
-  if (!c.window) SystemConservation(dut, countReg, rbReg, a.w.fire, maxBlocks)
+  assert(!a.w.fire || inBuffer, "hit_in_buffer: a write outside the hit buffer, or not whole hit records")
+  for ((on, i) <- groupOn.zip(indices)) {
+    val idx = i(log2Ceil(env.maxRays) - 1, 0)
+    val w = a.w.fire && inBuffer && on
+    assert(!w || !writtenRegs(idx), "hit_written_once: a hit record written twice")
+    assert(!w || fetched(idx), "hit_after_fetch: a hit written for a ray not read from DDR")
+    when(w) { writtenRegs(idx) := true.B }
+  }
+  if (!c.window) SystemConservation(dut, countReg, rbReg, Mux(a.w.fire, PopCount(groupOn), 0.U), maxBlocks)
   private val pendingReg = RegInit(0.U(5.W))
   private val bStallReg = RegInit(0.U(log2Ceil(env.bLatency + 1).max(1).W))
   a.b.valid := pendingReg =/= 0.U && (FormalAnySeq(Bool()) || bStallReg === env.bLatency.U)
@@ -461,6 +472,13 @@ object SystemBound {
       // Each ray, one after the other: hand-over 1, the core stub's two reads through one arbiter (+1), hit offer 1;
       // HitDma arbiter and queue 2, WriteEngine queues 1, AW and W refusals s + 1, the slave's B after at most bLatency refusals + 1.
       ResponseBound.Term(s"rays ($rays)", rays * (1 + read + 1 + 1 + 2 + 1 + (s + 1) + e.bLatency + 1)),
+      // A hit waiting in HitDma's pair buffer for its neighbour leaves with it (the neighbour's trip, above) or, once
+      // the batch's last hit is taken, alone: one line per slot, each through the hit queue 1, WriteEngine queues 1,
+      // AW and W refusals s + 1 and the slave's B after at most bLatency refusals + 1.
+      ResponseBound.Term(
+        s"pair buffer flush (${c.sys.hitPairSlots} slots)",
+        c.sys.hitPairSlots * (2 + (s + 1) + e.bLatency + 1)
+      ),
       // writesDone reaches RAY_COUNT: finish 1, IRQ_STATUS 1, the interrupt register 1.
       ResponseBound.Term("done", 3)
     )

@@ -4,7 +4,7 @@ import chisel3._
 import chisel3.util._
 import rtaccel.HitOut
 import rtaccel.leaf.LeafIntersect
-import rtaccel.system.{HitDma, ReadEngine, ReadReq, RayDma, SceneLoader, SystemConfig}
+import rtaccel.system.{HitDma, ReadEngine, ReadReq, RayDma, SceneLoader, SystemConfig, WriteRecord}
 import rtaccel.traversal.PrepFetch
 
 /** The system units' environment, from how SystemCore drives them (docs/formal.md, "System units").
@@ -34,9 +34,11 @@ object SystemUnitBound {
   /** The writer refuses a record at most S + 1 cycles in a row: its AW and W queues' heads leave within S + 1. */
   def writeStall(e: UnitEnv): Int = e.stall + 1
 
-  /** HitDma, a hit taken -> its record handed to the writer: the hit queue (FIFO, <= hitQueue - 1 ahead), each
-    * record leaving within W + 1 (W: writeStall), its own W + 1; the queue's register 1; the monitor 1. */
-  def hitDma(sys: SystemConfig, e: UnitEnv): Int = sys.hitQueue * (writeStall(e) + 1) + 2
+  /** HitDma, the batch's last hit taken -> every record handed to the writer (a hit may wait in the pair buffer
+    * for its neighbour until then): the hit queue's lines (FIFO, <= hitQueue - 1 ahead) and the pair buffer's
+    * flush, one line per slot, each line leaving within W + 1 (W: writeStall); the queue's register 1; the
+    * monitor 1. */
+  def hitDma(sys: SystemConfig, e: UnitEnv): Int = (sys.hitQueue + sys.hitPairSlots) * (writeStall(e) + 1) + 2
 
   /** HitDma takes a hit offered within W + 1 cycles (a full queue's head leaves by then) + 1. */
   def hitTake(e: UnitEnv): Int = writeStall(e) + 2
@@ -146,9 +148,10 @@ class FormalRayDmaTop(sys: SystemConfig, e: UnitEnv, maxRays: Int, name: String)
 /** HitDma alone: START once (HIT_BASE, RAY_COUNT free within the rules); after START the core offers hits, each
   * number in the batch (RayDma's `raydma_in_batch`) and at most once (the core's exactly-once), every other field
   * free; the writer refuses a record at most W cycles in a row (SystemUnitBound.writeStall).
-  * Asserted: `hit_in_batch` (HitDma's own); each record written at HIT_BASE + 32 n for a hit n taken and not yet
-  * written (`hitdma_once`); an offered hit taken within hitTake (`hitdma_take`); a taken hit's record handed to the
-  * writer within SystemUnitBound.hitDma (`hitdma_bounded_response`).
+  * Asserted: `hit_in_batch` (HitDma's own); each record written (alone or with its neighbour in one line) at
+  * HIT_BASE + 32 n for a hit n taken and not yet written (`hitdma_once`); an offered hit taken within hitTake
+  * (`hitdma_take`); once the batch's last hit is taken, every record handed to the writer within
+  * SystemUnitBound.hitDma (`hitdma_bounded_response`; before that a hit may wait for its neighbour).
   */
 class FormalHitDmaTop(sys: SystemConfig, e: UnitEnv, maxRays: Int, name: String) extends Module {
   override def desiredName = s"FormalTop_$name"
@@ -175,20 +178,29 @@ class FormalHitDmaTop(sys: SystemConfig, e: UnitEnv, maxRays: Int, name: String)
   private val pendingRegs = RegInit(VecInit(Seq.fill(maxRays)(false.B)))
   private val ageRegs = RegInit(VecInit(Seq.fill(maxRays)(0.U(log2Ceil(bound + 2).W))))
   private val offset = w.bits.addr - batch.baseReg
-  private val index = offset(w.bits.addr.getWidth - 1, log2Ceil(SystemConfig.HitBytes))
+  // Record k of a line: (line - HIT_BASE) / 32 + k, written when its half's bit is set.
+  private val first = offset(w.bits.addr.getWidth - 1, log2Ceil(SystemConfig.HitBytes))
+  private val halves = (0 until WriteRecord.Records).map(k => w.bits.halves(k))
+  private val index = halves.indices.map(k => first + k.U)
   private val ok =
-    w.bits.addr >= batch.baseReg && offset(log2Ceil(SystemConfig.HitBytes) - 1, 0) === 0.U && index < batch.countReg
-  private val wi = index(log2Ceil(maxRays) - 1, 0)
-  assert(!w.fire || (ok && pendingRegs(wi)), "hitdma_once: a record written for no hit taken and waiting")
+    w.bits.addr >= batch.baseReg && offset(log2Ceil(WriteRecord.Bytes) - 1, 0) === 0.U && halves.reduce(_ || _) &&
+      halves.zip(index).map { case (on, i) => !on || i < batch.countReg }.reduce(_ && _)
+  private val wi = index.map(_(log2Ceil(maxRays) - 1, 0))
+  assert(
+    !w.fire || (ok && halves.zip(wi).map { case (on, i) => !on || pendingRegs(i) }.reduce(_ && _)),
+    "hitdma_once: a record written for no hit taken and waiting"
+  )
+  private val allTaken = VecInit((0 until maxRays).map(i => takenRegs(i) || i.U >= batch.countReg)).asUInt.andR
   for (i <- 0 until maxRays) {
     val in = hit.fire && n === i.U
-    val out = w.fire && ok && wi === i.U
+    val out = w.fire && ok && halves.zip(wi).map { case (on, j) => on && j === i.U }.reduce(_ || _)
     when(in) { takenRegs(i) := true.B; pendingRegs(i) := true.B; ageRegs(i) := 0.U }
     when(out) { pendingRegs(i) := false.B }
-    when(pendingRegs(i) && !out && ageRegs(i) <= bound.U) { ageRegs(i) := ageRegs(i) + 1.U }
+    // The age runs once the batch's last hit is taken: until then a record may wait for its neighbour.
+    when(pendingRegs(i) && !out && allTaken && ageRegs(i) <= bound.U) { ageRegs(i) := ageRegs(i) + 1.U }
     assert(
       !pendingRegs(i) || ageRegs(i) < bound.U,
-      s"hitdma_bounded_response: hit $i taken but its record not handed to the writer within $bound cycles"
+      s"hitdma_bounded_response: hit $i's record not handed to the writer within $bound cycles of the batch's last hit"
     )
   }
   private val waitReg = RegInit(0.U(4.W))

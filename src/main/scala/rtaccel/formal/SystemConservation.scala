@@ -3,16 +3,21 @@ package rtaccel.formal
 import chisel3._
 import chisel3.util._
 import rtaccel.RtAccel
-import rtaccel.system.{HitDma, MemoryFabric, RayDma, SystemCore, WriteEngine}
+import rtaccel.axi.Axi4W
+import rtaccel.system.{HitDma, MemoryFabric, RayDma, SystemConfig, SystemCore, WriteEngine, WriteRecord}
 
 /** The system's ray conservation (docs/formal.md, "System level"), the
   * system's counterpart of the core's `ray_conservation`: in every cycle
   *
   *   rays fetched (the batch's rays in each ray block RayDma receives)
-  *     == hit records written (W beats) + rays held, where held =
+  *     == hit records written (the records of the W beats) + rays held, where held =
   *        RayDma (the rays of its queued blocks not yet handed out)
   *      + the core (rays taken at its port minus hits given at its port)
-  *      + HitDma (its hit queue) + WriteEngine (its W queue).
+  *      + HitDma (its pair buffer's waiting hits, and the records of the lines in its hit queue)
+  *      + WriteEngine (the records of the beats in its W queue).
+  *
+  * A queue's records are counted at its ports (the records of the lines or beats it took, minus those it gave),
+  * so a line that leaves with fewer records than it came in with breaks the sum.
   *
   * Verification only: the monitor lives in the test tree and reads the units'
   * inner signals through ports bored into the formal SystemVerilog alone
@@ -25,7 +30,7 @@ import rtaccel.system.{HitDma, MemoryFabric, RayDma, SystemCore, WriteEngine}
   * ray it holds is the core's own `ray_conservation` (make formal).
   */
 object SystemConservation {
-  def apply(dut: SystemCore[_], count: UInt, rayBase: UInt, written: Bool, maxBlocks: Int): Unit = {
+  def apply(dut: SystemCore[_], count: UInt, rayBase: UInt, written: UInt, maxBlocks: Int): Unit = {
     val sys = dut.sys
     val rpb = sys.raysPerBlock
     val nTags = sys.rayBlockTags
@@ -34,8 +39,10 @@ object SystemConservation {
     val rdQ = Peek[Queue[_ <: Data]](rayDma, "q")
     val cores = Peek[Seq[RtAccel[_]]](dut, "cores")
     require(cores.size == 1, "SystemConservation: one core")
-    val hitQ = Peek[Queue[_ <: Data]](Peek[HitDma](dut, "hitDma"), "q")
-    val wQ = Peek[Queue[_ <: Data]](Peek[WriteEngine](Peek[MemoryFabric](dut, "fabric"), "writer"), "wQ")
+    val hitDma = Peek[HitDma](dut, "hitDma")
+    val hitQ = Peek[Queue[WriteRecord]](hitDma, "q")
+    val held = Peek[Vec[Bool]](hitDma, "heldRegs")
+    val wQ = Peek[Queue[Axi4W]](Peek[WriteEngine](Peek[MemoryFabric](dut, "fabric"), "writer"), "wQ")
     def b[A <: Data](x: A): A = Peek.bore(x)
     val reqFire = b(rayDma.io.mem.req.valid) && b(rayDma.io.mem.req.ready)
     val reqAddr = b(rayDma.io.mem.req.bits.addr)
@@ -48,8 +55,19 @@ object SystemConservation {
     val sub = b(Peek[UInt](rayDma, "subReg"))
     val coreIn = b(cores.head.io.rays.valid) && b(cores.head.io.rays.ready)
     val coreOut = b(cores.head.io.hits.valid) && b(cores.head.io.hits.ready)
-    val inHitDma = b(hitQ.io.count)
-    val inWriter = b(wQ.io.count)
+    // Records in a queue, counted at its ports (from bored signals: fire and the records of the entry).
+    def records(enq: DecoupledIO[_ <: Data], enqN: UInt, deq: DecoupledIO[_ <: Data], deqN: UInt): UInt = {
+      val inReg = RegInit(0.U(w.W))
+      inReg := inReg + Mux(b(enq.valid) && b(enq.ready), enqN, 0.U) - Mux(b(deq.valid) && b(deq.ready), deqN, 0.U)
+      inReg
+    }
+    def beatRecords(strb: UInt): UInt = PopCount((0 until strb.getWidth / SystemConfig.HitBytes).map(g =>
+      strb(SystemConfig.HitBytes * (g + 1) - 1, SystemConfig.HitBytes * g).orR
+    ))
+    val inHitDma = PopCount(held.map(x => b(x))) +&
+      records(hitQ.io.enq, PopCount(b(hitQ.io.enq.bits.halves)), hitQ.io.deq, PopCount(b(hitQ.io.deq.bits.halves)))
+    val inWriter =
+      records(wQ.io.enq, beatRecords(b(wQ.io.enq.bits.strb)), wQ.io.deq, beatRecords(b(wQ.io.deq.bits.strb)))
 
     // The batch's rays in block k (0 when the block is past RAY_COUNT or unknown: k = maxBlocks).
     def present(k: UInt): UInt = MuxLookup(k, 0.U(w.W))((0 until maxBlocks).map { j =>
@@ -70,7 +88,7 @@ object SystemConservation {
     val writtenReg = RegInit(0.U(w.W))
     val coreHeldReg = RegInit(0.U(w.W))
     when(respValid) { fetchedReg := fetchedReg + present(blockOfTagReg(respTag)) }
-    when(written) { writtenReg := writtenReg + 1.U }
+    writtenReg := writtenReg + written
     coreHeldReg := coreHeldReg + coreIn.asUInt - coreOut.asUInt
     val queued = (0 until nTags).map(t => Mux(queuedReg(t), present(blockOfTagReg(t)), 0.U(w.W))).reduce(_ +& _)
     // RayDma's head block has handed out `sub` of its rays: fetched + sub == written + held.

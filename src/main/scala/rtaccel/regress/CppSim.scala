@@ -23,12 +23,15 @@ import scala.sys.process._
   */
 object CppSim {
 
-  /** Where the simulator of a configuration is built (make reuses an unchanged build). */
+  /** Where the simulator of a configuration is built (make reuses an unchanged build): one directory per
+    * datapath, cores, ray IDs, stack depth and node layout. */
   def simDir(dp: String, cfg: AccelConfig, cores: Int, axiDataBits: Int = SystemConfig.defaultAxiDataBits): Path =
     Paths.get(
       "build",
       "cppsim",
       s"system_${dp}_c${cores}_n${cfg.numRayIds}_d${cfg.stackDepth}_k${cfg.boxLanes}" +
+        // 4q nodes have the 4-wide's lanes but another decode: their own build, not the 4-wide one rebuilt.
+        (if (cfg.layout.quantized) "q" else "") +
         (if (axiDataBits == 512) "" else s"_w$axiDataBits")
     ).toAbsolutePath
 

@@ -2,16 +2,22 @@ package rtaccel.system
 
 import chisel3._
 
-/** A 32-byte record to write (a hit record): `addr` is a byte address, 32-byte
-  * aligned (its low five bits are ignored); `data` little-endian, byte 0 in
-  * bits 7..0.
+/** A 64-byte line of 32-byte records to write (two hit records): `addr` is a
+  * byte address, 64-byte aligned (its low six bits are ignored); `data`
+  * little-endian, byte 0 in bits 7..0; `halves` which records to write (bit h:
+  * bytes 32 h .. 32 h + 31), one or both.
   */
 class WriteRecord(sys: SystemConfig) extends Bundle {
   val addr = UInt(sys.axiAddrBits.W)
   val data = UInt((WriteRecord.Bytes * 8).W)
+  val halves = UInt(WriteRecord.Records.W)
 }
 object WriteRecord {
-  val Bytes = 32
+  val Bytes = 64
+
+  /** The records of a line: 32 bytes each (SystemConfig.HitBytes). */
+  val Records = 2
+  val RecordBytes = Bytes / Records
 }
 
 /** Loading an on-chip store, the node store or the triangle store (MemoryFabric's side): a `start` pulse

@@ -5,9 +5,24 @@ import chisel3.util._
 import rtaccel.{ErrorFlags, HitOut}
 
 /** Collects the cores' hits (round-robin) and writes each as the 32-byte hit
-  * record at HIT_BASE + 32 * number (docs/reports/register-map.md). Counts the batch's
-  * rays per error flag. A hit whose number is not in the batch is not written
-  * and sets `broken` (never expected: the ray DMA numbers rays 0..count-1).
+  * record at HIT_BASE + 32 * number (docs/reports/register-map.md), two
+  * neighbours per 64-byte line where it can: hits 2p and 2p + 1 share the line
+  * at HIT_BASE + 64 p (HIT_BASE is 64-byte aligned), and a line written as one
+  * burst costs the DDR the same 64 bytes whether it carries one record or two
+  * (docs/dram-traffic.md, `hits32`). Counts the batch's rays per error flag.
+  *
+  * The pair buffer: `SystemConfig.hitPairSlots` slots, slot = p mod slots. A
+  * hit whose partner waits in its slot leaves with it as one line; a hit whose
+  * partner is not in the batch (the odd last ray) leaves alone; a hit whose
+  * slot is empty waits there for its partner; a hit whose slot holds another
+  * pair leaves alone (the buffer never overflows: a hit is stored only in an
+  * empty slot). Once every hit of the batch has been taken, what still waits
+  * (a partner that had left alone) leaves alone, one a cycle, so the batch's
+  * last record is written at most `hitPairSlots` cycles after its last hit.
+  * Every hit of the batch is written exactly once, alone or paired.
+  *
+  * A hit whose number is not in the batch is not written and sets `broken`
+  * (never expected: the ray DMA numbers rays 0..count-1).
   */
 class HitDma(sys: SystemConfig) extends Module {
   val io = IO(new Bundle {
@@ -23,21 +38,63 @@ class HitDma(sys: SystemConfig) extends Module {
   arb.io.in <> io.hits
   private val baseReg = RegInit(0.U(sys.axiAddrBits.W))
   private val countReg = RegInit(0.U(32.W))
+  private val takenReg = RegInit(0.U(32.W))
   private val errReg = RegInit(VecInit(Seq.fill(ErrorFlags.width)(0.U(32.W))))
   private val brokenReg = RegInit(false.B)
-  when(io.start) { baseReg := io.hitBase; countReg := io.rayCount; errReg.foreach(_ := 0.U) }
+  when(io.start) { baseReg := io.hitBase; countReg := io.rayCount; takenReg := 0.U; errReg.foreach(_ := 0.U) }
+
+  // ---- The pair buffer ----
+  private val slots = sys.hitPairSlots
+  private val heldRegs = RegInit(VecInit(Seq.fill(slots)(false.B)))
+  private val numbers = Mem(slots, UInt(32.W))
+  private val records = Mem(slots, UInt((8 * SystemConfig.HitBytes).W))
+  private def slotOf(number: UInt): UInt = if (slots == 1) 0.U else (number >> 1)(log2Ceil(slots) - 1, 0)
 
   private val h = arb.io.out.bits
+  private val rec = HitDma.record(h)
   private val inBatch = h.number < countReg
+  private val slot = slotOf(h.number)
+  private val (anyHeld, firstHeld) = FirstSet(heldRegs.asUInt)
+  // Every hit of the batch taken: the records still waiting have no partner to come.
+  private val flushing = takenReg === countReg && anyHeld
+  private val idx = Mux(flushing, firstHeld(log2Ceil(slots).max(1) - 1, 0), slot)
+  private val heldNumber = numbers(idx)
+  private val heldRecord = records(idx)
+  private val partnered = heldRegs(slot) && heldNumber === (h.number ^ 1.U)
+  private val noPartner = (h.number ^ 1.U) >= countReg
+  private val store = !heldRegs(slot) && !noPartner
+
+  // Hit queue: a record is enqueued only when it has room (valid/ready); a stored hit enqueues nothing.
   private val q = Module(new Queue(new WriteRecord(sys), sys.hitQueue))
-  q.io.enq.valid := arb.io.out.valid && inBatch
-  arb.io.out.ready := q.io.enq.ready || !inBatch
-  q.io.enq.bits.addr := baseReg + (h.number << log2Ceil(SystemConfig.HitBytes))
-  q.io.enq.bits.data := HitDma.record(h)
+  q.io.enq.valid := flushing || (arb.io.out.valid && inBatch && !store)
+  // While flushing every hit of the batch has been taken: anything offered is out of the batch, held until after.
+  arb.io.out.ready := !flushing && (q.io.enq.ready || store || !inBatch)
+  private def line(number: UInt): UInt = baseReg + ((number >> 1) << log2Ceil(WriteRecord.Bytes))
+
+  /** A record alone: in both halves of the line, its own half's strobes only. */
+  private def alone(number: UInt, r: UInt): (UInt, UInt) = (Fill(2, r), UIntToOH(number(0), 2))
+  private val (flushData, flushHalves) = alone(heldNumber, heldRecord)
+  private val (aloneData, aloneHalves) = alone(h.number, rec)
+  // The even number's record in the low half.
+  private val pairData = Mux(h.number(0), Cat(rec, heldRecord), Cat(heldRecord, rec))
+  private val data = Mux(flushing, flushData, Mux(partnered, pairData, aloneData))
+  private val halves = Mux(flushing, flushHalves, Mux(partnered, 3.U(2.W), aloneHalves))
+  q.io.enq.bits.addr := line(Mux(flushing, heldNumber, h.number))
+  q.io.enq.bits.data := data
+  q.io.enq.bits.halves := halves
+
+  when(flushing && q.io.enq.fire) { heldRegs(firstHeld) := false.B }
   when(arb.io.out.fire) {
     when(!inBatch) { brokenReg := true.B }
     assert(inBatch, "hit_in_batch: a hit whose number is not in the batch")
+    when(inBatch) { takenReg := takenReg + 1.U }
     for (k <- 0 until ErrorFlags.width) when(inBatch && h.errors(k)) { errReg(k) := errReg(k) + 1.U }
+    when(inBatch && partnered) { heldRegs(slot) := false.B }
+    when(inBatch && store) {
+      heldRegs(slot) := true.B
+      numbers.write(slot, h.number)
+      records.write(slot, rec)
+    }
   }
   io.write <> q.io.deq
   io.errCount := errReg

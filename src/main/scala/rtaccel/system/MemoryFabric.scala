@@ -23,8 +23,9 @@ import rtaccel.mem.{MemPort, MemPortParams}
   * ask for).
   * A client that holds off `resp.ready` stalls only its own responses.
   *
-  * Writes: 32-byte records, one single-beat burst each with strobes on the
-  * record's half (WriteEngine); `writesDone` counts B responses.
+  * Writes: 64-byte lines of one or two 32-byte records, one single-beat burst
+  * each with strobes on the records it carries (WriteEngine); `writesDone`
+  * counts the records of the writes whose B response has come.
   *
   * `axiError` is sticky: a non-OKAY rresp or bresp, or a slave breaking the
   * protocol (an R beat for no outstanding request, a wrong rlast), or an
@@ -195,6 +196,7 @@ class MemoryFabric(
   writer.io.write.valid := io.write.valid
   writer.io.write.bits.addr := io.write.bits.addr
   writer.io.write.bits.data := io.write.bits.data
+  writer.io.write.bits.halves := io.write.bits.halves
   io.write.ready := writer.io.write.ready
   io.axi.aw <> writer.io.aw
   io.axi.w <> writer.io.w

@@ -24,7 +24,10 @@ import rtaccel.axi.Axi4Params
   * @param raysPerBlock   rays fetched per ray-DMA read: 4 x 48 B = 192 B = 3 whole 64-byte lines,
   *                       so every block of a 64-aligned RAY_BASE starts on a line
   * @param rayBlockTags   ray-DMA reads in flight (each holds one block buffer, so the buffers never overflow)
-  * @param hitQueue       hit records waiting for the write port
+  * @param hitQueue       hit lines (one or two records each) waiting for the write port
+  * @param hitPairSlots   HitDma's pair buffer, a power of two: hits waiting for their neighbour to share a 64-byte
+  *                       line; 64, the ray IDs of one core, so that a conflict (two waiting pairs p, p + 64 k) needs a
+  *                       ray still in flight after 128 later rays finished
   */
 case class SystemConfig(
     core: AccelConfig = AccelConfig.zc706,
@@ -36,7 +39,8 @@ case class SystemConfig(
     triStoreBytes: Int = 256 * 1024,
     raysPerBlock: Int = 4,
     rayBlockTags: Int = 4,
-    hitQueue: Int = 4
+    hitQueue: Int = 4,
+    hitPairSlots: Int = 64
 ) {
   require(cores >= 1, s"SystemConfig: cores must be >= 1, got $cores")
   require(
@@ -57,6 +61,10 @@ case class SystemConfig(
     s"SystemConfig: a ray block must be whole 64-byte lines, got $raysPerBlock rays"
   )
   require(rayBlockTags >= 1 && hitQueue >= 1, s"SystemConfig: rayBlockTags and hitQueue must be >= 1")
+  require(
+    hitPairSlots >= 1 && Integer.bitCount(hitPairSlots) == 1,
+    s"SystemConfig: hitPairSlots must be a power of two, got $hitPairSlots"
+  )
   val axi: Axi4Params = Axi4Params(addrBits = axiAddrBits, dataBits = axiDataBits, idBits = axiIdBits)
 
   val axiDataBytes: Int = axiDataBits / 8

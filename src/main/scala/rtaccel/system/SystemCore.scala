@@ -11,8 +11,9 @@ import rtaccel.{Datapath, ErrorFlags, RtAccel}
   * writes on one AXI4 master.
   *
   * Batch: START (with SCENE_READY, not BUSY, RAY_BASE and HIT_BASE 64-byte
-  * aligned) latches RAY_BASE, RAY_COUNT and HIT_BASE; DONE when the fabric has
-  * received RAY_COUNT B responses since START (every hit written). The core
+  * aligned) latches RAY_BASE, RAY_COUNT and HIT_BASE; DONE when the B
+  * responses the fabric has received since START acknowledge RAY_COUNT hit
+  * records (every hit written; a line carries one or two). The core
   * bases change only at LOAD_SCENE, which is refused while BUSY, so no ray is
   * in flight when they change.
   *

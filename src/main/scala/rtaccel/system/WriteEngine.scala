@@ -4,22 +4,29 @@ import chisel3._
 import chisel3.util._
 import rtaccel.axi.{Axi4, Axi4Addr, Axi4B, Axi4Params, Axi4W}
 
-/** Writes 32-byte records as single-beat AXI4 bursts: the beat holds the
-  * record in its half (address bit 5) and the strobes enable those 32 bytes
-  * only. AW and W leave from their own two-entry queues (a record is taken
-  * only when both have room), so each channel's payload is stable while it
-  * waits for ready and neither channel waits for the other. All writes use
-  * ID 0 and bready is always high; `writesDone` counts B responses, `error`
-  * is sticky on a non-OKAY bresp. Writes outstanding are not bounded here:
-  * the slave's awready bounds them.
+/** Writes 64-byte lines of 32-byte records (WriteRecord) as single-beat AXI4
+  * bursts: the beat holds the line in its place (address bits above 6 within
+  * the beat, at 1024 bits) and the strobes enable the records the line
+  * carries only (one or both halves). AW and W leave from their own two-entry
+  * queues (a line is taken only when both have room), so each channel's
+  * payload is stable while it waits for ready and neither channel waits for
+  * the other. All writes use ID 0, so B responses come in order; bready is
+  * always high. `writesDone` counts the records of the writes whose B has
+  * come (a line's one or two), read from a queue of the records per write in
+  * flight: a line is taken only while that queue has room, so at most
+  * `maxOutstanding` writes are in flight and the queue never overflows.
+  * `error` is sticky on a non-OKAY bresp or a B for no write.
   */
-class WriteEngine(p: Axi4Params) extends Module {
+class WriteEngine(p: Axi4Params, maxOutstanding: Int = WriteEngine.MaxOutstanding) extends Module {
   private val B = p.beatBytes
-  private val R = WriteRecord.Bytes
+  private val L = WriteRecord.Bytes
+  private val R = WriteRecord.RecordBytes
+  require(B >= L, s"WriteEngine: a beat ($B bytes) must hold a $L-byte line")
   val io = IO(new Bundle {
     val write = Flipped(Decoupled(new Bundle {
       val addr = UInt(p.addrBits.W)
-      val data = UInt((8 * R).W)
+      val data = UInt((8 * L).W)
+      val halves = UInt(WriteRecord.Records.W)
     }))
     val aw = Decoupled(new Axi4Addr(p))
     val w = Decoupled(new Axi4W(p))
@@ -29,15 +36,20 @@ class WriteEngine(p: Axi4Params) extends Module {
   })
   private val awQ = Module(new Queue(new Axi4Addr(p), 2))
   private val wQ = Module(new Queue(new Axi4W(p), 2))
-  io.write.ready := awQ.io.enq.ready && wQ.io.enq.ready
-  awQ.io.enq.valid := io.write.valid && wQ.io.enq.ready
-  wQ.io.enq.valid := io.write.valid && awQ.io.enq.ready
+  private val recordsQ = Module(new Queue(UInt(2.W), maxOutstanding))
+  private val room = Seq(awQ.io.enq.ready, wQ.io.enq.ready, recordsQ.io.enq.ready)
+  io.write.ready := room.reduce(_ && _)
+  awQ.io.enq.valid := io.write.valid && wQ.io.enq.ready && recordsQ.io.enq.ready
+  wQ.io.enq.valid := io.write.valid && awQ.io.enq.ready && recordsQ.io.enq.ready
+  recordsQ.io.enq.valid := io.write.valid && awQ.io.enq.ready && wQ.io.enq.ready
+  recordsQ.io.enq.bits := PopCount(io.write.bits.halves)
   private val beatAddr = Cat(io.write.bits.addr(p.addrBits - 1, log2Ceil(B)), 0.U(log2Ceil(B).W))
   awQ.io.enq.bits := Axi4Addr.incr(p, 0.U, beatAddr, 1.U)
-  // The record's place in the beat: address bits log2(B)-1 .. 5.
-  private val half = io.write.bits.addr(log2Ceil(B) - 1, log2Ceil(R))
-  wQ.io.enq.bits.data := Fill(B / R, io.write.bits.data)
-  wQ.io.enq.bits.strb := (((BigInt(1) << R) - 1).U((B).W) << (half << log2Ceil(R)))(B - 1, 0)
+  // The line's place in the beat: address bits log2(B)-1 .. 6 (none at 512 bits).
+  private val place = if (B == L) 0.U else io.write.bits.addr(log2Ceil(B) - 1, log2Ceil(L))
+  private val lineStrb = Cat((WriteRecord.Records - 1 to 0 by -1).map(h => Fill(R, io.write.bits.halves(h))))
+  wQ.io.enq.bits.data := Fill(B / L, io.write.bits.data)
+  wQ.io.enq.bits.strb := (lineStrb.pad(B) << (place << log2Ceil(L)))(B - 1, 0)
   wQ.io.enq.bits.last := true.B
   io.aw <> awQ.io.deq
   io.w <> wQ.io.deq
@@ -45,10 +57,19 @@ class WriteEngine(p: Axi4Params) extends Module {
   private val doneReg = RegInit(0.U(32.W))
   private val errorReg = RegInit(false.B)
   io.b.ready := true.B
+  recordsQ.io.deq.ready := io.b.valid
   when(io.b.fire) {
-    doneReg := doneReg + 1.U
-    when(io.b.bits.resp =/= Axi4.RespOkay.U) { errorReg := true.B }
+    doneReg := doneReg + Mux(recordsQ.io.deq.valid, recordsQ.io.deq.bits, 0.U)
+    when(io.b.bits.resp =/= Axi4.RespOkay.U || !recordsQ.io.deq.valid) { errorReg := true.B }
   }
   io.writesDone := doneReg
   io.error := errorReg
+}
+
+object WriteEngine {
+
+  /** Writes in flight (AW taken, B not yet come) at most: a hit line every 2 cycles (4 cores at 0.54 rays/cycle,
+    * docs/reports/performance.md) against B responses the DDR model gives within about 40 cycles keeps fewer
+    * than 32 in flight, so the bound costs nothing measured. */
+  val MaxOutstanding = 32
 }

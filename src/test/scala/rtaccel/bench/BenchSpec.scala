@@ -123,6 +123,23 @@ class BenchSpec extends AnyFlatSpec {
       md
     )
     assert(md.contains("estimate, not run on a board") && md.contains("this machine"), md)
+    // Every ray set at every core count: DRAM bytes per ray and the R channel's busy share.
+    assert(md.contains("| dragon-primary | 2 | 0.1000 | 100 | – | – | – | – | 100 | 0.50 | – |"), md)
+    assert(md.contains("Embree's host (`/proc/cpuinfo`): unknown"), md)
+  }
+
+  it should "name this host's CPU model and SIMD flags from /proc/cpuinfo, and keep them through the cache" in {
+    val f = java.nio.file.Files.createTempFile("cpuinfo", "")
+    java.nio.file.Files.writeString(
+      f,
+      "processor\t: 0\nmodel name\t: Some CPU @ 2.0GHz\nflags\t\t: fpu sse sse2 avx2 fma avx512f ht\n" +
+        "processor\t: 1\nmodel name\t: Some CPU @ 2.0GHz\nflags\t\t: fpu sse sse2 avx2 fma avx512f ht\n"
+    )
+    val h = BenchSystem.host(f)
+    assert(h == "Some CPU @ 2.0GHz, 2 CPUs, SIMD flags avx2 avx512f fma sse sse2", h)
+    val e = BenchSystem.Embree(10, 5, 2, 0.5, "2026-01-01T00:00:00Z", h)
+    val r = BenchSystem.Result(Nil, Map("dragon-primary" -> e), VerilogFigures("t", 2, 10.0, "FpAdd"), 100)
+    assert(BenchSystem.fromJson(ujson.read(ujson.write(BenchSystem.toJson(r)))).embree("dragon-primary") == e)
   }
 
   it should "redraw a cached system section against a newer resources.md, saying where each figure came from, with Embree's load average" in {

@@ -24,8 +24,10 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
   private final case class Pending(addr: Long, data: BigInt, cycle: Long)
   private val outstanding = readers.map(_ => mutable.HashMap.empty[Int, Pending])
   private val written = mutable.HashMap.empty[Long, BigInt] // 32-byte record address -> data
+  /** A line write offered: 64-byte aligned address, the line's 64 bytes, which of its two 32-byte records to write. */
+  private type Line = (Long, BigInt, Int)
   var cycle = 0L
-  var nodeRequests, otherRequests, storeRequests, straddles, writesSent = 0L
+  var nodeRequests, otherRequests, storeRequests, straddles, writesSent, linesSent = 0L
 
   /** Triangle-client reads, and those the triangle store was loaded to serve. */
   var triRequests, triStoreRequests = 0L
@@ -41,7 +43,7 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
   private def cycleWith(
       offer: Int => Option[(Long, Int)],
       ready: Int => Boolean,
-      write: Option[(Long, BigInt)] = None,
+      write: Option[Line] = None,
       onResp: (Int, Pending) => Unit = (_, _) => ()
   ): Unit = {
     val storeDone = dut.io.store.done.peek().litToBoolean
@@ -57,8 +59,9 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
       r.resp.ready.poke(ready(c).B)
     }
     write match {
-      case Some((a, d)) =>
+      case Some((a, d, h)) =>
         dut.io.write.valid.poke(true.B); dut.io.write.bits.addr.poke(a.U); dut.io.write.bits.data.poke(d.U)
+        dut.io.write.bits.halves.poke(h.U)
       case None => dut.io.write.valid.poke(false.B)
     }
     mem.drive()
@@ -93,7 +96,13 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
         }
       }
     }
-    write.foreach { case (a, d) => if (dut.io.write.ready.peek().litToBoolean) { written(a) = d; writesSent += 1 } }
+    // writesSent counts records (writesDone counts the records of acknowledged writes).
+    write.foreach { case (a, d, h) =>
+      if (dut.io.write.ready.peek().litToBoolean) { linesSent += 1 }
+      if (dut.io.write.ready.peek().litToBoolean) for (k <- 0 until 2 if (h >> k & 1) == 1) {
+        written(a + 32 * k) = (d >> (256 * k)) & ((BigInt(1) << 256) - 1); writesSent += 1
+      }
+    }
     dut.clock.step()
     mem.tick()
     cycle += 1
@@ -135,19 +144,19 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
   def run(requestsPerClient: Int, writes: Int): Unit = {
     val left = Array.fill(readers.size)(requestsPerClient)
     var writesLeft = writes
-    var offer: Option[(Long, BigInt)] = None
-    while (left.exists(_ > 0) || outstanding.exists(_.nonEmpty) || writesSent < writes) {
+    var offer: Option[Line] = None
+    while (left.exists(_ > 0) || outstanding.exists(_.nonEmpty) || linesSent < writes) {
       val offers = readers.indices.map { c =>
         if (left(c) > 0 && rnd.nextDouble() < 0.6) freeTag(c).map(t => (randomAddr(c), t)) else None
       }
       if (offer.isEmpty && writesLeft > 0 && rnd.nextDouble() < 0.5) {
-        offer = Some((WriteBase + 32L * rnd.nextInt(WriteSpan / 32), BigInt(256, rnd)))
+        offer = Some((WriteBase + 64L * rnd.nextInt(WriteSpan / 64), BigInt(512, rnd), 1 + rnd.nextInt(3)))
         writesLeft -= 1
       }
       val readies = readers.indices.map(_ => rnd.nextDouble() < 0.7)
-      val sentBefore = writesSent
+      val sentBefore = linesSent
       cycleWith(offers, readies, offer)
-      if (writesSent > sentBefore) offer = None
+      if (linesSent > sentBefore) offer = None
       for (
         c <- readers.indices
         if offers(c).exists { case (a, t) => outstanding(c).get(t).exists(p => p.addr == a && p.cycle == cycle - 1) }

@@ -11,29 +11,33 @@ import scala.collection.mutable
 
 /** WriteEngine alone: seeded random valid on `write`, random ready on AW and W,
   * and a Scala AXI slave answering each (AW, W) pair with a B after a random
-  * delay (a few SLVERRs among them). The scoreboard is the list of records
-  * offered: each leaves exactly once, in order, as one single-beat burst at
-  * its beat address with its 32 bytes in the right half and only their strobes;
-  * `writesDone` counts the Bs and `error` rises with the first SLVERR.
+  * delay (a few SLVERRs among them). The scoreboard is the list of lines
+  * offered, each with one or both of its 32-byte records: each line leaves
+  * exactly once, in order, as one single-beat burst at its beat address with
+  * its 64 bytes in its place and the strobes of its records only;
+  * `writesDone` counts the records of the Bs come and `error` rises with the
+  * first SLVERR.
   */
 class WriteEngineSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "WriteEngine"
 
   for (dataBits <- Seq(512, 1024)) {
-    it should s"write every record once, in order, under random back-pressure on AW, W and write ($dataBits-bit beats)" in
+    it should s"write every line once, in order, under random back-pressure on AW, W and write ($dataBits-bit beats)" in
       Seeded(s"WriteEngine.$dataBits") { rnd =>
         val p = Axi4Params(addrBits = 32, dataBits = dataBits, idBits = 6)
         val beat = p.beatBytes
-        val R = WriteRecord.Bytes
+        val L = WriteRecord.Bytes
+        val R = WriteRecord.RecordBytes
         test(new WriteEngine(p)).withAnnotations(Backends.treadle) { dut =>
           val records = 300
-          val offered = Seq.fill(records)((rnd.nextInt(1 << 20).toLong * R, BigInt(8 * R, rnd)))
+          val offered = Seq.fill(records)((rnd.nextInt(1 << 20).toLong * L, BigInt(8 * L, rnd), 1 + rnd.nextInt(3)))
+          def recordsOf(n: Int) = Integer.bitCount(offered(n)._3)
           var next = 0
-          val awWant = mutable.Queue.empty[(Long, BigInt)]
-          val wWant = mutable.Queue.empty[(Long, BigInt)]
+          val awWant = mutable.Queue.empty[(Long, BigInt, Int)]
+          val wWant = mutable.Queue.empty[(Long, BigInt, Int)]
           var awSeen, wSeen = 0
           val bQueue = mutable.Queue.empty[(Long, Int)] // (cycle due, resp)
-          var bDone = 0
+          var bDone, recordsDone = 0
           var errorWant = false
           val slvErrAt = Set(records / 3, 2 * records / 3)
           var offering = false
@@ -44,6 +48,7 @@ class WriteEngineSpec extends AnyFlatSpec with ChiselScalatestTester {
             dut.io.write.valid.poke(offering.B)
             if (next < records) {
               dut.io.write.bits.addr.poke(offered(next)._1.U); dut.io.write.bits.data.poke(offered(next)._2.U)
+              dut.io.write.bits.halves.poke(offered(next)._3.U)
             }
             val awReady = rnd.nextInt(3) > 0; val wReady = rnd.nextInt(3) > 0
             dut.io.aw.ready.poke(awReady.B); dut.io.w.ready.poke(wReady.B)
@@ -59,7 +64,7 @@ class WriteEngineSpec extends AnyFlatSpec with ChiselScalatestTester {
             }
             if (awReady && dut.io.aw.valid.peek().litToBoolean) {
               assert(awWant.nonEmpty, s"cycle $cycle: an AW with no record offered")
-              val (addr, _) = awWant.dequeue()
+              val (addr, _, _) = awWant.dequeue()
               val a = dut.io.aw.bits
               a.addr.expect((addr / beat * beat).U, s"cycle $cycle: AW $awSeen address")
               a.id.expect(0.U); a.len.expect(0.U); a.size.expect(p.fullSize.U); a.burst.expect(Axi4.BurstIncr.U)
@@ -67,12 +72,18 @@ class WriteEngineSpec extends AnyFlatSpec with ChiselScalatestTester {
             }
             if (wReady && dut.io.w.valid.peek().litToBoolean) {
               assert(wWant.nonEmpty, s"cycle $cycle: a W beat with no record offered")
-              val (addr, data) = wWant.dequeue()
+              val (addr, data, halves) = wWant.dequeue()
               val lane = (addr % beat).toInt
               val w = dut.io.w.bits
               val gotData = w.data.peek().litValue
-              assert(((gotData >> (8 * lane)) & ((BigInt(1) << (8 * R)) - 1)) == data, s"cycle $cycle: W $wSeen data")
-              w.strb.expect((((BigInt(1) << R) - 1) << lane).U, s"cycle $cycle: W $wSeen strobes")
+              val strb = (0 until 2).filter(h => (halves >> h & 1) == 1).map(h =>
+                ((BigInt(1) << R) - 1) << (lane + R * h)
+              ).reduce(_ | _)
+              for (h <- 0 until 2 if (halves >> h & 1) == 1) {
+                val field = (v: BigInt, at: Int) => (v >> (8 * at)) & ((BigInt(1) << (8 * R)) - 1)
+                assert(field(gotData, lane + R * h) == field(data, R * h), s"cycle $cycle: W $wSeen data, record $h")
+              }
+              w.strb.expect(strb.U, s"cycle $cycle: W $wSeen strobes")
               w.last.expect(true.B)
               wSeen += 1
             }
@@ -82,8 +93,11 @@ class WriteEngineSpec extends AnyFlatSpec with ChiselScalatestTester {
               bQueue.enqueue((cycle + 1 + rnd.nextInt(8), if (slvErrAt(n)) 2 else Axi4.RespOkay))
             }
             dut.clock.step(); cycle += 1
-            if (bValid) { val resp = bQueue.dequeue()._2; errorWant = errorWant || resp != Axi4.RespOkay; bDone += 1 }
-            dut.io.writesDone.expect(bDone.U, s"cycle $cycle: writesDone")
+            if (bValid) {
+              val resp = bQueue.dequeue()._2; errorWant = errorWant || resp != Axi4.RespOkay;
+              recordsDone += recordsOf(bDone); bDone += 1
+            }
+            dut.io.writesDone.expect(recordsDone.U, s"cycle $cycle: writesDone (records of the Bs come)")
             dut.io.error.expect(errorWant.B, s"cycle $cycle: error")
           }
           assert(
