@@ -19,7 +19,10 @@ import rtaccel.{ErrorFlags, HitOut}
   * empty slot). Once every hit of the batch has been taken, what still waits
   * (a partner that had left alone) leaves alone, one a cycle, so the batch's
   * last record is written at most `hitPairSlots` cycles after its last hit.
-  * Every hit of the batch is written exactly once, alone or paired.
+  * A stopped batch (ABORT, a fault: `stop`, `issued` rays handed out and no
+  * more to come) flushes the same way once its `issued` hits are taken: a
+  * hit waiting for a partner that was never handed out would otherwise wait
+  * forever. Every hit of the batch is written exactly once, alone or paired.
   *
   * A hit whose number is not in the batch is not written and sets `broken`
   * (never expected: the ray DMA numbers rays 0..count-1).
@@ -29,6 +32,10 @@ class HitDma(sys: SystemConfig) extends Module {
     val start = Input(Bool())
     val hitBase = Input(UInt(sys.axiAddrBits.W))
     val rayCount = Input(UInt(32.W))
+
+    /** The batch stopped: `issued` of its rays were handed out, and no other will be. */
+    val stop = Input(Bool())
+    val issued = Input(UInt(32.W))
     val hits = Vec(sys.cores, Flipped(Decoupled(new HitOut(sys.core))))
     val write = Decoupled(new WriteRecord(sys))
     val errCount = Output(Vec(ErrorFlags.width, UInt(32.W)))
@@ -55,8 +62,9 @@ class HitDma(sys: SystemConfig) extends Module {
   private val inBatch = h.number < countReg
   private val slot = slotOf(h.number)
   private val (anyHeld, firstHeld) = FirstSet(heldRegs.asUInt)
-  // Every hit of the batch taken: the records still waiting have no partner to come.
-  private val flushing = takenReg === countReg && anyHeld
+  // Every hit of the batch taken (of a stopped batch: every ray handed out): what still waits has no partner to come.
+  private val allTaken = takenReg === countReg || (io.stop && takenReg === io.issued)
+  private val flushing = allTaken && anyHeld
   private val idx = Mux(flushing, firstHeld(log2Ceil(slots).max(1) - 1, 0), slot)
   private val heldNumber = numbers(idx)
   private val heldRecord = records(idx)

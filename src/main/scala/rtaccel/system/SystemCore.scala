@@ -151,6 +151,9 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   loader.io.sceneBase := value("SCENE_BASE")
   rayDma.io.start := start; rayDma.io.rayCount := value("RAY_COUNT")
   hitDma.io.start := start; hitDma.io.rayCount := value("RAY_COUNT")
+  // Stopped and idle, RayDma hands out no more rays: once HitDma has taken issuedReg hits, a hit waiting for its
+  // line's partner waits for a ray that was never handed out.
+  hitDma.io.stop := stopping && rayDma.io.idle; hitDma.io.issued := issuedReg
   rayDma.io.rayBase := value("RAY_BASE")
   hitDma.io.hitBase := value("HIT_BASE")
 

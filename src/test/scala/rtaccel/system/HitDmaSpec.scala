@@ -32,16 +32,29 @@ class HitDmaSpec extends AnyFlatSpec with ChiselScalatestTester {
     }
   }
 
-  /** Runs batches of (hit base, count) through HitDma; returns the lines written per batch. */
-  private def batches(sys: SystemConfig, rnd: scala.util.Random, shuffle: Boolean, runs: Seq[(Long, Int)]): Seq[Int] = {
+  /** Runs batches of (hit base, count) through HitDma; returns the lines written per batch. A `stopped` batch hands
+    * out only a random subset of its rays (RayDma's block order), and `stop` rises at a random cycle. */
+  private def batches(
+      sys: SystemConfig,
+      rnd: scala.util.Random,
+      shuffle: Boolean,
+      runs: Seq[(Long, Int)],
+      stopped: Boolean = false
+  ): Seq[Int] = {
     val lines = mutable.ArrayBuffer.empty[Int]
     test(new HitDma(sys)).withAnnotations(Backends.treadle) { dut =>
       for ((base, count) <- runs) {
         dut.io.hitBase.poke(base.U); dut.io.rayCount.poke(count.U)
+        dut.io.stop.poke(false.B); dut.io.issued.poke(0.U)
         dut.io.start.poke(true.B); dut.clock.step(); dut.io.start.poke(false.B)
         dut.io.errCount.foreach(_.expect(0.U, "a new batch starts with clear error counts"))
 
-        val hits = (0 until count).map { n =>
+        // A stopped batch: an odd number of rays handed out, so some line's partner never comes.
+        val handedOut =
+          if (stopped) rnd.shuffle((0 until count).toList).take(2 * rnd.nextInt(count / 2) + 1).sorted
+          else 0 until count
+        val stopAt = rnd.nextInt(3 * handedOut.size)
+        val hits = handedOut.map { n =>
           Hit(
             n,
             rnd.nextBoolean(),
@@ -60,6 +73,7 @@ class HitDmaSpec extends AnyFlatSpec with ChiselScalatestTester {
         val offering = Array.fill(sys.cores)(false)
         var cycle = 0
         while (want.nonEmpty && cycle < 5000) {
+          if (stopped && cycle == stopAt) { dut.io.stop.poke(true.B); dut.io.issued.poke(handedOut.size.U) }
           for (c <- 0 until sys.cores) {
             offering(c) = perCore(c).nonEmpty && (offering(c) || rnd.nextInt(3) == 0)
             val port = dut.io.hits(c)
@@ -94,7 +108,10 @@ class HitDmaSpec extends AnyFlatSpec with ChiselScalatestTester {
           }
           dut.clock.step(); cycle += 1
         }
-        assert(want.isEmpty, s"batch of $count: ${want.size} records never written after $cycle cycles")
+        assert(
+          want.isEmpty,
+          s"batch of $count (${handedOut.size} handed out): ${want.size} records never written after $cycle cycles"
+        )
         for (k <- 0 until ErrorFlags.width)
           dut.io.errCount(k).expect(hits.count(h => (h.errors >> k & 1) == 1).U, s"error count of flag $k")
         dut.io.broken.expect(false.B)
@@ -126,5 +143,11 @@ class HitDmaSpec extends AnyFlatSpec with ChiselScalatestTester {
       println(s"HitDma, 2 pair slots, random order: lines per batch $lines for ${twoBatches.map(_._2)} hits")
       // More lines than pairs: hits left alone by a slot held for another pair (the path the flush ends).
       for (((_, n), l) <- twoBatches.zip(lines)) assert(l > (n + 1) / 2 && l <= n, s"batch of $n: $l lines")
+    }
+
+  it should "flush the hits left waiting when a batch stops with a line's partner never handed out" in
+    Seeded("HitDma.stopped") { rnd =>
+      val lines = batches(SystemConfig(cores = 2, hitPairSlots = 8), rnd, shuffle = true, twoBatches, stopped = true)
+      println(s"HitDma, stopped batches: lines per batch $lines")
     }
 }
