@@ -189,8 +189,9 @@ int main(int argc, char** argv) {
   auto loadFails = [&](rtaccel_status expect) {
     return rtaccel_load_scene(e.dev, e.image.data(), e.image.size()) == expect;
   };
-  // Bursts per region in one use: ray blocks (3 lines each, 4 rays), hit records, the store fills' bursts.
-  const uint32_t rayBursts = (n + 3) / 4, hitBursts = n;
+  // Bursts per region in one use: ray blocks (3 lines each, 4 rays), hit lines (one or two records each, so at
+  // least ceil(n / 2) of them: a fault drawn among those is always met), the store fills' bursts.
+  const uint32_t rayBursts = (n + 3) / 4, hitBursts = (n + 1) / 2;
   const auto nodes = sceneRegion(e, "nodes"), tris = sceneRegion(e, "triangles");
   const uint32_t nodeBursts = nodes.empty() ? 1 : uint32_t(std::max<uint64_t>(1, (nodes[1] - nodes[0]) / 4096));
   const uint32_t triBursts = tris.empty() ? 1 : uint32_t(std::max<uint64_t>(1, (tris[1] - tris[0]) / 4096));
