@@ -192,12 +192,17 @@ object Bench {
   }
 
   private def runLayout(a: Args, layout: String, dp: FloatDatapath, golden: FloatGolden): Seq[ujson.Obj] = {
-    val cfg = configFor(layout)
-    val packages = a.runs.map { run =>
+    val loaded = a.runs.map { run =>
       val dir = root.resolve(layout).resolve(run.name)
       // The default layout is nori-bridge's default: asked for by name only once `--bvh` exists there.
       Bridge.compile(a.bridge, Paths.get(run.xml), dir, run.rays, bvh = Option.when(layout != DefaultLayout)(layout))
-      val p = ScenePackage.load(dir)
+      (run, ScenePackage.load(dir))
+    }
+    // One build per layout for every run: its stack is the ZC706 default, or deeper where a run's BVH needs it (the
+    // monastery's 8-wide tree pushes up to 7 children a level), as `make verilog SCENE=` would size it.
+    val deepest = loaded.map(_._2.needs.bvhDepth).max
+    val cfg = configFor(layout).copy(stackDepth = configFor(layout).stackDepth.max(deepest))
+    val packages = loaded.map { case (run, p) =>
       require(p.misfits(cfg).isEmpty, s"${run.name} ($layout): ${p.misfits(cfg).mkString("; ")}")
       // Every ray through the golden model, then against Embree.
       val g = GoldenHits.run(cfg, p.image, golden, p.rays, a.threads)
