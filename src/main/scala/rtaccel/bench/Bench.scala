@@ -200,8 +200,8 @@ object Bench {
     }
     // One build per layout for every run: its stack is the ZC706 default, or deeper where a run's BVH needs it (the
     // monastery's 8-wide tree pushes up to 7 children a level), as `make verilog SCENE=` would size it.
-    val deepest = loaded.map(_._2.needs.bvhDepth).max
-    val cfg = configFor(layout).copy(stackDepth = configFor(layout).stackDepth.max(deepest))
+    val generic = configFor(layout)
+    val cfg = generic.copy(stackDepth = (generic.stackDepth +: loaded.map(_._2.needs.bvhDepth)).max)
     val packages = loaded.map { case (run, p) =>
       require(p.misfits(cfg).isEmpty, s"${run.name} ($layout): ${p.misfits(cfg).mkString("; ")}")
       // Every ray through the golden model, then against Embree.

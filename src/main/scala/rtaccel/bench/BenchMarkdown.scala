@@ -8,12 +8,8 @@ object BenchMarkdown {
     val default = rtaccel.AccelConfig.zc706.stackDepth
     val deeper = rows.filter(_.obj.contains("stackDepth")).groupBy(_("layout").str).toSeq.sortBy(_._1)
       .map { case (l, rs) => l -> rs.map(_("stackDepth").num.toInt).max }.filter(_._2 > default)
-    s"$default entries per ray" + (if (deeper.isEmpty) ""
-                                   else deeper.map { case (l, d) => s"layout $l: $d" }.mkString(
-                                     " (",
-                                     ", ",
-                                     ", the deepest run's BVH)"
-                                   ))
+    val which = deeper.map { case (l, d) => s"layout $l: $d" }
+    s"$default entries per ray" + (if (which.isEmpty) "" else which.mkString(" (", ", ", ", the deepest run's BVH)"))
   }
 
   /** `seconds` < 0: the table is redrawn from the bench.json of `earlier` (which run wrote it). */

@@ -162,7 +162,8 @@ class FormalHitDmaTop(sys: SystemConfig, e: UnitEnv, maxRays: Int, name: String)
   dut.io.start := batch.start
   dut.io.hitBase := batch.base
   dut.io.rayCount := batch.count
-  // A whole batch: the stopped batch's flush is SystemCore's, proved there (FormalSystem).
+  // Whole batches only: no formal host here or in FormalSystem stops a batch; the stopped batch's flush is checked
+  // in simulation (HitDmaSpec's stopped batches, SystemFaultsSpec).
   dut.io.stop := false.B; dut.io.issued := 0.U
   private val hit = dut.io.hits(0)
   private val takenRegs = RegInit(VecInit(Seq.fill(maxRays)(false.B)))
