@@ -27,7 +27,7 @@ object FormalCase {
 
   /** Narrow everything the properties do not depend on: 2 nodes, 2 triangle
     * slots, leaves of up to 2 triangles, a 6-bit float, 8-bit addresses. */
-  private def small(ids: Int): AccelConfig = AccelConfig(
+  private[formal] def small(ids: Int): AccelConfig = AccelConfig(
     numRayIds = ids,
     stackDepth = 2,
     maxNodes = 2,
