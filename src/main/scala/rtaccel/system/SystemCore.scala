@@ -126,9 +126,9 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
     doneReg := raysDone === countReg && !stopping && !watchdogFired
     abortedReg := stopping && !watchdogFired
   }
-  when(guard.io.refused) {
+  when(guard.io.refused =/= 0.U) {
     windowErrReg := true.B
-    refusedReg := refusedReg + 1.U
+    refusedReg := refusedReg + guard.io.refused
     when(!windowErrReg) { faultAddrReg := guard.io.refusedAddr }
   }
 

@@ -2,7 +2,7 @@ package rtaccel.system
 
 import chisel3._
 import chisel3.util._
-import rtaccel.axi.{Axi4, Axi4Master, Axi4Params}
+import rtaccel.axi.{Axi4, Axi4Addr, Axi4Master, Axi4Params}
 
 /** The DMA window: every burst that reaches m_axi lies inside
   * `[base, limit)` (a limit of 0 stands for 2^32, the top of the 32-bit
@@ -25,8 +25,17 @@ import rtaccel.axi.{Axi4, Axi4Master, Axi4Params}
   * outstanding (so the R beats of one ID stay in order, and the B count stays
   * per burst), and meanwhile no new burst of that direction is accepted: a
   * refusal costs a drain, which only happens in a batch that is being
-  * stopped (SystemCore stops the batch on `refused`). With no refusal the
-  * guard adds no cycle: AR and AW pass through combinationally.
+  * stopped (SystemCore stops the batch on `refused`).
+  *
+  * Timing: the check is three 32-bit carry chains (the burst's end, and the
+  * two compares), too long for one cycle at the clock the datapath allows
+  * (docs/fmax.md). So AR and AW each pass a 2-entry register slice (full
+  * throughput, one cycle of latency per burst, no combinational path from
+  * m_axi's ready back to the fabric): the end `addr + (len + 1) * beatBytes`
+  * is formed as a burst enters its slice, and the two compares, side by side,
+  * at the slice's head, against the window registers as they are in that
+  * cycle. `refused` and `refusedAddr` are registered, a cycle after the
+  * refusal, so that SystemCore's refusal counter starts from a register.
   *
   * W beats follow AW order (AXI4 has no write interleaving): the fate
   * (forward or drop) of each accepted AW is queued for its W beats; a W burst
@@ -40,15 +49,35 @@ class WindowGuard(p: Axi4Params) extends Module {
     val base = Input(UInt(p.addrBits.W))
     val limit = Input(UInt(p.addrBits.W))
 
-    /** Pulses for each refused burst (read or write), with its address. */
-    val refused = Output(Bool())
+    /** Bursts refused (a read and a write can be refused in one cycle), the cycle after the refusal; the
+      * address is the read's when both are. */
+    val refused = Output(UInt(2.W))
     val refusedAddr = Output(UInt(p.addrBits.W))
   })
   private val beatShift = log2Ceil(p.beatBytes)
-  private val limitTop = Mux(io.limit === 0.U, (BigInt(1) << p.addrBits).U, io.limit)
 
-  /** The burst's bytes lie in the window. */
-  def inside(addr: UInt, len: UInt): Bool = addr >= io.base && (addr +& ((len +& 1.U) << beatShift)) <= limitTop
+  /** A burst in its slice, with its end address (one past its last byte; addrBits + 1 bits, no wrap). */
+  class Held extends Bundle {
+    val a = new Axi4Addr(p)
+    val end = UInt((p.addrBits + 1).W)
+  }
+  private def slice(in: DecoupledIO[Axi4Addr]): DecoupledIO[Held] = {
+    val held = Wire(Decoupled(new Held))
+    held.valid := in.valid
+    held.bits.a := in.bits
+    held.bits.end := in.bits.addr +& ((in.bits.len +& 1.U) << beatShift)
+    in.ready := held.ready
+    // Two entries, neither pipe nor flow: full throughput with registered outputs on both sides.
+    Queue(held, 2)
+  }
+
+  /** The burst's bytes lie in the window: `base <= addr` and `end <= limit`, a limit of 0 standing for 2^addrBits.
+    * The two compares run side by side; the limit-0 case is decided beside them, not in front of the chain.
+    */
+  private def inside(h: Held): Bool = {
+    val top = BigInt(1) << p.addrBits
+    h.a.addr >= io.base && (h.end <= io.limit || (io.limit === 0.U && h.end <= top.U))
+  }
   // Outstanding real bursts: at most the fabric's read slots plus fill bursts; 16 bits never wrap.
   private def outstanding(issue: Bool, retire: Bool): UInt = {
     val n = RegInit(0.U(16.W))
@@ -60,12 +89,13 @@ class WindowGuard(p: Axi4Params) extends Module {
   private val fakeRValidReg = RegInit(false.B)
   private val fakeRIdReg = Reg(UInt(p.idBits.W))
   private val fakeRLeftReg = Reg(UInt(8.W))
-  private val arOk = inside(io.in.ar.bits.addr, io.in.ar.bits.len)
-  io.out.ar.valid := io.in.ar.valid && arOk && !fakeRValidReg
-  io.out.ar.bits := io.in.ar.bits
-  io.in.ar.ready := !fakeRValidReg && (io.out.ar.ready || !arOk)
-  private val arRefused = io.in.ar.fire && !arOk
-  when(arRefused) { fakeRValidReg := true.B; fakeRIdReg := io.in.ar.bits.id; fakeRLeftReg := io.in.ar.bits.len }
+  private val ar = slice(io.in.ar)
+  private val arOk = inside(ar.bits)
+  io.out.ar.valid := ar.valid && arOk && !fakeRValidReg
+  io.out.ar.bits := ar.bits.a
+  ar.ready := !fakeRValidReg && (io.out.ar.ready || !arOk)
+  private val arRefused = ar.fire && !arOk
+  when(arRefused) { fakeRValidReg := true.B; fakeRIdReg := ar.bits.a.id; fakeRLeftReg := ar.bits.a.len }
   private val realReads = outstanding(io.out.ar.fire, io.out.r.fire && io.out.r.bits.last)
   private val fakeR = fakeRValidReg && realReads === 0.U
   io.in.r.valid := io.out.r.valid || fakeR
@@ -92,13 +122,15 @@ class WindowGuard(p: Axi4Params) extends Module {
   // if they did, AW would wait (checked, not lost).
   private val fates = Module(new Queue(Bool(), 4))
   private val aheadReg = RegInit(false.B) // a W burst went before its AW
-  private val awOk = inside(io.in.aw.bits.addr, io.in.aw.bits.len)
+  private val aw = slice(io.in.aw)
+  private val awOk = inside(aw.bits)
   private val awFree = !fakeBValidReg && (aheadReg || fates.io.enq.ready)
-  io.out.aw.valid := io.in.aw.valid && awOk && awFree
-  io.out.aw.bits := io.in.aw.bits
-  io.in.aw.ready := awFree && (io.out.aw.ready || !awOk)
-  // The W head's fate: queued, or (running ahead) the AW on offer's.
-  private val wAhead = !fates.io.deq.valid && !aheadReg && io.in.aw.valid
+  io.out.aw.valid := aw.valid && awOk && awFree
+  io.out.aw.bits := aw.bits.a
+  aw.ready := awFree && (io.out.aw.ready || !awOk)
+  // The W head's fate: queued, or (running ahead) the AW at the slice's head's. The slice's head is the oldest
+  // AW without a fate, and W bursts come in AW order, so a W burst ahead of its AW finds it there or upstream.
+  private val wAhead = !fates.io.deq.valid && !aheadReg && aw.valid
   private val wKnown = fates.io.deq.valid || wAhead
   private val wOk = Mux(fates.io.deq.valid, fates.io.deq.bits, awOk)
   io.out.w.valid := io.in.w.valid && wKnown && wOk
@@ -107,12 +139,12 @@ class WindowGuard(p: Axi4Params) extends Module {
   private val wLast = io.in.w.fire && io.in.w.bits.last
   fates.io.deq.ready := wLast && fates.io.deq.valid
   private val aheadNow = wLast && wAhead
-  fates.io.enq.valid := io.in.aw.fire && !aheadReg && !aheadNow
+  fates.io.enq.valid := aw.fire && !aheadReg && !aheadNow
   fates.io.enq.bits := awOk
-  when(io.in.aw.fire && aheadReg) { aheadReg := false.B }.elsewhen(aheadNow && !io.in.aw.fire) { aheadReg := true.B }
+  when(aw.fire && aheadReg) { aheadReg := false.B }.elsewhen(aheadNow && !aw.fire) { aheadReg := true.B }
   private val dropNow = wLast && !wOk
-  private val awRefused = io.in.aw.fire && !awOk
-  when(awRefused) { fakeBValidReg := true.B; fakeBIdReg := io.in.aw.bits.id }
+  private val awRefused = aw.fire && !awOk
+  when(awRefused) { fakeBValidReg := true.B; fakeBIdReg := aw.bits.a.id }
   private val realWrites = outstanding(io.out.aw.fire, io.out.b.fire)
   private val fakeB = fakeBValidReg && realWrites === 0.U && (droppedReg =/= 0.U || dropNow)
   io.in.b.valid := io.out.b.valid || fakeB
@@ -123,6 +155,6 @@ class WindowGuard(p: Axi4Params) extends Module {
   when(answered) { fakeBValidReg := false.B }
   droppedReg := droppedReg + dropNow.asUInt - answered.asUInt
 
-  io.refused := arRefused || awRefused
-  io.refusedAddr := Mux(arRefused, io.in.ar.bits.addr, io.in.aw.bits.addr)
+  io.refused := RegNext(arRefused.asUInt +& awRefused.asUInt, 0.U)
+  io.refusedAddr := RegEnable(Mux(arRefused, ar.bits.a.addr, aw.bits.a.addr), arRefused || awRefused)
 }
