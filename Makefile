@@ -87,7 +87,7 @@ demo: setup ## The Cornell box through the RTL against Embree, with images
 VERILOG_PACKAGE = $(or $(PACKAGE),$(if $(SCENE),$(BUILD)/verilog/scene))
 verilog: setup ## SystemVerilog for the ZC706, lint, area and Fmax estimate
 	$(if $(SCENE),$(BRIDGE) compile $(SCENE) --out $(BUILD)/verilog/scene --rays $(or $(RAYS),primary) --bvh $(or $(BVH),4))
-	$(SBT) "runMain rtaccel.tools.EmitVerilog --out $(BUILD)/verilog --bvh $(or $(BVH),4) --float $(or $(FLOAT),e8m23)$(if $(BOX_FLOAT), --box-float $(BOX_FLOAT))$(if $(TRI_FLOAT), --tri-float $(TRI_FLOAT)) --triangle $(or $(TRIANGLE),watertight) --rounding $(or $(ROUNDING),conservative)$(if $(IDS), --ids $(IDS)) --synth $(or $(SYNTH),1) --system $(or $(SYSTEM),1)$(if $(CORES), --cores $(CORES))$(if $(VERILOG_PACKAGE), --package $(VERILOG_PACKAGE))"
+	$(SBT) "runMain rtaccel.tools.EmitVerilog --out $(BUILD)/verilog --bvh $(or $(BVH),4) --float $(or $(FLOAT),e8m23)$(if $(BOX_FLOAT), --box-float $(BOX_FLOAT))$(if $(TRI_FLOAT), --tri-float $(TRI_FLOAT)) --triangle $(or $(TRIANGLE),watertight) --rounding $(or $(ROUNDING),conservative)$(if $(BOX_TEST), --box-test $(BOX_TEST))$(if $(IDS), --ids $(IDS)) --synth $(or $(SYNTH),1) --system $(or $(SYSTEM),1)$(if $(CORES), --cores $(CORES))$(if $(VERILOG_PACKAGE), --package $(VERILOG_PACKAGE))"
 
 regress: setup ## Trace a scene's rays in RTL, each checked: SCENE=<scene.xml>
 	@scripts/regress.sh

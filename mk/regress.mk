@@ -1,7 +1,9 @@
 # Accelerator speed measurements: writes docs/reports/performance.md.
 # BVH_LAYOUTS: node layouts to compare (nori-bridge compile --bvh); MAX_RAYS:
 # rays simulated per run, strided over the set;
-# BENCH_RUNS: a subset of the runs (e.g. for a quick look).
+# BENCH_RUNS: a subset of the runs (e.g. for a quick look);
+# BOX_TEST=grid: the cores test child boxes in the node's grid (quantized
+# layouts only: BVH_LAYOUTS=4q/8q, with BENCH_SYSTEM=0 or the system's BVH=4q).
 BVH_LAYOUTS ?= nori 2 4 8
 BENCH_RUNS  ?= cornell-box-primary dragon-primary dragon-shadow dragon-ao monastery-primary monastery-shadow monastery-ao
 BENCH_OUT   ?= docs/reports/performance.md
@@ -21,7 +23,7 @@ BENCH_RENDER_ONLY ?= $(if $(filter cached embree,$(BENCH_SYSTEM)),1,0)
 
 .PHONY: bench bench-embree
 bench: setup $(if $(filter monastery-%,$(BENCH_RUNS)),bridge-scenes-monastery) $(if $(filter 1,$(BENCH_SYSTEM)),verilog) ## Rays/cycle per layout and memory; ZC706 estimate vs Embree
-	$(SBT) "runMain rtaccel.bench.Bench --out $(BENCH_OUT) --layouts $(call bench_list,$(BVH_LAYOUTS)) --runs $(call bench_list,$(BENCH_RUNS)) --max-rays $(or $(MAX_RAYS),2048) --system $(BENCH_SYSTEM) --render-only $(BENCH_RENDER_ONLY)"
+	$(SBT) "runMain rtaccel.bench.Bench --out $(BENCH_OUT) --layouts $(call bench_list,$(BVH_LAYOUTS)) --runs $(call bench_list,$(BENCH_RUNS)) --max-rays $(or $(MAX_RAYS),2048) --system $(BENCH_SYSTEM) --render-only $(BENCH_RENDER_ONLY)$(if $(BOX_TEST), --box-test $(BOX_TEST))"
 
 bench-embree: setup $(if $(filter monastery-%,$(BENCH_RUNS)),bridge-scenes-monastery) ## Re-measure only Embree and redraw docs/reports/performance.md
 	$(MAKE) bench BENCH_SYSTEM=embree

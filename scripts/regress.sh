@@ -7,6 +7,7 @@
 #   BOX_FLOAT= TRI_FLOAT= (one unit's format, e.g. BOX_FLOAT=e8m10 TRI_FLOAT=e8m23; FLOAT= sets both)
 #   ROUNDING=conservative|rne   IDS=64   STACK=   MAX_RAYS=   WAVES=0   STRICT=0
 #   SIZE=1 (hardware sized to the scene)   BVH=4|2|8|nori|4q|8q (node layout; 4 if unset)
+#   BOX_TEST=fp32|grid (grid: a quantized node's child boxes in its grid; BVH=4q or 8q)
 #   MEMORY=ddr|onchip   MEM_LATENCY=100 (ns, or 80-300; ddr only)   FABRIC_MHZ=200
 #   OUTSTANDING=64   CACHE=0 (KiB; ddr only)
 #   SIM=chiseltest|cpp (cpp: the system top under the C++ Verilator harness, sw/sim/, driven by
@@ -33,6 +34,7 @@ start=$(date +%s)
 # The hardware and memory options, then the run's own.
 hw="--float ${FLOAT:-e8m23} --triangle ${TRIANGLE:-watertight}"
 hw+="${BOX_FLOAT:+ --box-float $BOX_FLOAT}${TRI_FLOAT:+ --tri-float $TRI_FLOAT}"
+hw+="${BOX_TEST:+ --box-test $BOX_TEST}"
 hw+=" --rounding ${ROUNDING:-conservative} --memory ${MEMORY:-ddr} --fabric-mhz ${FABRIC_MHZ:-200}"
 hw+=" --outstanding ${OUTSTANDING:-64} --ids ${IDS:-64} --seed ${SEED:-1}"
 # Empty values would vanish in sbt's argument splitting: pass only what is set.

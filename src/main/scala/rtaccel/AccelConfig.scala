@@ -3,6 +3,7 @@ package rtaccel
 import chisel3.util.log2Ceil
 import rtaccel.fp.FloatFormat
 import rtaccel.bvh.BvhLayout
+import rtaccel.traversal.GridParams
 
 /** The one configuration every rtaccel module derives its widths and depths
   * from. Nothing else in the generator retypes a width: ask the config.
@@ -18,6 +19,8 @@ import rtaccel.bvh.BvhLayout
   *                    `FLOAT=` sets both (`withFloat`), `BOX_FLOAT=` / `TRI_FLOAT=` one each
   * @param addrBits    byte-address width of the memory ports (32 on the ZC706)
   * @param layout      node layout of the BVH images it reads (BvhLayout), which sets the box lanes
+  * @param boxTest     how child boxes are tested (BoxTest): `fp32` everywhere, or `grid` (quantized
+  *                    layouts with FP32 boxes only) in the node's own grid
   */
 case class AccelConfig(
     numRayIds: Int = 64,
@@ -28,7 +31,8 @@ case class AccelConfig(
     boxFloat: FloatFormat = FloatFormat.FP32,
     triFloat: FloatFormat = FloatFormat.FP32,
     addrBits: Int = 32,
-    layout: BvhLayout = BvhLayout.Wide(4)
+    layout: BvhLayout = BvhLayout.Wide(4),
+    boxTest: BoxTest = BoxTest.Fp32
 ) {
   require(numRayIds >= 2, s"AccelConfig: numRayIds must be >= 2, got $numRayIds")
   require(stackDepth >= 1, s"AccelConfig: stackDepth must be >= 1, got $stackDepth")
@@ -36,6 +40,16 @@ case class AccelConfig(
   require(maxTriangles >= 1, s"AccelConfig: maxTriangles must be >= 1, got $maxTriangles")
   require(maxLeafSize >= 1, s"AccelConfig: maxLeafSize must be >= 1, got $maxLeafSize")
   require(addrBits >= 8 && addrBits <= 48, s"AccelConfig: addrBits must be in 8..48, got $addrBits")
+  // The grid test reads a quantized node's origin, scale and plane offsets, and its per-node stage
+  // bounds the FP32 ray (GridNodeStage): nothing else has a grid, or the ray it needs.
+  require(
+    boxTest != BoxTest.Grid || layout.quantized,
+    s"AccelConfig: boxTest = ${boxTest.name} (BOX_TEST=${boxTest.name}) needs a quantized node layout (4q or 8q), got ${layout.name}"
+  )
+  require(
+    boxTest != BoxTest.Grid || boxFloat == FloatFormat.FP32,
+    s"AccelConfig: boxTest = ${boxTest.name} (BOX_TEST=${boxTest.name}) needs FP32 box constants, got boxFloat ${boxFloat.name}"
+  )
 
   /** Both units in one format (the `FLOAT=` shorthand). */
   def withFloat(f: FloatFormat): AccelConfig = copy(boxFloat = f, triFloat = f)
@@ -56,6 +70,17 @@ case class AccelConfig(
 
   /** A child reference holds a node index or a first triangle slot. */
   val refIndexBits: Int = nodeIndexBits.max(triIndexBits)
+
+  /** Child boxes tested in the node's grid (BoxTest.Grid). */
+  def gridBox: Boolean = boxTest == BoxTest.Grid
+
+  /** Widths of the grid box test (8-bit plane offsets, as the 4q/8q records hold them). */
+  def gridParams: GridParams = GridParams()
+
+  /** Width of a child's entry distance as TraversalControl orders it: a float of the box format, or
+    * (grid) a signed integer relative to the node.
+    */
+  def nearBits: Int = if (gridBox) gridParams.width else boxFloat.width
 
   /** Child boxes tested per node, in parallel. */
   val boxLanes: Int = layout.lanes

@@ -197,4 +197,34 @@ class RtAccelSceneSpec extends AnyFlatSpec with ChiselScalatestTester {
     )
     assert(falseMiss == 0 && falseHit == 0 && wrongPrim == 0 && tDiff == 0)
   }
+
+  it should "test 4q child boxes in the node's grid (BoxTest.Grid) bit-exact with the golden model, and answer every ray as FP32 box lanes do (Cornell box)" in {
+    // GridBboxIntersect in place of the FP32 decode and box lanes: conservative
+    // too (docs/kernels.md, "Box tests in the node's grid"), so with the same
+    // FP32 watertight triangles every answer equals the FP32 box lanes' one;
+    // only the traversal (extra hits, another order among siblings) differs.
+    val layout = BvhLayout.Wide(4, quantized = true)
+    // 32 x 32 camera rays, as the split case: the Verilator build dominates.
+    val primary =
+      compiled("scenes/cornell-box/cornell-box.xml", "primary", Seq("--width", "32", "--height", "32"), layout)
+    val cfg = primary.sized(cfg32).copy(boxTest = BoxTest.Grid)
+    val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.Watertight, BoxRounding.Conservative)
+    runScenes(cfg, dp, Seq(("cornell primary", () => primary, ooo)), embreeStrict = true, "RtAccelScene.grid")
+    val golden = FloatGolden(dp)
+    val fp32Cfg = cfg.copy(boxTest = BoxTest.Fp32)
+    var (differ, gridBoxTests, fp32BoxTests) = (0, 0L, 0L)
+    for (r <- primary.rays) {
+      val (g, f) =
+        (TraversalGolden.trace(cfg, primary.image, golden, r), TraversalGolden.trace(fp32Cfg, primary.image, golden, r))
+      if (!TraversalGolden.agrees(r, g.hit, f.hit)) differ += 1
+      gridBoxTests += g.boxTests
+      fp32BoxTests += f.boxTests
+    }
+    val n = primary.rays.size.toDouble
+    println(
+      f"grid box tests against FP32 box lanes, ${primary.rays.size} rays (4q): $differ answers differ; " +
+        f"node tests per ray ${gridBoxTests / n}%.2f (grid), ${fp32BoxTests / n}%.2f (FP32)"
+    )
+    assert(differ == 0)
+  }
 }

@@ -59,12 +59,14 @@ object Bench {
         * re-measuring only Embree (with the load average). */
       system: String = "1",
       /** What `make verilog` wrote: the cores that fit and the Fmax estimate (VerilogFigures). */
-      verilog: Path = Paths.get("build/verilog/resources.md")
+      verilog: Path = Paths.get("build/verilog/resources.md"),
+      /** BOX_TEST=: how the cores test child boxes (fp32, or grid for the quantized layouts 4q and 8q). */
+      boxTest: rtaccel.BoxTest = rtaccel.BoxTest.Fp32
   )
 
   val usage = "usage: Bench [--out docs/reports/performance.md] [--layouts nori,2,4,8] [--runs cornell-box-primary,dragon-ao,...] " +
     "[--max-rays 2048] [--area build/bench/area.json] [--threads 2] [--render-only 0|1] [--system 0|1|cached|embree] " +
-    "[--verilog build/verilog/resources.md] [--rows build/bench/bench.json]"
+    "[--verilog build/verilog/resources.md] [--rows build/bench/bench.json] [--box-test fp32|grid]"
 
   val SystemModes: Seq[String] = Seq("0", "1", "cached", "embree")
 
@@ -90,6 +92,11 @@ object Bench {
         case "--system" =>
           if (SystemModes.contains(v)) a.copy(system = v) else fail(s"--system: '$v' (${SystemModes.mkString(", ")})")
         case "--verilog" => a.copy(verilog = Paths.get(v))
+        case "--box-test" =>
+          a.copy(boxTest =
+            try rtaccel.BoxTest.parse(v)
+            catch { case e: IllegalArgumentException => fail(s"--box-test: ${e.getMessage}") }
+          )
         case "--rows" =>
           if (v.endsWith(".json")) a.copy(rows = Paths.get(v)) else fail(s"--rows: '$v' is not a .json file")
         case other => fail(s"unknown option '$other'")
@@ -100,12 +107,16 @@ object Bench {
   /** The hand-written reading kept beside a generated page: docs/reports/performance.md's is docs/reports/performance-notes.md. */
   def notesFor(out: Path): Path = out.resolveSibling(out.getFileName.toString.stripSuffix(".md") + "-notes.md")
 
-  /** The hardware that reads `layout`'s nodes: the ZC706 configuration with its box lanes. */
-  def configFor(layout: String): AccelConfig =
-    AccelConfig.zc706.copy(layout =
+  /** The hardware that reads `layout`'s nodes: the ZC706 configuration with its box lanes (and `boxTest`'s box unit). */
+  def configFor(layout: String, boxTest: rtaccel.BoxTest = rtaccel.BoxTest.Fp32): AccelConfig = {
+    val l =
       try BvhLayout.parse(layout)
       catch { case e: IllegalArgumentException => throw new IllegalArgumentException(s"--layouts: ${e.getMessage}") }
-    )
+    try AccelConfig.zc706.copy(layout = l, boxTest = boxTest)
+    catch {
+      case e: IllegalArgumentException => throw new IllegalArgumentException(s"--layouts $layout: ${e.getMessage}")
+    }
+  }
 
   private val root = Paths.get("build/bench")
 
@@ -116,7 +127,10 @@ object Bench {
     val base = RegressArgs(root, root)
     val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.parse(base.triangle), BoxRounding.parse(base.rounding))
     val golden = FloatGolden(dp)
-    a.layouts.foreach(configFor) // refuse an unknown layout before any work
+    a.layouts.foreach(configFor(
+      _,
+      a.boxTest
+    )) // refuse an unknown layout (or one BOX_TEST= cannot read) before any work
     // The system section first (the C++ harness is quick, and a missing make verilog shows at once):
     // measured now, or redrawn from build/bench/system.json (after re-measuring Embree alone with "embree").
     val systemJson = root.resolve("system.json")
@@ -166,12 +180,14 @@ object Bench {
     // Box-lane LUTs per layout: K lanes of the datapath's box unit, each synthesised
     // alone by Yosys (cached in build/area-cache with make verilog's results).
     val area = rows.map(_("layout").str).distinct.map { layout =>
-      val cfg = configFor(layout).copy(boxFloat = dp.boxFmt, triFloat = dp.triFmt)
-      layout -> cfg.boxLanes * rtaccel.tools.AccelArea.boxLane(
-        dp,
-        cfg,
-        rtaccel.tools.EmitVerilog.areaCache
-      ).lut.toDouble
+      val cfg = configFor(layout, a.boxTest).copy(boxFloat = dp.boxFmt, triFloat = dp.triFmt)
+      layout -> (if (cfg.gridBox)
+                   rtaccel.tools.AccelArea.gridUnit(dp, cfg, rtaccel.tools.EmitVerilog.areaCache).lut.toDouble
+                 else cfg.boxLanes * rtaccel.tools.AccelArea.boxLane(
+                   dp,
+                   cfg,
+                   rtaccel.tools.EmitVerilog.areaCache
+                 ).lut.toDouble)
     }.toMap
     Files.createDirectories(a.area.toAbsolutePath.getParent)
     Files.writeString(a.area, ujson.write(ujson.Obj.from(area.map { case (k, v) => k -> ujson.Num(v) }), indent = 2))
@@ -200,7 +216,7 @@ object Bench {
     }
     // One build per layout for every run: its stack is the ZC706 default, or deeper where a run's BVH needs it (the
     // monastery's 8-wide tree pushes up to 7 children a level), as `make verilog SCENE=` would size it.
-    val generic = configFor(layout)
+    val generic = configFor(layout, a.boxTest)
     val cfg = generic.copy(stackDepth = (generic.stackDepth +: loaded.map(_._2.needs.bvhDepth)).max)
     val packages = loaded.map { case (run, p) =>
       require(p.misfits(cfg).isEmpty, s"${run.name} ($layout): ${p.misfits(cfg).mkString("; ")}")
@@ -215,7 +231,13 @@ object Bench {
     val annos = Seq(
       VerilatorBackendAnnotation,
       chiseltest.internal.CachingAnnotation,
-      TargetDirAnnotation(Regress.simDir(dp.name, cfg, if (layout == DefaultLayout) "" else s"_$layout").toString)
+      TargetDirAnnotation(
+        Regress.simDir(
+          dp.name,
+          cfg,
+          (if (layout == DefaultLayout) "" else s"_$layout") + (if (cfg.gridBox) "_grid" else "")
+        ).toString
+      )
     )
     RawTester.test(new SimTop(cfg, dp), annos) { dut =>
       for ((run, p, goldenHits, embree) <- packages; memory <- Memories) {
@@ -228,7 +250,7 @@ object Bench {
         val bad = SweepPoint.sameAnswers(rays.map(x => x.number -> x).toMap, r.hits, goldenHits)
         require(bad == 0, s"${run.name} $layout $memory: $bad of ${rays.size} rays differ from the golden model")
         val s = Report.stats(args, cfg, dp.name, rays.size, r, sim, sim, bad, r.hits.count(_.errors != 0))
-        s("layout") = layout; s("run") = run.name; s("memoryKind") = memory
+        s("layout") = layout; s("run") = run.name; s("memoryKind") = memory; s("boxTest") = cfg.boxTest.name
         s("raySetSize") = p.rays.size; s("embreeMismatches") = embree.toDouble
         rows += s
         println(

@@ -17,14 +17,28 @@ class ChildRef(cfg: AccelConfig) extends Bundle {
   val count = UInt(cfg.leafCountBits.W)
 }
 
-/** One child slot of a decoded node: its box (raw FP32 bits; BboxIntersect
-  * narrows them to its format) and where it leads.
+/** One child slot of a decoded node: its box and where it leads. The box is
+  * raw FP32 bits (BboxIntersect narrows them to its format), or with grid box
+  * tests the slot's 8-bit plane offsets in its node's grid (QuantNode), which
+  * is all GridBboxIntersect reads: no FP32 plane is ever formed.
   */
 class NodeSlot(cfg: AccelConfig) extends Bundle {
   val present = Bool()
   val child = new ChildRef(cfg)
-  val boxMin = Vec(3, UInt(32.W))
-  val boxMax = Vec(3, UInt(32.W))
+  val boxMin = Option.when(!cfg.gridBox)(Vec(3, UInt(32.W)))
+  val boxMax = Option.when(!cfg.gridBox)(Vec(3, UInt(32.W)))
+
+  /** Grid box tests: plane offsets lo x, y, z and hi x, y, z. */
+  val qMin = Option.when(cfg.gridBox)(Vec(3, UInt(cfg.gridParams.qBits.W)))
+  val qMax = Option.when(cfg.gridBox)(Vec(3, UInt(cfg.gridParams.qBits.W)))
+}
+
+/** A quantized node's grid as the record holds it (grid box tests only):
+  * per axis the origin (FP32) and scale exponent field e (scale 2^(e-127)).
+  */
+class NodeGrid extends Bundle {
+  val origin = Vec(3, UInt(32.W))
+  val exp = Vec(3, UInt(8.W))
 }
 
 /** A decoded node record (docs/memory-format.md, version 2).
@@ -42,6 +56,9 @@ class BvhNode(cfg: AccelConfig) extends Bundle {
 
   /** The record does not fit this hardware, or is corrupt: see ErrorFlags. */
   val errors = ErrorFlags()
+
+  /** Grid box tests: the node's grid (the slots hold offsets in it). */
+  val grid = Option.when(cfg.gridBox)(new NodeGrid)
 }
 
 object BvhNode {
@@ -52,7 +69,12 @@ object BvhNode {
   /** Decodes a little-endian node record of `cfg.layout`, flagging fields too
     * wide for `cfg`, corrupt kind words and non-finite bounds. Only used slots
     * can flag. A quantized node's boxes are decoded to FP32 here (QuantNode),
-    * so the box lanes see exact FP32 boxes in every layout.
+    * so the box lanes see exact FP32 boxes in every layout; with grid box
+    * tests they stay raw (QuantNode.decodeGrid), and a used slot flags bad
+    * scene data where the FP32 decode would have a non-finite plane for a
+    * reason visible in the record: a scale exponent outside ExpMin..ExpMax or
+    * a non-finite origin (an origin so large that a plane overflows, which
+    * nori-bridge never writes, is not flagged: the grid test still bounds it).
     */
   def decode(cfg: AccelConfig, record: UInt): BvhNode = {
     val bytes = cfg.layout.nodeBytes
@@ -60,7 +82,9 @@ object BvhNode {
     def word(slot: Int, i: Int): UInt = record(256 * slot + 32 * i + 31, 256 * slot + 32 * i)
     def highBitsSet(w: UInt, keep: Int): Bool = if (keep >= 32) false.B else w(31, keep).orR
     // A quantized node is first decoded into the slot words a 32-byte slot would hold.
+    val gridRaw = Option.when(cfg.gridBox)(QuantNode.decodeGrid(cfg.boxLanes, record))
     val raw: Seq[SlotWords[UInt]] = cfg.layout match {
+      case _ if cfg.gridBox                 => gridRaw.get.slots
       case w: BvhLayout.Wide if w.quantized => QuantNode.decode(w.k, record)
       case _ => (0 until cfg.boxLanes).map(s =>
           SlotWords(word(s, 0), word(s, 1), (2 until 5).map(word(s, _)), (5 until 8).map(word(s, _)))
@@ -75,8 +99,10 @@ object BvhNode {
       slot.child.index := w1(cfg.refIndexBits - 1, 0)
       slot.child.count := w0(cfg.leafCountBits - 1, 0)
       for (a <- 0 until 3) {
-        slot.boxMin(a) := raw(s).boxMin(a)
-        slot.boxMax(a) := raw(s).boxMax(a)
+        slot.boxMin.foreach(_(a) := raw(s).boxMin(a))
+        slot.boxMax.foreach(_(a) := raw(s).boxMax(a))
+        slot.qMin.foreach(_(a) := raw(s).boxMin(a))
+        slot.qMax.foreach(_(a) := raw(s).boxMax(a))
       }
       val indexTooWide = Mux(leaf, highBitsSet(w1, cfg.triIndexBits), highBitsSet(w1, cfg.nodeIndexBits))
       val leafTooBig = leaf && (w0(30, 0) > cfg.maxLeafSize.U)
@@ -89,10 +115,14 @@ object BvhNode {
       slot.present := present
       // A NaN or infinite bound would make the slab test miss (or hit)
       // silently: nori-bridge writes only finite bounds, so it is bad data.
-      val badBox = (slot.boxMin ++ slot.boxMax).map(ErrorFlags.nonFinite).reduce(_ || _)
+      val badBox = gridRaw.fold((slot.boxMin.get ++ slot.boxMax.get).map(ErrorFlags.nonFinite).reduce(_ || _))(_.bad)
       Mux(present && (indexTooWide || badKind), ErrorFlags.bit(ErrorFlags.IndexOverflow), 0.U) |
         Mux(present && leafTooBig, ErrorFlags.bit(ErrorFlags.LeafTooBig), 0.U) |
         Mux(present && badBox, ErrorFlags.bit(ErrorFlags.BadSceneData), 0.U)
+    }
+    for (g <- n.grid; r <- gridRaw) {
+      g.origin := VecInit(r.origin)
+      g.exp := VecInit(r.exp)
     }
     n.axis := raw(0).word0(1, 0)
     n.errors := slotErrors.reduce(_ | _)

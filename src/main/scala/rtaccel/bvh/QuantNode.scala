@@ -52,6 +52,40 @@ object QuantNode {
     val origin = (0 until 3).map(a => word(4 * a))
     val exp = (0 until 3).map(a => byte(12 + a))
     val badExp = exp.map(e => e < ExpMin.U || e > ExpMax.U)
+    for ((s, (w0, w1)) <- refs(k, record).zipWithIndex.map(_.swap)) yield {
+      def plane(p: Int): UInt = {
+        val a = p % 3
+        val sum = Module(new FpAdd(FloatFormat.FP32, Some(RoundingMode.RNE), latency = 0))
+        sum.io.in.valid := true.B
+        sum.io.in.bits.a := origin(a)
+        sum.io.in.bits.b := scaled(byte(planeByte(k, p, s)), exp(a))
+        Mux(badExp(a), NaN32.U(32.W), sum.io.out.bits)
+      }
+      SlotWords(w0, w1, (0 until 3).map(plane), (3 until 6).map(plane))
+    }
+  }
+
+  /** A quantized record as the grid box test reads it: slots whose box words
+    * are the raw 8-bit plane offsets, the node's origin and exponent fields,
+    * and `bad`: a scale exponent outside ExpMin..ExpMax or a non-finite origin.
+    */
+  final case class Grid(slots: Seq[SlotWords[UInt]], origin: Seq[UInt], exp: Seq[UInt], bad: Bool)
+
+  def decodeGrid(k: Int, record: UInt): Grid = {
+    require(record.getWidth == nodeBytes(k) * 8, s"QuantNode.decodeGrid: record must be ${nodeBytes(k) * 8} bits")
+    def byte(i: Int): UInt = record(8 * i + 7, 8 * i)
+    val origin = (0 until 3).map(a => record(32 * a + 31, 32 * a))
+    val exp = (0 until 3).map(a => byte(12 + a))
+    val bad = (exp.map(e => e < ExpMin.U || e > ExpMax.U) ++ origin.map(_(30, 23).andR)).reduce(_ || _)
+    val slots = for ((s, (w0, w1)) <- refs(k, record).zipWithIndex.map(_.swap))
+      yield SlotWords(w0, w1, (0 until 3).map(p => byte(planeByte(k, p, s))), (3 until 6).map(p => byte(planeByte(k, p, s))))
+    Grid(slots, origin, exp, bad)
+  }
+
+  /** Slot s's word0 and word1 (a 32-byte wide slot's) from its meta byte and the bases. */
+  private def refs(k: Int, record: UInt): Seq[(UInt, UInt)] = {
+    def byte(i: Int): UInt = record(8 * i + 7, 8 * i)
+    def word(i: Int): UInt = record(8 * i + 31, 8 * i)
     val (childBase, triBase) = (word(16), word(20))
     var innerBefore: UInt = 0.U(4.W)
     var trisBefore: UInt = 0.U(11.W)
@@ -67,15 +101,7 @@ object QuantNode {
       val w1 = Mux(isInner, childBase +% innerBefore, Mux(isLeaf, triBase +% trisBefore, 0.U))
       innerBefore = innerBefore +& isInner.asUInt
       trisBefore = trisBefore +& Mux(isLeaf, count, 0.U)
-      def plane(p: Int): UInt = {
-        val a = p % 3
-        val sum = Module(new FpAdd(FloatFormat.FP32, Some(RoundingMode.RNE), latency = 0))
-        sum.io.in.valid := true.B
-        sum.io.in.bits.a := origin(a)
-        sum.io.in.bits.b := scaled(byte(planeByte(k, p, s)), exp(a))
-        Mux(badExp(a), NaN32.U(32.W), sum.io.out.bits)
-      }
-      SlotWords(w0, w1, (0 until 3).map(plane), (3 until 6).map(plane))
+      (w0, w1)
     }
   }
 
@@ -114,5 +140,19 @@ object QuantNode {
       }
       SlotWords(w0, w1, (0 until 3).map(plane), (3 until 6).map(plane))
     }
+  }
+
+  /** [[decodeGrid]]'s grid in software: origin words, exponent fields, per slot
+    * the plane offsets (lo x, y, z; hi x, y, z), and `bad`.
+    */
+  final case class GridSoft(origin: Seq[Long], exp: Seq[Int], qMin: Seq[Seq[Int]], qMax: Seq[Seq[Int]], bad: Boolean)
+
+  def decodeGridSoft(k: Int, bytes: IndexedSeq[Int]): GridSoft = {
+    def u32(i: Int): Long = (0 until 4).map(j => bytes(i + j).toLong << (8 * j)).sum
+    val origin = (0 until 3).map(a => u32(4 * a))
+    val exp = (0 until 3).map(a => bytes(12 + a))
+    val bad = exp.exists(e => e < ExpMin || e > ExpMax) || origin.exists(o => ((o >> 23) & 0xff) == 0xff)
+    def q(p0: Int) = (0 until k).map(s => (p0 until p0 + 3).map(p => bytes(planeByte(k, p, s))))
+    GridSoft(origin, exp, q(0), q(3), bad)
   }
 }

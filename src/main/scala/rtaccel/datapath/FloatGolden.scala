@@ -4,6 +4,8 @@ import rtaccel.ErrorFlags
 import rtaccel.fp.{FloatFormat, FpModel, RoundingMode}
 import rtaccel.golden.{ArithGolden, PreparedGolden, RayRecord}
 import rtaccel.scene.{NodeRecord, TriangleRecord}
+import rtaccel.bvh.QuantNode
+import rtaccel.traversal.{GridLane, GridNode, GridParams}
 
 /** The golden model of a [[FloatDatapath]]: the same kernels run on bit
   * patterns through FpModel ([[GoldenArith]]), so it is the hardware's
@@ -42,6 +44,29 @@ final case class FloatGolden(dp: FloatDatapath) extends ArithGolden[SplitRay[Big
   }
   def box(s: Ray, tmax: BigInt, node: NodeRecord): (Boolean, BigInt) =
     boxTest(s, tmax, node.boxMin.map(BigInt(_)), node.boxMax.map(BigInt(_)))
+
+  /** GridBboxIntersect's answer: the node stage once (tmax widened to FP32 as
+    * GridNodeStage does), a lane per child. A scale exponent outside
+    * ExpMin..ExpMax hits nothing (its badScale).
+    */
+  override def gridBox(
+      s: Ray,
+      tmax: BigInt,
+      p: GridParams,
+      g: QuantNode.GridSoft,
+      present: Seq[Boolean]
+  ): Seq[(Boolean, BigInt)] = {
+    require(dp.boxFmt == FloatFormat.FP32, s"FloatGolden ${dp.name}: the grid box test needs FP32 box constants")
+    if (g.exp.exists(e => e < QuantNode.ExpMin || e > QuantNode.ExpMax)) present.map(_ => (false, BigInt(0)))
+    else {
+      val t = BoxKernel.narrowTmax(boxArith, BoxRounding.Conservative, tmax, dp.triFmt)
+      val n = GridNode.soft(dp.boxFmt, p, s.box, t, g.origin.map(BigInt(_)), g.exp.map(_ - 127))
+      present.indices.map { i =>
+        val o = GridLane.soft(p, n, g.qMin(i), g.qMax(i), present(i))
+        (o.hit, o.near)
+      }
+    }
+  }
 
   /** Triangle test on nine FP32 vertex words (p0, p1, p2). */
   def primTest(s: Ray, tmax: BigInt, p: Seq[BigInt]): PrimOut[BigInt, Boolean] = dp.test match {

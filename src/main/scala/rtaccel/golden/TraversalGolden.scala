@@ -3,7 +3,8 @@ package rtaccel.golden
 import rtaccel.fp.{FloatFormat, FpOrder}
 import rtaccel.scene.{MemoryImage, NodeRecord, Records, TriangleRecord}
 import rtaccel.{AccelConfig, ErrorFlags}
-import rtaccel.bvh.{BvhLayout, BvhNode}
+import rtaccel.bvh.{BvhLayout, BvhNode, QuantNode}
+import rtaccel.traversal.GridParams
 
 import scala.collection.mutable
 
@@ -28,6 +29,20 @@ trait ArithGolden[S] {
 
   /** One box (a nori node's, or one child slot's), `tmax` in the triangle format: (hit, entry distance in the box format). */
   def box(s: S, tmax: BigInt, node: NodeRecord): (Boolean, BigInt)
+
+  /** BoxTest.Grid: a quantized node's K children tested in its grid (GridNode, GridLane, bit for bit
+    * with GridBboxIntersect), `tmax` in the triangle format: per slot (hit, entry relative to the node).
+    */
+  def gridBox(
+      s: S,
+      tmax: BigInt,
+      p: GridParams,
+      grid: QuantNode.GridSoft,
+      present: Seq[Boolean]
+  ): Seq[(Boolean, BigInt)] =
+    throw new IllegalArgumentException(
+      "boxTest = grid needs a float datapath (FloatGolden): this one has no grid box test"
+    )
 
   /** (t, u, v) in the triangle format, or None. Includes tmin <= t <= tmax. */
   def prim(s: S, tmax: BigInt, tri: TriangleRecord): Option[(BigInt, BigInt, BigInt)]
@@ -64,18 +79,21 @@ object TraversalGolden {
     var boxTests, triTests, decisions = 0
     var state: ControlGolden.State = ControlGolden.Traverse
     var node = Records.node(img, 0)
+    var grid = gridOf(cfg, img, 0)
     onNode(0)
     var fromLeaf = false
     while (state != ControlGolden.Done) {
       // A ray back from a leaf only pops: no node, no box test.
-      val (hits, view) = if (fromLeaf) (Nil, NoNode) else { boxTests += 1; testNode(cfg, arith, p.statics, tmax, node) }
+      val (hits, view) =
+        if (fromLeaf) (Nil, NoNode) else { boxTests += 1; testNode(cfg, arith, p.statics, tmax, node, grid) }
       val out = ControlGolden.step(cfg.layout, cfg.stackDepth, stack, tok, fromLeaf, occluded, hits, view)
       decisions += 1
       tok = out.token
       state = out.state
       fromLeaf = false
       state match {
-        case ControlGolden.Traverse | ControlGolden.GoBack => node = Records.node(img, tok.nodeIdx); onNode(tok.nodeIdx)
+        case ControlGolden.Traverse | ControlGolden.GoBack =>
+          node = Records.node(img, tok.nodeIdx); grid = gridOf(cfg, img, tok.nodeIdx); onNode(tok.nodeIdx)
         case ControlGolden.Leaf =>
           var leafErrors = 0
           val leafTmax = tmax
@@ -133,20 +151,39 @@ object TraversalGolden {
 
   private val NoNode = ControlGolden.NodeView(IndexedSeq.empty, 0, 0)
 
+  /** Node `i`'s grid as GridBboxIntersect reads it, with grid box tests (else None). */
+  def gridOf(cfg: AccelConfig, img: MemoryImage, i: Long): Option[QuantNode.GridSoft] =
+    Option.when(cfg.gridBox) {
+      QuantNode.decodeGridSoft(
+        cfg.boxLanes,
+        (0 until cfg.layout.nodeBytes).map(b => img.readLE(img.nodeAddr(i) + b, 1).toInt)
+      )
+    }
+
   /** BboxIntersect's answer for each slot of `node` (an empty slot never
-    * hits), and the node as TraversalControl sees it.
+    * hits), and the node as TraversalControl sees it; with grid box tests
+    * (`grid`, the node's raw grid) GridBboxIntersect's, its integer entry
+    * distances ordering the children.
     */
   def testNode[S](
       cfg: AccelConfig,
       arith: ArithGolden[S],
       statics: S,
       tmax: BigInt,
-      node: IndexedSeq[NodeRecord]
+      node: IndexedSeq[NodeRecord],
+      grid: Option[QuantNode.GridSoft] = None
   ): (Seq[ControlGolden.SlotHit], ControlGolden.NodeView) = {
-    val d = nodeView(cfg, node)
-    val hits = node.indices.map { i =>
-      val (hit, near) = if (d.present(i)) arith.box(statics, tmax, node(i)) else (false, BigInt(0))
-      ControlGolden.SlotHit(d.present(i) && hit, FpOrder.keyOf(arith.boxFormat, near))
+    val d = nodeView(cfg, node, grid.map(_.bad))
+    val hits = grid match {
+      case Some(g) =>
+        arith.gridBox(statics, tmax, cfg.gridParams, g, d.present).map { case (h, near) =>
+          ControlGolden.SlotHit(h, near)
+        }
+      case None =>
+        node.indices.map { i =>
+          val (hit, near) = if (d.present(i)) arith.box(statics, tmax, node(i)) else (false, BigInt(0))
+          ControlGolden.SlotHit(d.present(i) && hit, FpOrder.keyOf(arith.boxFormat, near))
+        }
     }
     (hits, d.view)
   }
@@ -154,7 +191,10 @@ object TraversalGolden {
   /** A node's slots as the hardware decodes them for `cfg` (BvhNode.decode). */
   final case class Decoded(view: ControlGolden.NodeView, present: IndexedSeq[Boolean])
 
-  def nodeView(cfg: AccelConfig, slots: IndexedSeq[NodeRecord]): Decoded = {
+  /** `gridBad`: with grid box tests, the node's grid is bad (QuantNode.decodeGrid), which a used
+    * slot flags in place of non-finite FP32 planes.
+    */
+  def nodeView(cfg: AccelConfig, slots: IndexedSeq[NodeRecord], gridBad: Option[Boolean] = None): Decoded = {
     require(slots.size == cfg.boxLanes, s"a ${cfg.layout.name} node has ${cfg.boxLanes} slots, got ${slots.size}")
     def fits(w: Long, bits: Int) = bits >= 32 || (w >> bits) == 0
     val decoded = slots.map { n =>
@@ -165,7 +205,7 @@ object TraversalGolden {
       }
       val tooWide = badKind || !fits(n.word1, if (n.isLeaf) cfg.triIndexBits else cfg.nodeIndexBits)
       val leafBig = n.isLeaf && n.low31 > cfg.maxLeafSize
-      val badBox = (n.boxMin ++ n.boxMax).exists(ErrorFlags.nonFiniteWord)
+      val badBox = gridBad.getOrElse((n.boxMin ++ n.boxMax).exists(ErrorFlags.nonFiniteWord))
       val errors = if (!present) 0
       else
         (if (tooWide) 1 << ErrorFlags.IndexOverflow else 0) | (if (leafBig) 1 << ErrorFlags.LeafTooBig else 0) |

@@ -32,6 +32,8 @@ object CppSim {
       s"system_${dp}_c${cores}_n${cfg.numRayIds}_d${cfg.stackDepth}_k${cfg.boxLanes}" +
         // 4q nodes have the 4-wide's lanes but another decode: their own build, not the 4-wide one rebuilt.
         (if (cfg.layout.quantized) "q" else "") +
+        // Grid box tests: another box unit, its own build too.
+        (if (cfg.gridBox) "g" else "") +
         (if (axiDataBits == 512) "" else s"_w$axiDataBits")
     ).toAbsolutePath
 

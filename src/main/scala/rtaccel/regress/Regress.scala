@@ -29,7 +29,17 @@ object Regress {
     val (boxFmt, triFmt) = (fmt(RegressArgs.formats(a)._1), fmt(RegressArgs.formats(a)._2))
     // The node layout is the image's: nori-bridge chose it (make regress BVH=).
     val generic =
-      AccelConfig.zc706.copy(numRayIds = a.numRayIds, boxFloat = boxFmt, triFloat = triFmt, layout = pkg.image.layout)
+      try AccelConfig.zc706.copy(
+          numRayIds = a.numRayIds,
+          boxFloat = boxFmt,
+          triFloat = triFmt,
+          layout = pkg.image.layout,
+          boxTest = rtaccel.BoxTest.parse(a.boxTest)
+        )
+      catch {
+        case e: IllegalArgumentException =>
+          throw new IllegalArgumentException(s"${a.pkg} (${pkg.image.layout.name} nodes): ${e.getMessage}")
+      }
     val base = if (a.sized) pkg.sized(generic) else generic
     a.stackDepth.fold(base)(d => base.copy(stackDepth = d))
   }

@@ -17,6 +17,8 @@ final case class RegressArgs(
     triangle: String = "watertight",
     /** Conservative (outward-rounded) boxes: no false miss from box rounding (see docs/reports/speed-vs-error.md). */
     rounding: String = "conservative",
+    /** `fp32` or `grid` (BoxTest: quantized layouts' child boxes in the node's grid). */
+    boxTest: String = "fp32",
     /** `ddr` (one DRAM behind both ports) or `onchip` (BRAM per port). */
     memory: String = "ddr",
     /** DRAM latency in ns; None: `MemoryKind.Ddr.DefaultLatency`. Not allowed on chip. */
@@ -67,6 +69,7 @@ object RegressArgs {
 
   val usage: String =
     """usage: Regress --package DIR --out DIR [--float e8m23] [--box-float eXmY] [--tri-float eXmY] [--triangle moller|watertight] [--rounding conservative|rne]
+      |       [--box-test fp32|grid (grid: 4q/8q images only)]
       |       [--memory ddr|onchip] [--mem-latency NS|LO-HI (ddr only; default 100)] [--fabric-mhz 200]
       |       [--outstanding 64] [--cache KiB (ddr only)] [--ids 64]
       |       [--stack N] [--rays N] [--bridge PATH] [--waves 0|1] [--strict 0|1] [--size 0|1] [--seed N]
@@ -91,6 +94,7 @@ object RegressArgs {
       case "--tri-float"         => a = a.copy(triFloat = v)
       case "--triangle"          => a = a.copy(triangle = v)
       case "--rounding"          => a = a.copy(rounding = v)
+      case "--box-test"          => a = a.copy(boxTest = wrap(k)(rtaccel.BoxTest.parse(v)).name)
       case "--memory"            => a = a.copy(memory = wrap(k)(MemoryKind.parse(v)).name)
       case "--mem-latency"       => a = a.copy(memLatency = if (v.isEmpty) None else Some(wrap(k)(LatencyNs.parse(v))))
       case "--fabric-mhz" => a = a.copy(fabricMhz =

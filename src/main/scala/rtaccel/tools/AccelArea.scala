@@ -106,7 +106,13 @@ object AccelArea {
   def measure(sv: String, top: String, dpName: String, cacheDir: Path, jobs: Int): Seq[(String, Synth.Area)] = {
     Files.createDirectories(cacheDir)
     val mods = modules(sv)
-    val unitTops = datapathUnits.map(u => u -> s"${u}_$dpName")
+    // Grid box tests (BoxTest.Grid) have no box lanes: the grid unit (its FP32 stage and K integer lanes)
+    // takes their row.
+    val unitTops = datapathUnits.map(u => u -> s"${u}_$dpName").map {
+      case ("BoxLane", m) if !mods.exists(_.name == m) =>
+        mods.find(_.name.startsWith("GridBboxIntersect_")).fold("BoxLane" -> m)(g => "GridBboxIntersect" -> g.name)
+      case um => um
+    }
     unitTops.foreach { case (_, m) => require(mods.exists(_.name == m), s"no module $m in the accelerator's Verilog") }
     val pool = java.util.concurrent.Executors.newFixedThreadPool(jobs)
     implicit val ec: ExecutionContext = ExecutionContext.fromExecutor(pool)
@@ -135,6 +141,13 @@ object AccelArea {
     val sv = Synth.emit(dp.box(cfg))
     val top = modules(sv).last.name
     cached(cacheDir, "BoxLane", dp.name, sv, top, Nil)
+  }
+
+  /** The grid box unit of `cfg` (BoxTest.Grid: FP32 node stage and `cfg.boxLanes` grid lanes) alone, cached. */
+  def gridUnit(dp: rtaccel.datapath.FloatDatapath, cfg: rtaccel.AccelConfig, cacheDir: Path): Synth.Area = {
+    Files.createDirectories(cacheDir)
+    val sv = Synth.emit(new rtaccel.traversal.GridBboxIntersect(cfg.boxLanes, cfg.gridParams, dp.gen))
+    cached(cacheDir, "GridBboxIntersect", dp.name, sv, modules(sv).last.name, Nil)
   }
 
   def total(rows: Seq[(String, Synth.Area)]): Synth.Area = rows.map(_._2).foldLeft(Synth.zero)(_ + _)

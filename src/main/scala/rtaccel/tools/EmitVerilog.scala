@@ -4,7 +4,7 @@ import rtaccel.datapath.{BoxRounding, FloatDatapath, TriangleTest}
 import rtaccel.fp.FloatFormat
 import rtaccel.scene.ScenePackage
 import rtaccel.system.{RtAccelSystem, SystemConfig}
-import rtaccel.{AccelConfig, RtAccel}
+import rtaccel.{AccelConfig, BoxTest, RtAccel}
 import rtaccel.bvh.BvhLayout
 
 import java.nio.file.{Files, Path, Paths}
@@ -59,7 +59,10 @@ object EmitVerilog {
     val jobs = kv.getOrElse("--jobs", "2").toInt
     // IDS=: rays in flight per core (the RayBuffer, traversal stacks and free list scale with it).
     val ids = kv.get("--ids").filter(_.nonEmpty).fold(AccelConfig.zc706.numRayIds)(_.toInt)
-    val generic = AccelConfig.zc706.copy(boxFloat = boxFmt, triFloat = triFmt, layout = layout, numRayIds = ids)
+    // BOX_TEST=grid: a quantized layout's child boxes in the node's grid (AccelConfig refuses it elsewhere).
+    val boxTest = BoxTest.parse(kv.getOrElse("--box-test", "fp32"))
+    val generic = AccelConfig.zc706
+      .copy(boxFloat = boxFmt, triFloat = triFmt, layout = layout, numRayIds = ids, boxTest = boxTest)
     // With a scene package, the hardware is sized to that scene's needs.
     val pkg = kv.get("--package").filter(_.nonEmpty).map(dir => ScenePackage.load(Paths.get(dir)))
     val cfg = pkg.fold(generic) { p =>
@@ -182,7 +185,11 @@ object EmitVerilog {
         cfg.layout match { case BvhLayout.Nori => "nori BVH nodes"; case w: BvhLayout.Wide => s"${w.k}-wide BVH nodes" }
       val md = ResourceTable(
         s"RtAccel ${dp.name}, $nodes (${cfg.boxLanes} box lanes), ${cfg.numRayIds} ray IDs, stack ${cfg.stackDepth}",
-        rows.map { case ("BoxLane", a) => s"BoxLane x${cfg.boxLanes} (BboxIntersect)" -> a; case r => r },
+        rows.map {
+          case ("BoxLane", a)           => s"BoxLane x${cfg.boxLanes} (BboxIntersect)" -> a
+          case ("GridBboxIntersect", a) => s"GridBboxIntersect (FP32 node stage, ${cfg.boxLanes} grid lanes)" -> a
+          case r                        => r
+        },
         Zc706,
         (System.nanoTime() - t0) / 1e9
       )

@@ -2,7 +2,7 @@ package rtaccel.tools
 
 import rtaccel.datapath.{BoxRounding, FloatDatapath, TriangleTest}
 import rtaccel.fp.FloatFormat
-import rtaccel.{AccelConfig, RtAccel}
+import rtaccel.{AccelConfig, BoxTest, RtAccel}
 
 import java.nio.file.{Files, Paths}
 
@@ -13,14 +13,16 @@ import java.nio.file.{Files, Paths}
   *
   *   PointArea --bvh 4q --box-float e8m10 --tri-float e8m23 --rounding conservative --triangle watertight
   *             --out build/sweep/area/4q-e8m10-e8m23-cons-wt.json [--cache build/area-cache] [--jobs 1]
+  *             [--box-test fp32|grid]
   *
-  * (`--float` sets both formats.) `box_lanes` is the K box lanes together.
+  * (`--float` sets both formats.) `box_lanes` is the K box lanes together (with `--box-test grid`,
+  * the grid unit: its FP32 node stage and K integer lanes).
   */
 object PointArea {
   def main(args: Array[String]): Unit = {
     val kv = args.grouped(2).collect { case Array(k, v) => k -> v }.toMap
     val usage =
-      "usage: PointArea [--bvh nori|2|4|8|4q|8q] --box-float e8m10 --tri-float e8m23 (or --float e8m12) --rounding rne|conservative --triangle moller|watertight --out FILE [--cache DIR] [--jobs N]"
+      "usage: PointArea [--bvh nori|2|4|8|4q|8q] --box-float e8m10 --tri-float e8m23 (or --float e8m12) --rounding rne|conservative --triangle moller|watertight --out FILE [--cache DIR] [--jobs N] [--box-test fp32|grid]"
     def req(k: String) = kv.getOrElse(k, { System.err.println(s"Error: $k is required\n$usage"); sys.exit(2) })
     val t0 = System.nanoTime()
     def fmt(k: String) = FloatFormat.parse(kv.getOrElse(k, req("--float")))
@@ -36,8 +38,12 @@ object PointArea {
         )
       catch { case e: IllegalArgumentException => System.err.println(s"Error: ${e.getMessage}\n$usage"); sys.exit(2) }
     val out = Paths.get(req("--out"))
-    // The point's node layout sets the box lanes (K) and the node decode.
-    val cfg = dp.configure(AccelConfig.zc706.copy(layout = layout))
+    // The point's node layout sets the box lanes (K) and the node decode; the box test, their kind.
+    val cfg =
+      try dp.configure(
+          AccelConfig.zc706.copy(layout = layout, boxTest = BoxTest.parse(kv.getOrElse("--box-test", "fp32")))
+        )
+      catch { case e: IllegalArgumentException => System.err.println(s"Error: ${e.getMessage}\n$usage"); sys.exit(2) }
     val sv = Synth.emit(new RtAccel(cfg, dp))
     val top = Synth.modules(sv).last
     val rows = AccelArea.measure(
@@ -62,7 +68,7 @@ object PointArea {
     js("instances_zc706") = AccelArea.instances(total, EmitVerilog.Zc706)
     js("units") = ujson.Obj.from(rows.map { case (u, a) => u -> obj(a) })
     // measure's BoxLane row counts every instance: all K lanes.
-    rows.find(_._1 == "BoxLane").foreach { case (_, a) => js("box_lanes") = obj(a) }
+    rows.find(r => r._1 == "BoxLane" || r._1 == "GridBboxIntersect").foreach { case (_, a) => js("box_lanes") = obj(a) }
     js("layout") = layout.name
     js("seconds") = (System.nanoTime() - t0) / 1e9
     Files.createDirectories(out.toAbsolutePath.getParent)

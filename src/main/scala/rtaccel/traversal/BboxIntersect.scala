@@ -22,8 +22,10 @@ class BboxAnswer(cfg: AccelConfig) extends Bundle {
   /** Slot i's box is hit (and the slot is used). */
   val hit = Vec(cfg.boxLanes, Bool())
 
-  /** Slot i's entry distance, in the box format (meaningful where hit). */
-  val near = Vec(cfg.boxLanes, UInt(cfg.boxFloat.width.W))
+  /** Slot i's entry distance, in the box format (meaningful where hit); with grid box tests the
+    * grid's signed integer relative to the node (GridBboxIntersect), as bits.
+    */
+  val near = Vec(cfg.boxLanes, UInt(cfg.nearBits.W))
 }
 
 /** The box test of the traversal loop: one node per cycle, its K child boxes

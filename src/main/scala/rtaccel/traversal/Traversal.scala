@@ -5,6 +5,7 @@ import chisel3.util._
 import rtaccel.leaf.{LeafExit, LeafJob}
 import rtaccel.mem.MemPort
 import rtaccel.{AccelConfig, Datapath}
+import rtaccel.datapath.RayConsts
 import rtaccel.bvh.BvhNode
 
 /** The traversal loop: box test → decision → node fetch → box test …
@@ -13,7 +14,8 @@ import rtaccel.bvh.BvhNode
   *    from InitTraversal (which bring the on-chip root), since answers cannot
   *    wait (the memory is never back-pressured). The ray is read from the
   *    RayBuffer in the selection cycle and meets its node at BboxIntersect
-  *    one cycle later, which tests all of the node's child boxes at once.
+  *    one cycle later, which tests all of the node's child boxes at once
+  *    (with grid box tests, GridBboxIntersect, in the quantized node's grid).
   *  - Box results go straight to TraversalControl's box-result lane; rays
   *    back from leaves take its leaf-return lane.
   *  - TRAVERSE/GOBACK go to PrepFetch, LEAF to LeafIntersect, DONE out, each
@@ -68,25 +70,56 @@ class Traversal[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   io.rayRead.rayId := pick.token.rayId
   private val atNode = Pipe(picked, pick, 1)
 
-  private val box = Module(new BboxIntersect(cfg, dp))
   private val slots = atNode.bits.node.slots
-  box.io.in.valid := atNode.valid
-  box.io.in.bits.ray := io.rayRead.statics
-  box.io.in.bits.tmax := io.rayRead.tmax
-  box.io.in.bits.boxMin := VecInit(slots.map(_.boxMin))
-  box.io.in.bits.boxMax := VecInit(slots.map(_.boxMax))
-  box.io.in.bits.present := VecInit(slots.map(_.present))
-  private val tested = Pipe(atNode.valid, atNode.bits, box.latency)
-  io.boxTests := box.io.out.valid
-  io.childBoxes := Mux(box.io.out.valid, PopCount(tested.bits.node.slots.map(_.present)), 0.U)
+  // The box test: K FP32 box lanes, or (BoxTest.Grid) one FP32 stage per node and K integer lanes in its grid.
+  private val (boxLatency, boxOut) = if (!cfg.gridBox) {
+    val box = Module(new BboxIntersect(cfg, dp))
+    box.io.in.valid := atNode.valid
+    box.io.in.bits.ray := io.rayRead.statics
+    box.io.in.bits.tmax := io.rayRead.tmax
+    box.io.in.bits.boxMin := VecInit(slots.map(_.boxMin.get))
+    box.io.in.bits.boxMax := VecInit(slots.map(_.boxMax.get))
+    box.io.in.bits.present := VecInit(slots.map(_.present))
+    (box.latency, box.io.out)
+  } else {
+    val rays = dp.gen match {
+      case r: RayConsts => r
+      case _ =>
+        throw new IllegalArgumentException(
+          s"Traversal: boxTest = ${cfg.boxTest.name} needs a float datapath's ray constants (RayConsts), not ${dp.name}'s"
+        )
+    }
+    val grid = Module(new GridBboxIntersect(cfg.boxLanes, cfg.gridParams, rays))
+    val g = atNode.bits.node.grid.get
+    grid.io.in.valid := atNode.valid
+    // The RayBuffer holds dp.gen, a RayConsts (matched above).
+    grid.io.in.bits.node.ray := io.rayRead.statics.asInstanceOf[RayConsts]
+    grid.io.in.bits.node.tmax := io.rayRead.tmax
+    grid.io.in.bits.node.origin := g.origin
+    grid.io.in.bits.node.exp := g.exp
+    for ((c, s) <- grid.io.in.bits.children.zip(slots)) {
+      c.qMin := s.qMin.get
+      c.qMax := s.qMax.get
+      c.present := s.present
+    }
+    // The grid's near is signed, relative to the node; TraversalControl orders it as such (nearBits).
+    val out = Wire(Valid(new BboxAnswer(cfg)))
+    out.valid := grid.io.out.valid
+    out.bits.hit := grid.io.out.bits.hit
+    out.bits.near := VecInit(grid.io.out.bits.near.map(_.asUInt))
+    (grid.latency, out)
+  }
+  private val tested = Pipe(atNode.valid, atNode.bits, boxLatency)
+  io.boxTests := boxOut.valid
+  io.childBoxes := Mux(boxOut.valid, PopCount(tested.bits.node.slots.map(_.present)), 0.U)
 
   // ---- Decision ----
   private val boxDone = Wire(Valid(new ControlIn(cfg)))
   private val b = boxDone.bits
-  boxDone.valid := box.io.out.valid
+  boxDone.valid := boxOut.valid
   b.token := tested.bits.token
-  b.hit := box.io.out.bits.hit
-  b.near := box.io.out.bits.near
+  b.hit := boxOut.bits.hit
+  b.near := boxOut.bits.near
   b.refs := VecInit(tested.bits.node.slots.map(_.child))
   b.axis := tested.bits.node.axis
   b.nodeErrors := tested.bits.node.errors
@@ -142,7 +175,7 @@ class Traversal[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
 
   // Box stage (atNode, the box pipe), control, the lane queues, PrepFetch
   // (its queue, memory, the answer register).
-  private val inBox = atNode.valid +& PopCount(ShiftRegisters(atNode.valid, box.latency, false.B, true.B))
+  private val inBox = atNode.valid +& PopCount(ShiftRegisters(atNode.valid, boxLatency, false.B, true.B))
   private val queued = (fetchQs ++ leafQs ++ doneQs).map(_.io.count).reduce(_ +& _)
   io.held := inBox +& control.io.held +& queued +& fetch.io.waiting +& fetch.io.out.valid
 }

@@ -29,7 +29,9 @@ class ControlIn(cfg: AccelConfig) extends Bundle {
 
   /** BboxIntersect's answer for each slot of node `token.nodeIdx`. */
   val hit = Vec(cfg.boxLanes, Bool())
-  val near = Vec(cfg.boxLanes, UInt(cfg.boxFloat.width.W))
+
+  /** Entry distances: box-format floats, or with grid box tests signed integers relative to the node (as bits). */
+  val near = Vec(cfg.boxLanes, UInt(cfg.nearBits.W))
 
   /** Where each slot leads (nori: the node itself). */
   val refs = Vec(cfg.boxLanes, new ChildRef(cfg))
@@ -122,7 +124,10 @@ class TraversalControl(cfg: AccelConfig) extends Module {
   private def rank(in: ControlIn): Ranked = {
     val r = Wire(new Ranked)
     r.in := in
-    val keys = in.near.map(FpOrder.key(cfg.boxFloat, _))
+    // Unsigned keys in entry order: a float's (FpOrder), or a two's-complement integer's sign bit flipped.
+    val keys =
+      if (cfg.gridBox) in.near.map(x => Cat(!x(cfg.nearBits - 1), x(cfg.nearBits - 2, 0)))
+      else in.near.map(FpOrder.key(cfg.boxFloat, _))
     for (i <- 0 until k) {
       val before = for (j <- 0 until k if j != i)
         yield in.hit(j) && (if (j < i) keys(j) <= keys(i) else keys(j) < keys(i))

@@ -31,8 +31,8 @@ class FetchBVHSpec extends AnyFlatSpec with ChiselScalatestTester {
   private def expectRoot(dut: FetchBVH[UInt], box: Int, what: String): Unit =
     for (s <- 0 until 4) {
       dut.io.root.slots(s).present.expect((s < 2).B, s"$what: slot $s used")
-      for (i <- 0 until 3) dut.io.root.slots(s).boxMin(i).expect((box + 8 * s + i).U, s"$what: slot $s min[$i]")
-      for (i <- 0 until 3) dut.io.root.slots(s).boxMax(i).expect((box + 8 * s + 3 + i).U, s"$what: slot $s max[$i]")
+      for (i <- 0 until 3) dut.io.root.slots(s).boxMin.get(i).expect((box + 8 * s + i).U, s"$what: slot $s min[$i]")
+      for (i <- 0 until 3) dut.io.root.slots(s).boxMax.get(i).expect((box + 8 * s + 3 + i).U, s"$what: slot $s max[$i]")
     }
 
   private def idle(dut: FetchBVH[UInt]): Unit = {

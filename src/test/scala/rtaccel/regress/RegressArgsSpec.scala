@@ -37,12 +37,29 @@ class RegressArgsSpec extends AnyFlatSpec {
       Seq("--outstanding", "0") -> Seq("--outstanding", "'0'"),
       Seq("--bytes-per-cycle", "16") -> Seq("--bytes-per-cycle"),
       Seq("--memory", "onchip", "--mem-latency", "100") -> Seq("--mem-latency", "100 ns", "onchip"),
-      Seq("--memory", "onchip", "--cache", "32") -> Seq("--cache", "on-chip")
+      Seq("--memory", "onchip", "--cache", "32") -> Seq("--cache", "on-chip"),
+      Seq("--box-test", "int8") -> Seq("--box-test", "'int8'")
     )
     for ((args, words) <- bad) {
       val e = intercept[IllegalArgumentException](parse(args: _*))
       val first = e.getMessage.linesIterator.next()
       for (w <- words) assert(first.contains(w), s"${args.mkString(" ")}: '$first' does not name $w")
     }
+  }
+
+  it should "accept grid box tests only with a quantized layout and FP32 boxes, naming the option and the value" in {
+    import rtaccel.{AccelConfig, BoxTest}
+    import rtaccel.bvh.BvhLayout
+    assert(parse("--box-test", "grid").boxTest == "grid" && parse().boxTest == "fp32")
+    assert(AccelConfig(layout = BvhLayout.Wide(8, quantized = true), boxTest = BoxTest.Grid).gridBox)
+    for (layout <- Seq(BvhLayout.Nori, BvhLayout.Wide(4))) {
+      val e = intercept[IllegalArgumentException](AccelConfig(layout = layout, boxTest = BoxTest.Grid))
+      assert(e.getMessage.contains("boxTest = grid") && e.getMessage.contains(layout.name), e.getMessage)
+    }
+    val e = intercept[IllegalArgumentException](
+      AccelConfig(layout = BvhLayout.Wide(4, quantized = true), boxTest = BoxTest.Grid)
+        .withFloat(rtaccel.fp.FloatFormat(8, 10))
+    )
+    assert(e.getMessage.contains("boxTest = grid") && e.getMessage.contains("e8m10"), e.getMessage)
   }
 }

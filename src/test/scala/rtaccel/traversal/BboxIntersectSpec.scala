@@ -63,8 +63,8 @@ class BboxQuantHarness(val cfg: AccelConfig, val dp: FloatDatapath) extends Modu
   box.io.in.valid := prep.io.out.valid
   box.io.in.bits.ray := prep.io.out.bits.statics
   box.io.in.bits.tmax := prep.io.out.bits.tmax
-  box.io.in.bits.boxMin := VecInit(node.slots.map(_.boxMin))
-  box.io.in.bits.boxMax := VecInit(node.slots.map(_.boxMax))
+  box.io.in.bits.boxMin := VecInit(node.slots.map(_.boxMin.get))
+  box.io.in.bits.boxMax := VecInit(node.slots.map(_.boxMax.get))
   box.io.in.bits.present := VecInit(node.slots.map(_.present))
   val latency: Int = prep.latency + box.latency
   io.out := box.io.out

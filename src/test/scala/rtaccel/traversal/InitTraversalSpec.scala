@@ -36,7 +36,7 @@ class InitTraversalSpec extends AnyFlatSpec with ChiselScalatestTester {
   ) { rnd =>
     test(new InitTraversal(cfg, FieldDatapath.gen)).withAnnotations(Backends.treadle) { dut =>
       for (s <- 0 until 2; i <- 0 until 3) {
-        dut.io.root.slots(s).boxMin(i).poke((10 * s + i).U); dut.io.root.slots(s).present.poke(true.B)
+        dut.io.root.slots(s).boxMin.get(i).poke((10 * s + i).U); dut.io.root.slots(s).present.poke(true.B)
       }
       val free = mutable.Queue.from(0 until cfg.numRayIds)
       val expected = mutable.Queue.empty[Int] // IDs in arrival order, not yet handed over
@@ -71,7 +71,7 @@ class InitTraversalSpec extends AnyFlatSpec with ChiselScalatestTester {
           t.shadow.expect((oid % 2 == 1).B); t.errors.expect((oid % 3).U)
           for (a <- 0 until 3) t.dirNeg(a).expect((((oid >> a) & 1) == 1).B)
           for (s <- 0 until 2; i <- 0 until 3)
-            dut.io.out.bits.root.slots(s).boxMin(i).expect((10 * s + i).U, "the on-chip root")
+            dut.io.out.bits.root.slots(s).boxMin.get(i).expect((10 * s + i).U, "the on-chip root")
           expected.dequeue()
           returning.enqueue((cycle + 1 + rnd.nextInt(10), oid))
           out += 1
