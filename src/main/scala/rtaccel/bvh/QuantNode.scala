@@ -114,7 +114,8 @@ object QuantNode {
 
   // ---- Software (golden), bit for bit with `decode` ----
 
-  def decodeSoft(k: Int, bytes: IndexedSeq[Int]): Seq[SlotWords[Long]] = {
+  /** `planes = false`: the slots' words only, boxes empty (no FP32 decode). */
+  def decodeSoft(k: Int, bytes: IndexedSeq[Int], planes: Boolean = true): Seq[SlotWords[Long]] = {
     def u32(i: Int): Long = (0 until 4).map(j => bytes(i + j).toLong << (8 * j)).sum
     val origin = (0 until 3).map(a => u32(4 * a))
     val exp = (0 until 3).map(a => bytes(12 + a))
@@ -138,7 +139,7 @@ object QuantNode {
           FpModel.add(FloatFormat.FP32, RoundingMode.RNE, BigInt(origin(p % 3)), scaledBits).toLong
         }
       }
-      SlotWords(w0, w1, (0 until 3).map(plane), (3 until 6).map(plane))
+      if (planes) SlotWords(w0, w1, (0 until 3).map(plane), (3 until 6).map(plane)) else SlotWords(w0, w1, Nil, Nil)
     }
   }
 

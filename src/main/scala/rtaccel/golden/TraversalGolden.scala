@@ -78,8 +78,7 @@ object TraversalGolden {
     var occluded = false
     var boxTests, triTests, decisions = 0
     var state: ControlGolden.State = ControlGolden.Traverse
-    var node = Records.node(img, 0)
-    var grid = gridOf(cfg, img, 0)
+    var (node, grid) = fetchNode(cfg, img, 0)
     onNode(0)
     var fromLeaf = false
     while (state != ControlGolden.Done) {
@@ -93,7 +92,7 @@ object TraversalGolden {
       fromLeaf = false
       state match {
         case ControlGolden.Traverse | ControlGolden.GoBack =>
-          node = Records.node(img, tok.nodeIdx); grid = gridOf(cfg, img, tok.nodeIdx); onNode(tok.nodeIdx)
+          val (n, g) = fetchNode(cfg, img, tok.nodeIdx); node = n; grid = g; onNode(tok.nodeIdx)
         case ControlGolden.Leaf =>
           var leafErrors = 0
           val leafTmax = tmax
@@ -153,11 +152,19 @@ object TraversalGolden {
 
   /** Node `i`'s grid as GridBboxIntersect reads it, with grid box tests (else None). */
   def gridOf(cfg: AccelConfig, img: MemoryImage, i: Long): Option[QuantNode.GridSoft] =
-    Option.when(cfg.gridBox) {
-      QuantNode.decodeGridSoft(
-        cfg.boxLanes,
-        (0 until cfg.layout.nodeBytes).map(b => img.readLE(img.nodeAddr(i) + b, 1).toInt)
-      )
+    Option.when(cfg.gridBox)(QuantNode.decodeGridSoft(cfg.boxLanes, Records.nodeBytes(img, i)))
+
+  /** Node `i` as the walk reads it: its slots and, with grid box tests, its
+    * grid, from one read of its record. With grid box tests the slots carry
+    * no FP32 boxes: GridBboxIntersect reads the raw grid and `nodeView` takes
+    * the grid's `bad` in place of non-finite planes, so decoding them would
+    * be work thrown away.
+    */
+  def fetchNode(cfg: AccelConfig, img: MemoryImage, i: Long): (IndexedSeq[NodeRecord], Option[QuantNode.GridSoft]) =
+    if (!cfg.gridBox) (Records.node(img, i), None)
+    else {
+      val bytes = Records.nodeBytes(img, i)
+      (Records.quantized(cfg.boxLanes, bytes, planes = false), Some(QuantNode.decodeGridSoft(cfg.boxLanes, bytes)))
     }
 
   /** BboxIntersect's answer for each slot of `node` (an empty slot never

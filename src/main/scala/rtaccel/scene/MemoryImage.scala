@@ -45,12 +45,21 @@ final class MemoryImage private (val source: String, val bytes: Array[Byte]) {
   def nodeAddr(index: Long): Long = nodeOffset + index * nodeBytes
   def triAddr(index: Long): Long = triOffset + index * TriBytes
 
-  /** `n` bytes at `addr` as an unsigned little-endian integer (byte 0 in bits 7..0). */
-  def readLE(addr: Long, n: Int): BigInt = {
+  private def check(addr: Long, n: Int): Unit =
     if (addr < 0 || addr + n > bytes.length)
       throw new IndexOutOfBoundsException(
         s"$source: read of $n bytes at address $addr is outside the image (${bytes.length} bytes)"
       )
+
+  /** `n` bytes at `addr`, each 0..255. */
+  def bytesAt(addr: Long, n: Int): IndexedSeq[Int] = {
+    check(addr, n)
+    IndexedSeq.tabulate(n)(i => bytes(addr.toInt + i) & 0xff)
+  }
+
+  /** `n` bytes at `addr` as an unsigned little-endian integer (byte 0 in bits 7..0). */
+  def readLE(addr: Long, n: Int): BigInt = {
+    check(addr, n)
     var v = BigInt(0)
     var i = n - 1
     while (i >= 0) { v = (v << 8) | (bytes(addr.toInt + i) & 0xff); i -= 1 }
@@ -103,16 +112,23 @@ object Records {
     * a quantized node decoded as the hardware decodes it, rtaccel.bvh.QuantNode).
     */
   def node(img: MemoryImage, i: Long): IndexedSeq[NodeRecord] = img.layout match {
-    case w: rtaccel.bvh.BvhLayout.Wide if w.quantized =>
-      val bytes = (0 until w.nodeBytes).map(b => img.readLE(img.nodeAddr(i) + b, 1).toInt)
-      rtaccel.bvh.QuantNode.decodeSoft(w.k, bytes).map(s =>
-        NodeRecord(s.word0, s.word1, s.boxMin, s.boxMax)
-      ).toIndexedSeq
+    case w: rtaccel.bvh.BvhLayout.Wide if w.quantized => quantized(w.k, nodeBytes(img, i), planes = true)
     case _ => (0 until img.layout.lanes).map { s =>
         val w = (0 until 8).map(k => img.readLE(img.nodeAddr(i) + 32 * s + 4 * k, 4).toLong)
         NodeRecord(w(0), w(1), w.slice(2, 5), w.slice(5, 8))
       }
   }
+
+  /** Node `i`'s raw record. */
+  def nodeBytes(img: MemoryImage, i: Long): IndexedSeq[Int] = img.bytesAt(img.nodeAddr(i), img.layout.nodeBytes)
+
+  /** A quantized node's K slots from its record; `planes = false` leaves the
+    * FP32 boxes empty (a grid box test reads the raw grid, not the planes).
+    */
+  def quantized(k: Int, bytes: IndexedSeq[Int], planes: Boolean): IndexedSeq[NodeRecord] =
+    rtaccel.bvh.QuantNode.decodeSoft(k, bytes, planes).map(s => NodeRecord(s.word0, s.word1, s.boxMin, s.boxMax))
+      .toIndexedSeq
+
   def triangle(img: MemoryImage, i: Long): TriangleRecord = {
     val w = (0 until 11).map(k => img.readLE(img.triAddr(i) + 4 * k, 4).toLong)
     TriangleRecord(w.take(9), w(9), w(10))
