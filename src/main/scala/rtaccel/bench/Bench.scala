@@ -127,10 +127,8 @@ object Bench {
     val base = RegressArgs(root, root)
     val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.parse(base.triangle), BoxRounding.parse(base.rounding))
     val golden = FloatGolden(dp)
-    a.layouts.foreach(configFor(
-      _,
-      a.boxTest
-    )) // refuse an unknown layout (or one BOX_TEST= cannot read) before any work
+    // Refuse an unknown layout (or one BOX_TEST= cannot read) before any work.
+    a.layouts.foreach(configFor(_, a.boxTest))
     // The system section first (the C++ harness is quick, and a missing make verilog shows at once):
     // measured now, or redrawn from build/bench/system.json (after re-measuring Embree alone with "embree").
     val systemJson = root.resolve("system.json")
