@@ -11,7 +11,7 @@ import java.nio.file.{Files, Path, Paths}
   * at most `--max-rays` of each, every one checked bit for bit against the golden model) under the C++ harness for
   * each m_axi width of `--widths` (SystemConfig.axiDataBits) and each core count of `--cores`, with the ZC706 DDR
   * model clocked at `--mhz` (docs/reports/performance.md's estimate clock). Rows to build/bench/system-wide.json, a table to
-  * build/bench/system-wide.md (docs/system-wide.md quotes it). A benchmark: simulated cycles, nothing timed.
+  * build/bench/system-wide.md. A benchmark: simulated cycles, nothing timed.
   */
 object BenchWide {
   final case class Args(
