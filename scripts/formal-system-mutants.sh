@@ -91,19 +91,19 @@ if [ "$which" != probes ]; then
     "io_out_ar_valid_0 = _ar_q_io_deq_valid & arOk & ~fakeRValidReg;" window_kept_1
 fi
 # The system's units alone (make formal-system-units; FormalSystemUnits.scala), each to its own depth
-# (system-units.txt): the four properties no system mutant reaches within 40 steps are shown able to fail here.
+# (system-units.txt): the four properties no system mutant reaches within the system depth are shown able to fail here.
 unit_depth() { awk -v u="$1" '$1==u{print $2}' "$dir/system-units.txt"; }
 if [ "$which" != probes ]; then
   case_=raydma; cdepth=$(unit_depth raydma); formal_wrap "$dir" raydma
   maybe_mutant ray_past_count "RayDma hands out every ray of the last block, past RAY_COUNT (present always, no stop at the count)" \
-    "/^module RayDma(/,/^endmodule/{s/wire \( *\)present = {\(_GEN_[0-9]*\), subReg} < _GEN_[0-9]*;/wire \1present = 1'h1;/;s/ | {_GEN_[0-9]*, subReg} + 34'h1 == _GEN_[0-9]*;/;/}" \
-    ", subReg} + 34'h1 == _GEN_" raydma_in_batch_1
+    "/^module RayDma(/,/^endmodule/{s/wire \( *\)_present_T = {\(_GEN_[0-9]*\), subReg} < _GEN_[0-9]*;/wire \1_present_T = 1'h1;/;s/ | {_GEN_[0-9]*, subReg} + 34'h1 == _GEN_[0-9]*;/;/}" \
+    "_present_T = {" raydma_in_batch_1
   maybe_mutant ray_renumber "RayDma numbers each block as the next one (block 0's rays as block 1's)" \
     "/^module RayDma(/,/^endmodule/s/blockOfTag_0 <= issuedReg;/blockOfTag_0 <= issuedReg + 32'h1;/" \
     "blockOfTag_0 <= issuedReg;" raydma_after_block_1 raydma_bounded_response_1
   maybe_mutant ray_skip_unit "RayDma ends a block after its third ray: the fourth ray of a full block is lost" \
-    "/^module RayDma(/,/^endmodule/s/wire \( *\)last = (\&subReg) | ~present/wire \1last = subReg == 2'h2 | ~present/" \
-    "last = (&subReg) | ~present" raydma_bounded_response_1
+    "/^module RayDma(/,/^endmodule/s/wire \( *\)last = (\&subReg) | ~_present_T/wire \1last = subReg == 2'h2 | ~_present_T/" \
+    "last = (&subReg) | ~_present_T" raydma_bounded_response_1
   case_=hitdma; cdepth=$(unit_depth hitdma); formal_wrap "$dir" hitdma
   maybe_mutant hit_count_short "HitDma latches RAY_COUNT - 1: the batch's last hit is out of its batch" \
     "/^module HitDma(/,/^endmodule/s/countReg <= io_rayCount;/countReg <= io_rayCount - 32'h1;/" \
