@@ -43,7 +43,7 @@ object SystemCase {
   /** w1's depth: the two window writes, LOAD_SCENE, the header read, the fills, the batch's registers, START and
     * the first ray block and core reads (docs/formal.md, "System level"). */
   val all: Seq[SystemCase] =
-    Seq(SystemCase("s1", sys2, env, depth = 42), SystemCase("w1", sys2, env, depth = 30, window = true))
+    Seq(SystemCase("s1", sys2, env, depth = 44), SystemCase("w1", sys2, env, depth = 30, window = true))
 
   /** The units' environment, from s1's: memory and AXI slave as env (L = 3, S = 1, 4 bursts), the core and
     * the read clients refusing at most env.stall = 1 cycle in a row. */
