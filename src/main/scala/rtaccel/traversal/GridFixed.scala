@@ -2,7 +2,7 @@ package rtaccel.traversal
 
 import chisel3._
 import chisel3.util._
-import rtaccel.fp.FloatFormat
+import rtaccel.fp.{FloatFormat, FpUnpack}
 
 /** Widths of the grid box test (docs/kernels.md, "Box tests in the node's grid").
   *
@@ -75,10 +75,22 @@ object GridFixed {
   /** Signed width that holds lo..hi. */
   def widthOf(lo: BigInt, hi: BigInt): Int = (lo.abs.max(hi.abs).bitLength + 1).max(2)
 
-  /** The hardware of [[soft]]: `k` a runtime SInt. Combinational. */
+  /** The hardware of [[soft]]: `k` a runtime SInt. Combinational.
+    *
+    * Only magnitudes below 2^m, m = w - 1, need their bits: lo and hi lie
+    * within +-(2^m - 1), so a magnitude of 2^m or more (`big`) clamps on its
+    * side, rounding bump or not, and is carried as 2^m. Below that, the
+    * integer part of sig 2^sh is the m bits of sig from -sh up: one right
+    * shift of sig padded with m - 1 zeros, by m - 1 - sh (a left shift of
+    * sig when sh > 0, which is not `big` only for a subnormal sig). `big` is
+    * msb(sig) + sh >= m from sig's leading zeros, and the remainder (bits of
+    * sig below -sh) is its trailing zeros < -sh: both compares beside the
+    * shifter, not shifts of their own.
+    */
   def hw(fmt: FloatFormat, x: UInt, k: SInt, up: Boolean, lo: BigInt, hi: BigInt): FixedHw = {
     val w = widthOf(lo, hi)
-    val magBits = w // |value| < 2^magBits covers lo..hi with room for one more
+    val m = w - 1
+    require(lo.abs < (BigInt(1) << m) && hi.abs < (BigInt(1) << m), s"GridFixed: $lo..$hi in $w bits")
     val p = fmt.precision
     val expF = x(fmt.width - 2, fmt.manBits)
     val frac = x(fmt.manBits - 1, 0)
@@ -86,21 +98,22 @@ object GridFixed {
     val isSpecial = expF.andR
     val isNaN = isSpecial && frac.orR
     val sig = Cat(expF.orR, frac)
+    val nonzero = sig.orR
     val lsbExp = (Mux(expF.orR, expF, 1.U).zext - (fmt.bias + fmt.manBits).S)
     val sh = lsbExp +& k
-    // Left: sh in 0..magBits (beyond, the magnitude is >= 2^magBits unless sig is 0).
-    val left = sh >= 0.S
-    val big = sig.orR && (sh > magBits.S || isSpecial)
-    val lAmt = sh.asUInt(log2Ceil(magBits + 1) - 1, 0)
-    val lVal = (sig << Mux(sh > magBits.S, magBits.U, lAmt))(p + magBits - 1, 0)
-    // Right: by 1..p+1 (more gives 0 with a remainder iff sig != 0).
-    val rAmtFull = (-sh).asUInt
-    val rAmt = Mux((-sh) > (p + 1).S, (p + 1).U, rAmtFull(log2Ceil(p + 2) - 1, 0))
-    val rVal = sig >> rAmt
-    val rRem = (rVal << rAmt)(p, 0) =/= sig
-    val trunc = Mux(left, lVal, rVal.pad(p + magBits))
-    val rem = !left && rRem
-    val mag = Mux(big, (BigInt(1) << magBits).U, trunc.pad(p + magBits + 1)) // saturated magnitude
+    val lz = FpUnpack.leadingZeros(sig) // sig = 0 is flagged apart
+    val tz = FpUnpack.leadingZeros(Reverse(sig))
+    // msb(sig) + sh >= m with msb(sig) = p - 1 - lz; an infinity is big too.
+    val big = nonzero && (isSpecial || sh - lz.zext >= (m - p + 1).S)
+    // Right by a = m - 1 - sh; a < 0 is big (or sig = 0, which shifts to 0 anyway), a > p + m - 2 leaves 0.
+    val a = (m - 1).S - sh
+    val aMax = p + m - 1
+    val aBits = log2Ceil(aMax + 1)
+    val aC = Mux(a < 0.S, 0.U, Mux(a > aMax.S, aMax.U, a.asUInt(aBits - 1, 0)))
+    val low = (Cat(sig, 0.U((m - 1).W)) >> aC)(m - 1, 0)
+    // Some bit of sig below -sh: tz < -sh.
+    val rem = nonzero && (tz.zext + sh < 0.S)
+    val mag = Mux(big, (BigInt(1) << m).U, low.pad(m + 1)) // saturated magnitude
     val bumped = mag +& Mux(rem, 1.U, 0.U)
     val posV = (if (up) bumped else mag).zext
     val negV = -(if (up) mag else bumped).zext
