@@ -72,6 +72,15 @@ final class HwArith(val fmt: FloatFormat, val valid: ValidChain) extends KernelA
     val u = Module(new FpAdd(fmt, Some(rm), subtract = true)); binary(u.io, u.latency, a, b)
   }
   def mul(a: F, b: F, rm: RoundingMode): F = { val u = Module(new FpMul(fmt, Some(rm))); binary(u.io, u.latency, a, b) }
+  private def dnUp(io: FpUnitIO[FpBinaryIn, FpDnUp], latency: Int, a: F, b: F): (F, F) = {
+    val c = when2(a, b)
+    io.in.valid := valid.at(c)
+    io.in.bits.a := a.at(c)
+    io.in.bits.b := b.at(c)
+    (new Timed(io.out.bits.dn, c + latency, valid), new Timed(io.out.bits.up, c + latency, valid))
+  }
+  override def addDnUp(a: F, b: F): (F, F) = { val u = Module(new FpAddDnUp(fmt)); dnUp(u.io, u.latency, a, b) }
+  override def mulDnUp(a: F, b: F): (F, F) = { val u = Module(new FpMulDnUp(fmt)); dnUp(u.io, u.latency, a, b) }
   def recip(a: F, rm: RoundingMode): F = {
     val u = Module(new FpRecip(fmt, Some(rm)))
     u.io.in.valid := valid.at(a.ready)
