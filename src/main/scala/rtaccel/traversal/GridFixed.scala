@@ -75,19 +75,49 @@ object GridFixed {
   /** Signed width that holds lo..hi. */
   def widthOf(lo: BigInt, hi: BigInt): Int = (lo.abs.max(hi.abs).bitLength + 1).max(2)
 
-  /** The hardware of [[soft]]: `k` a runtime SInt. Combinational.
+  /** [[hw]]'s shift `k` as the three thresholds it is compared with, each a
+    * constant less k: computed ahead of `x` (a caller may register them), so
+    * that in hw each compare waits on one sum of x's own fields, not on k too.
+    * For E the exponent field (1 for a subnormal), lz and tz sig's leading
+    * and trailing zeros, and m = w - 1:
+    *   - `right` - E = m - 1 - sh, sh = E - bias - manBits + k the LSB's exponent scaled:
+    *     the right shift that puts sig's bit -sh at bit 0;
+    *   - big: msb(sig) + sh >= m, msb = p - 1 - lz, is E - lz >= `big`;
+    *   - a remainder (a 1 of sig below bit -sh) is tz + E < `rem`.
+    */
+  class Shift(w: Int) extends Bundle {
+    val right = SInt(w.W)
+    val big = SInt(w.W)
+    val rem = SInt(w.W)
+  }
+
+  def shift(fmt: FloatFormat, k: SInt, lo: BigInt, hi: BigInt): Shift = {
+    val m = widthOf(lo, hi) - 1
+    val off = fmt.bias + fmt.manBits
+    val s = Wire(new Shift(k.getWidth.max(log2Ceil(off + m + fmt.precision + 1) + 1) + 2))
+    s.right := (m - 1 + off).S -& k
+    s.big := (m - fmt.precision + 1 + off).S -& k
+    s.rem := off.S -& k
+    s
+  }
+
+  /** The hardware of [[soft]]: `k` a runtime SInt. Combinational. */
+  def hw(fmt: FloatFormat, x: UInt, k: SInt, up: Boolean, lo: BigInt, hi: BigInt): FixedHw =
+    hw(fmt, x, shift(fmt, k, lo, hi), up, lo, hi)
+
+  /** [[soft]] with the shift prepared by [[shift]] (for the same window).
     *
     * Only magnitudes below 2^m, m = w - 1, need their bits: lo and hi lie
     * within +-(2^m - 1), so a magnitude of 2^m or more (`big`) clamps on its
     * side, rounding bump or not, and is carried as 2^m. Below that, the
     * integer part of sig 2^sh is the m bits of sig from -sh up: one right
-    * shift of sig padded with m - 1 zeros, by m - 1 - sh (a left shift of
-    * sig when sh > 0, which is not `big` only for a subnormal sig). `big` is
-    * msb(sig) + sh >= m from sig's leading zeros, and the remainder (bits of
-    * sig below -sh) is its trailing zeros < -sh: both compares beside the
-    * shifter, not shifts of their own.
+    * shift of sig padded with m - 1 zeros, by m - 1 - sh (a left shift of sig
+    * when sh > 0, which is not `big` only for a subnormal sig). `big` and the
+    * remainder are compares beside the shifter ([[Shift]]). The signed result
+    * is one adder (the magnitude, complemented when negative, plus a carry
+    * in), and the window's compares read the magnitude beside it.
     */
-  def hw(fmt: FloatFormat, x: UInt, k: SInt, up: Boolean, lo: BigInt, hi: BigInt): FixedHw = {
+  def hw(fmt: FloatFormat, x: UInt, s: Shift, up: Boolean, lo: BigInt, hi: BigInt): FixedHw = {
     val w = widthOf(lo, hi)
     val m = w - 1
     require(lo.abs < (BigInt(1) << m) && hi.abs < (BigInt(1) << m), s"GridFixed: $lo..$hi in $w bits")
@@ -99,28 +129,28 @@ object GridFixed {
     val isNaN = isSpecial && frac.orR
     val sig = Cat(expF.orR, frac)
     val nonzero = sig.orR
-    val lsbExp = (Mux(expF.orR, expF, 1.U).zext - (fmt.bias + fmt.manBits).S)
-    val sh = lsbExp +& k
+    val e = Mux(expF.orR, expF, 1.U).zext
     val lz = FpUnpack.leadingZeros(sig) // sig = 0 is flagged apart
     val tz = FpUnpack.leadingZeros(Reverse(sig))
-    // msb(sig) + sh >= m with msb(sig) = p - 1 - lz; an infinity is big too.
-    val big = nonzero && (isSpecial || sh - lz.zext >= (m - p + 1).S)
+    val big = nonzero && (isSpecial || e -& lz.zext >= s.big) // an infinity is big too
+    val rem = nonzero && (tz.zext +& e < s.rem)
     // Right by a = m - 1 - sh; a < 0 is big (or sig = 0, which shifts to 0 anyway), a > p + m - 2 leaves 0.
-    val a = (m - 1).S - sh
+    val a = s.right -& e
     val aMax = p + m - 1
-    val aBits = log2Ceil(aMax + 1)
-    val aC = Mux(a < 0.S, 0.U, Mux(a > aMax.S, aMax.U, a.asUInt(aBits - 1, 0)))
+    val aC = Mux(a < 0.S, 0.U, Mux(a > aMax.S, aMax.U, a.asUInt(log2Ceil(aMax + 1) - 1, 0)))
     val low = (Cat(sig, 0.U((m - 1).W)) >> aC)(m - 1, 0)
-    // Some bit of sig below -sh: tz < -sh.
-    val rem = nonzero && (tz.zext + sh < 0.S)
     val mag = Mux(big, (BigInt(1) << m).U, low.pad(m + 1)) // saturated magnitude
-    val bumped = mag +& Mux(rem, 1.U, 0.U)
-    val posV = (if (up) bumped else mag).zext
-    val negV = -(if (up) mag else bumped).zext
-    val v = Mux(sign, negV, posV)
+    // The bump away from zero: ceil of a positive value, floor of a negative one.
+    val bump = rem && (if (up) !sign else sign)
+    // -(mag + bump) = ~mag + !bump in m + 2 bits.
+    val v = ((mag.pad(m + 2) ^ Fill(m + 2, sign)) + Mux(sign, !bump, bump)).asSInt
+    // v < lo and v > hi from mag, per sign and bump (each a compare with a constant).
+    def magLt(c: BigInt) = mag.zext < c.S
+    def magGt(c: BigInt) = mag.zext > c.S
+    def byBump(f: BigInt => Bool, c: BigInt) = Mux(bump, f(c - 1), f(c))
+    val below = Mux(isNaN, (!up).B, Mux(sign, byBump(magGt, -lo), byBump(magLt, lo)))
+    val above = Mux(isNaN, up.B, Mux(sign, byBump(magLt, -hi), byBump(magGt, hi)))
     val out = Wire(new FixedHw(w))
-    val below = Mux(isNaN, (!up).B, v < lo.S)
-    val above = Mux(isNaN, up.B, v > hi.S)
     out.below := below
     out.above := above
     out.value := Mux(below, lo.S(w.W), Mux(above, hi.S(w.W), v(w - 1, 0).asSInt))

@@ -136,20 +136,26 @@ class GridNodeStage(p: GridParams, rays: RayConsts) extends Module {
   val latency: Int =
     (k.axes.flatMap(a => Seq(a.cLo, a.cHi, a.diffLo, a.diffHi)) ++ Seq(k.tminR, k.tmaxR)).map(_.ready).max + 1
   private val c = latency - 1
-  private val euC = timed(eu).at(c)
-  private val sC = sInt.map(timed(_).at(c))
+  // The conversions' shifts, prepared a cycle ahead (GridFixed.shift) and registered.
+  private val euP = timed(eu).at(c - 1)
+  private val sP = sInt.map(timed(_).at(c - 1))
+  private def shift(k: SInt, lo: BigInt, hi: BigInt) = new Timed(GridFixed.shift(fmt, k, lo, hi), c - 1, chain).at(c)
   private val rcpLoC = ray.rcpLo.map(_.at(c))
   private val rcpHiC = ray.rcpHi.map(_.at(c))
-  private def fx(x: UInt, sh: SInt, up: Boolean, lo: BigInt, hi: BigInt) = GridFixed.hw(fmt, x, sh, up, lo, hi)
+  private def fx(x: UInt, sh: GridFixed.Shift, up: Boolean, lo: BigInt, hi: BigInt) =
+    GridFixed.hw(fmt, x, sh, up, lo, hi)
   private def negF(x: UInt) = Cat(!x(fmt.width - 1), x(fmt.width - 2, 0))
   private val node = Wire(new GridNodeHw(p))
   for (i <- 0 until 3) {
     val a = k.axes(i)
     val o = node.axes(i)
-    val sLo = fx(rcpLoC(i), sC(i) - euC, up = false, 0, p.stepMax)
-    val sHi = fx(rcpHiC(i), sC(i) - euC, up = true, 0, p.stepMax)
-    val cLo = fx(a.cLo.at(c), p.cFracBits.S - sC(i), up = false, p.cLo, p.cHi)
-    val cHi = fx(a.cHi.at(c), p.cFracBits.S - sC(i), up = true, p.cLo, p.cHi)
+    val kS = shift(sP(i) - euP, 0, p.stepMax)
+    val kC = shift(p.cFracBits.S - sP(i), p.cLo, p.cHi)
+    val kG = shift(-sP(i), p.gLo, p.gHi)
+    val sLo = fx(rcpLoC(i), kS, up = false, 0, p.stepMax)
+    val sHi = fx(rcpHiC(i), kS, up = true, 0, p.stepMax)
+    val cLo = fx(a.cLo.at(c), kC, up = false, p.cLo, p.cHi)
+    val cHi = fx(a.cHi.at(c), kC, up = true, p.cLo, p.cHi)
     o.flat := a.flat.at(c)
     o.neg := a.neg.at(c)
     o.stepLo := sLo.value.asUInt(p.stepBits - 1, 0)
@@ -159,11 +165,12 @@ class GridNodeStage(p: GridParams, rays: RayConsts) extends Module {
     o.cLoBelow := cLo.below
     o.cHi := cHi.value
     o.cHiAbove := cHi.above
-    o.gHi := fx(negF(a.diffLo.at(c)), -sC(i), up = false, p.gLo, p.gHi).value
-    o.gLo := fx(negF(a.diffHi.at(c)), -sC(i), up = true, p.gLo, p.gHi).value
+    o.gHi := fx(negF(a.diffLo.at(c)), kG, up = false, p.gLo, p.gHi).value
+    o.gLo := fx(negF(a.diffHi.at(c)), kG, up = true, p.gLo, p.gHi).value
   }
-  node.tmin := fx(k.tminR.at(c), -euC, up = false, p.bot, p.top).value(p.width - 1, 0).asSInt
-  node.tmax := fx(k.tmaxR.at(c), -euC, up = true, p.bot, p.top).value(p.width - 1, 0).asSInt
+  private val kT = shift(-euP, p.bot, p.top)
+  node.tmin := fx(k.tminR.at(c), kT, up = false, p.bot, p.top).value(p.width - 1, 0).asSInt
+  node.tmax := fx(k.tmaxR.at(c), kT, up = true, p.bot, p.top).value(p.width - 1, 0).asSInt
   node.err := k.err.at(c)
   io.out.valid := chain.at(latency)
   io.out.bits := RegEnable(node, chain.at(c))

@@ -73,6 +73,8 @@ class GridFixedSpec extends AnyFlatSpec with ChiselScalatestTester {
         BigInt(1) << fmt.manBits,
         fmt.maxFinite(false),
         fmt.maxFinite(true),
+        fmt.pack(false, fmt.maxExpField - 1, 0), // trailing zeros and exponent both large
+        fmt.pack(false, fmt.maxExpField - 16, BigInt(1) << (fmt.manBits - 1)),
         f(1.0f),
         f(-1.0f),
         f(1.5f),
