@@ -105,6 +105,31 @@ object GridFixed {
   def hw(fmt: FloatFormat, x: UInt, k: SInt, up: Boolean, lo: BigInt, hi: BigInt): FixedHw =
     hw(fmt, x, shift(fmt, k, lo, hi), up, lo, hi)
 
+  /** What [[decide]] hands to [[front]]: the significand, its right shift
+    * clamped, and the decisions on it. With a register after each of
+    * [[decide]] and [[front]] the conversion is three pipeline stages (the
+    * exponent's compares, the shifter, the signed result and the clamp), each
+    * short of the FP units' own stages.
+    */
+  class Decided(p: Int, aBits: Int) extends Bundle {
+    val sig = UInt(p.W)
+    val aC = UInt(aBits.W)
+    val big = Bool()
+    val bump = Bool()
+    val sign = Bool()
+    val isNaN = Bool()
+  }
+
+  /** What [[front]] hands to [[back]]. */
+  class Front(m: Int) extends Bundle {
+
+    /** The saturated magnitude: below 2^m, or 2^m for `big`. */
+    val mag = UInt((m + 1).W)
+    val bump = Bool()
+    val sign = Bool()
+    val isNaN = Bool()
+  }
+
   /** [[soft]] with the shift prepared by [[shift]] (for the same window).
     *
     * Only magnitudes below 2^m, m = w - 1, need their bits: lo and hi lie
@@ -116,8 +141,13 @@ object GridFixed {
     * remainder are compares beside the shifter ([[Shift]]). The signed result
     * is one adder (the magnitude, complemented when negative, plus a carry
     * in), and the window's compares read the magnitude beside it.
+    * Combinational: [[decide]], [[front]], then [[back]].
     */
-  def hw(fmt: FloatFormat, x: UInt, s: Shift, up: Boolean, lo: BigInt, hi: BigInt): FixedHw = {
+  def hw(fmt: FloatFormat, x: UInt, s: Shift, up: Boolean, lo: BigInt, hi: BigInt): FixedHw =
+    back(front(decide(fmt, x, s, up, lo, hi), lo, hi), up, lo, hi)
+
+  /** The compares on `x`'s exponent: its right shift into the window, `big`, and whether it rounds away from zero. */
+  def decide(fmt: FloatFormat, x: UInt, s: Shift, up: Boolean, lo: BigInt, hi: BigInt): Decided = {
     val w = widthOf(lo, hi)
     val m = w - 1
     require(lo.abs < (BigInt(1) << m) && hi.abs < (BigInt(1) << m), s"GridFixed: $lo..$hi in $w bits")
@@ -126,7 +156,6 @@ object GridFixed {
     val frac = x(fmt.manBits - 1, 0)
     val sign = x(fmt.width - 1)
     val isSpecial = expF.andR
-    val isNaN = isSpecial && frac.orR
     val sig = Cat(expF.orR, frac)
     val nonzero = sig.orR
     val e = Mux(expF.orR, expF, 1.U).zext
@@ -137,19 +166,43 @@ object GridFixed {
     // Right by a = m - 1 - sh; a < 0 is big (or sig = 0, which shifts to 0 anyway), a > p + m - 2 leaves 0.
     val a = s.right -& e
     val aMax = p + m - 1
-    val aC = Mux(a < 0.S, 0.U, Mux(a > aMax.S, aMax.U, a.asUInt(log2Ceil(aMax + 1) - 1, 0)))
-    val low = (Cat(sig, 0.U((m - 1).W)) >> aC)(m - 1, 0)
-    val mag = Mux(big, (BigInt(1) << m).U, low.pad(m + 1)) // saturated magnitude
+    val aBits = log2Ceil(aMax + 1)
+    val d = Wire(new Decided(p, aBits))
+    d.sig := sig
+    d.aC := Mux(a < 0.S, 0.U, Mux(a > aMax.S, aMax.U, a.asUInt(aBits - 1, 0)))
+    d.big := big
     // The bump away from zero: ceil of a positive value, floor of a negative one.
-    val bump = rem && (if (up) !sign else sign)
+    d.bump := rem && (if (up) !sign else sign)
+    d.sign := sign
+    d.isNaN := isSpecial && frac.orR
+    d
+  }
+
+  /** The shift: the magnitude in the window's bits, saturated. */
+  def front(d: Decided, lo: BigInt, hi: BigInt): Front = {
+    val m = widthOf(lo, hi) - 1
+    val low = (Cat(d.sig, 0.U((m - 1).W)) >> d.aC)(m - 1, 0)
+    val f = Wire(new Front(m))
+    f.mag := Mux(d.big, (BigInt(1) << m).U, low.pad(m + 1))
+    f.bump := d.bump
+    f.sign := d.sign
+    f.isNaN := d.isNaN
+    f
+  }
+
+  /** The signed, clamped result of a [[front]] (the same `up` and window). */
+  def back(f: Front, up: Boolean, lo: BigInt, hi: BigInt): FixedHw = {
+    val w = widthOf(lo, hi)
+    val m = w - 1
+    val (mag, bump, sign) = (f.mag, f.bump, f.sign)
     // -(mag + bump) = ~mag + !bump in m + 2 bits.
     val v = ((mag.pad(m + 2) ^ Fill(m + 2, sign)) + Mux(sign, !bump, bump)).asSInt
     // v < lo and v > hi from mag, per sign and bump (each a compare with a constant).
     def magLt(c: BigInt) = mag.zext < c.S
     def magGt(c: BigInt) = mag.zext > c.S
-    def byBump(f: BigInt => Bool, c: BigInt) = Mux(bump, f(c - 1), f(c))
-    val below = Mux(isNaN, (!up).B, Mux(sign, byBump(magGt, -lo), byBump(magLt, lo)))
-    val above = Mux(isNaN, up.B, Mux(sign, byBump(magLt, -hi), byBump(magGt, hi)))
+    def byBump(g: BigInt => Bool, c: BigInt) = Mux(bump, g(c - 1), g(c))
+    val below = Mux(f.isNaN, (!up).B, Mux(sign, byBump(magGt, -lo), byBump(magLt, lo)))
+    val above = Mux(f.isNaN, up.B, Mux(sign, byBump(magLt, -hi), byBump(magGt, hi)))
     val out = Wire(new FixedHw(w))
     out.below := below
     out.above := above
