@@ -54,6 +54,9 @@ trait KernelArith[F, B] {
   /** `(mul(a, b, RDN), mul(a, b, RUP))`: one value rounded both ways (hardware may share the exact product). */
   def mulDnUp(a: F, b: F): (F, F) = (mul(a, b, RoundingMode.RDN), mul(a, b, RoundingMode.RUP))
 
+  /** `(recip(a, lo), recip(a, hi))`: one reciprocal rounded in two modes (hardware may share the quotient). */
+  def recipPair(a: F, lo: RoundingMode, hi: RoundingMode): (F, F) = (recip(a, lo), recip(a, hi))
+
   def gt(a: F, b: F): B = lt(b, a)
   def ge(a: F, b: F): B = le(b, a)
   def all(bs: Seq[B]): B = bs.reduce(and)

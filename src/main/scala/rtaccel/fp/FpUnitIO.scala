@@ -56,3 +56,18 @@ object FpDnUp {
     o
   }
 }
+
+/** One result rounded in two modes, `lo` and `hi` (a unit's fixed pair, e.g. [[FpRecipPair]]). */
+class FpLoHi(val fmt: FloatFormat) extends Bundle {
+  val lo = UInt(fmt.width.W)
+  val hi = UInt(fmt.width.W)
+}
+
+object FpLoHi {
+  def apply(fmt: FloatFormat, rounded: Seq[UInt]): FpLoHi = {
+    val o = Wire(new FpLoHi(fmt))
+    o.lo := rounded(0)
+    o.hi := rounded(1)
+    o
+  }
+}
