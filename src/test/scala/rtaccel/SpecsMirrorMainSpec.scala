@@ -24,9 +24,7 @@ class SpecsMirrorMainSpec extends AnyFlatSpec {
     "RayPrepUnit" -> ("abstract per-ray-constants interface; its one implementation, FloatRayPrep, is checked in " +
       "datapath/FloatDatapathSpec (through DatapathHarness) and inside fetch/FetchBVHSpec"),
     "GridLane" -> ("one child's grid box test, instantiated K times inside GridBboxIntersect; traversal/GridBboxIntersectSpec " +
-      "checks every lane's answer bit for bit against GridLane.soft"),
-    "GridNodeStage" -> ("the grid box test's per-node stage inside GridBboxIntersect; traversal/GridBboxIntersectSpec checks it " +
-      "through the lanes' answers against GridNode.soft")
+      "checks every lane's answer bit for bit against GridLane.soft")
   )
 
   private val moduleClass = raw"""(?m)^\s*(?:abstract\s+|final\s+)?class\s+(\w+)[^\n{]*\bextends\s+(?:Raw)?Module\b""".r

@@ -41,8 +41,7 @@ object GridKernel {
       val (o, oHi, d) = (ray.o(i), ray.oHi.fold(ray.o(i))(_(i)), ray.d(i))
       val neg = signBit(d)
       // base' = origin + span when d < 0; its bounds (exact for images nori-bridge writes, QuantNode).
-      val farLo = add(origin(i), span(i), RDN)
-      val farHi = add(origin(i), span(i), RUP)
+      val (farLo, farHi) = addDnUp(origin(i), span(i))
       // One subtractor per bound, operands picked by the sign: diffLo <= diff <= diffHi.
       val diffLo = sub(mux(neg, o, origin(i)), mux(neg, farHi, oHi), RDN)
       val diffHi = sub(mux(neg, oHi, origin(i)), mux(neg, farLo, o), RUP)
@@ -58,7 +57,8 @@ object GridKernel {
     // t(q') - t0 = (q' - c) 2^s / |d| with c 2^s = t0 |d| - diff: the ray's grid
     // coordinate at t0, which for a ray through the grid lies in 0..qMax.
     val axes = pre.map { case (flat, neg, diffLo, diffHi, _, absD) =>
-      Axis(flat, neg, diffLo, diffHi, sub(mul(t0, absD, RDN), diffHi, RDN), sub(mul(t0, absD, RUP), diffLo, RUP))
+      val (pLo, pHi) = mulDnUp(t0, absD)
+      Axis(flat, neg, diffLo, diffHi, sub(pLo, diffHi, RDN), sub(pHi, diffLo, RUP))
     }
     Node(axes, t0, sub(ray.tmin, t0, RDN), sub(tmax, t0, RUP), ray.err)
   }

@@ -72,21 +72,30 @@ final class HwArith(val fmt: FloatFormat, val valid: ValidChain) extends KernelA
     val u = Module(new FpAdd(fmt, Some(rm), subtract = true)); binary(u.io, u.latency, a, b)
   }
   def mul(a: F, b: F, rm: RoundingMode): F = { val u = Module(new FpMul(fmt, Some(rm))); binary(u.io, u.latency, a, b) }
-  def recip(a: F, rm: RoundingMode): F = {
-    val u = Module(new FpRecip(fmt, Some(rm)))
-    u.io.in.valid := valid.at(a.ready)
-    u.io.in.bits.a := a.at(a.ready)
-    new Timed(u.io.out.bits, a.ready + u.latency, valid)
+  private def dnUp(io: FpUnitIO[FpBinaryIn, FpDnUp], latency: Int, a: F, b: F): (F, F) = {
+    val c = when2(a, b)
+    io.in.valid := valid.at(c)
+    io.in.bits.a := a.at(c)
+    io.in.bits.b := b.at(c)
+    (new Timed(io.out.bits.dn, c + latency, valid), new Timed(io.out.bits.up, c + latency, valid))
+  }
+  override def addDnUp(a: F, b: F): (F, F) = { val u = Module(new FpAddDnUp(fmt)); dnUp(u.io, u.latency, a, b) }
+  override def mulDnUp(a: F, b: F): (F, F) = { val u = Module(new FpMulDnUp(fmt)); dnUp(u.io, u.latency, a, b) }
+  private def unary[T <: Data](io: FpUnitIO[FpUnaryIn, T], latency: Int, a: F): Timed[T] = {
+    io.in.valid := valid.at(a.ready)
+    io.in.bits.a := a.at(a.ready)
+    new Timed(io.out.bits, a.ready + latency, valid)
+  }
+  def recip(a: F, rm: RoundingMode): F = { val u = Module(new FpRecip(fmt, Some(rm))); unary(u.io, u.latency, a) }
+  override def recipPair(a: F, lo: RoundingMode, hi: RoundingMode): (F, F) = {
+    val u = Module(new FpRecipPair(fmt, lo, hi))
+    val r = unary(u.io, u.latency, a)
+    (field(r)(_.lo), field(r)(_.hi))
   }
   def fromF32(a: F, rm: RoundingMode): F = convert(a, f32, rm)
   def convert(a: F, from: FloatFormat, rm: RoundingMode): F =
     if (fmt == from) a
-    else {
-      val u = Module(new FpConvert(from, fmt, Some(rm)))
-      u.io.in.valid := valid.at(a.ready)
-      u.io.in.bits.a := a.at(a.ready)
-      new Timed(u.io.out.bits, a.ready + u.latency, valid)
-    }
+    else { val u = Module(new FpConvert(from, fmt, Some(rm))); unary(u.io, u.latency, a) }
 
   /** One comparator per operand pair, shared by every min/max/lt/le/eq on it. */
   private val compares = mutable.Map.empty[(F, F), Timed[FpCompareOut]]
@@ -100,13 +109,12 @@ final class HwArith(val fmt: FloatFormat, val valid: ValidChain) extends KernelA
       new Timed(u.io.out.bits, c + u.latency, valid)
     }
   )
-  private def field[T <: Data](t: Timed[FpCompareOut], f: FpCompareOut => T): Timed[T] =
-    new Timed(f(t.value), t.ready, valid)
-  def min(a: F, b: F): F = field(compare(a, b), _.min)
-  def max(a: F, b: F): F = field(compare(a, b), _.max)
-  def lt(a: F, b: F): B = field(compare(a, b), _.lt)
-  def le(a: F, b: F): B = field(compare(a, b), o => o.lt || o.eq)
-  def eq(a: F, b: F): B = field(compare(a, b), _.eq)
+  private def field[S <: Data, T <: Data](t: Timed[S])(f: S => T): Timed[T] = new Timed(f(t.value), t.ready, valid)
+  def min(a: F, b: F): F = field(compare(a, b))(_.min)
+  def max(a: F, b: F): F = field(compare(a, b))(_.max)
+  def lt(a: F, b: F): B = field(compare(a, b))(_.lt)
+  def le(a: F, b: F): B = field(compare(a, b))(o => o.lt || o.eq)
+  def eq(a: F, b: F): B = field(compare(a, b))(_.eq)
 
   private def wire1[T <: Data](a: F, f: UInt => T): Timed[T] = new Timed(f(a.value), a.ready, valid, a.constant)
   private def exp(x: UInt): UInt = x(fmt.width - 2, fmt.manBits)

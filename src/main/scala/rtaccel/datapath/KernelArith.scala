@@ -47,6 +47,16 @@ trait KernelArith[F, B] {
   def bool(b: Boolean): B
 
   // ---- derived helpers (no new operations) ----
+
+  /** `(add(a, b, RDN), add(a, b, RUP))`: one value rounded both ways (hardware may share the exact sum). */
+  def addDnUp(a: F, b: F): (F, F) = (add(a, b, RoundingMode.RDN), add(a, b, RoundingMode.RUP))
+
+  /** `(mul(a, b, RDN), mul(a, b, RUP))`: one value rounded both ways (hardware may share the exact product). */
+  def mulDnUp(a: F, b: F): (F, F) = (mul(a, b, RoundingMode.RDN), mul(a, b, RoundingMode.RUP))
+
+  /** `(recip(a, lo), recip(a, hi))`: one reciprocal rounded in two modes (hardware may share the quotient). */
+  def recipPair(a: F, lo: RoundingMode, hi: RoundingMode): (F, F) = (recip(a, lo), recip(a, hi))
+
   def gt(a: F, b: F): B = lt(b, a)
   def ge(a: F, b: F): B = le(b, a)
   def all(bs: Seq[B]): B = bs.reduce(and)

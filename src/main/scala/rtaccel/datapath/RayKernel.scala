@@ -120,6 +120,7 @@ object RayKernel {
       any(oLo.map(isNonFinite) ++ oHi.map(isNonFinite) ++ dAway.map(isNonFinite) ++ Seq(isNaN(tmin), isNaN(tmax))),
       all(dAway.map(isZero))
     )
+    // Two operands per axis (d away and toward zero), so two reciprocals, not a recipPair.
     val rcpLo = dAway.map(x => recip(abs(x), RTZ))
     val rcpHi = dToward.map(x => recip(abs(x), RUP))
     RayK(oLo, dAway, tmin, err, rcpLo, rcpHi, None, Some(oHi))
@@ -148,8 +149,11 @@ object RayKernel {
     // 1/|d| is positive, so RTZ = RDN. RTZ never overflows: for 0 < |d| <= 2^-(emax+1)
     // it gives maxFinite where RNE gives inf (the origin-on-plane 0 * inf case).
     // |d| = 0 gives inf in every mode; such an axis is flat (B6) and not used.
-    val rcpLo = if (withRcp) mag.map(recip(_, if (cons) RTZ else RNE)) else Nil
-    val rcpHi = if (cons) (if (withRcp) mag.map(recip(_, RUP)) else Nil) else rcpLo
+    // Conservative: both of one |d| (recipPair: hardware shares the quotient).
+    val (rcpLo, rcpHi) =
+      if (!withRcp) (Nil, Nil)
+      else if (cons) mag.map(recipPair(_, RTZ, RUP)).unzip
+      else { val r = mag.map(recip(_, RNE)); (r, r) }
     (RayK(o, d, tmin, err, rcpLo, rcpHi, None), tmax)
   }
 

@@ -22,97 +22,62 @@ class FpAdd(
   val io = IO(new FpUnitIO(new FpBinaryIn(fmt, rm.isEmpty), UInt(fmt.width.W)))
   override def desiredName: String = FpUnitIO.name(if (subtract) "FpSub" else "FpAdd", fmt, rm, latency)
 
-  private val p = fmt.precision
-  private val extra = FpAdd.extra
   private val pipe = new FpPipeline(latency, FpAdd.cuts(fmt))
   private val stages = new FpStages(pipe, io.in.valid)
-  private val sw = p + extra
-  private val ew = FpUnpack.expWidth(fmt)
-
-  private val ua = FpUnpack(fmt, io.in.bits.a)
-  private val ub0 = FpUnpack(fmt, io.in.bits.b)
-  private val ub = WireInit(ub0)
-  if (subtract) ub.sign := !ub0.sign // exact; NaN signs do not matter (canonical NaN out)
-
-  private val dynamicRm = rm.isEmpty
-
-  /** The front's state between its cuts. */
-  class Front extends Bundle {
-    val big = new FpUnpacked(fmt)
-    val smallSig = UInt(p.W)
-    val dist = UInt((fmt.expBits + 1).W)
-    val effSub = Bool()
-    val isNaN = Bool()
-    val isInf = Bool()
-    val infSign = Bool()
-    val smallAligned = UInt(sw.W)
-    val sticky = Bool()
-    val rm = Option.when(dynamicRm)(UInt(RoundingMode.width.W))
-  }
-
-  // Cut 1: swap by exponent. Both operands' LSB exponents carry the same
-  // offset from their (subnormal-adjusted) fields, so fields are compared and
-  // subtracted directly, both ways at once: no chain waits on another.
-  private val f0 = Wire(new Front)
-  f0 := DontCare
-  f0.rm.foreach(_ := io.in.bits.rm.get)
-  private def field(bits: UInt): UInt = {
-    val e = bits(fmt.width - 2, fmt.manBits)
-    Mux(e === 0.U, 1.U(fmt.expBits.W), e)
-  }
-  private val fa = field(io.in.bits.a)
-  private val fb = field(io.in.bits.b)
-  private val aBig = fa >= fb // = ua.exp >= ub.exp
-  private val big = Mux(aBig, ua, ub)
-  f0.big := big
-  f0.smallSig := Mux(aBig, ub.sig, ua.sig)
-  f0.dist := Mux(aBig, fa -& fb, fb -& fa) // = big.exp - small.exp >= 0
-  f0.effSub := ua.sign =/= ub.sign
-  f0.isNaN := ua.isNaN || ub.isNaN || (ua.isInf && ub.isInf && f0.effSub)
-  f0.isInf := ua.isInf || ub.isInf
-  f0.infSign := Mux(ua.isInf, ua.sign, ub.sign)
-  private val f1 = stages(f0)
-
-  // Cut 2: align the smaller significand.
-  private val f2 = Wire(new Front)
-  f2 := f1
-  private val (smallAligned, sticky) = FpUnpack.shiftRightSticky(Cat(f1.smallSig, 0.U(extra.W)), f1.dist)
-  f2.smallAligned := smallAligned
-  f2.sticky := sticky
-  private val f3 = stages(f2)
-
-  // Cut 3: add or subtract. A true difference is big - (smallAligned + d),
-  // d in (0,1) when sticky: = (big - smallAligned - 1) + (1 - d), so subtract
-  // the sticky bit too. Its negation is formed beside it, not after it.
-  private val bigExt = Cat(f3.big.sig, 0.U(extra.W))
-  private val diff = bigExt.zext - f3.smallAligned.zext - f3.sticky.asUInt.zext
-  private val negDiff = f3.smallAligned.zext + f3.sticky.asUInt.zext - bigExt.zext
-  private val negative = diff < 0.S // only when the exponents are equal (then no sticky)
-  private val mag = Mux(f3.effSub, Mux(negative, negDiff.asUInt, diff.asUInt), bigExt +& f3.smallAligned)
-
-  private val front = Wire(new FpRawStage(sw + 1, ew + 1, rm.isEmpty))
-  private val raw = front.raw
-  front.rm.foreach(_ := f3.rm.get)
-  raw.isNaN := f3.isNaN
-  raw.isInf := f3.isInf
-  // Exact zero: (-0)+(-0) = -0, x+(-x) = +0 except -0 in RDN (IEEE 754 6.3).
-  raw.isZero := mag === 0.U && !f3.sticky
-  raw.sign := MuxCase(
-    f3.big.sign ^ (f3.effSub && negative),
-    Seq(
-      f3.isInf -> f3.infSign,
-      (mag === 0.U && f3.effSub) -> (FpUnitIO.roundingMode(rm, f3.rm) === RoundingMode.RDN.code.U)
-    )
-  )
-  raw.sig := mag
-  raw.exp := f3.big.exp -& extra.S
-  raw.sticky := f3.sticky
-
-  private val mid = stages(front)
-  private val rounded =
-    FpRound(fmt, mid.raw, FpUnitIO.roundingMode(rm, mid.rm), minExp = Some(FpAdd.minExp(fmt)), stages = Some(stages))
+  private val mid = stages(FpAdd.front(fmt, io.in.bits, subtract, stages, r => Seq(FpUnitIO.roundingMode(rm, r))))
+  private val rounded = FpRound.inModes(
+    fmt,
+    mid.raw,
+    Seq((FpUnitIO.roundingMode(rm, mid.rm), mid.signs(0))),
+    Some(FpAdd.minExp(fmt)),
+    Some(stages)
+  ).head
   io.out := pipe.cut(stages.valid, rounded)
   pipe.done()
+}
+
+/** [[FpAdd]] (or its subtractor) rounded both down (RDN) and up (RUP) from
+  * one exact sum: one front and normaliser, two final roundings
+  * (FpRound.inModes). Each result is bit for bit the single-mode unit's
+  * (an exact zero's sign included); same cuts and latency.
+  */
+class FpAddDnUp(val fmt: FloatFormat, val latency: Int = FpAdd.defaultLatency, val subtract: Boolean = false)
+    extends Module {
+  val io = IO(new FpUnitIO(new FpBinaryIn(fmt, false), new FpDnUp(fmt)))
+  override def desiredName: String = s"${if (subtract) "FpSub" else "FpAdd"}DnUp_${fmt.name}_l$latency"
+
+  private val modes = Seq(RoundingMode.RDN, RoundingMode.RUP).map(_.code.U(RoundingMode.width.W))
+  private val pipe = new FpPipeline(latency, FpAdd.cuts(fmt))
+  private val stages = new FpStages(pipe, io.in.valid)
+  private val mid = stages(FpAdd.front(fmt, io.in.bits, subtract, stages, _ => modes))
+  private val rounded =
+    FpRound.inModes(fmt, mid.raw, modes.zip(mid.signs), Some(FpAdd.minExp(fmt)), Some(stages))
+  io.out := pipe.cut(stages.valid, FpDnUp(fmt, rounded))
+  pipe.done()
+}
+
+/** The adder front's state between its cuts. */
+class FpAddFront(fmt: FloatFormat, dynamicRm: Boolean) extends Bundle {
+  private val p = fmt.precision
+  val big = new FpUnpacked(fmt)
+  val smallSig = UInt(p.W)
+  val dist = UInt((fmt.expBits + 1).W)
+  val effSub = Bool()
+  val isNaN = Bool()
+  val isInf = Bool()
+  val infSign = Bool()
+  val smallAligned = UInt((p + FpAdd.extra).W)
+  val sticky = Bool()
+  val rm = Option.when(dynamicRm)(UInt(RoundingMode.width.W))
+}
+
+/** The adder's exact sum before rounding, with the result's sign in each mode
+  * (they differ only for an exact zero from x + (-x)).
+  */
+class FpAddMid(sigWidth: Int, expWidth: Int, dynamicRm: Boolean, modes: Int) extends Bundle {
+  val raw = new FpRaw(sigWidth, expWidth)
+  val rm = Option.when(dynamicRm)(UInt(RoundingMode.width.W))
+  val signs = Vec(modes, Bool())
 }
 
 object FpAdd {
@@ -122,6 +87,90 @@ object FpAdd {
     * d > extra loses at most one leading bit); three keeps a margin.
     */
   val extra: Int = 3
+
+  /** The front: swap, align, add (three cuts of `stages`), up to the
+    * rounder's input, for the modes `modesOf` gives from the carried runtime
+    * mode (if any).
+    */
+  def front(
+      fmt: FloatFormat,
+      in: FpBinaryIn,
+      subtract: Boolean,
+      stages: FpStages,
+      modesOf: Option[UInt] => Seq[UInt]
+  ): FpAddMid = {
+    val p = fmt.precision
+    val extra = FpAdd.extra
+    val sw = p + extra
+    val ew = FpUnpack.expWidth(fmt)
+
+    val ua = FpUnpack(fmt, in.a)
+    val ub0 = FpUnpack(fmt, in.b)
+    val ub = WireInit(ub0)
+    if (subtract) ub.sign := !ub0.sign // exact; NaN signs do not matter (canonical NaN out)
+
+    val dynamicRm = in.rm.isDefined
+
+    // Cut 1: swap by exponent. Both operands' LSB exponents carry the same
+    // offset from their (subnormal-adjusted) fields, so fields are compared and
+    // subtracted directly, both ways at once: no chain waits on another.
+    val f0 = Wire(new FpAddFront(fmt, dynamicRm))
+    f0 := DontCare
+    f0.rm.foreach(_ := in.rm.get)
+    def field(bits: UInt): UInt = {
+      val e = bits(fmt.width - 2, fmt.manBits)
+      Mux(e === 0.U, 1.U(fmt.expBits.W), e)
+    }
+    val fa = field(in.a)
+    val fb = field(in.b)
+    val aBig = fa >= fb // = ua.exp >= ub.exp
+    val big = Mux(aBig, ua, ub)
+    f0.big := big
+    f0.smallSig := Mux(aBig, ub.sig, ua.sig)
+    f0.dist := Mux(aBig, fa -& fb, fb -& fa) // = big.exp - small.exp >= 0
+    f0.effSub := ua.sign =/= ub.sign
+    f0.isNaN := ua.isNaN || ub.isNaN || (ua.isInf && ub.isInf && f0.effSub)
+    f0.isInf := ua.isInf || ub.isInf
+    f0.infSign := Mux(ua.isInf, ua.sign, ub.sign)
+    val f1 = stages(f0)
+
+    // Cut 2: align the smaller significand.
+    val f2 = Wire(new FpAddFront(fmt, dynamicRm))
+    f2 := f1
+    val (smallAligned, sticky) = FpUnpack.shiftRightSticky(Cat(f1.smallSig, 0.U(extra.W)), f1.dist)
+    f2.smallAligned := smallAligned
+    f2.sticky := sticky
+    val f3 = stages(f2)
+
+    // Cut 3: add or subtract. A true difference is big - (smallAligned + d),
+    // d in (0,1) when sticky: = (big - smallAligned - 1) + (1 - d), so subtract
+    // the sticky bit too. Its negation is formed beside it, not after it.
+    val bigExt = Cat(f3.big.sig, 0.U(extra.W))
+    val diff = bigExt.zext - f3.smallAligned.zext - f3.sticky.asUInt.zext
+    val negDiff = f3.smallAligned.zext + f3.sticky.asUInt.zext - bigExt.zext
+    val negative = diff < 0.S // only when the exponents are equal (then no sticky)
+    val mag = Mux(f3.effSub, Mux(negative, negDiff.asUInt, diff.asUInt), bigExt +& f3.smallAligned)
+
+    val modes = modesOf(f3.rm)
+    val front = Wire(new FpAddMid(sw + 1, ew + 1, dynamicRm, modes.size))
+    val raw = front.raw
+    front.rm.foreach(_ := f3.rm.get)
+    raw.isNaN := f3.isNaN
+    raw.isInf := f3.isInf
+    // Exact zero: (-0)+(-0) = -0, x+(-x) = +0 except -0 in RDN (IEEE 754 6.3).
+    raw.isZero := mag === 0.U && !f3.sticky
+    for ((m, j) <- modes.zipWithIndex)
+      front.signs(j) := MuxCase(
+        f3.big.sign ^ (f3.effSub && negative),
+        Seq(f3.isInf -> f3.infSign, (mag === 0.U && f3.effSub) -> (m === RoundingMode.RDN.code.U))
+      )
+    raw.sign := front.signs(0)
+    raw.sig := mag
+    raw.exp := f3.big.exp -& extra.S
+    raw.sticky := f3.sticky
+    front
+  }
+
   def minExp(fmt: FloatFormat): Int = fmt.emin - fmt.manBits - extra
 
   /** Swap, align, add, the rounder's cut points, the output. */

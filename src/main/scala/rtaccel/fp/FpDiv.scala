@@ -22,9 +22,9 @@ class FpDivState(fmt: FloatFormat, dynamicRm: Boolean) extends Bundle {
   * leading-zero shift), so A/B lies in (1/2, 2). `p + 2` recurrence steps give
   * Q = floor(A * 2^(p+1) / B), which has p+1 or p+2 significant bits, and the
   * final remainder says whether the quotient is exact (the sticky bit). One
-  * [[FpRound]] then rounds Q + sticky in the mode, so every mode is correctly
-  * rounded (not just faithfully, as a Newton-Raphson estimate without a
-  * remainder correction would be).
+  * [[FpRound]] then rounds Q + sticky in the mode (or in several modes,
+  * [[inModes]]), so every mode is correctly rounded (not just faithfully, as
+  * a Newton-Raphson estimate without a remainder correction would be).
   *
   * Pipelining: cut points after normalisation, after each recurrence step,
   * the rounder's, and at the output share the `latency` registers evenly
@@ -37,7 +37,7 @@ object FpDivCore {
   /** One register per cut point: one recurrence step per cycle (docs/fmax.md). */
   def defaultLatency(fmt: FloatFormat): Int = cuts(fmt)
 
-  /** Builds the divider for dividend `a` and divisor `b` (bits of `fmt`). */
+  /** Builds the divider for dividend `a` and divisor `b` (bits of `fmt`), rounded in `rm`. */
   def apply(
       fmt: FloatFormat,
       rm: Option[RoundingMode],
@@ -46,8 +46,24 @@ object FpDivCore {
       a: UInt,
       b: UInt,
       rmPort: Option[UInt]
-  ): Valid[UInt] = {
+  ): Valid[UInt] = inModes(fmt, latency, valid, a, b, rmPort, r => Seq(FpUnitIO.roundingMode(rm, r)))(_.head)
+
+  /** The divider with one recurrence and one normaliser, its quotient rounded
+    * in each of the modes `modesOf` gives from the carried runtime mode (if
+    * any; FpRound.inModes), each result the bits the single-mode divider
+    * gives; `pack` makes the output of the results (in that order).
+    */
+  def inModes[T <: Data](
+      fmt: FloatFormat,
+      latency: Int,
+      valid: Bool,
+      a: UInt,
+      b: UInt,
+      rmPort: Option[UInt],
+      modesOf: Option[UInt] => Seq[UInt]
+  )(pack: Seq[UInt] => T): Valid[T] = {
     val p = fmt.precision
+    val dynamicRm = rmPort.isDefined
     val pipe = new FpPipeline(latency, cuts(fmt))
     val ua = FpUnpack(fmt, a)
     val ub = FpUnpack(fmt, b)
@@ -58,7 +74,7 @@ object FpDivCore {
     val (sigA, expA) = normalise(ua)
     val (sigB, expB) = normalise(ub)
 
-    val s0 = Wire(new FpDivState(fmt, rm.isEmpty))
+    val s0 = Wire(new FpDivState(fmt, dynamicRm))
     val raw = s0.meta.raw
     s0.meta.rm.foreach(_ := rmPort.get)
     raw.isNaN := ua.isNaN || ub.isNaN || (ua.isZero && ub.isZero) || (ua.isInf && ub.isInf)
@@ -76,7 +92,7 @@ object FpDivCore {
     var stage = pipe.cut(valid, s0)
     for (_ <- 0 until p + 2) {
       val s = stage.bits
-      val next = Wire(new FpDivState(fmt, rm.isEmpty))
+      val next = Wire(new FpDivState(fmt, dynamicRm))
       next := s
       val fits = s.rem >= s.divisor
       val left = Mux(fits, s.rem - s.divisor, s.rem) // < divisor < 2^p
@@ -88,9 +104,11 @@ object FpDivCore {
     last.raw.sig := stage.bits.quo
     last.raw.sticky := stage.bits.rem =/= 0.U
     val stages = new FpStages(pipe, stage.valid)
+    // A quotient's sign is the same in every mode (no exact zero depends on the mode).
+    val modes = modesOf(last.rm).map(m => (m, last.raw.sign))
     // Rounded first: its cuts advance `stages.valid`.
-    val rounded = FpRound(fmt, last.raw, FpUnitIO.roundingMode(rm, last.rm), stages = Some(stages))
-    val out = pipe.cut(stages.valid, rounded)
+    val rounded = FpRound.inModes(fmt, last.raw, modes, None, Some(stages))
+    val out = pipe.cut(stages.valid, pack(rounded))
     pipe.done()
     out
   }
@@ -112,4 +130,20 @@ class FpRecip(val fmt: FloatFormat, val rm: Option[RoundingMode], val latency: I
   val io = IO(new FpUnitIO(new FpUnaryIn(fmt, rm.isEmpty), UInt(fmt.width.W)))
   override def desiredName: String = FpUnitIO.name("FpRecip", fmt, rm, latency)
   io.out := FpDivCore(fmt, rm, latency, io.in.valid, fmt.one(false).U(fmt.width.W), io.in.bits.a, io.in.bits.rm)
+}
+
+/** Reciprocal `1 / a` rounded in two fixed modes, `lo` and `hi`, from one
+  * recurrence and one normaliser ([[FpDivCore.inModes]]): each result is bit
+  * for bit [[FpRecip]]'s in that mode; same cuts and latency.
+  */
+class FpRecipPair(val fmt: FloatFormat, val lo: RoundingMode, val hi: RoundingMode, val latency: Int)
+    extends Module {
+  def this(fmt: FloatFormat, lo: RoundingMode, hi: RoundingMode) =
+    this(fmt, lo, hi, FpDivCore.defaultLatency(fmt))
+  val io = IO(new FpUnitIO(new FpUnaryIn(fmt, false), new FpLoHi(fmt)))
+  override def desiredName: String = s"FpRecipPair_${fmt.name}_${lo.name}_${hi.name}_l$latency"
+  private val modes = Seq(lo, hi).map(_.code.U(RoundingMode.width.W))
+  io.out := FpDivCore.inModes(fmt, latency, io.in.valid, fmt.one(false).U(fmt.width.W), io.in.bits.a, None, _ => modes)(
+    FpLoHi(fmt, _)
+  )
 }

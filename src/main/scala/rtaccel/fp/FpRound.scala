@@ -40,11 +40,13 @@ object FpRound {
     * carries the guard pad, and the exponent is replaced from stage 1 on by `eTop`/`eTopM1`, so an
     * FpRaw field would carry a dead exponent through every cut.
     */
-  private class State(w: Int, p: Int, ew: Int, lzw: Int, dynamicRm: Boolean) extends Bundle {
+  private class State(w: Int, p: Int, ew: Int, lzw: Int, dynamicRm: Boolean, modes: Int) extends Bundle {
     val isNaN = Bool()
     val isInf = Bool()
     val zero = Bool()
-    val sign = Bool()
+
+    /** Per mode (they differ only for an exact zero's sign, e.g. x - x in RDN). */
+    val sign = Vec(modes, Bool())
     val sticky = Bool()
     val sig = UInt(w.W)
     val lz = UInt(lzw.W)
@@ -59,22 +61,39 @@ object FpRound {
     /** The kept p bits, guard and round (`window`); any 1 below them (`tail`). */
     val window = UInt((p + 2).W)
     val tail = Bool()
-    val up = Bool()
+    val up = Vec(modes, Bool())
     val expNormal = SInt(ew.W)
     val expInc = SInt(ew.W)
     val ovSame = Bool()
     val ovInc = Bool()
-    val overflowToInf = Bool()
+    val overflowToInf = Vec(modes, Bool())
     val rm = Option.when(dynamicRm)(UInt(RoundingMode.width.W))
   }
 
+  /** `raw` rounded in `rm`. */
   def apply(
       fmt: FloatFormat,
       raw: FpRaw,
       rm: UInt,
       minExp: Option[Int] = None,
       stages: Option[FpStages] = None
-  ): UInt = {
+  ): UInt = inModes(fmt, raw, Seq((rm, raw.sign)), minExp, stages).head
+
+  /** `raw` rounded in several modes at once, each `(mode, sign)` with the
+    * result's sign in that mode (`raw.sign` is not read): one normaliser,
+    * and per mode only the rounding decision and the final increment and
+    * encoding. Each result is the bits [[apply]] gives for that mode and sign.
+    * A runtime mode (not a literal) is allowed only alone.
+    */
+  def inModes(
+      fmt: FloatFormat,
+      raw: FpRaw,
+      modes: Seq[(UInt, Bool)],
+      minExp: Option[Int],
+      stages: Option[FpStages]
+  ): Seq[UInt] = {
+    val nModes = modes.size
+    val rm = modes.head._1
     val p = fmt.precision
     // At least a guard bit and one more below the kept bits.
     val pd = pad(fmt, raw.sigWidth)
@@ -82,12 +101,13 @@ object FpRound {
     val ew = raw.expWidth.max(FpUnpack.expWidth(fmt)) + log2Ceil(w + 1) + 2
     val lzw = log2Ceil(w)
     val dynamicRm = !rm.isLit
+    require(nModes >= 1 && (!dynamicRm || nModes == 1), s"FpRound: $nModes modes, a runtime one among them")
     def cut(s: State): State = stages.fold(s)(_(s))
-    def next(s: State): State = { val n = Wire(new State(w, p, ew, lzw, dynamicRm)); n := s; n }
-    def rmOf(s: State): UInt = s.rm.getOrElse(rm)
+    def next(s: State): State = { val n = Wire(new State(w, p, ew, lzw, dynamicRm, nModes)); n := s; n }
+    def rmOf(s: State, j: Int): UInt = s.rm.getOrElse(modes(j)._1)
 
     // Stage 1: leading zeros, and the exponent sums the next stage compares them with.
-    val s0 = Wire(new State(w, p, ew, lzw, dynamicRm))
+    val s0 = Wire(new State(w, p, ew, lzw, dynamicRm, nModes))
     s0 := DontCare
     s0.rm.foreach(_ := rm)
     val sig = if (pd > 0) Cat(raw.sig, 0.U(pd.W)) else raw.sig
@@ -95,7 +115,7 @@ object FpRound {
     s0.isNaN := raw.isNaN
     s0.isInf := raw.isInf
     s0.zero := raw.isZero || sig === 0.U
-    s0.sign := raw.sign
+    s0.sign := VecInit(modes.map(_._2))
     s0.sticky := raw.sticky
     s0.sig := sig
     s0.lz := FpUnpack.leadingZeros(sig) // zero is flagged apart
@@ -141,40 +161,45 @@ object FpRound {
     val guard = s3.window(1)
     val rest = s3.window(0) || s3.tail
     val inexact = guard || rest
-    val rm3 = rmOf(s3)
-    s4.up := MuxLookup(rm3, false.B)(Seq(
-      RoundingMode.RNE.code.U -> (guard && (rest || kept0(0))),
-      RoundingMode.RTZ.code.U -> false.B,
-      RoundingMode.RDN.code.U -> (s3.sign && inexact),
-      RoundingMode.RUP.code.U -> (!s3.sign && inexact)
-    ))
+    for (j <- 0 until nModes) {
+      val rm3 = rmOf(s3, j)
+      val sign = s3.sign(j)
+      s4.up(j) := MuxLookup(rm3, false.B)(Seq(
+        RoundingMode.RNE.code.U -> (guard && (rest || kept0(0))),
+        RoundingMode.RTZ.code.U -> false.B,
+        RoundingMode.RDN.code.U -> (sign && inexact),
+        RoundingMode.RUP.code.U -> (!sign && inexact)
+      ))
+      // Overflow goes to infinity only when the mode rounds away from zero on this side.
+      s4.overflowToInf(j) := rm3 === RoundingMode.RNE.code.U ||
+        (rm3 === RoundingMode.RUP.code.U && !sign) || (rm3 === RoundingMode.RDN.code.U && sign)
+    }
     s4.expNormal := Mux(s3.tiny, 1.S(ew.W), s3.biasedExp)
     s4.expInc := s4.expNormal + 1.S
     s4.ovSame := s4.expNormal >= fmt.maxExpField.S
     s4.ovInc := s4.expInc >= fmt.maxExpField.S
-    // Overflow goes to infinity only when the mode rounds away from zero on this side.
-    s4.overflowToInf := rm3 === RoundingMode.RNE.code.U ||
-      (rm3 === RoundingMode.RUP.code.U && !s3.sign) || (rm3 === RoundingMode.RDN.code.U && s3.sign)
     val s5 = cut(s4)
 
-    // Stage 4: round, encode, substitute special values.
+    // Stage 4: round, encode, substitute special values (per mode).
     val kept = s5.window(p + 1, 2)
-    val rounded = kept +& s5.up
-    val carry = rounded(p) // 1.11..1 rounded up to 10.00..0: next binade
-    val expOut = Mux(carry, s5.expInc, Mux(rounded(p - 1), s5.expNormal, 0.S))
-    val fracOut = Mux(carry, 0.U, rounded(p - 2, 0))
-    // expOut >= maxExpField, from the tests made beside each candidate (0 never overflows).
-    val overflow = Mux(carry, s5.ovInc, rounded(p - 1) && s5.ovSame)
-    val sign = s5.sign
-    val signBit = Cat(sign, 0.U((fmt.width - 1).W))
-    MuxCase(
-      Cat(sign, expOut(fmt.expBits - 1, 0), fracOut),
-      Seq(
-        s5.isNaN -> fmt.canonicalNaN.U(fmt.width.W),
-        s5.isInf -> (signBit | fmt.infinity(false).U),
-        s5.zero -> signBit,
-        overflow -> (signBit | Mux(s5.overflowToInf, fmt.infinity(false).U, fmt.maxFinite(false).U))
+    (0 until nModes).map { j =>
+      val rounded = kept +& s5.up(j)
+      val carry = rounded(p) // 1.11..1 rounded up to 10.00..0: next binade
+      val expOut = Mux(carry, s5.expInc, Mux(rounded(p - 1), s5.expNormal, 0.S))
+      val fracOut = Mux(carry, 0.U, rounded(p - 2, 0))
+      // expOut >= maxExpField, from the tests made beside each candidate (0 never overflows).
+      val overflow = Mux(carry, s5.ovInc, rounded(p - 1) && s5.ovSame)
+      val sign = s5.sign(j)
+      val signBit = Cat(sign, 0.U((fmt.width - 1).W))
+      MuxCase(
+        Cat(sign, expOut(fmt.expBits - 1, 0), fracOut),
+        Seq(
+          s5.isNaN -> fmt.canonicalNaN.U(fmt.width.W),
+          s5.isInf -> (signBit | fmt.infinity(false).U),
+          s5.zero -> signBit,
+          overflow -> (signBit | Mux(s5.overflowToInf(j), fmt.infinity(false).U, fmt.maxFinite(false).U))
+        )
       )
-    )
+    }
   }
 }

@@ -37,3 +37,37 @@ object FpUnitIO {
   def name(unit: String, fmt: FloatFormat, rm: Option[RoundingMode], latency: Int): String =
     s"${unit}_${fmt.name}_${RoundingMode.tag(rm)}_l$latency"
 }
+
+/** One result rounded down (RDN) and up (RUP): a unit that rounds once per mode from one exact value. */
+class FpDnUp(val fmt: FloatFormat) extends Bundle {
+  val dn = UInt(fmt.width.W)
+  val up = UInt(fmt.width.W)
+}
+
+object FpDnUp {
+
+  /** The (mode, sign) pairs FpRound.inModes takes, RDN first, both with `sign`. */
+  def modes(sign: Bool): Seq[(UInt, Bool)] = Seq(RoundingMode.RDN, RoundingMode.RUP).map(m => (m.code.U, sign))
+
+  def apply(fmt: FloatFormat, rounded: Seq[UInt]): FpDnUp = {
+    val o = Wire(new FpDnUp(fmt))
+    o.dn := rounded(0)
+    o.up := rounded(1)
+    o
+  }
+}
+
+/** One result rounded in two modes, `lo` and `hi` (a unit's fixed pair, e.g. [[FpRecipPair]]). */
+class FpLoHi(val fmt: FloatFormat) extends Bundle {
+  val lo = UInt(fmt.width.W)
+  val hi = UInt(fmt.width.W)
+}
+
+object FpLoHi {
+  def apply(fmt: FloatFormat, rounded: Seq[UInt]): FpLoHi = {
+    val o = Wire(new FpLoHi(fmt))
+    o.lo := rounded(0)
+    o.hi := rounded(1)
+    o
+  }
+}

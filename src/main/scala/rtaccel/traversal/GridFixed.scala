@@ -2,7 +2,7 @@ package rtaccel.traversal
 
 import chisel3._
 import chisel3.util._
-import rtaccel.fp.FloatFormat
+import rtaccel.fp.{FloatFormat, FpUnpack}
 
 /** Widths of the grid box test (docs/kernels.md, "Box tests in the node's grid").
   *
@@ -75,39 +75,135 @@ object GridFixed {
   /** Signed width that holds lo..hi. */
   def widthOf(lo: BigInt, hi: BigInt): Int = (lo.abs.max(hi.abs).bitLength + 1).max(2)
 
+  /** [[hw]]'s shift `k` as the three thresholds it is compared with, each a
+    * constant less k: computed ahead of `x` (a caller may register them), so
+    * that in hw each compare waits on one sum of x's own fields, not on k too.
+    * For E the exponent field (1 for a subnormal), lz and tz sig's leading
+    * and trailing zeros, and m = w - 1:
+    *   - `right` - E = m - 1 - sh, sh = E - bias - manBits + k the LSB's exponent scaled:
+    *     the right shift that puts sig's bit -sh at bit 0;
+    *   - big: msb(sig) + sh >= m, msb = p - 1 - lz, is E - lz >= `big`;
+    *   - a remainder (a 1 of sig below bit -sh) is tz + E < `rem`.
+    */
+  class Shift(w: Int) extends Bundle {
+    val right = SInt(w.W)
+    val big = SInt(w.W)
+    val rem = SInt(w.W)
+  }
+
+  def shift(fmt: FloatFormat, k: SInt, lo: BigInt, hi: BigInt): Shift = {
+    val m = widthOf(lo, hi) - 1
+    val off = fmt.bias + fmt.manBits
+    val s = Wire(new Shift(k.getWidth.max(log2Ceil(off + m + fmt.precision + 1) + 1) + 2))
+    s.right := (m - 1 + off).S -& k
+    s.big := (m - fmt.precision + 1 + off).S -& k
+    s.rem := off.S -& k
+    s
+  }
+
   /** The hardware of [[soft]]: `k` a runtime SInt. Combinational. */
-  def hw(fmt: FloatFormat, x: UInt, k: SInt, up: Boolean, lo: BigInt, hi: BigInt): FixedHw = {
+  def hw(fmt: FloatFormat, x: UInt, k: SInt, up: Boolean, lo: BigInt, hi: BigInt): FixedHw =
+    hw(fmt, x, shift(fmt, k, lo, hi), up, lo, hi)
+
+  /** What [[decide]] hands to [[front]]: the significand, its right shift
+    * clamped, and the decisions on it. With a register after each of
+    * [[decide]] and [[front]] the conversion is three pipeline stages (the
+    * exponent's compares, the shifter, the signed result and the clamp), each
+    * short of the FP units' own stages.
+    */
+  class Decided(p: Int, aBits: Int) extends Bundle {
+    val sig = UInt(p.W)
+    val aC = UInt(aBits.W)
+    val big = Bool()
+    val bump = Bool()
+    val sign = Bool()
+    val isNaN = Bool()
+  }
+
+  /** What [[front]] hands to [[back]]. */
+  class Front(m: Int) extends Bundle {
+
+    /** The saturated magnitude: below 2^m, or 2^m for `big`. */
+    val mag = UInt((m + 1).W)
+    val bump = Bool()
+    val sign = Bool()
+    val isNaN = Bool()
+  }
+
+  /** [[soft]] with the shift prepared by [[shift]] (for the same window).
+    *
+    * Only magnitudes below 2^m, m = w - 1, need their bits: lo and hi lie
+    * within +-(2^m - 1), so a magnitude of 2^m or more (`big`) clamps on its
+    * side, rounding bump or not, and is carried as 2^m. Below that, the
+    * integer part of sig 2^sh is the m bits of sig from -sh up: one right
+    * shift of sig padded with m - 1 zeros, by m - 1 - sh (a left shift of sig
+    * when sh > 0, which is not `big` only for a subnormal sig). `big` and the
+    * remainder are compares beside the shifter ([[Shift]]). The signed result
+    * is one adder (the magnitude, complemented when negative, plus a carry
+    * in), and the window's compares read the magnitude beside it.
+    * Combinational: [[decide]], [[front]], then [[back]].
+    */
+  def hw(fmt: FloatFormat, x: UInt, s: Shift, up: Boolean, lo: BigInt, hi: BigInt): FixedHw =
+    back(front(decide(fmt, x, s, up, lo, hi), lo, hi), up, lo, hi)
+
+  /** The compares on `x`'s exponent: its right shift into the window, `big`, and whether it rounds away from zero. */
+  def decide(fmt: FloatFormat, x: UInt, s: Shift, up: Boolean, lo: BigInt, hi: BigInt): Decided = {
     val w = widthOf(lo, hi)
-    val magBits = w // |value| < 2^magBits covers lo..hi with room for one more
+    val m = w - 1
+    require(lo.abs < (BigInt(1) << m) && hi.abs < (BigInt(1) << m), s"GridFixed: $lo..$hi in $w bits")
     val p = fmt.precision
     val expF = x(fmt.width - 2, fmt.manBits)
     val frac = x(fmt.manBits - 1, 0)
     val sign = x(fmt.width - 1)
     val isSpecial = expF.andR
-    val isNaN = isSpecial && frac.orR
     val sig = Cat(expF.orR, frac)
-    val lsbExp = (Mux(expF.orR, expF, 1.U).zext - (fmt.bias + fmt.manBits).S)
-    val sh = lsbExp +& k
-    // Left: sh in 0..magBits (beyond, the magnitude is >= 2^magBits unless sig is 0).
-    val left = sh >= 0.S
-    val big = sig.orR && (sh > magBits.S || isSpecial)
-    val lAmt = sh.asUInt(log2Ceil(magBits + 1) - 1, 0)
-    val lVal = (sig << Mux(sh > magBits.S, magBits.U, lAmt))(p + magBits - 1, 0)
-    // Right: by 1..p+1 (more gives 0 with a remainder iff sig != 0).
-    val rAmtFull = (-sh).asUInt
-    val rAmt = Mux((-sh) > (p + 1).S, (p + 1).U, rAmtFull(log2Ceil(p + 2) - 1, 0))
-    val rVal = sig >> rAmt
-    val rRem = (rVal << rAmt)(p, 0) =/= sig
-    val trunc = Mux(left, lVal, rVal.pad(p + magBits))
-    val rem = !left && rRem
-    val mag = Mux(big, (BigInt(1) << magBits).U, trunc.pad(p + magBits + 1)) // saturated magnitude
-    val bumped = mag +& Mux(rem, 1.U, 0.U)
-    val posV = (if (up) bumped else mag).zext
-    val negV = -(if (up) mag else bumped).zext
-    val v = Mux(sign, negV, posV)
+    val nonzero = sig.orR
+    val e = Mux(expF.orR, expF, 1.U).zext
+    val lz = FpUnpack.leadingZeros(sig) // sig = 0 is flagged apart
+    val tz = FpUnpack.leadingZeros(Reverse(sig))
+    val big = nonzero && (isSpecial || e -& lz.zext >= s.big) // an infinity is big too
+    val rem = nonzero && (tz.zext +& e < s.rem)
+    // Right by a = m - 1 - sh; a < 0 is big (or sig = 0, which shifts to 0 anyway), a > p + m - 2 leaves 0.
+    val a = s.right -& e
+    val aMax = p + m - 1
+    val aBits = log2Ceil(aMax + 1)
+    val d = Wire(new Decided(p, aBits))
+    d.sig := sig
+    d.aC := Mux(a < 0.S, 0.U, Mux(a > aMax.S, aMax.U, a.asUInt(aBits - 1, 0)))
+    d.big := big
+    // The bump away from zero: ceil of a positive value, floor of a negative one.
+    d.bump := rem && (if (up) !sign else sign)
+    d.sign := sign
+    d.isNaN := isSpecial && frac.orR
+    d
+  }
+
+  /** The shift: the magnitude in the window's bits, saturated. */
+  def front(d: Decided, lo: BigInt, hi: BigInt): Front = {
+    val m = widthOf(lo, hi) - 1
+    val low = (Cat(d.sig, 0.U((m - 1).W)) >> d.aC)(m - 1, 0)
+    val f = Wire(new Front(m))
+    f.mag := Mux(d.big, (BigInt(1) << m).U, low.pad(m + 1))
+    f.bump := d.bump
+    f.sign := d.sign
+    f.isNaN := d.isNaN
+    f
+  }
+
+  /** The signed, clamped result of a [[front]] (the same `up` and window). */
+  def back(f: Front, up: Boolean, lo: BigInt, hi: BigInt): FixedHw = {
+    val w = widthOf(lo, hi)
+    val m = w - 1
+    val (mag, bump, sign) = (f.mag, f.bump, f.sign)
+    // -(mag + bump) = ~mag + !bump in m + 2 bits.
+    val v = ((mag.pad(m + 2) ^ Fill(m + 2, sign)) + Mux(sign, !bump, bump)).asSInt
+    // v < lo and v > hi from mag, per sign and bump (each a compare with a constant).
+    def magLt(c: BigInt) = mag.zext < c.S
+    def magGt(c: BigInt) = mag.zext > c.S
+    def byBump(g: BigInt => Bool, c: BigInt) = Mux(bump, g(c - 1), g(c))
+    val below = Mux(f.isNaN, (!up).B, Mux(sign, byBump(magGt, -lo), byBump(magLt, lo)))
+    val above = Mux(f.isNaN, up.B, Mux(sign, byBump(magLt, -hi), byBump(magGt, hi)))
     val out = Wire(new FixedHw(w))
-    val below = Mux(isNaN, (!up).B, v < lo.S)
-    val above = Mux(isNaN, up.B, v > hi.S)
     out.below := below
     out.above := above
     out.value := Mux(below, lo.S(w.W), Mux(above, hi.S(w.W), v(w - 1, 0).asSInt))

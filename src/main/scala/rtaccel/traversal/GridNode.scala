@@ -86,7 +86,8 @@ class GridNodeIn(rays: RayConsts) extends Bundle {
 }
 
 /** [[GridNode.soft]] in hardware: the FP32 [[GridKernel]] pipeline (HwArith
-  * units, each enabled by the slot's valid), then one cycle of conversions.
+  * units, each enabled by the slot's valid), then three cycles of
+  * conversions (GridFixed.decide, front and back, a register after each).
   * `out` is valid `latency` cycles after `in`.
   */
 class GridNodeStage(p: GridParams, rays: RayConsts) extends Module {
@@ -129,29 +130,44 @@ class GridNodeStage(p: GridParams, rays: RayConsts) extends Module {
     Mux(ef === 0.U, 1.U, ef).zext - fmt.bias.S + sInt(i)
   }
   private val big = (1 << 11).S
-  private val esMin = (0 until 3).map(i => Mux(flat0(i), big, es(i))).reduce((a, b) => Mux(a < b, a, b))
-  private val eu = Mux(flat0.reduce(_ && _), 0.S, esMin - p.fracBits.S)
   private def timed[T <: Data](x: T) = new Timed(x, 0, chain)
+  // One carry chain per cycle (each a register apart): the exponents (cycle 0),
+  // the least of two (1), of three (2), less fracBits (3). eu is read at c - 1.
+  private def next[T <: Data](x: T, t: Int) = new Timed(x, t, chain).at(t + 1)
+  private val es1 = (0 until 3).map(i => next(Mux(flat0(i), big, es(i)), 0))
+  private def min(a: SInt, b: SInt) = Mux(a < b, a, b)
+  private val es2 = next(min(es1(0), es1(1)), 1)
+  private val es3 = next(min(es2, next(es1(2), 1)), 2)
+  private val eu = new Timed(Mux(timed(flat0.reduce(_ && _)).at(3), 0.S, es3 - p.fracBits.S), 3, chain)
 
   val latency: Int =
-    (k.axes.flatMap(a => Seq(a.cLo, a.cHi, a.diffLo, a.diffHi)) ++ Seq(k.tminR, k.tmaxR)).map(_.ready).max + 1
-  private val c = latency - 1
-  private val euC = timed(eu).at(c)
-  private val sC = sInt.map(timed(_).at(c))
+    (k.axes.flatMap(a => Seq(a.cLo, a.cHi, a.diffLo, a.diffHi)) ++ Seq(k.tminR, k.tmaxR)).map(_.ready).max + 3
+  // The conversions: decide in cycle c, front in c + 1, back in c + 2.
+  private val c = latency - 3
+  // The conversions' shifts, prepared a cycle ahead (GridFixed.shift) and registered.
+  private val euP = eu.at(c - 1)
+  private val sP = sInt.map(timed(_).at(c - 1))
+  private def shift(k: SInt, lo: BigInt, hi: BigInt) = new Timed(GridFixed.shift(fmt, k, lo, hi), c - 1, chain).at(c)
   private val rcpLoC = ray.rcpLo.map(_.at(c))
   private val rcpHiC = ray.rcpHi.map(_.at(c))
-  private def fx(x: UInt, sh: SInt, up: Boolean, lo: BigInt, hi: BigInt) = GridFixed.hw(fmt, x, sh, up, lo, hi)
+  private def fx(x: UInt, sh: GridFixed.Shift, up: Boolean, lo: BigInt, hi: BigInt) = {
+    val d = new Timed(GridFixed.decide(fmt, x, sh, up, lo, hi), c, chain).at(c + 1)
+    GridFixed.back(new Timed(GridFixed.front(d, lo, hi), c + 1, chain).at(c + 2), up, lo, hi)
+  }
   private def negF(x: UInt) = Cat(!x(fmt.width - 1), x(fmt.width - 2, 0))
   private val node = Wire(new GridNodeHw(p))
   for (i <- 0 until 3) {
     val a = k.axes(i)
     val o = node.axes(i)
-    val sLo = fx(rcpLoC(i), sC(i) - euC, up = false, 0, p.stepMax)
-    val sHi = fx(rcpHiC(i), sC(i) - euC, up = true, 0, p.stepMax)
-    val cLo = fx(a.cLo.at(c), p.cFracBits.S - sC(i), up = false, p.cLo, p.cHi)
-    val cHi = fx(a.cHi.at(c), p.cFracBits.S - sC(i), up = true, p.cLo, p.cHi)
-    o.flat := a.flat.at(c)
-    o.neg := a.neg.at(c)
+    val kS = shift(sP(i) - euP, 0, p.stepMax)
+    val kC = shift(p.cFracBits.S - sP(i), p.cLo, p.cHi)
+    val kG = shift(-sP(i), p.gLo, p.gHi)
+    val sLo = fx(rcpLoC(i), kS, up = false, 0, p.stepMax)
+    val sHi = fx(rcpHiC(i), kS, up = true, 0, p.stepMax)
+    val cLo = fx(a.cLo.at(c), kC, up = false, p.cLo, p.cHi)
+    val cHi = fx(a.cHi.at(c), kC, up = true, p.cLo, p.cHi)
+    o.flat := a.flat.at(c + 2)
+    o.neg := a.neg.at(c + 2)
     o.stepLo := sLo.value.asUInt(p.stepBits - 1, 0)
     o.stepHi := sHi.value.asUInt(p.stepBits - 1, 0)
     o.stepHiSat := sHi.above
@@ -159,13 +175,14 @@ class GridNodeStage(p: GridParams, rays: RayConsts) extends Module {
     o.cLoBelow := cLo.below
     o.cHi := cHi.value
     o.cHiAbove := cHi.above
-    o.gHi := fx(negF(a.diffLo.at(c)), -sC(i), up = false, p.gLo, p.gHi).value
-    o.gLo := fx(negF(a.diffHi.at(c)), -sC(i), up = true, p.gLo, p.gHi).value
+    o.gHi := fx(negF(a.diffLo.at(c)), kG, up = false, p.gLo, p.gHi).value
+    o.gLo := fx(negF(a.diffHi.at(c)), kG, up = true, p.gLo, p.gHi).value
   }
-  node.tmin := fx(k.tminR.at(c), -euC, up = false, p.bot, p.top).value(p.width - 1, 0).asSInt
-  node.tmax := fx(k.tmaxR.at(c), -euC, up = true, p.bot, p.top).value(p.width - 1, 0).asSInt
-  node.err := k.err.at(c)
+  private val kT = shift(-euP, p.bot, p.top)
+  node.tmin := fx(k.tminR.at(c), kT, up = false, p.bot, p.top).value(p.width - 1, 0).asSInt
+  node.tmax := fx(k.tmaxR.at(c), kT, up = true, p.bot, p.top).value(p.width - 1, 0).asSInt
+  node.err := k.err.at(c + 2)
   io.out.valid := chain.at(latency)
-  io.out.bits := RegEnable(node, chain.at(c))
+  io.out.bits := RegEnable(node, chain.at(c + 2))
   io.badScale := timed(bad).at(latency)
 }

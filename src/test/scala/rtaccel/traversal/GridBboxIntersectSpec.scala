@@ -96,6 +96,22 @@ object GridBoxCheck {
     t
   }
 
+  /** Drives a per-node stage's input with case `c`'s FP32 ray constants and node, scale exponent fields `e`. */
+  def pokeNode(in: GridNodeIn, c: GridCase, e: Seq[Int]): Unit = {
+    val (k, tmax) = ray(f32, c)
+    for (i <- 0 until 3) {
+      in.ray.box.origin(i).poke(k.o(i).U)
+      in.ray.box.dir(i).poke(k.d(i).U)
+      in.ray.box.rcpLo.get(i).poke(k.rcpLo(i).U)
+      in.ray.box.rcpHi.get(i).poke(k.rcpHi(i).U)
+      in.origin(i).poke(planeBits(c.m(i), c.s(i)).U)
+      in.exp(i).poke(e(i).U)
+    }
+    in.ray.box.tmin.poke(k.tmin.U)
+    in.ray.box.err.poke(k.err.B)
+    in.tmax.poke(tmax.U)
+  }
+
   /** Random FP32 nodes and rays, with the hard cases: origins on a child plane,
     * zero, subnormal and axis-aligned directions, origins far from the node.
     */
@@ -220,19 +236,7 @@ class GridBboxIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
             val c0 = randomCase(r, p, 4)
             val bad = r.nextInt(40) == 0
             val e = c0.s.map(_ + 127).updated(0, if (bad) (if (r.nextBoolean()) 0 else 250) else c0.s(0) + 127)
-            val (k, tmax) = ray(f32, c0)
-            val in = dut.io.in.bits.node
-            for (i <- 0 until 3) {
-              in.ray.box.origin(i).poke(k.o(i).U)
-              in.ray.box.dir(i).poke(k.d(i).U)
-              in.ray.box.rcpLo.get(i).poke(k.rcpLo(i).U)
-              in.ray.box.rcpHi.get(i).poke(k.rcpHi(i).U)
-              in.origin(i).poke(planeBits(c0.m(i), c0.s(i)).U)
-              in.exp(i).poke(e(i).U)
-            }
-            in.ray.box.tmin.poke(k.tmin.U)
-            in.ray.box.err.poke(k.err.B)
-            in.tmax.poke(tmax.U)
+            pokeNode(dut.io.in.bits.node, c0, e)
             for (j <- 0 until 4; i <- 0 until 3) {
               dut.io.in.bits.children(j).qMin(i).poke(c0.qMin(j)(i).U)
               dut.io.in.bits.children(j).qMax(i).poke(c0.qMax(j)(i).U)
