@@ -1,8 +1,7 @@
 # The docs stay references: `make test` fails when a tracked file other than
 # CHANGELOG.md cites numbered sessions or rounds of work, issue numbers or
 # branch names (scripts/check-history.py). Its spec runs first and shows it
-# failing on planted lines. Both together take about 4 s of CPU (41 s wall at
-# load 20 on the shared 2-core machine).
+# failing on planted lines. Both together take about 4 s of CPU.
 .PHONY: check-history
 test: check-history
 
