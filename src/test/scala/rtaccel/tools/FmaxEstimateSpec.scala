@@ -70,4 +70,32 @@ class FmaxEstimateSpec extends AnyFlatSpec {
       ("Top (control)", "Top", Seq("BoxLane_x"))
     ))
   }
+
+  "FmaxEstimate.units" should "synthesise the grid box unit whole and black-box it in the control, as it does the box lanes" in {
+    def mod(name: String, insts: String*) =
+      s"module $name(\n  input clock\n);\n" + insts.zipWithIndex.map { case (m, i) =>
+        s"  $m u_$i (\n  );\n"
+      }.mkString +
+        "endmodule\n"
+    val sv = Seq(
+      mod("FpAdd_e8m23_rdn_l7"),
+      mod("GridLane_q8"),
+      mod("GridNodeStage_q8", "FpAdd_e8m23_rdn_l7"),
+      mod("GridBboxIntersect_k4_q8", "GridNodeStage_q8", "GridLane_q8"),
+      mod("PrimIntersect_e8m23_wt_cons", "FpAdd_e8m23_rdn_l7"),
+      mod("Traversal_k4", "GridBboxIntersect_k4_q8"),
+      mod("RtAccel_top", "Traversal_k4", "PrimIntersect_e8m23_wt_cons")
+    ).mkString
+    val u = FmaxEstimate.units(sv, "RtAccel_top").map(x => x._2 -> x._3).toMap
+    assert(u.keySet == Set(
+      "FpAdd_e8m23_rdn_l7",
+      "GridBboxIntersect_k4_q8",
+      "PrimIntersect_e8m23_wt_cons",
+      "Traversal_k4",
+      "RtAccel_top"
+    ))
+    assert(u("GridBboxIntersect_k4_q8").isEmpty)
+    assert(u("Traversal_k4") == Seq("GridBboxIntersect_k4_q8"))
+    assert(u("RtAccel_top").toSet == Set("GridBboxIntersect_k4_q8", "PrimIntersect_e8m23_wt_cons"))
+  }
 }
