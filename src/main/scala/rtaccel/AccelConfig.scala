@@ -97,6 +97,10 @@ case class AccelConfig(
 
 object AccelConfig {
 
-  /** The generic configuration `make verilog` targets on the ZC706 (xc7z045). */
-  val zc706: AccelConfig = AccelConfig()
+  /** The generic configuration `make verilog`, `make bench` and `make regress` target on the ZC706
+    * (xc7z045). 128 ray IDs: with 64 a core's pipelines sit idle between rays on chip (Cornell 0.23 rays
+    * per cycle per core against 0.32 with 128, docs/fmax.md), and two 128-ID cores still fit beside the
+    * system's units at the same clock estimate (`make verilog`).
+    */
+  val zc706: AccelConfig = AccelConfig(numRayIds = 128)
 }

@@ -26,7 +26,7 @@ final case class RegressArgs(
     fabricMhz: Double = FabricClock.DefaultMhz,
     outstanding: Int = 64,
     cache: Option[CacheParams] = None,
-    numRayIds: Int = 64,
+    numRayIds: Int = rtaccel.AccelConfig.zc706.numRayIds,
     stackDepth: Option[Int] = None,
     maxRays: Option[Int] = None,
     bridge: Path = Paths.get("nori-bridge/target/release/nori-bridge"),

@@ -62,8 +62,8 @@ final case class Traffic(
 object Traffic {
   val Cores: Seq[Int] = Seq(1, 2, 4)
 
-  /** Ray IDs per core (AccelConfig.zc706.numRayIds): the rays in flight that a cache sees interleaved. */
-  val IdsPerCore = 64
+  /** Ray IDs per core: the rays in flight that a cache sees interleaved. */
+  val IdsPerCore: Int = rtaccel.AccelConfig.zc706.numRayIds
 
   def of(c: Candidate, img: MemoryImage, rays: IndexedSeq[RayReads]): Traffic = {
     val hits = c.design.hitBytes.toDouble
