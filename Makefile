@@ -62,7 +62,14 @@ setup-sbt: setup-apt ## Fetch the sbt launcher jar from Maven Central, if missin
 	@if [ -f "$(SBT_LAUNCH_JAR)" ]; then echo "setup: sbt launcher $(SBT_LAUNCH_VERSION) present"; \
 	else mvn -q dependency:get -Dartifact=org.scala-sbt:sbt-launch:$(SBT_LAUNCH_VERSION) -Dtransitive=false; fi
 
+# An older cargo (Debian 12's is 1.63) cannot build nori-bridge's dependencies: say so, not cargo's parse errors.
 setup-cargo: setup-apt ## Build nori-bridge (release) from crates.io
+	@need=$$(sed -n 's/^rust-version *= *"\(.*\)"/\1/p' $(BRIDGE_MANIFEST)); \
+	  have=$$($(CARGO) --version | awk '{print $$2}'); \
+	  if [ "$$(printf '%s\n%s\n' "$$need" "$$have" | sort -V | head -n1)" != "$$need" ]; then \
+	    echo "setup: $(BRIDGE_MANIFEST) needs Rust $$need or newer (its rust-version); $$(command -v $(CARGO)) is cargo $$have." >&2; \
+	    echo "setup: install Rust $$need or newer with rustup (https://rustup.rs) and put ~/.cargo/bin first on PATH." >&2; \
+	    exit 1; fi
 	@$(CARGO) build --release --quiet --manifest-path $(BRIDGE_MANIFEST)
 
 # The HLS test benches run first: they write hls/build/vectors/*.out, which the

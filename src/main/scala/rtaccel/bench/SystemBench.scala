@@ -30,7 +30,10 @@ object SystemBench {
     val pkg = ScenePackage.load(dir)
     val cores = kv.getOrElse("--cores", "1").toInt
     val rays = pkg.rays.take(kv.get("--rays").map(_.toInt).getOrElse(pkg.rays.size))
-    val cfg = pkg.sized(AccelConfig(numRayIds = kv.get("--ids").fold(AccelConfig.zc706.numRayIds)(_.toInt), layout = BvhLayout.Wide(4)))
+    val cfg = pkg.sized(AccelConfig(
+      numRayIds = kv.get("--ids").fold(AccelConfig.zc706.numRayIds)(_.toInt),
+      layout = BvhLayout.Wide(4)
+    ))
       .withFloat(FloatFormat.FP32).copy(addrBits = 32)
     require(pkg.misfits(cfg).isEmpty, s"$dir: ${pkg.misfits(cfg)}")
     val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.Watertight, BoxRounding.Conservative)

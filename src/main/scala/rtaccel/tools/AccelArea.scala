@@ -22,6 +22,14 @@ object AccelArea {
 
   /** The datapath units, by module-name prefix (FloatDatapath's desiredName). */
   val datapathUnits: Seq[String] = Seq("RayPrep", "BoxLane", "PrimIntersect")
+
+  /** The grid core's box unit (BoxTest.Grid: its FP32 node stage and K integer lanes), which stands
+    * where the box lanes would and, like them, is measured whole.
+    */
+  val gridBoxUnit = "GridBboxIntersect"
+
+  /** Every unit measured whole, by module-name prefix: the datapath units and the grid box unit. */
+  val wholeUnits: Seq[String] = datapathUnits :+ gridBoxUnit
   val controlLabel = "control"
 
   final case class Module(name: String, text: String)
@@ -110,7 +118,7 @@ object AccelArea {
     // takes their row.
     val unitTops = datapathUnits.map(u => u -> s"${u}_$dpName").map {
       case ("BoxLane", m) if !mods.exists(_.name == m) =>
-        mods.find(_.name.startsWith("GridBboxIntersect_")).fold("BoxLane" -> m)(g => "GridBboxIntersect" -> g.name)
+        mods.find(_.name.startsWith(gridBoxUnit + "_")).fold("BoxLane" -> m)(g => gridBoxUnit -> g.name)
       case um => um
     }
     unitTops.foreach { case (_, m) => require(mods.exists(_.name == m), s"no module $m in the accelerator's Verilog") }
@@ -147,7 +155,7 @@ object AccelArea {
   def gridUnit(dp: rtaccel.datapath.FloatDatapath, cfg: rtaccel.AccelConfig, cacheDir: Path): Synth.Area = {
     Files.createDirectories(cacheDir)
     val sv = Synth.emit(new rtaccel.traversal.GridBboxIntersect(cfg.boxLanes, cfg.gridParams, dp.gen))
-    cached(cacheDir, "GridBboxIntersect", dp.name, sv, modules(sv).last.name, Nil)
+    cached(cacheDir, gridBoxUnit, dp.name, sv, modules(sv).last.name, Nil)
   }
 
   def total(rows: Seq[(String, Synth.Area)]): Synth.Area = rows.map(_._2).foldLeft(Synth.zero)(_ + _)

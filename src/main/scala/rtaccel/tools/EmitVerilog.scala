@@ -186,9 +186,10 @@ object EmitVerilog {
       val md = ResourceTable(
         s"RtAccel ${dp.name}, $nodes (${cfg.boxLanes} box lanes), ${cfg.numRayIds} ray IDs, stack ${cfg.stackDepth}",
         rows.map {
-          case ("BoxLane", a)           => s"BoxLane x${cfg.boxLanes} (BboxIntersect)" -> a
-          case ("GridBboxIntersect", a) => s"GridBboxIntersect (FP32 node stage, ${cfg.boxLanes} grid lanes)" -> a
-          case r                        => r
+          case ("BoxLane", a) => s"BoxLane x${cfg.boxLanes} (BboxIntersect)" -> a
+          case (AccelArea.gridBoxUnit, a) =>
+            s"${AccelArea.gridBoxUnit} (FP32 node stage, ${cfg.boxLanes} grid lanes)" -> a
+          case r => r
         },
         Zc706,
         (System.nanoTime() - t0) / 1e9

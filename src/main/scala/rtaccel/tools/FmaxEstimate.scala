@@ -128,8 +128,7 @@ object FmaxEstimate {
   def units(sv: String, top: String): Seq[(String, String, Seq[String])] = {
     val mods = AccelArea.subtree(AccelArea.modules(sv), top)
     val names = mods.map(_.name)
-    // The grid box unit stands where the box lanes would (BoxTest.Grid): whole, like them.
-    val dpTops = names.filter(n => (AccelArea.datapathUnits :+ "GridBboxIntersect").exists(u => n.startsWith(u + "_")))
+    val dpTops = names.filter(n => AccelArea.wholeUnits.exists(u => n.startsWith(u + "_")))
     val inDatapath = dpTops.flatMap(t => AccelArea.subtree(mods, t).map(_.name)).toSet
     names.flatMap { n =>
       if (n.startsWith("Fp")) Some((n, n, Nil))

@@ -68,7 +68,9 @@ object PointArea {
     js("instances_zc706") = AccelArea.instances(total, EmitVerilog.Zc706)
     js("units") = ujson.Obj.from(rows.map { case (u, a) => u -> obj(a) })
     // measure's BoxLane row counts every instance: all K lanes.
-    rows.find(r => r._1 == "BoxLane" || r._1 == "GridBboxIntersect").foreach { case (_, a) => js("box_lanes") = obj(a) }
+    rows.find(r => r._1 == "BoxLane" || r._1 == AccelArea.gridBoxUnit).foreach { case (_, a) =>
+      js("box_lanes") = obj(a)
+    }
     js("layout") = layout.name
     js("seconds") = (System.nanoTime() - t0) / 1e9
     Files.createDirectories(out.toAbsolutePath.getParent)

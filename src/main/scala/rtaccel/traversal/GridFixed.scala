@@ -105,6 +105,17 @@ object GridFixed {
   def hw(fmt: FloatFormat, x: UInt, k: SInt, up: Boolean, lo: BigInt, hi: BigInt): FixedHw =
     hw(fmt, x, shift(fmt, k, lo, hi), up, lo, hi)
 
+  /** How the result leaves the magnitude, decided from `x` alone and carried through every stage. */
+  class Side extends Bundle {
+
+    /** The rounding bump away from zero (ceil of a positive value, floor of a negative one). */
+    val bump = Bool()
+    val sign = Bool()
+
+    /** A NaN goes to the window's edge on the rounding's side. */
+    val isNaN = Bool()
+  }
+
   /** What [[decide]] hands to [[front]]: the significand, its right shift
     * clamped, and the decisions on it. With a register after each of
     * [[decide]] and [[front]] the conversion is three pipeline stages (the
@@ -115,9 +126,7 @@ object GridFixed {
     val sig = UInt(p.W)
     val aC = UInt(aBits.W)
     val big = Bool()
-    val bump = Bool()
-    val sign = Bool()
-    val isNaN = Bool()
+    val side = new Side
   }
 
   /** What [[front]] hands to [[back]]. */
@@ -125,9 +134,7 @@ object GridFixed {
 
     /** The saturated magnitude: below 2^m, or 2^m for `big`. */
     val mag = UInt((m + 1).W)
-    val bump = Bool()
-    val sign = Bool()
-    val isNaN = Bool()
+    val side = new Side
   }
 
   /** [[soft]] with the shift prepared by [[shift]] (for the same window).
@@ -171,10 +178,9 @@ object GridFixed {
     d.sig := sig
     d.aC := Mux(a < 0.S, 0.U, Mux(a > aMax.S, aMax.U, a.asUInt(aBits - 1, 0)))
     d.big := big
-    // The bump away from zero: ceil of a positive value, floor of a negative one.
-    d.bump := rem && (if (up) !sign else sign)
-    d.sign := sign
-    d.isNaN := isSpecial && frac.orR
+    d.side.bump := rem && (if (up) !sign else sign)
+    d.side.sign := sign
+    d.side.isNaN := isSpecial && frac.orR
     d
   }
 
@@ -184,9 +190,7 @@ object GridFixed {
     val low = (Cat(d.sig, 0.U((m - 1).W)) >> d.aC)(m - 1, 0)
     val f = Wire(new Front(m))
     f.mag := Mux(d.big, (BigInt(1) << m).U, low.pad(m + 1))
-    f.bump := d.bump
-    f.sign := d.sign
-    f.isNaN := d.isNaN
+    f.side := d.side
     f
   }
 
@@ -194,15 +198,15 @@ object GridFixed {
   def back(f: Front, up: Boolean, lo: BigInt, hi: BigInt): FixedHw = {
     val w = widthOf(lo, hi)
     val m = w - 1
-    val (mag, bump, sign) = (f.mag, f.bump, f.sign)
+    val (mag, bump, sign) = (f.mag, f.side.bump, f.side.sign)
     // -(mag + bump) = ~mag + !bump in m + 2 bits.
     val v = ((mag.pad(m + 2) ^ Fill(m + 2, sign)) + Mux(sign, !bump, bump)).asSInt
     // v < lo and v > hi from mag, per sign and bump (each a compare with a constant).
     def magLt(c: BigInt) = mag.zext < c.S
     def magGt(c: BigInt) = mag.zext > c.S
     def byBump(g: BigInt => Bool, c: BigInt) = Mux(bump, g(c - 1), g(c))
-    val below = Mux(f.isNaN, (!up).B, Mux(sign, byBump(magGt, -lo), byBump(magLt, lo)))
-    val above = Mux(f.isNaN, up.B, Mux(sign, byBump(magLt, -hi), byBump(magGt, hi)))
+    val below = Mux(f.side.isNaN, (!up).B, Mux(sign, byBump(magGt, -lo), byBump(magLt, lo)))
+    val above = Mux(f.side.isNaN, up.B, Mux(sign, byBump(magLt, -hi), byBump(magGt, hi)))
     val out = Wire(new FixedHw(w))
     out.below := below
     out.above := above
