@@ -145,11 +145,24 @@ object FpAdd {
     // Cut 3: add or subtract. A true difference is big - (smallAligned + d),
     // d in (0,1) when sticky: = (big - smallAligned - 1) + (1 - d), so subtract
     // the sticky bit too. Its negation is formed beside it, not after it.
+    //
+    // Timing (docs/fmax.md): the carry chains feed only the final mux. `negative` is the
+    // difference's sign bit (a `< 0` compare maps to one more chain), and the exact-zero test,
+    // which the result's sign waits on, reads the operands beside the chains, not their result.
     val bigExt = Cat(f3.big.sig, 0.U(extra.W))
     val diff = bigExt.zext - f3.smallAligned.zext - f3.sticky.asUInt.zext
     val negDiff = f3.smallAligned.zext + f3.sticky.asUInt.zext - bigExt.zext
-    val negative = diff < 0.S // only when the exponents are equal (then no sticky)
+    val negative = diff(diff.getWidth - 1) // only when the exponents are equal (then no sticky)
     val mag = Mux(f3.effSub, Mux(negative, negDiff.asUInt, diff.asUInt), bigExt +& f3.smallAligned)
+    // mag === 0, from the operands. A difference with sticky set is never 0: sticky needs the
+    // exponents extra + 1 or more apart, so big is normal, bigExt >= 2^(p + extra - 1) and
+    // smallAligned < 2^(p - 1). Without sticky it is 0 exactly when the aligned significands
+    // are equal. A sum is 0 exactly when both are.
+    val magZero = Mux(
+      f3.effSub,
+      !f3.sticky && bigExt === f3.smallAligned,
+      f3.big.sig === 0.U && f3.smallAligned === 0.U
+    )
 
     val modes = modesOf(f3.rm)
     val front = Wire(new FpAddMid(sw + 1, ew + 1, dynamicRm, modes.size))
@@ -158,11 +171,11 @@ object FpAdd {
     raw.isNaN := f3.isNaN
     raw.isInf := f3.isInf
     // Exact zero: (-0)+(-0) = -0, x+(-x) = +0 except -0 in RDN (IEEE 754 6.3).
-    raw.isZero := mag === 0.U && !f3.sticky
+    raw.isZero := magZero && !f3.sticky
     for ((m, j) <- modes.zipWithIndex)
       front.signs(j) := MuxCase(
         f3.big.sign ^ (f3.effSub && negative),
-        Seq(f3.isInf -> f3.infSign, (mag === 0.U && f3.effSub) -> (m === RoundingMode.RDN.code.U))
+        Seq(f3.isInf -> f3.infSign, (magZero && f3.effSub) -> (m === RoundingMode.RDN.code.U))
       )
     raw.sign := front.signs(0)
     raw.sig := mag

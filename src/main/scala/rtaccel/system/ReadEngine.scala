@@ -2,7 +2,7 @@ package rtaccel.system
 
 import chisel3._
 import chisel3.util._
-import rtaccel.axi.{Axi4Addr, Axi4Params, Axi4R, BurstMath, ByteRotate}
+import rtaccel.axi.{Axi4, Axi4Addr, Axi4Params, Axi4R, BurstMath, ByteRotate}
 
 /** A record read on its way to DRAM: `client` picks the response queue. */
 class ReadReq(addrBits: Int, clientBits: Int, tagBits: Int) extends Bundle {
@@ -55,7 +55,7 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
   /** Beats of the largest record at its worst alignment: ceil((o + b) / B) for o = B - 1. */
   private val maxBeats = recordBytes.map(b => (B + b - 2) / B + 1).max
   private val countBits = log2Ceil(maxBeats + 1)
-  private val pageBits = 12
+  private val pageBits = log2Ceil(Axi4.BoundaryBytes) // 4 KB: no burst crosses a page
 
   val io = IO(new Bundle {
     val req = Flipped(Decoupled(new ReadReq(p.addrBits, clientBits, tagBits)))
@@ -94,7 +94,11 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
   io.ar.valid := pendValidReg
   io.ar.bits := Axi4Addr.incr(p, pendIdReg, pendAddrReg, burstBeats)
   when(io.ar.fire) {
-    pendAddrReg := pendAddrReg + (burstBeats << beatBits)
+    // A burst that is not the record's last ends at the 4 KB boundary (burstBeats = toBoundary),
+    // so the next one starts on the next page; after the last, the next request reloads the
+    // address before it is used. The page number plus one is that address without the boundary
+    // compare and the burst length in front of a 32-bit adder (Fmax, docs/fmax.md).
+    pendAddrReg := Cat(pendAddrReg(p.addrBits - 1, pageBits) + 1.U, 0.U(pageBits.W))
     pendLeftReg := pendLeftReg - burstBeats
     when(lastBurst) { pendValidReg := false.B }
   }
