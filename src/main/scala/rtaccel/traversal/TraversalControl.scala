@@ -134,15 +134,28 @@ class TraversalControl(cfg: AccelConfig) extends Module {
       r.rank(i) := PopCount(before)
     }
     r.hits := PopCount(in.hit)
-    cfg.layout match {
+    val overflow = cfg.layout match {
       case BvhLayout.Nori =>
         r.chosenOk := in.hit(0)
         r.pushCount := (in.hit(0) && !in.refs(0).isLeaf).asUInt
+        r.chosenOk && (in.token.sp +& r.pushCount > cfg.stackDepth.U)
       case _: BvhLayout.Wide =>
-        r.chosenOk := r.hits =/= 0.U
+        r.chosenOk := in.hit.asUInt.orR
         r.pushCount := Mux(r.chosenOk, r.hits - 1.U, 0.U)
+        // The overflow test sp + (n - 1) > stackDepth, for n hits, is
+        // sp > stackDepth + 1 - n: one compare of sp with a constant per
+        // count, made from the token beside the hit count, the hits then
+        // only choosing among them ("at least n hits" as plain logic, no
+        // adder; chosenOk an OR, not the count). Through the popcount, the
+        // decrement and the add, the test was Traversal's longest path
+        // (docs/fmax.md). A larger count only lowers the bound, so OR-ing
+        // the tests of every count up to the actual one is the actual one's.
+        val atLeast = in.hit.foldLeft(Seq(true.B)) { (c, h) =>
+          (0 to c.size).map(n => if (n == 0) true.B else if (n == c.size) c(n - 1) && h else c(n) || (c(n - 1) && h))
+        }
+        def spOver(n: Int): Bool = if (cfg.stackDepth + 1 - n < 0) true.B else in.token.sp > (cfg.stackDepth + 1 - n).U
+        (1 to k).map(n => atLeast(n) && spOver(n)).reduce(_ || _)
     }
-    val overflow = r.chosenOk && (in.token.sp +& r.pushCount > cfg.stackDepth.U)
     r.errors := in.token.errors | in.nodeErrors | Mux(overflow, ErrorFlags.bit(ErrorFlags.StackOverflow), 0.U)
     r.finished := r.errors.orR || (!r.chosenOk && in.token.sp === 0.U)
     r
