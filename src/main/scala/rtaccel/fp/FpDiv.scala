@@ -14,6 +14,10 @@ class FpDivState(fmt: FloatFormat, dynamicRm: Boolean) extends Bundle {
   val divisor = UInt(p.W)
   val quo = UInt((p + 2).W)
   val meta = new FpRawStage(p + 2, FpUnpack.expWidth(fmt) + 2, dynamicRm)
+
+  /** The normalising shifts' leading-zero counts, read (into `meta.raw.exp`) by the first step only. */
+  val lzA = UInt(log2Ceil(p).W)
+  val lzB = UInt(log2Ceil(p).W)
 }
 
 /** Correctly rounded division by radix-2 restoring digit recurrence.
@@ -29,7 +33,11 @@ class FpDivState(fmt: FloatFormat, dynamicRm: Boolean) extends Bundle {
   * Pipelining: cut points after normalisation, after each recurrence step,
   * the rounder's, and at the output share the `latency` registers evenly
   * ([[FpPipeline]]). Each step is one (p+1)-bit compare-subtract, i.e. one
-  * carry chain and a mux.
+  * carry chain and a mux. The normalisation stage only counts and shifts:
+  * the quotient's exponent takes the leading-zero counts in the first step
+  * (beside its compare-subtract), so no exponent carry chain waits on a count
+  * in the stage an operand enters (an operand mux in front of the unit, as in
+  * RayPrep's shear, lands on that stage).
   */
 object FpDivCore {
   def cuts(fmt: FloatFormat): Int = 1 + (fmt.precision + 2) + FpRound.cuts(fmt, fmt.precision + 2) + 1
@@ -67,12 +75,12 @@ object FpDivCore {
     val pipe = new FpPipeline(latency, cuts(fmt))
     val ua = FpUnpack(fmt, a)
     val ub = FpUnpack(fmt, b)
-    def normalise(u: FpUnpacked): (UInt, SInt) = {
+    def normalise(u: FpUnpacked): (UInt, UInt) = {
       val lz = FpUnpack.leadingZeros(u.sig) // a zero operand is flagged apart
-      ((u.sig << lz)(p - 1, 0), u.exp -& lz.zext)
+      (FpUnpack.shiftLeftMsbFirst(u.sig, lz), lz)
     }
-    val (sigA, expA) = normalise(ua)
-    val (sigB, expB) = normalise(ub)
+    val (sigA, lzA) = normalise(ua)
+    val (sigB, lzB) = normalise(ub)
 
     val s0 = Wire(new FpDivState(fmt, dynamicRm))
     val raw = s0.meta.raw
@@ -81,19 +89,27 @@ object FpDivCore {
     raw.isInf := ua.isInf || ub.isZero
     raw.isZero := ua.isZero || ub.isInf
     raw.sign := ua.sign ^ ub.sign
-    // Q has weight 2^-(p+1) relative to A/B.
-    raw.exp := expA -& expB - (p + 1).S
+    // Q has weight 2^-(p+1) relative to A/B; the normalised exponents are (ua.exp - lzA) and
+    // (ub.exp - lzB), whose counts the first step adds (the same integer, no wrap in either width).
+    raw.exp := ua.exp -& ub.exp -& (p + 1).S
     raw.sig := DontCare
     raw.sticky := DontCare
     s0.rem := sigA
     s0.divisor := sigB
     s0.quo := 0.U
+    s0.lzA := lzA
+    s0.lzB := lzB
 
     var stage = pipe.cut(valid, s0)
-    for (_ <- 0 until p + 2) {
+    for (i <- 0 until p + 2) {
       val s = stage.bits
       val next = Wire(new FpDivState(fmt, dynamicRm))
       next := s
+      if (i == 0) {
+        next.meta.raw.exp := s.meta.raw.exp - s.lzA.zext + s.lzB.zext
+        next.lzA := DontCare
+        next.lzB := DontCare
+      }
       val fits = s.rem >= s.divisor
       val left = Mux(fits, s.rem - s.divisor, s.rem) // < divisor < 2^p
       next.rem := left << 1

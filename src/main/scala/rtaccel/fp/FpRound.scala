@@ -54,9 +54,14 @@ object FpRound {
     /** Biased exponent of the MSB position, and one less. */
     val eTop = SInt(ew.W)
     val eTopM1 = SInt(ew.W)
+
+    /** eTopM1 + p + 2: the right shift onto the subnormal grid passes the whole window when lz exceeds it. */
+    val eShiftOut = SInt(ew.W)
     val biasedExp = SInt(ew.W)
     val tiny = Bool()
-    val subShift = UInt(ew.W)
+
+    /** The right shift onto the subnormal grid, already clamped to the window's p + 2 bits. */
+    val subShift = UInt(log2Ceil(p + 3).W)
 
     /** The kept p bits, guard and round (`window`); any 1 below them (`tail`). */
     val window = UInt((p + 2).W)
@@ -122,6 +127,8 @@ object FpRound {
     // Biased exponent of the leading one is eTop - lz.
     s0.eTop := exp + (w - 1 + fmt.bias).S(ew.W)
     s0.eTopM1 := exp + (w - 2 + fmt.bias).S(ew.W)
+    val fast = fastPath(fmt, w, pd, minExp)
+    if (!fast) s0.eShiftOut := exp + (w - 2 + fmt.bias + p + 2).S(ew.W)
     val s1 = cut(s0)
 
     // Stage 2: tiny (eTop - lz < 1, i.e. lz > eTop - 1), the extra right shift onto the
@@ -130,10 +137,9 @@ object FpRound {
     val lzS = s1.lz.zext.pad(ew)
     s2.biasedExp := s1.eTop - lzS
     s2.tiny := s1.eTopM1 < lzS
-    s2.subShift := Mux(s2.tiny, (lzS - s1.eTopM1).asUInt, 0.U)
     def below(n: UInt): Bool = if (w > p + 2) n(w - p - 3, 0).orR else false.B
     val s3 =
-      if (fastPath(fmt, w, pd, minExp)) {
+      if (fast) {
         // Never below the subnormal grid: one left shift, stopped at the grid, does both.
         // lz - subShift is eTop - 1 when tiny, lz otherwise (the same bits mod 2^lzw).
         val amount = Mux(s2.tiny, s1.eTopM1.asUInt(lzw - 1, 0), s1.lz)
@@ -147,9 +153,16 @@ object FpRound {
         val n = (s1.sig << s1.lz)(w - 1, 0)
         s2.window := n(w - 1, w - p - 2)
         s2.tail := below(n) || s1.sticky
+        // The right shift, clamped here to the window's p + 2 bits by a compare beside the tiny
+        // test (lz - (eTop - 1) > p + 2 is lz > eShiftOut), so that the next stage's shifter
+        // does not wait on a compare of its amount. Past p + 2 every window bit goes to the
+        // sticky, as with the unclamped amount.
+        val shiftOut = s1.eShiftOut < lzS // implies tiny
+        val sw = s2.subShift.getWidth
+        s2.subShift := Mux(shiftOut, (p + 2).U, Mux(s2.tiny, (lzS - s1.eTopM1).asUInt(sw - 1, 0), 0.U))
         val s2b = cut(s2)
         val s3 = next(s2b)
-        val (r, lost) = FpUnpack.shiftRightSticky(s2b.window, s2b.subShift)
+        val (r, lost) = FpUnpack.shiftRightStickyClamped(s2b.window, s2b.subShift)
         s3.window := r
         s3.tail := s2b.tail || lost
         cut(s3)

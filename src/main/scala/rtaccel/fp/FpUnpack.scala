@@ -63,12 +63,33 @@ object FpUnpack {
     tree(padded)._2
   }
 
+  /** `(x << amount)` cut to `x`'s width, by one 2:1 mux stage per amount bit, the amount's
+    * most significant bit first: [[leadingZeros]] settles its high bits first (its low bits pass
+    * through every level of the tree), so a shift by a count just computed waits on the count's
+    * last bit for one mux, not for a whole shifter. (Bits shifted past the top never return, so
+    * the stages' order does not change the result.)
+    */
+  def shiftLeftMsbFirst(x: UInt, amount: UInt): UInt = {
+    val w = x.getWidth
+    (amount.getWidth - 1 to 0 by -1).foldLeft(x) { (v, i) =>
+      if ((1 << i) >= w) Mux(amount(i), 0.U(w.W), v) else Mux(amount(i), (v << (1 << i))(w - 1, 0), v)
+    }
+  }
+
   /** Shifts `x` right by `amount` (clamped to its width); returns the shifted
     * value and whether any 1 bit fell off the end (the sticky bit).
     */
   def shiftRightSticky(x: UInt, amount: UInt): (UInt, Bool) = {
     val w = x.getWidth
-    val amt = Mux(amount > w.U, w.U, amount)(log2Ceil(w + 1) - 1, 0)
+    shiftRightStickyClamped(x, Mux(amount > w.U, w.U, amount)(log2Ceil(w + 1) - 1, 0))
+  }
+
+  /** [[shiftRightSticky]] by an amount the caller has already clamped to `x`'s width (a register
+    * of log2Ceil(width + 1) bits), so no compare sits in front of the shifter.
+    */
+  def shiftRightStickyClamped(x: UInt, amt: UInt): (UInt, Bool) = {
+    val w = x.getWidth
+    require(amt.getWidth <= log2Ceil(w + 1), s"shiftRightStickyClamped: a ${amt.getWidth}-bit amount for $w bits")
     val ext = Cat(x, 0.U(w.W)) >> amt
     (ext(2 * w - 1, w), ext(w - 1, 0).orR)
   }
