@@ -299,6 +299,7 @@ object BenchSystem {
     val row = ujson.Obj(
       "run" -> run.name,
       "cores" -> n,
+      "rayIds" -> args.numRayIds,
       "rays" -> rays.size,
       "raySetSize" -> p.rays.size,
       "cycles" -> r.cycles.toDouble,

@@ -42,7 +42,9 @@ object BenchSystemMarkdown {
       "## The system on a ZC706 (estimate, not run on a board) against Embree (this machine)",
       "",
       s"Simulated by `make bench` at commit ${r.sim.commit} (${r.sim.at}). The system top `rtaccel_system` (N cores, the MemoryFabric with its node",
-      s"store and triangle store (the first ${store.nodeStoreBytes / 1024} KiB of nodes, ${store.triStoreBytes / 1024} KiB of triangles on chip: docs/scene-store.md), ray and hit DMA through DDR, registers), 4-wide FP32 watertight cores (conservative boxes, 64 ray IDs each),",
+      s"store and triangle store (the first ${store.nodeStoreBytes / 1024} KiB of nodes, ${store.triStoreBytes / 1024} KiB of triangles on chip: docs/scene-store.md), ray and hit DMA through DDR, registers), 4-wide FP32 watertight cores (conservative boxes, ${BenchMarkdown.idsNote(
+          r.rows.map(_.obj.get("rayIds"))
+        )}each),",
       "under the C++ harness (`sw/sim/`, driven by librtaccel as on the board) with the ZC706 DDR model behind `m_axi`:",
       "12.8 GB/s, 64-byte bursts, 100 ns latency, 64 outstanding, out of order, clocked at the accelerator's estimated",
       s"clock, ${f(simMhz, 0)} MHz (${f(DdrBytesPerSecond / (simMhz * 1e6), 0)} B/cycle, at most one ${r.rows.map(

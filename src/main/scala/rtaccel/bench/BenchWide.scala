@@ -109,7 +109,7 @@ object BenchWide {
       s"| $run | $w-bit | ${(rc ++ beats ++ busy).mkString(" | ")} | $bytes | $rbytes | $bad |"
     }
     s"Simulated by `make bench-wide` at commit ${sim.commit} (${sim.at}, ${secs.round} s): the system top, 4-wide FP32 " +
-      s"watertight cores (conservative boxes, 64 ray IDs each), under the C++ harness with the ZC706 DDR model behind m_axi " +
+      s"watertight cores (conservative boxes, ${rtaccel.AccelConfig.zc706.numRayIds} ray IDs each), under the C++ harness with the ZC706 DDR model behind m_axi " +
       s"(12.8 GB/s, 64-byte bursts, 100 ns latency, 64 outstanding, out of order) at ${a.mhz} MHz " +
       s"(${12800 / a.mhz} B/cycle of DDR). At most ${a.maxRays} rays per set, strided, each checked bit for bit against " +
       "the golden model. rays/cycle: of the whole system. R beats/cycle: m_axi read beats per cycle (64 bytes each at " +

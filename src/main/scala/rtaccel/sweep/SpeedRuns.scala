@@ -13,7 +13,7 @@ import rtaccel.sim.{AccelHarness, SimTop}
   * strided over the set, through the RTL under Verilator (one build per
   * configuration, reused across runs), with `make regress`'s default memory
   * (the ZC706's DDR3 shared by both ports at a 200 MHz fabric clock, 100 ns
-  * latency), 64 ray IDs as on the ZC706. Every simulated ray must equal the golden answer;
+  * latency), the ray IDs of the ZC706 configuration (AccelConfig.zc706). Every simulated ray must equal the golden answer;
   * a mismatch stops the sweep (a wrong design has no speed worth reporting).
   */
 object SpeedRuns {

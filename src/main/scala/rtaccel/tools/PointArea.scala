@@ -7,7 +7,7 @@ import rtaccel.{AccelConfig, BoxTest, RtAccel}
 import java.nio.file.{Files, Paths}
 
 /** The cost axis of one `make speed-vs-error` point: Yosys xc7 area of the
-  * whole generic ZC706 accelerator (64 ray IDs, stack 32) in one
+  * whole generic ZC706 accelerator (AccelConfig.zc706's ray IDs and stack) in one
   * configuration, per unit and in total, and how many instances fit on the
   * ZC706. One command line per point:
   *
