@@ -54,7 +54,8 @@ object DramTrafficStudy {
     catch { case e: IllegalArgumentException => System.err.println(s"Error: ${e.getMessage}"); sys.exit(2) }
 
   /** The ZC706's channels (docs/dram-traffic.md): PL DDR3 12.8 GB/s; PS DDR3 through the HP ports 4.3 GB/s; m_axi's
-    * R channel one 64-byte beat per cycle at the system's Fmax estimate, 104 MHz. In MB/s. */
+    * R channel one 64-byte beat per cycle at an assumed 104 MHz (the published figures' clock; see
+    * Traffic.IdsPerCore). In MB/s. */
   val PlDdr = 12800.0
   val PsDdr = 4300.0
   val PortRead = 64 * 104.0
