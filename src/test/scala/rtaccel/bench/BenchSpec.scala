@@ -158,7 +158,9 @@ class BenchSpec extends AnyFlatSpec {
       "simCyclesPerSecond" -> 1.0,
       "simCyclesPerCpuSecond" -> 1.0
     )
-    val title = "RtAccel e8m23_wt_cons, 4-wide BVH nodes (4 box lanes), 64 ray IDs, stack 64"
+    // The bench's own configuration (AccelConfig.zc706's ray IDs): redraw refuses a resources.md of another.
+    val title =
+      s"RtAccel e8m23_wt_cons, 4-wide BVH nodes (4 box lanes), ${rtaccel.AccelConfig.zc706.numRayIds} ray IDs, stack 64"
     val cached = BenchSystem.Result(
       Seq(row("cornell-box-primary", 1, 0.1), row("cornell-box-primary", 2, 0.2)),
       Map("cornell-box-primary" -> BenchSystem.Embree(50, 40, 2, 1.75, "2026-01-01T00:00:00Z")),
