@@ -3,13 +3,13 @@ package rtaccel.bench
 /** docs/reports/performance.md from the bench rows: one table, runs x layouts x memory side by side. */
 object BenchMarkdown {
 
-  /** The stack each layout was built with: the ZC706 default, or its deepest run's BVH where that is deeper. */
   /** "N ray IDs, " from the rows' recorded counts (one figure, or their range); nothing when none is recorded. */
   def idsNote(recorded: Seq[Option[ujson.Value]]): String = {
     val ids = recorded.flatten.map(_.num.toInt).distinct.sorted
     if (ids.isEmpty) "" else s"${if (ids.size == 1) ids.head.toString else s"${ids.head}-${ids.last}"} ray IDs, "
   }
 
+  /** The stack each layout was built with: the ZC706 default, or its deepest run's BVH where that is deeper. */
   def stackNote(rows: Seq[ujson.Obj]): String = {
     val default = rtaccel.AccelConfig.zc706.stackDepth
     val deeper = rows.filter(_.obj.contains("stackDepth")).groupBy(_("layout").str).toSeq.sortBy(_._1)
