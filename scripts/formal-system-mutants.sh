@@ -72,11 +72,11 @@ if [ "$which" != probes ]; then
     "/^module HitDma(/,/^endmodule/s/_arb_io_out_bits_number\[6:1\], 6'h0}/_arb_io_out_bits_number[6:1], 7'h0}/" \
     "_arb_io_out_bits_number[6:1], 6'h0}" hit_in_buffer_1
   maybe_mutant rays_early "RayDma hands out rays without waiting for their block: a hit for a ray not read" \
-    "/^module RayDma(/,/^endmodule/s/assign io_rays_valid = _q_io_deq_valid \& present;/assign io_rays_valid = present;/" \
-    "assign io_rays_valid = _q_io_deq_valid & present;" hit_after_fetch_1
+    "/^module RayDma(/,/^endmodule/s/assign io_rays_valid = _q_io_deq_valid \& ~io_stop;/assign io_rays_valid = ~io_stop;/" \
+    "assign io_rays_valid = _q_io_deq_valid & ~io_stop;" hit_after_fetch_1
   maybe_mutant ray_skip "RayDma ends a block after its third ray: the fourth ray of a full block is never handed out (lost)" \
-    "/^module RayDma(/,/^endmodule/s/wire          last = (\&subReg) | ~present/wire          last = subReg == 2'h2 | ~present/" \
-    "wire          last = (&subReg) | ~present" system_ray_conservation_1
+    "/^module RayDma(/,/^endmodule/s/wire \( *\)last = subReg == \(_GEN_[0-9]*\) | io_stop/wire \1last = subReg == 2'h2 | subReg == \2 | io_stop/" \
+    "last = subReg == _GEN_" system_ray_conservation_1
   maybe_mutant hit_drop "HitDma takes ray 0's hit from the core but never queues its line (alone or paired): the hit is lost" \
     "/^module HitDma(/,/^endmodule/s/= flushing | _arb_io_out_valid \& inBatch \& ~store;/= flushing | _arb_io_out_valid \& inBatch \& ~store \& (|_arb_io_out_bits_number);/" \
     "= flushing | _arb_io_out_valid & inBatch & ~store;" system_ray_conservation_1
@@ -95,15 +95,15 @@ fi
 unit_depth() { awk -v u="$1" '$1==u{print $2}' "$dir/system-units.txt"; }
 if [ "$which" != probes ]; then
   case_=raydma; cdepth=$(unit_depth raydma); formal_wrap "$dir" raydma
-  maybe_mutant ray_past_count "RayDma hands out every ray of the last block, past RAY_COUNT (present always, no stop at the count)" \
-    "/^module RayDma(/,/^endmodule/{s/wire \( *\)_present_T = {\(_GEN_[0-9]*\), subReg} < _GEN_[0-9]*;/wire \1_present_T = 1'h1;/;s/ | {_GEN_[0-9]*, subReg} + 34'h1 == _GEN_[0-9]*;/;/}" \
-    "_present_T = {" raydma_in_batch_1
+  maybe_mutant ray_past_count "RayDma hands out every ray of the last block, past RAY_COUNT (each block's last ray taken as its fourth)" \
+    "/^module RayDma(/,/^endmodule/s/^\( *\)(|(remainingReg\[31:2\])) ? 2'h3 : remainingReg\[1:0\] - 2'h1;/\12'h3;/" \
+    "(|(remainingReg[31:2])) ? 2'h3 : remainingReg[1:0] - 2'h1;" raydma_in_batch_1
   maybe_mutant ray_renumber "RayDma numbers each block as the next one (block 0's rays as block 1's)" \
     "/^module RayDma(/,/^endmodule/s/blockOfTag_0 <= issuedReg;/blockOfTag_0 <= issuedReg + 32'h1;/" \
     "blockOfTag_0 <= issuedReg;" raydma_after_block_1 raydma_bounded_response_1
   maybe_mutant ray_skip_unit "RayDma ends a block after its third ray: the fourth ray of a full block is lost" \
-    "/^module RayDma(/,/^endmodule/s/wire \( *\)last = (\&subReg) | ~_present_T/wire \1last = subReg == 2'h2 | ~_present_T/" \
-    "last = (&subReg) | ~_present_T" raydma_bounded_response_1
+    "/^module RayDma(/,/^endmodule/s/wire \( *\)_last_T = subReg == \(_GEN_[0-9]*\);/wire \1_last_T = subReg == 2'h2 | subReg == \2;/" \
+    "_last_T = subReg == _GEN_" raydma_bounded_response_1
   case_=hitdma; cdepth=$(unit_depth hitdma); formal_wrap "$dir" hitdma
   maybe_mutant hit_count_short "HitDma latches RAY_COUNT - 1: the batch's last hit is out of its batch" \
     "/^module HitDma(/,/^endmodule/s/countReg <= io_rayCount;/countReg <= io_rayCount - 32'h1;/" \

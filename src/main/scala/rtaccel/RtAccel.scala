@@ -90,12 +90,8 @@ class RtAccel[T <: Data](val cfg: AccelConfig, val dp: Datapath[T]) extends Modu
   private val held = fetch.io.held +& init.io.held +& trav.io.held +& leaf.io.held
   assert(held === fetch.io.inFlight, "ray_conservation: the rays the units hold differ from the IDs in flight")
 
-  // ---- Performance counters ----
-  private def count(event: Bool): UInt = {
-    val r = RegInit(0.U(64.W))
-    when(event) { r := r + 1.U }
-    r
-  }
+  // ---- Performance counters (64 bits, each exact every cycle: PerfCounter) ----
+  private def count(event: Bool): UInt = PerfCounter(event.asUInt)
   private val p = io.perf
   p.cycles := count(true.B)
   p.raysIn := count(io.rays.fire)
@@ -103,19 +99,13 @@ class RtAccel[T <: Data](val cfg: AccelConfig, val dp: Datapath[T]) extends Modu
   p.nodeFetches := count(io.nodeMem.req.fire)
   p.triFetches := count(io.triMem.req.fire)
   p.boxTests := count(trav.io.boxTests)
-  private val childBoxesReg = RegInit(0.U(64.W))
-  childBoxesReg := childBoxesReg + trav.io.childBoxes
-  p.childBoxTests := childBoxesReg
+  p.childBoxTests := PerfCounter(trav.io.childBoxes)
   p.leafReturns := count(trav.io.control(1).valid)
   p.triTests := count(leaf.io.tested)
-  private val decisionsReg = RegInit(0.U(64.W))
-  decisionsReg := decisionsReg + trav.io.control(0).valid.asUInt + trav.io.control(1).valid.asUInt
-  p.decisions := decisionsReg
+  p.decisions := PerfCounter(trav.io.control(0).valid.asUInt +& trav.io.control(1).valid.asUInt)
   p.nodePortStall := count(io.nodeMem.req.valid && !io.nodeMem.req.ready)
   p.triPortStall := count(io.triMem.req.valid && !io.triMem.req.ready)
   p.raysInStall := count(io.rays.valid && !io.rays.ready)
   p.hitsOutStall := count(io.hits.valid && !io.hits.ready)
-  private val inFlightSumReg = RegInit(0.U(64.W))
-  inFlightSumReg := inFlightSumReg + fetch.io.inFlight
-  p.inFlightSum := inFlightSumReg
+  p.inFlightSum := PerfCounter(fetch.io.inFlight)
 }

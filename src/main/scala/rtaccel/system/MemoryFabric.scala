@@ -2,6 +2,7 @@ package rtaccel.system
 
 import chisel3._
 import chisel3.util._
+import rtaccel.PerfCounter
 import rtaccel.axi.{Axi4Addr, Axi4Master}
 import rtaccel.mem.{MemPort, MemPortParams}
 
@@ -204,22 +205,14 @@ class MemoryFabric(
   io.writesDone := writer.io.writesDone
 
   // ---- Counters and errors ----
-  private def counter(inc: Bool): UInt = {
-    val c = RegInit(0.U(64.W))
-    when(inc) { c := c + 1.U }
-    c
-  }
+  private def counter(inc: Bool): UInt = PerfCounter(inc.asUInt)
   io.stats.readBeats := counter(io.axi.r.fire)
   io.stats.writeBeats := counter(io.axi.w.fire)
   io.stats.arStallCycles := counter(io.axi.ar.valid && !io.axi.ar.ready)
   io.stats.nodeStoreHits := countBy(PopCount(nodeIdx.map(i => io.readers(i).req.fire && toStore(i))))
   io.stats.nodeStoreMisses := countBy(PopCount(nodeIdx.map(i => io.readers(i).req.fire && !toStore(i))))
   io.stats.triStoreHits := countBy(PopCount(triIdx.map(i => io.readers(i).req.fire && toStore(i))))
-  private def countBy(n: UInt): UInt = {
-    val c = RegInit(0.U(64.W))
-    c := c + n
-    c
-  }
+  private def countBy(n: UInt): UInt = PerfCounter(n)
   private val strayReg = RegInit(false.B)
   when(strayFill) { strayReg := true.B }
   io.axiError := engine.io.error || writer.io.error || store.map(_.io.error).getOrElse(false.B) ||

@@ -37,28 +37,34 @@ class RayDma(sys: SystemConfig) extends Module {
     val broken = Output(Bool())
   })
   private val nTags = sys.rayBlockTags
-  private val blocksReg = RegInit(0.U(32.W))
+  private val subBits = log2Ceil(rpb).max(1)
   private val issuedReg = RegInit(0.U(32.W))
-  private val baseReg = RegInit(0.U(sys.axiAddrBits.W))
-  private val countReg = RegInit(0.U(32.W))
+  // Rays of the batch not yet covered by an issued block read: a block is read while any remain.
+  private val remainingReg = RegInit(0.U(32.W))
   private val addrReg = RegInit(0.U(sys.axiAddrBits.W))
   private val freeReg = RegInit(((BigInt(1) << nTags) - 1).U(nTags.W))
   private val blockOfTag = Reg(Vec(nTags, UInt(32.W)))
+  // Index of the block's last ray of the batch (rpb - 1 but in the batch's last block), fixed when the
+  // block is read: the output side then steps through a block with no compare against RAY_COUNT,
+  // which kept a 32-bit compare behind the tag mux on the dequeue path.
+  private val lastSubOfTag = Reg(Vec(nTags, UInt(subBits.W)))
   private val brokenReg = RegInit(false.B)
 
   when(io.start) {
-    countReg := io.rayCount
-    blocksReg := (io.rayCount +& (rpb - 1).U) >> log2Ceil(rpb)
+    remainingReg := io.rayCount
     issuedReg := 0.U
     addrReg := io.rayBase
   }
   private val tag = PriorityEncoder(freeReg)
-  io.mem.req.valid := issuedReg < blocksReg && freeReg.orR && !io.start && !io.stop
+  private val fullBlock = remainingReg >= rpb.U
+  io.mem.req.valid := remainingReg =/= 0.U && freeReg.orR && !io.start && !io.stop
   io.mem.req.bits.addr := addrReg
   io.mem.req.bits.tag := tag
   when(io.mem.req.fire) {
     blockOfTag(tag) := issuedReg
+    lastSubOfTag(tag) := Mux(fullBlock, (rpb - 1).U, remainingReg - 1.U)
     issuedReg := issuedReg + 1.U
+    remainingReg := Mux(fullBlock, remainingReg - rpb.U, 0.U)
     addrReg := addrReg + sys.rayBlockBytes.U
   }
 
@@ -82,9 +88,12 @@ class RayDma(sys: SystemConfig) extends Module {
   )
 
   // ---- unpack: ray `subReg` of the head block ----
-  private val subReg = RegInit(0.U(log2Ceil(rpb).max(1).W))
+  private val subReg = RegInit(0.U(subBits.W))
   private val number = Cat(blockOfTag(q.io.deq.bits.tag), 0.U(log2Ceil(rpb).W)) | subReg
-  private val present = number < countReg && !io.stop
+  private val lastSub = lastSubOfTag(q.io.deq.bits.tag)
+  // subReg runs from 0 to lastSub and no further, so every ray stepped through is in the batch.
+  assert(!q.io.deq.valid || subReg <= lastSub, "ray_block_sub: RayDma stepped past its block's last ray")
+  private val present = !io.stop
   private val rec = (q.io.deq.bits.data >> (subReg * (SystemConfig.RayBytes * 8).U))(SystemConfig.RayBytes * 8 - 1, 0)
   private def word(k: Int): UInt = rec(32 * k + 31, 32 * k)
   private val flags = word(8)
@@ -99,7 +108,7 @@ class RayDma(sys: SystemConfig) extends Module {
   r.shadow := flags(0)
   io.rays.valid := q.io.deq.valid && present
   private val step = q.io.deq.valid && (io.rays.ready || !present)
-  private val last = subReg === (rpb - 1).U || !present || (number + 1.U) === countReg
+  private val last = subReg === lastSub || !present
   q.io.deq.ready := step && last
   when(step) { subReg := Mux(last, 0.U, subReg + 1.U) }
   private val freed = Mux(q.io.deq.fire, UIntToOH(q.io.deq.bits.tag, nTags), 0.U)

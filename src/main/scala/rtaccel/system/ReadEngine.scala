@@ -98,7 +98,9 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
     // so the next one starts on the next page; after the last, the next request reloads the
     // address before it is used. The page number plus one is that address without the boundary
     // compare and the burst length in front of a 32-bit adder (Fmax, docs/fmax.md).
-    pendAddrReg := Cat(pendAddrReg(p.addrBits - 1, pageBits) + 1.U, 0.U(pageBits.W))
+    // An address space of one page or less (the formal system's) has no next page: the address wraps to 0.
+    pendAddrReg := (if (p.addrBits > pageBits) Cat(pendAddrReg(p.addrBits - 1, pageBits) + 1.U, 0.U(pageBits.W))
+                    else 0.U)
     pendLeftReg := pendLeftReg - burstBeats
     when(lastBurst) { pendValidReg := false.B }
   }

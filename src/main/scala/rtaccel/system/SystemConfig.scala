@@ -23,7 +23,9 @@ import rtaccel.axi.Axi4Params
   *                       see docs/scene-store.md
   * @param raysPerBlock   rays fetched per ray-DMA read: 4 x 48 B = 192 B = 3 whole 64-byte lines,
   *                       so every block of a 64-aligned RAY_BASE starts on a line
-  * @param rayBlockTags   ray-DMA reads in flight (each holds one block buffer, so the buffers never overflow)
+  * @param rayBlockTags   ray-DMA reads in flight (each holds one block buffer, so the buffers never overflow);
+  *                       they bound the rays fed per cycle at tags x raysPerBlock / the DDR round trip: 16 x 4
+  *                       over about 30 cycles is 2 rays/cycle, what 2 cores can take (one ray each per cycle)
   * @param hitQueue       hit lines (one or two records each) waiting for the write port
   * @param hitPairSlots   HitDma's pair buffer, a power of two: hits waiting for their neighbour to share a 64-byte
   *                       line; 64, the ray IDs of one core, so that a conflict (two waiting pairs p, p + 64 k) needs a
@@ -38,7 +40,7 @@ case class SystemConfig(
     nodeStoreBytes: Int = 1024 * 1024,
     triStoreBytes: Int = 256 * 1024,
     raysPerBlock: Int = 4,
-    rayBlockTags: Int = 4,
+    rayBlockTags: Int = 16,
     hitQueue: Int = 4,
     hitPairSlots: Int = 64
 ) {
