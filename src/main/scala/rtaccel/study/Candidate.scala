@@ -62,11 +62,8 @@ final case class Traffic(
 object Traffic {
   val Cores: Seq[Int] = Seq(1, 2, 4)
 
-  /** Ray IDs per core: the rays in flight that a cache sees interleaved. The study's published figures
-    * (docs/reports/dram-traffic.md) assume 64, as the port clock below assumes 104 MHz; the ZC706
-    * configuration now has 128 IDs at a 128 MHz estimate (docs/fmax.md), and the study is to be rerun there.
-    */
-  val IdsPerCore: Int = 64
+  /** Ray IDs per core: the rays in flight that a cache sees interleaved, the ZC706 configuration's. */
+  val IdsPerCore: Int = rtaccel.AccelConfig.zc706.numRayIds
 
   def of(c: Candidate, img: MemoryImage, rays: IndexedSeq[RayReads]): Traffic = {
     val hits = c.design.hitBytes.toDouble

@@ -22,11 +22,13 @@ object DramTrafficStudy {
       out: Path = Paths.get("build/dram-traffic/study.md"),
       command: String = "make dram-traffic-study",
       /** Only the candidates whose name contains one of these (all when empty). */
-      only: Seq[String] = Nil
+      only: Seq[String] = Nil,
+      /** m_axi's clock for the R channel's bound, MHz. */
+      clockMhz: Double = DramTrafficStudy.DefaultClockMhz
   )
 
   val usage = "usage: DramTrafficStudy [--root build/dram-traffic] [--max-rays 2048] [--runs dragon-primary,...] " +
-    "[--out build/dram-traffic/study.md] [--only today,cache,...]"
+    "[--out build/dram-traffic/study.md] [--only today,cache,...] [--clock-mhz 128]"
 
   def parse(args: Seq[String]): Args = {
     def fail(why: String): Nothing = throw new IllegalArgumentException(s"$why\n$usage")
@@ -44,6 +46,10 @@ object DramTrafficStudy {
             fail(s"--only: '$k' is not one of ${Candidates.all.map(_.key).mkString(", ")}")
           )
           a.copy(only = keys)
+        case "--clock-mhz" =>
+          a.copy(clockMhz =
+            v.toDoubleOption.filter(_ > 0).getOrElse(fail(s"--clock-mhz: '$v' is not a clock in MHz > 0"))
+          )
         case other => fail(s"unknown option '$other'")
       }
     }
@@ -53,12 +59,15 @@ object DramTrafficStudy {
     try run(parse(args.toSeq), s"runMain rtaccel.study.DramTrafficStudy ${args.mkString(" ")}")
     catch { case e: IllegalArgumentException => System.err.println(s"Error: ${e.getMessage}"); sys.exit(2) }
 
-  /** The ZC706's channels (docs/dram-traffic.md): PL DDR3 12.8 GB/s; PS DDR3 through the HP ports 4.3 GB/s; m_axi's
-    * R channel one 64-byte beat per cycle at an assumed 104 MHz (the published figures' clock; see
-    * Traffic.IdsPerCore). In MB/s. */
+  /** The ZC706's channels (docs/dram-traffic.md): PL DDR3 12.8 GB/s; PS DDR3 through the HP ports 4.3 GB/s. In
+    * MB/s. m_axi's R channel carries one 64-byte beat per cycle of its clock (`PortRead`). */
   val PlDdr = 12800.0
   val PsDdr = 4300.0
-  val PortRead = 64 * 104.0
+  def PortRead(clockMhz: Double): Double = 64 * clockMhz
+
+  /** The clock the R channel's bound assumes unless told (`--clock-mhz`): the system's Fmax estimate of
+    * `make verilog` (docs/fmax.md), an estimate, not a board measurement. */
+  val DefaultClockMhz = 128.0
 
   /** `command`: how it was called, for the report's first line. */
   def run(a: Args, command: String): Unit = {
@@ -71,7 +80,7 @@ object DramTrafficStudy {
       "ray states) = total; the total at 1 and 4 cores; BRAM36 of the stores and what the candidate adds, at 1 / 2 / 4 " +
       "cores (the xc7z045 has 545); bounds in Mrays/s (estimates): the PL DDR3's 12.8 GB/s over the total, with the PS " +
       "DDR3's 4.3 GB/s beside it (best placement of whole regions: nodes, triangles, rays and hits), and m_axi's R " +
-      "channel (64 bytes per cycle at 104 MHz, 512 bits) over the bytes read.\n"
+      f"channel (64 bytes per cycle at ${a.clockMhz}%.0f MHz, 512 bits) over the bytes read.\n"
     val packages = mutable.Map.empty[(String, String), (ScenePackage, IndexedSeq[RayReads])]
     def load(layout: String, run: String) = packages.getOrElseUpdate(
       (layout, run), {
@@ -89,7 +98,7 @@ object DramTrafficStudy {
       val (p0, rays0) = load("4", run)
       md ++= s"\n### $run (${rays0.size} of ${p0.rays.size} rays, strided)\n\n"
       md ++= "| candidate (key) | layout | BRAM36 1 / 2 / 4 cores | bytes/ray at 2 cores: nodes / triangles / rays / hits (+ parks) = total | " +
-        "total at 1 / 4 cores | parks/ray | bound, PL DDR 12.8 GB/s | PL + PS DDR | m_axi R at 104 MHz |\n"
+        f"total at 1 / 4 cores | parks/ray | bound, PL DDR 12.8 GB/s | PL + PS DDR | m_axi R at ${a.clockMhz}%.0f MHz |\n"
       md ++= "| --- | --- | --- | --- | ---: | ---: | ---: | ---: | ---: |\n"
       for (c <- Candidates.all if a.only.isEmpty || a.only.contains(c.key)) {
         val (p, rays) = load(c.layout, run)
@@ -102,7 +111,7 @@ object DramTrafficStudy {
           s"${f0(t.nodes(1))} / ${f0(t.tris(1))} / ${f0(t.rays)} / ${f0(t.hits)}$parks = **${f0(t.total(1))}**"
         val row =
           s"| ${c.name} (`${c.key}`) | ${c.layout} | $bramText | $split | ${f0(t.total(0))} / ${f0(t.total(2))} | " +
-            f"${t.parks}%.1f | ${PlDdr / t.total(1)}%.1f | ${withPs(t)}%.1f | ${PortRead / t.readBytes(1)}%.1f |"
+            f"${t.parks}%.1f | ${PlDdr / t.total(1)}%.1f | ${withPs(t)}%.1f | ${PortRead(a.clockMhz) / t.readBytes(1)}%.1f |"
         md ++= row + "\n"
         println(s"$run $row")
       }
