@@ -28,8 +28,8 @@ import rtaccel.axi.Axi4Params
   *                       over about 30 cycles is 2 rays/cycle, what 2 cores can take (one ray each per cycle)
   * @param hitQueue       hit lines (one or two records each) waiting for the write port
   * @param hitPairSlots   HitDma's pair buffer, a power of two: hits waiting for their neighbour to share a 64-byte
-  *                       line; 64, the ray IDs of one core, so that a conflict (two waiting pairs p, p + 64 k) needs a
-  *                       ray still in flight after 128 later rays finished
+  *                       line; a conflict (two waiting pairs p, p + slots k) writes a hit alone in its own line, so
+  *                       the hit bytes per ray in docs/reports/performance.md (32 with no conflict) show their cost
   */
 case class SystemConfig(
     core: AccelConfig = AccelConfig.zc706,
