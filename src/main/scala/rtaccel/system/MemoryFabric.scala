@@ -205,14 +205,12 @@ class MemoryFabric(
   io.writesDone := writer.io.writesDone
 
   // ---- Counters and errors ----
-  private def counter(inc: Bool): UInt = PerfCounter(inc.asUInt)
-  io.stats.readBeats := counter(io.axi.r.fire)
-  io.stats.writeBeats := counter(io.axi.w.fire)
-  io.stats.arStallCycles := counter(io.axi.ar.valid && !io.axi.ar.ready)
-  io.stats.nodeStoreHits := countBy(PopCount(nodeIdx.map(i => io.readers(i).req.fire && toStore(i))))
-  io.stats.nodeStoreMisses := countBy(PopCount(nodeIdx.map(i => io.readers(i).req.fire && !toStore(i))))
-  io.stats.triStoreHits := countBy(PopCount(triIdx.map(i => io.readers(i).req.fire && toStore(i))))
-  private def countBy(n: UInt): UInt = PerfCounter(n)
+  io.stats.readBeats := PerfCounter(io.axi.r.fire.asUInt)
+  io.stats.writeBeats := PerfCounter(io.axi.w.fire.asUInt)
+  io.stats.arStallCycles := PerfCounter((io.axi.ar.valid && !io.axi.ar.ready).asUInt)
+  io.stats.nodeStoreHits := PerfCounter(PopCount(nodeIdx.map(i => io.readers(i).req.fire && toStore(i))))
+  io.stats.nodeStoreMisses := PerfCounter(PopCount(nodeIdx.map(i => io.readers(i).req.fire && !toStore(i))))
+  io.stats.triStoreHits := PerfCounter(PopCount(triIdx.map(i => io.readers(i).req.fire && toStore(i))))
   private val strayReg = RegInit(false.B)
   when(strayFill) { strayReg := true.B }
   io.axiError := engine.io.error || writer.io.error || store.map(_.io.error).getOrElse(false.B) ||

@@ -3,7 +3,7 @@ package rtaccel.system
 import chisel3._
 import chisel3.util._
 import rtaccel.axi.{Axi4Master, AxiLite}
-import rtaccel.{Datapath, ErrorFlags, RtAccel}
+import rtaccel.{Datapath, ErrorFlags, PerfCounter, RtAccel}
 
 /** The system in Chisel bundle form (RtAccelSystem gives it Vivado's port
   * names): the register block, the scene loader, the ray and hit DMAs, `cores`
@@ -217,11 +217,7 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
 
   // ---- 64-bit counters: since CLEAR_COUNTERS (a snapshot of the running sums is subtracted) ----
   private def sum(f: rtaccel.PerfCounters => UInt): UInt = cores.map(c => f(c.io.perf)).reduce(_ + _)
-  private def count(event: Bool): UInt = {
-    val r = RegInit(0.U(64.W))
-    when(event) { r := r + 1.U }
-    r
-  }
+  private def count(event: Bool): UInt = PerfCounter(event.asUInt)
   private val a = io.axi
   private val cyclesReg = RegInit(0.U(64.W))
   when(start || softResetReg) { cyclesReg := 0.U }.elsewhen(activeReg) { cyclesReg := cyclesReg + 1.U }
