@@ -10,6 +10,10 @@ CARGO     := cargo
 BRIDGE_MANIFEST := nori-bridge/Cargo.toml
 BRIDGE    := nori-bridge/target/release/nori-bridge
 BUILD     := build
+# The memory image's format version (docs/memory-format.md; rtaccel.scene.MemoryImage.Version, checked by
+# MemoryImageSpec). Rules that keep a compiled package depend on this stamp, so a new format compiles them again.
+IMAGE_FORMAT := 3
+IMAGE_STAMP  := $(BUILD)/.image-format-$(IMAGE_FORMAT)
 SBT_LAUNCH_VERSION := $(shell sed -n 's/^sbt.version *= *//p' project/build.properties)
 SBT_LAUNCH_JAR := $(HOME)/.m2/repository/org/scala-sbt/sbt-launch/$(SBT_LAUNCH_VERSION)/sbt-launch-$(SBT_LAUNCH_VERSION).jar
 # libeigen3-dev: the Nori drop-in builds against real Eigen in its test (nori-accel/stub/include/nori/common.h).
@@ -113,3 +117,6 @@ clean: ## Remove build outputs (keeps toolchains and caches)
 
 # Area-specific targets (floating point, scenes, benchmarks) live in mk/*.mk.
 -include mk/*.mk
+
+$(IMAGE_STAMP):
+	@mkdir -p $(@D) && touch $@

@@ -15,7 +15,7 @@ test: cppsim-test
 cppsim-lib: setup-apt ## Build librtaccel (board backend) into build/cppsim/lib/
 	$(MAKE) -C sw lib unit
 
-$(CPPSIM_PKG)/image.bin: | setup-cargo
+$(CPPSIM_PKG)/image.bin: $(IMAGE_STAMP) | setup-cargo
 	$(BRIDGE) compile scenes/cornell-box/cornell-box.xml --out $(CPPSIM_PKG) --rays primary --width 16 --height 16 --bvh 4 >/dev/null
 
 cppsim-test: setup cppsim-lib $(CPPSIM_PKG)/image.bin ## librtaccel against the Verilated system top (part of make test)

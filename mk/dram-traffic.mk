@@ -11,7 +11,7 @@ DRAM_TRAFFIC_OUT     ?= docs/reports/dram-traffic.md
 dram_traffic_pkgs    := $(foreach l,$(DRAM_TRAFFIC_LAYOUTS),$(foreach r,$(DRAM_TRAFFIC_RUNS),$(DRAM_TRAFFIC_DIR)/$(l)/$(r)/image.bin))
 
 # $(DRAM_TRAFFIC_DIR)/<layout>/<scene>-<rays>/image.bin: the last '-' splits scene from ray kind.
-$(DRAM_TRAFFIC_DIR)/%/image.bin: | setup bridge-scenes bridge-scenes-monastery
+$(DRAM_TRAFFIC_DIR)/%/image.bin: $(IMAGE_STAMP) | setup bridge-scenes bridge-scenes-monastery
 	@set -- $(subst /, ,$*); layout=$$1; run=$$2; scene=$${run%-*}; rays=$${run##*-}; \
 	  size=$$(echo $$scene | sed -n 's/.*[^0-9]\([0-9][0-9]*\)$$/\1/p'); scene=$${scene%$$size}; \
 	  $(BRIDGE) compile scenes/$$scene/$$scene.xml --out $(DRAM_TRAFFIC_DIR)/$$layout/$$run --rays $$rays --bvh $$layout \

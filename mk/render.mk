@@ -39,7 +39,7 @@ nori-accel-bench: setup nori-accel ## Golden-mode throughput of the Nori drop-in
 # Reuses cppsim-test's simulator build, so in make test it costs only the
 # drop-in's link and the two runs.
 NORI_RTL_PKG := $(BUILD)/nori-accel/cornell-64x64
-$(NORI_RTL_PKG)/image.bin: | setup-cargo
+$(NORI_RTL_PKG)/image.bin: $(IMAGE_STAMP) | setup-cargo
 	$(BRIDGE_BIN) compile scenes/cornell-box/cornell-box.xml --out $(NORI_RTL_PKG) --rays primary --width 64 --height 64 --bvh 4 >/dev/null
 
 test: nori-accel-rtl-test

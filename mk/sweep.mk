@@ -98,23 +98,23 @@ $(SWEEP)/classpath:
 sweep-packages: $(SWEEP_PACKAGES)
 
 # Packages per layout: $(SWEEP)/packages/<layout>/<run>/ (the stem is the layout).
-$(SWEEP)/packages/%/cornell-box-primary/package.json: scenes/cornell-box/cornell-box.xml
+$(SWEEP)/packages/%/cornell-box-primary/package.json: scenes/cornell-box/cornell-box.xml $(IMAGE_STAMP)
 	$(BRIDGE) compile $< --out $(@D) --bvh $* --rays primary --width $(SWEEP_CORNELL_PX) --height $(SWEEP_CORNELL_PX)
-$(SWEEP)/packages/%/cornell-box-ao/package.json: scenes/cornell-box/cornell-box.xml
+$(SWEEP)/packages/%/cornell-box-ao/package.json: scenes/cornell-box/cornell-box.xml $(IMAGE_STAMP)
 	$(BRIDGE) compile $< --out $(@D) --bvh $* --rays ao --width $$(( $(SWEEP_CORNELL_PX) * 2 / 3 )) --height $$(( $(SWEEP_CORNELL_PX) * 2 / 3 )) --spp 2
-$(SWEEP)/packages/%/dragon-primary/package.json: scenes/dragon/dragon.xml
+$(SWEEP)/packages/%/dragon-primary/package.json: scenes/dragon/dragon.xml $(IMAGE_STAMP)
 	$(BRIDGE) compile $< --out $(@D) --bvh $* --rays primary --width $(SWEEP_DRAGON_PX) --height $(SWEEP_DRAGON_PX)
-$(SWEEP)/packages/%/dragon-ao/package.json: scenes/dragon/dragon.xml
+$(SWEEP)/packages/%/dragon-ao/package.json: scenes/dragon/dragon.xml $(IMAGE_STAMP)
 	$(BRIDGE) compile $< --out $(@D) --bvh $* --rays ao --width $(SWEEP_DRAGON_PX) --height $(SWEEP_DRAGON_PX) --spp 2
 # Hard cases: the sweep's package holds the f64 reference; two more hold Embree's answers without and with ROBUST.
 define sweep_hard_package
-$(SWEEP)/packages/%/hard-$(1)/package.json: scenes/hard/$(1)/expect.csv
+$(SWEEP)/packages/%/hard-$(1)/package.json: scenes/hard/$(1)/expect.csv $$(IMAGE_STAMP)
 	$$(BRIDGE) compile scenes/hard/$(1)/$(1).xml --out $$(@D) --bvh $$* --rays scenes/hard/$(1)/rays.txt --reference double
 endef
 $(foreach c,$(HARD_CASES),$(eval $(call sweep_hard_package,$(c))))
-$(SWEEP)/hard-pkg/%-embree/package.json: scenes/hard/%/expect.csv
+$(SWEEP)/hard-pkg/%-embree/package.json: scenes/hard/%/expect.csv $(IMAGE_STAMP)
 	$(BRIDGE) compile scenes/hard/$*/$*.xml --out $(@D) --rays scenes/hard/$*/rays.txt --reference embree
-$(SWEEP)/hard-pkg/%-robust/package.json: scenes/hard/%/expect.csv
+$(SWEEP)/hard-pkg/%-robust/package.json: scenes/hard/%/expect.csv $(IMAGE_STAMP)
 	$(BRIDGE) compile scenes/hard/$*/$*.xml --out $(@D) --rays scenes/hard/$*/rays.txt --reference embree --robust
 
 $(SWEEP)/hard-ref/%-double.json: $(SWEEP)/packages/$(SWEEP_REF_LAYOUT)/hard-%/package.json

@@ -30,13 +30,13 @@ struct NodeRec {
   float bmin[3], bmax[3];
 };
 
-// One 48-byte triangle record.
+// One triangle record (44 bytes of fields in a 64-byte slot).
 struct TriRec {
   float v[3][3];
   uint32_t prim, flags;
 };
 
-// A parsed memory image (docs/memory-format.md, version 2).
+// A parsed memory image (docs/memory-format.md, version 3).
 struct Image {
   uint32_t layout = 0;      // 0 = nori, else K slots per node
   uint32_t node_count = 0;  // nori nodes, or wide nodes

@@ -40,7 +40,7 @@ fn every_ray_kind_compiles_traces_and_compares_clean() {
             assert!(pkg.join(f).exists(), "{kind}: {f} missing");
         }
         let m = json(&pkg.join("package.json"));
-        assert_eq!(m["format_version"], 2);
+        assert_eq!(m["format_version"], 3);
         assert_eq!(m["counts"]["triangles"], 32);
         let rays = m["counts"]["rays"].as_u64().unwrap();
         match *kind {

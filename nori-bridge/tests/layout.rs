@@ -121,7 +121,7 @@ fn image_bytes_round_trip_and_header() {
     let b = img.to_bytes();
     assert_eq!(&b[0..8], b"RTACCEL\0");
     let u = |o: usize| u32::from_le_bytes(b[o..o + 4].try_into().unwrap());
-    assert_eq!(u(8), 2);
+    assert_eq!(u(8), 3);
     assert_eq!(u(12) as usize, img.nodes.len());
     assert_eq!(u(16) as usize, scene.tris.len());
     assert_eq!(u(20), 64);
@@ -130,13 +130,13 @@ fn image_bytes_round_trip_and_header() {
         u(24) as usize >= 64 + 32 * img.nodes.len()
             && (u(24) as usize) < 64 + 32 * img.nodes.len() + 64
     );
-    assert_eq!((u(28), u(32), u(36)), (32, 48, 4));
+    assert_eq!((u(28), u(32), u(36)), (32, 64, 4));
     assert_eq!(u(44), 0, "layout word: nori");
     assert!(
         b[48..64].iter().all(|&x| x == 0),
         "reserved header bytes must be zero"
     );
-    assert_eq!(b.len(), u(24) as usize + 48 * scene.tris.len());
+    assert_eq!(b.len(), u(24) as usize + 64 * scene.tris.len());
     // node 0 = root box = scene bounds
     let f = |o: usize| f32::from_le_bytes(b[o..o + 4].try_into().unwrap());
     let root = scene.bounds();
@@ -146,9 +146,9 @@ fn image_bytes_round_trip_and_header() {
     assert_eq!(back.nodes, img.nodes);
     assert_eq!(back.tris, img.tris);
     assert_eq!(back.bvh_depth, img.bvh_depth);
-    // reserved word of every triangle record is zero
+    // the padding of every triangle record (bytes 44-63) is zero
     let t0 = u(24) as usize;
-    assert!((0..scene.tris.len()).all(|i| u(t0 + 48 * i + 44) == 0));
+    assert!((0..scene.tris.len()).all(|i| (44..64).step_by(4).all(|k| u(t0 + 64 * i + k) == 0)));
 }
 
 #[test]

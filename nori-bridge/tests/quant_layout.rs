@@ -67,7 +67,7 @@ fn every_stored_box_contains_its_exact_box() {
             assert_eq!(
                 bytes.len(),
                 nori_bridge::image_bin::align_up(64 + nb * built.node_count())
-                    + 48 * built.tris.len(),
+                    + 64 * built.tris.len(),
                 "{what}: file size"
             );
             let img = Image::parse(&bytes).unwrap_or_else(|e| panic!("{what}: {e:#}"));

@@ -251,13 +251,13 @@ fn wide_header_fields() {
         let b = img.to_bytes();
         let u = |o: usize| u32::from_le_bytes(b[o..o + 4].try_into().unwrap());
         let k = layout.word();
-        assert_eq!((u(8), u(44)), (2, k), "version, layout");
+        assert_eq!((u(8), u(44)), (3, k), "version, layout");
         assert_eq!(
             u(12) as usize,
             img.nodes.len() / k as usize,
             "nodeCount counts wide nodes"
         );
-        assert_eq!((u(28), u(32)), (32 * k, 48), "nodeBytes = 32 K");
+        assert_eq!((u(28), u(32)), (32 * k, 64), "nodeBytes = 32 K");
         assert_eq!(
             u(24) as usize,
             (64 + 32 * img.nodes.len()).div_ceil(64) * 64,
@@ -290,7 +290,7 @@ fn malformed_layout_word_names_the_file_and_the_value() {
     let mut b = img.to_bytes();
     b[44..48].copy_from_slice(&8u32.to_le_bytes());
     let e = format!("{:#}", Image::parse(&b).unwrap_err());
-    assert!(e.contains("record sizes 128/48 differ from 256/48"), "{e}");
+    assert!(e.contains("record sizes 128/64 differ from 256/64"), "{e}");
     // A slot whose word0 is no slot kind.
     let mut b = img.to_bytes();
     b[64 + 32..64 + 36].copy_from_slice(&5u32.to_le_bytes());

@@ -92,7 +92,7 @@ fn cli_compiles_each_layout_deterministically() {
         let n = json(&pkg("a").join("scene.json"));
         assert_eq!(
             (n["format_version"].as_u64(), n["layout"].as_str()),
-            (Some(2), Some(layout))
+            (Some(3), Some(layout))
         );
         assert_eq!(n["nodes"].as_u64(), Some(img.node_count() as u64));
         assert_eq!(n["bvh_depth"].as_u64(), Some(img.bvh_depth as u64));

@@ -27,7 +27,7 @@
 namespace {
 
 // The stand-in's hardware: 4-wide nodes (layout 4, 128-byte nodes), stack depth 24, 512-bit m_axi.
-constexpr uint32_t Layout = 4, NodeBytes = 128, TriBytes = 48, StackDepth = 24, ImageVersion = 2;
+constexpr uint32_t Layout = 4, NodeBytes = 128, TriBytes = 64, StackDepth = 24, ImageVersion = 3;
 constexpr uint64_t BufBase = 0x10000000ull, BufSize = 1u << 16;  // 64 KiB: Cornell's image is 2.6 KB
 
 struct Fake {

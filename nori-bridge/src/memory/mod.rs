@@ -1,6 +1,7 @@
 //! image.bin: the memory image the accelerator walks. Byte layout and the
-//! reasons for it are in docs/memory-format.md (format version 2: the
-//! header names the node layout, nori or K-wide).
+//! reasons for it are in docs/memory-format.md (format version 3: the
+//! header names the node layout, nori or K-wide; a triangle record is one
+//! 64-byte line).
 
 pub mod mt_walk;
 
@@ -12,9 +13,11 @@ use anyhow::{bail, Context, Result};
 use std::path::Path;
 
 pub const MAGIC: &[u8; 8] = b"RTACCEL\0";
-pub const VERSION: u32 = 2;
+pub const VERSION: u32 = 3;
 pub const HEADER_BYTES: usize = 64;
-pub const TRI_BYTES: usize = 48;
+/// A triangle record's stride: 44 bytes of fields, zero-padded to one 64-byte
+/// line so that no record straddles two DRAM bursts (docs/memory-format.md).
+pub const TRI_BYTES: usize = 64;
 pub const ALIGN: usize = 64;
 /// Triangle record flag: the triangle has zero area when evaluated in f64.
 pub const FLAG_ZERO_AREA: u32 = 1;
@@ -159,9 +162,10 @@ impl Image {
             for f in r.tri.v.iter().flatten() {
                 b.extend_from_slice(&f.to_le_bytes());
             }
-            for w in [r.prim, r.flags, 0] {
+            for w in [r.prim, r.flags] {
                 b.extend_from_slice(&w.to_le_bytes());
             }
+            b.resize(b.len() + TRI_BYTES - 44, 0);
         }
         b
     }
@@ -191,7 +195,7 @@ impl Image {
             u(24) as usize,
         );
         if version != VERSION {
-            bail!("format version {version}, this tool reads {VERSION}");
+            bail!("format version {version}, this tool reads {VERSION}: compile the package again");
         }
         let layout = Layout::from_word(u(44)).with_context(|| {
             format!(

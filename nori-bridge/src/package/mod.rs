@@ -115,7 +115,7 @@ impl Manifest {
             .with_context(|| format!("{}: bad manifest", mpath.display()))?;
         if v.format_version != crate::memory::VERSION {
             anyhow::bail!(
-                "{}: format version {}, this tool reads {}",
+                "{}: format version {}, this tool reads {}: compile the package again",
                 mpath.display(),
                 v.format_version,
                 crate::memory::VERSION

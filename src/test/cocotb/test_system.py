@@ -163,10 +163,10 @@ async def scene_errors(dut):
     other_layout = 2 if cfg["layout"] != 2 else 4
     cases = [
         ("bad magic", _corrupt(good, 0, 0x41544352), SCENE_BASE, codes["BAD_MAGIC"]),
-        ("bad version", _corrupt(good, 8, 3), SCENE_BASE, codes["BAD_VERSION"]),
+        ("bad version", _corrupt(good, 8, 2), SCENE_BASE, codes["BAD_VERSION"]),
         ("other layout", _corrupt(good, 44, other_layout), SCENE_BASE, codes["LAYOUT"]),
         ("nodeBytes", _corrupt(good, 28, 32 * other_layout), SCENE_BASE, codes["RECORD_BYTES"]),
-        ("triBytes", _corrupt(good, 32, 64), SCENE_BASE, codes["RECORD_BYTES"]),
+        ("triBytes", _corrupt(good, 32, 48), SCENE_BASE, codes["RECORD_BYTES"]),
         ("misaligned base", good, SCENE_BASE + 32, codes["MISALIGNED"]),
         ("stack bound", _corrupt(good, 40, cfg["stack_depth"] + 1), SCENE_BASE, codes["STACK_BOUND"]),
     ]

@@ -25,7 +25,7 @@ object Prepare {
     */
   val NodeStoreBytes = 512
 
-  /** Triangle store likewise: 21 of the Cornell box's 32 triangles (1,536 bytes) on chip, the rest from DDR. */
+  /** Triangle store likewise: 16 of the Cornell box's 32 triangles (2,048 bytes) on chip, the rest from DDR. */
   val TriStoreBytes = 1024
 
   def main(args: Array[String]): Unit = Cli.orExit {

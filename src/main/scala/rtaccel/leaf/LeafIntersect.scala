@@ -116,7 +116,8 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
 
   private val stopEarly = busyReg && issueOccReg
   io.mem.req.valid := busyReg && !stopEarly
-  io.mem.req.bits.addr := io.triBase + nextTriReg * TriangleRecord.RecordBytes.U
+  // A power-of-two stride: the address is a shift, not a multiply.
+  io.mem.req.bits.addr := io.triBase + (nextTriReg << log2Ceil(TriangleRecord.StrideBytes))
   io.mem.req.bits.tag := issueIdReg
   private val lastIssue = io.mem.req.fire && remainingReg === 1.U
   when(io.mem.req.fire) {

@@ -5,10 +5,15 @@ import chisel3.util._
 import rtaccel.AccelConfig
 
 /** A triangle record as stored (docs/memory-format.md): nine FP32 vertex
-  * coordinates, the primitive number, flags. 48 bytes, little-endian.
+  * coordinates, the primitive number, flags, little-endian. Records lie
+  * `StrideBytes` = 64 apart; a request reads the first `RecordBytes` = 48 of
+  * them (the 44 bytes of fields, rounded up to the 16-byte grain of the
+  * stores and the fabric), the rest is padding.
   */
 object TriangleRecord {
   val RecordBytes = 48
+  val StrideBytes: Int = rtaccel.scene.MemoryImage.TriBytes
+  require(isPow2(StrideBytes) && StrideBytes >= RecordBytes, s"TriangleRecord: stride $StrideBytes")
   def vertexWord(record: UInt, vertex: Int, axis: Int): UInt = {
     val w = 3 * vertex + axis
     record(32 * w + 31, 32 * w)

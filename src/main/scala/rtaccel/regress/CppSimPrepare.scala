@@ -51,7 +51,7 @@ object CppSimPrepare {
       "simOptions" -> ujson.Arr.from(memory),
       "goldenCpp" -> cppGoldenCovers(cfg, chosen.dp),
       "nodeBytes" -> pkg.image.nodeBytes.toDouble,
-      "triBytes" -> MemoryImage.TriBytes.toDouble,
+      "triBytes" -> rtaccel.leaf.TriangleRecord.RecordBytes.toDouble, // the bytes a triangle request reads
       "memoryKind" -> a.memoryKind.name,
       "precisionBits" -> (cfg.triFloat.manBits + 1),
       "configuration" -> Report.configuration(a, cfg, chosen.dp.name)

@@ -4,10 +4,11 @@ import java.nio.{ByteBuffer, ByteOrder}
 import java.nio.file.{Files, Path}
 
 /** A nori-bridge memory image (`image.bin`), as specified in
-  * docs/memory-format.md (version 2): a 64-byte little-endian header, then
+  * docs/memory-format.md (version 3): a 64-byte little-endian header, then
   * BVH nodes of the header's layout (32-byte nori nodes, wide nodes of K
-  * 32-byte child slots, or quantized wide nodes of 64 / 80 bytes) and 48-byte
-  * triangle records, each section 64-byte aligned.
+  * 32-byte child slots, or quantized wide nodes of 64 / 80 bytes) and 64-byte
+  * triangle records (44 bytes of fields, zero padding), each section 64-byte
+  * aligned.
   *
   * The hardware sees this file as its memory, byte address 0 = file offset 0.
   */
@@ -30,7 +31,8 @@ final class MemoryImage private (val source: String, val bytes: Array[Byte]) {
   val layout: rtaccel.bvh.BvhLayout = rtaccel.bvh.BvhLayout.fromCode(u32(44), source)
 
   private def fail(what: String): Nothing = throw new IllegalArgumentException(s"$source: $what")
-  if (version != Version) fail(s"format version $version, this build reads version $Version")
+  if (version != Version)
+    fail(s"format version $version, this build reads version $Version: compile the package again with this nori-bridge")
   if (nodeBytes != layout.nodeBytes)
     fail(s"nodeBytes = $nodeBytes, expected ${layout.nodeBytes} for layout ${layout.name}")
   if (triBytes != TriBytes) fail(s"triBytes = $triBytes, expected $TriBytes")
@@ -69,12 +71,18 @@ final class MemoryImage private (val source: String, val bytes: Array[Byte]) {
 
 object MemoryImage {
   val Magic: Array[Byte] = "RTACCEL\u0000".getBytes("US-ASCII")
-  val Version = 2L
+  val Version = 3L
   val HeaderBytes = 64
 
   /** Bytes of a nori node, and of one wide-node slot. */
   val NodeBytes = 32
-  val TriBytes = 48
+
+  /** A triangle record's stride: its 44 bytes of fields padded to one 64-byte
+    * DRAM burst, so that no record straddles two bursts (a 48-byte stride
+    * straddles on every other record and reads 96 bytes per triangle on
+    * average, docs/dram-traffic.md).
+    */
+  val TriBytes = 64
 
   def load(path: Path): MemoryImage = {
     if (!Files.exists(path))

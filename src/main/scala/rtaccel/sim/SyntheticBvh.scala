@@ -100,7 +100,7 @@ object SyntheticBvh {
     def align64(x: Int) = (x + 63) / 64 * 64
     val nodeOffset = MemoryImage.HeaderBytes
     val triOffset = align64(nodeOffset + nodes.size * layout.nodeBytes)
-    val buf = ByteBuffer.allocate(triOffset + tris.size * 48).order(ByteOrder.LITTLE_ENDIAN)
+    val buf = ByteBuffer.allocate(triOffset + tris.size * MemoryImage.TriBytes).order(ByteOrder.LITTLE_ENDIAN)
     buf.put(MemoryImage.Magic)
     Seq(
       MemoryImage.Version.toInt,
@@ -109,7 +109,7 @@ object SyntheticBvh {
       nodeOffset,
       triOffset,
       layout.nodeBytes,
-      48,
+      MemoryImage.TriBytes,
       maxLeaf,
       stackBound,
       layout.code
@@ -119,7 +119,7 @@ object SyntheticBvh {
       case Some(q) => q.foreach(b => buf.put(b))
       case None    => nodes.foreach(_.foreach(buf.putInt))
     }
-    buf.position(triOffset); outTris.foreach(_.foreach(buf.putInt))
+    for ((t, i) <- outTris.zipWithIndex) { buf.position(triOffset + MemoryImage.TriBytes * i); t.foreach(buf.putInt) }
     MemoryImage.fromBytes(s"synthetic ${layout.name} BVH (depth <= $maxDepth)", buf.array())
   }
 

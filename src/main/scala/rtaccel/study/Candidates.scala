@@ -1,7 +1,7 @@
 package rtaccel.study
 
 /** The candidates of the study (docs/dram-traffic.md), each against today's system: 4-wide nodes, a 1 MiB node
-  * store and a 256 KiB triangle store (SystemConfig's defaults), 48-byte triangles read one by one, one 64-byte
+  * store and a 256 KiB triangle store (SystemConfig's defaults), 64-byte triangles read one by one, one 64-byte
   * line per hit.
   */
 object Candidates {
@@ -17,7 +17,7 @@ object Candidates {
     Candidate("today", "today's system", "4", today),
     Candidate("4q", "4q nodes (64 B)", "4q", today),
     Candidate("8q", "8q nodes (80 B)", "8q", today),
-    Candidate("tri64", "triangles: 64 B records", "4", today.copy(tris = Record64)),
+    Candidate("tri48", "triangles: 48 B records", "4", today.copy(tris = Record48)),
     Candidate("leaf48", "triangles: a leaf per read", "4", today.copy(tris = Leaf48)),
     Candidate("leaf36", "triangles: 36 B records, a leaf per read", "4", today.copy(tris = Leaf36)),
     Candidate("hits32", "hits: two per 64 B line", "4", today.copy(hitBytes = 32)),

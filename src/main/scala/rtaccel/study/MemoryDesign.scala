@@ -15,14 +15,14 @@ sealed trait TriRecords {
 }
 object TriRecords {
 
-  /** Today: 48-byte records (nine FP32 vertex words, prim, flags, pad) on 16-byte boundaries, one read per test,
+  /** 48-byte records (nine FP32 vertex words, prim, flags, pad) on 16-byte boundaries, one read per test,
     * charged the one or two 64-byte lines it touches (1.5 on average). */
   case object Record48 extends TriRecords { val recordBytes = 48; val perLeaf = false; val name = "48 B, per triangle" }
 
-  /** 48-byte records padded to 64: every triangle one line. */
+  /** The image's records (docs/memory-format.md): padded to 64 bytes, every triangle one line. */
   case object Record64 extends TriRecords { val recordBytes = 64; val perLeaf = false; val name = "64 B, per triangle" }
 
-  /** Today's records, a leaf's run of them read as one access. */
+  /** 48-byte records, a leaf's run of them read as one access. */
   case object Leaf48 extends TriRecords { val recordBytes = 48; val perLeaf = true; val name = "48 B, per leaf" }
 
   /** Nine FP32 vertex words only (the hit's prim from a host-side table of slot to prim), a leaf read as one
@@ -37,7 +37,7 @@ object TriRecords {
 final case class MemoryDesign(
     nodeStoreBytes: Long = SystemConfig().nodeStoreBytes.toLong,
     triStoreBytes: Long = SystemConfig().triStoreBytes.toLong,
-    tris: TriRecords = TriRecords.Record48,
+    tris: TriRecords = TriRecords.Record64,
     /** DRAM bytes written per hit: 64 today (each 32-byte record is its own masked 64-byte burst); 32 when two
       * neighbouring records are written as one line. */
     hitBytes: Int = 64

@@ -21,7 +21,9 @@ class DramTrafficSpec extends AnyFlatSpec {
     assert(lineBytes(64, 128) == 128) // a 4-wide node
     assert(lineBytes(144, 80) == 128) // an 8q node never touches three lines (80 i + 64 is 16-aligned)
     val img = SyntheticBvh(new scala.util.Random(1), maxDepth = 4, maxLeaf = 3, layout = BvhLayout.Wide(4))
-    val store = MemoryDesign(nodeStoreBytes = 2 * img.nodeBytes, triStoreBytes = 3 * 48)
+    val store = MemoryDesign(nodeStoreBytes = 2 * img.nodeBytes, triStoreBytes = 3 * 48, tris = TriRecords.Record48)
+    assert(MemoryDesign().copy(triStoreBytes = 3 * 64).bytes(img, TriRead(2)) == 0, "the image's 64-byte records")
+    assert(MemoryDesign().copy(triStoreBytes = 3 * 64).bytes(img, TriRead(3)) == 64, "one line a record")
     assert(store.bytes(img, NodeRead(1)) == 0 && store.bytes(img, NodeRead(2)) == 128)
     assert(store.bytes(img, TriRead(2)) == 0 && store.bytes(img, TriRead(3)) > 0)
     assert(

@@ -96,7 +96,7 @@ class SceneLoaderSpec extends AnyFlatSpec with ChiselScalatestTester {
               if (dut.io.triStore.start.peek().litToBoolean) {
                 triLoads += 1; triDone = cycle + 1 + rnd.nextInt(30)
                 dut.io.triStore.base.expect((base + hw(6)).U, "tri store base");
-                dut.io.triStore.bytes.expect((hw(4) * 48).U, "tri store bytes")
+                dut.io.triStore.bytes.expect((hw(4) * MemoryImage.TriBytes).U, "tri store bytes")
               }
               if (dut.io.finished.peek().litToBoolean) finished += 1
               dut.clock.step(); cycle += 1

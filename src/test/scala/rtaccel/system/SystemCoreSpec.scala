@@ -168,7 +168,7 @@ class SystemCoreSpec extends AnyFlatSpec with ChiselScalatestTester {
         for (
           (bytes, base, code) <- Seq(
             (withHeader(img, 0, 0x12345678), bad, 1),
-            (withHeader(img, 2, 3), bad, 2),
+            (withHeader(img, 2, MemoryImage.Version - 1), bad, 2),
             (withHeader(img, 11, 2), bad, 3),
             (withHeader(img, 7, 64), bad, 4),
             (withHeader(img, 8, 32), bad, 4),

@@ -94,7 +94,7 @@ object DramModel {
   }
 
   /** Bytes a DRAM moves to read `n` bytes at `addr`: every `burst`-aligned
-    * burst the range touches, in full. A 48-byte record at 48 touches [0, 64)
+    * burst the range touches, in full. A 48-byte read at 48 touches [0, 64)
     * and [64, 128): 128 bytes.
     */
   def burstCharge(addr: Long, n: Int, burst: Int): Int = {

@@ -16,8 +16,8 @@ import scala.util.Random
   *  4. `tick()` ends the cycle.
   *
   * Without a cache, each request is one DRAM transfer of the record. With a
-  * cache, a request needs every line its record touches (a 48-byte record can
-  * straddle two lines): present lines hit, lines already being fetched merge
+  * cache, a request needs every line its record touches (a record not aligned
+  * to its size can straddle two lines): present lines hit, lines already being fetched merge
   * into their MSHR, other lines take a free MSHR and one DRAM line transfer.
   * A request needing more MSHRs than are free is refused until some retire.
   * DRAM transfers (records or line fills) go to `backing`: a DramModel,

@@ -9,14 +9,17 @@ import scala.util.Random
 
 /** What the memory model charges: whole DRAM bursts, one DRAM's bandwidth
   * shared by both ports, latency in ns at the fabric clock, and on-chip
-  * memory with none of these. Images are synthetic: records start on 64-byte
-  * boundaries, so triangle i (48 bytes) touches bursts 1, 2, 2, 1 for i mod 4
-  * = 0, 1, 2, 3.
+  * memory with none of these. Images are synthetic; triangle requests lie
+  * at a 48-byte stride from a 64-byte boundary, so triangle i touches bursts
+  * 1, 2, 2, 1 for i mod 4 = 0, 1, 2, 3.
   */
 class DramModelSpec extends AnyFlatSpec {
   behavior of "DramModel and the memory kinds"
 
-  private val Tri = MemoryImage.TriBytes
+  // Triangle requests of 48 bytes (TriangleRecord.RecordBytes) at a 48-byte stride, not the image's 64: every other
+  // record then straddles two bursts, the case the model must charge and fetch right.
+  private val Tri = rtaccel.leaf.TriangleRecord.RecordBytes
+  private def triAt(img: MemoryImage, i: Long): Long = img.triOffset + Tri * i
   private val Node = MemoryImage.NodeBytes
   private val ddr = MemoryKind.Ddr()
   private def image(seed: Long) = SyntheticImage(nodes = 64, tris = 512, new Random(seed))
@@ -50,7 +53,7 @@ class DramModelSpec extends AnyFlatSpec {
     val img = image(1)
     for ((i, bytes, seen) <- Seq((0, 64, 10L), (1, 128, 11L), (2, 128, 11L), (3, 64, 10L))) {
       val m = new MemorySystemModel(img, Tri, fixed(10), "tri")
-      val Seq((cycle, _, _)) = drive(m, Seq(img.triAddr(i.toLong)))
+      val Seq((cycle, _, _)) = drive(m, Seq(triAt(img, i.toLong)))
       // Latency 10, then one cycle of channel per 64-byte burst beyond the first.
       assert(
         m.stats.dramBytes == bytes && cycle == seen,
@@ -71,7 +74,7 @@ class DramModelSpec extends AnyFlatSpec {
     }
     // Alone, each answers at cycle 10.
     val (n1, t1, d1) = pair()
-    val Seq(nr, tr) = drivePorts(Seq(n1, t1), Seq(Seq(img.nodeAddr(0)), Seq(img.triAddr(0))))
+    val Seq(nr, tr) = drivePorts(Seq(n1, t1), Seq(Seq(img.nodeAddr(0)), Seq(triAt(img, 0))))
     // Both ready in cycle 9: the node (issued first in the cycle) takes that
     // cycle's 64 bytes, the triangle the next.
     assert(nr.map(_._1) == Seq(10L) && tr.map(_._1) == Seq(11L), s"node $nr, triangle $tr")
@@ -80,12 +83,12 @@ class DramModelSpec extends AnyFlatSpec {
     // 10; a node issued in cycle 1 (ready in 10) waits until 11, seen at 12.
     val (n2, t2, _) = pair()
     val Seq(nr2, tr2) =
-      drivePorts(Seq(n2, t2), Seq(Seq(img.nodeAddr(0)), Seq(img.triAddr(1))), from = Seq(Seq(1L), Seq(0L)))
+      drivePorts(Seq(n2, t2), Seq(Seq(img.nodeAddr(0)), Seq(triAt(img, 1))), from = Seq(Seq(1L), Seq(0L)))
     assert(tr2.map(_._1) == Seq(11L) && nr2.map(_._1) == Seq(12L), s"node $nr2, triangle $tr2")
     // Private DRAMs would not interfere.
     val Seq(nr3, tr3) = drivePorts(
       Seq(new MemorySystemModel(img, Node, fixed(10), "node"), new MemorySystemModel(img, Tri, fixed(10), "tri")),
-      Seq(Seq(img.nodeAddr(0)), Seq(img.triAddr(1))),
+      Seq(Seq(img.nodeAddr(0)), Seq(triAt(img, 1))),
       from = Seq(Seq(1L), Seq(0L))
     )
     assert(tr3.map(_._1) == Seq(11L) && nr3.map(_._1) == Seq(11L))
@@ -110,7 +113,7 @@ class DramModelSpec extends AnyFlatSpec {
       new MemorySystemModel(img, Tri, p.copy(seed = rnd.nextLong()), "tri", b)
     )
     val addrs =
-      Seq(Seq.fill(400)(img.nodeAddr(rnd.nextInt(64).toLong)), Seq.fill(400)(img.triAddr(rnd.nextInt(512).toLong)))
+      Seq(Seq.fill(400)(img.nodeAddr(rnd.nextInt(64).toLong)), Seq.fill(400)(triAt(img, rnd.nextInt(512).toLong)))
     val rs = drivePorts(ms, addrs)
     for (i <- 0 to 1) assert(rs(i).map(_._2).sorted == addrs(i).indices, s"port $i: tags lost or duplicated")
     val charged =
@@ -131,7 +134,7 @@ class DramModelSpec extends AnyFlatSpec {
     )
     // Straddling triangles included: on chip a record is one read, whatever its alignment.
     val rs =
-      drivePorts(ms, Seq((0 until 20).map(i => img.nodeAddr(i.toLong)), (0 until 20).map(i => img.triAddr(i.toLong))))
+      drivePorts(ms, Seq((0 until 20).map(i => img.nodeAddr(i.toLong)), (0 until 20).map(i => triAt(img, i.toLong))))
     for (r <- rs) assert(r.map(_._1) == (2L to 21L), s"answers at ${r.map(_._1)}")
     assert(ms.forall(_.stats.dramBytes == 0))
     intercept[IllegalArgumentException](new MemorySystemModel(
