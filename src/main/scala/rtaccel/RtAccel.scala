@@ -59,7 +59,12 @@ class RtAccel[T <: Data](val cfg: AccelConfig, val dp: Datapath[T]) extends Modu
   leaf.io.clear := fetch.io.started
 
   // ---- Output: one hit per finished ray, then its ID goes back ----
-  private val done = trav.io.done
+  // A register stage between Traversal's done lanes and the hit: without it the lanes' arbiter, the result
+  // tables' read by ID, the number's lookup and the hit port follow each other in one cycle, the core control's
+  // longest path (docs/fmax.md). Two entries keep one hit per cycle; a ray in it counts as held (below).
+  private val doneQ = Module(new Queue(chiselTypeOf(trav.io.done.bits), 2))
+  doneQ.io.enq <> trav.io.done
+  private val done = doneQ.io.deq
   private val id = done.bits.rayId
   leaf.io.resultId := id
   fetch.io.numberId := id
@@ -87,7 +92,7 @@ class RtAccel[T <: Data](val cfg: AccelConfig, val dp: Datapath[T]) extends Modu
   // Each ray in flight is in exactly one unit: the counts of what each holds
   // sum to the free list's in-flight count (docs/formal.md: the invariant
   // behind "no queue overflows", stated so that induction can use it).
-  private val held = fetch.io.held +& init.io.held +& trav.io.held +& leaf.io.held
+  private val held = fetch.io.held +& init.io.held +& trav.io.held +& leaf.io.held +& doneQ.io.count
   assert(held === fetch.io.inFlight, "ray_conservation: the rays the units hold differ from the IDs in flight")
 
   // ---- Performance counters (64 bits, each exact every cycle: PerfCounter) ----

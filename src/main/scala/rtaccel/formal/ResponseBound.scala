@@ -79,9 +79,10 @@ object ResponseBound {
         s"leaf visits ($leaves)",
         leaves * (2 + m * (s + 1) + l + 1 + q + 1 + 1 + 1 + others * ((m * (s + 1)).max(1) + 2 + 1))
       ),
-      // control out -> Traversal done queue 1 -> hit, the host refusing <= H
-      // times. Others: <= n - 1 hits ahead (each <= H + 1), one merge cycle.
-      Term("exit", 1 + h + others * (h + 2)),
+      // control out -> Traversal done queue 1 -> RtAccel's done queue 1 ->
+      // hit, the host refusing <= H times. Others: <= n - 1 hits ahead (each
+      // <= H + 1), one merge cycle.
+      Term("exit", 2 + h + others * (h + 2)),
       // The monitor counts the accept cycle and the hit cycle.
       Term("monitor", 1)
     )
