@@ -55,7 +55,7 @@ CPPSIM_SPEED_BUILDS ?= $(CPPSIM_SYS1)_clang,$(CPPSIM_SYS1)
 CPPSIM_SPEED_PKGS := $(BUILD)/cppsim/speed/cornell-box-primary $(BUILD)/cppsim/speed/dragon-primary
 
 # The timed packages, compiled once each (camera rays, 4-wide nodes).
-$(BUILD)/cppsim/speed/%-primary/rays.csv: | setup
+$(BUILD)/cppsim/speed/%-primary/rays.csv: $(IMAGE_STAMP) | setup
 	$(BRIDGE) compile scenes/$*/$*.xml --out $(@D) --rays primary --bvh 4 >/dev/null
 $(BUILD)/cppsim/speed/dragon-primary/rays.csv: $(BRIDGE_CACHE)/dragon_res2.obj
 
