@@ -280,7 +280,7 @@ object BenchSystem {
     val n = cores
     Files.createDirectories(out)
     val args = RegressArgs(sub, out, fabricMhz = mhz.toDouble)
-    val (r, speed) = CppSim.run(args, dir, p.image.nodeBytes.toInt, rtaccel.leaf.TriangleRecord.RecordBytes, rays.size)
+    val (r, speed) = CppSim.run(args, dir, p.image.nodeBytes.toInt, rays.size)
     // Hit i answers the subset's ray i: give it the set's number back before the golden check.
     val hits: Seq[HitRecord] = r.hits.zipWithIndex.map { case (h, i) => h.copy(number = rays(i).number) }
     val bad = SweepPoint.sameAnswers(rays.map(x => x.number -> x).toMap, hits, g)

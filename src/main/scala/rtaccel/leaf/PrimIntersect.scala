@@ -13,7 +13,7 @@ import rtaccel.AccelConfig
 object TriangleRecord {
   val RecordBytes = 48
   val StrideBytes: Int = rtaccel.scene.MemoryImage.TriBytes
-  require(isPow2(StrideBytes) && StrideBytes >= RecordBytes, s"TriangleRecord: stride $StrideBytes")
+  require(StrideBytes >= RecordBytes, s"TriangleRecord: stride $StrideBytes below the $RecordBytes bytes read")
   def vertexWord(record: UInt, vertex: Int, axis: Int): UInt = {
     val w = 3 * vertex + axis
     record(32 * w + 31, 32 * w)

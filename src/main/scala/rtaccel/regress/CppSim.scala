@@ -144,7 +144,7 @@ object CppSim {
   }
 
   /** Runs `rays` (the package's first `rays`) through rtaccel-sim; returns the run and the simulation's speed. */
-  def run(a: RegressArgs, dir: Path, nodeBytes: Int, triBytes: Int, rays: Int): (RunResult, ujson.Obj) = {
+  def run(a: RegressArgs, dir: Path, nodeBytes: Int, rays: Int): (RunResult, ujson.Obj) = {
     val out = a.out.toAbsolutePath
     val cmd = Seq(
       dir.resolve("rtaccel-sim").toString,
@@ -169,7 +169,7 @@ object CppSim {
       throw new IllegalStateException(
         s"cppsim: AXI protocol violations by rtaccel_system:\n  ${violations.map(_.str).mkString("\n  ")}"
       )
-    (result(sim, mem, out.resolve("hits.bin"), nodeBytes, triBytes, rays), ujson.Obj.from(sim("simulation").obj))
+    (result(sim, mem, out.resolve("hits.bin"), nodeBytes, rays), ujson.Obj.from(sim("simulation").obj))
   }
 
   /** The run in the chiseltest path's terms. The system's memory is one AXI port,
@@ -182,7 +182,6 @@ object CppSim {
       mem: collection.Map[String, ujson.Value],
       hits: Path,
       nodeBytes: Int,
-      triBytes: Int,
       rays: Int
   ): RunResult = {
     val counters = sim("counters").obj
@@ -197,7 +196,12 @@ object CppSim {
       cycles,
       perf,
       port("node", nodeBytes, counters("nodeFetches").num.toLong, regionRead("nodes")),
-      port("triangle", triBytes, counters("triFetches").num.toLong, regionRead("triangles")),
+      port(
+        "triangle",
+        rtaccel.leaf.TriangleRecord.RecordBytes,
+        counters("triFetches").num.toLong,
+        regionRead("triangles")
+      ),
       Some(DramStats(
         cycles,
         d("bytes").num.toLong,

@@ -144,7 +144,7 @@ object Regress {
     val (result, simulation) = if (a.sim == "cpp") {
       val dir = CppSim.build(cfg, c.dp, clang = CppSim.useClang)
       val (r, speed) =
-        CppSim.run(a, dir, pkg.image.nodeBytes.toInt, rtaccel.leaf.TriangleRecord.RecordBytes, rays.size)
+        CppSim.run(a, dir, pkg.image.nodeBytes.toInt, rays.size)
       speed("wallSeconds") = (System.nanoTime() - t0) / 1e9
       (r, speed)
     } else runChiseltest(a, pkg, rays, cfg, c, t0)

@@ -83,6 +83,10 @@ object MemoryImage {
     * average, docs/dram-traffic.md).
     */
   val TriBytes = 64
+  require(
+    Integer.bitCount(TriBytes) == 1,
+    s"MemoryImage: triBytes $TriBytes must be a power of two (a shift in hardware)"
+  )
 
   def load(path: Path): MemoryImage = {
     if (!Files.exists(path))

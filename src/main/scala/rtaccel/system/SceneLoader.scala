@@ -61,9 +61,8 @@ class SceneLoader(sys: SystemConfig) extends Module {
   private val (magic0, magic1) = (magic.getInt(0).toLong & 0xffffffffL, magic.getInt(4).toLong & 0xffffffffL)
   private val (triCount, nodeOffset, triOffset, nodeBytes, triBytes, bvhDepth, layout) =
     (w(4), w(5), w(6), w(7), w(8), w(10), w(11))
-  // The triangle array's bytes, triCount * TriBytes (a power of two), saturated at 2^32 - 1 (the store takes at most
-  // its capacity anyway).
-  require(isPow2(MemoryImage.TriBytes), s"SceneLoader: triBytes ${MemoryImage.TriBytes} is not a power of two")
+  // The triangle array's bytes, triCount * TriBytes (a power of two, MemoryImage), saturated at 2^32 - 1 (the store
+  // takes at most its capacity anyway).
   private val triArrayBytes = triCount << log2Ceil(MemoryImage.TriBytes)
   when(io.mem.resp.fire) {
     when(w(0) =/= magic0.U || w(1) =/= magic1.U) { fail(1) }

@@ -16,10 +16,8 @@ import scala.util.Random
 class DramModelSpec extends AnyFlatSpec {
   behavior of "DramModel and the memory kinds"
 
-  // Triangle requests of 48 bytes (TriangleRecord.RecordBytes) at a 48-byte stride, not the image's 64: every other
-  // record then straddles two bursts, the case the model must charge and fetch right.
-  private val Tri = rtaccel.leaf.TriangleRecord.RecordBytes
-  private def triAt(img: MemoryImage, i: Long): Long = img.triOffset + Tri * i
+  private val Tri = SyntheticImage.Tri48
+  private def triAt(img: MemoryImage, i: Long): Long = SyntheticImage.tri48(img, i)
   private val Node = MemoryImage.NodeBytes
   private val ddr = MemoryKind.Ddr()
   private def image(seed: Long) = SyntheticImage(nodes = 64, tris = 512, new Random(seed))

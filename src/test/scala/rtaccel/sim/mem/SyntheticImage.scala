@@ -9,6 +9,13 @@ import scala.util.Random
   * tests of the memory model that need bytes, not a meaningful BVH.
   */
 object SyntheticImage {
+
+  /** Triangle requests of 48 bytes (TriangleRecord.RecordBytes) at a 48-byte stride, not the image's 64: every other
+    * one then straddles two bursts, the case a memory model must charge and fetch right.
+    */
+  val Tri48: Int = rtaccel.leaf.TriangleRecord.RecordBytes
+  def tri48(img: MemoryImage, i: Long): Long = img.triOffset + Tri48.toLong * i
+
   def apply(
       nodes: Int,
       tris: Int,
