@@ -61,12 +61,14 @@ object Bench {
       /** What `make verilog` wrote: the cores that fit and the Fmax estimate (VerilogFigures). */
       verilog: Path = Paths.get("build/verilog/resources.md"),
       /** BOX_TEST=: how the cores test child boxes (fp32, or grid for the quantized layouts 4q and 8q). */
-      boxTest: rtaccel.BoxTest = rtaccel.BoxTest.Fp32
+      boxTest: rtaccel.BoxTest = rtaccel.BoxTest.Fp32,
+      /** BVH=: the node layout of the system section's cores (what `make verilog BVH=` built); `boxTest` applies too. */
+      systemLayout: String = BenchSystem.DefaultLayout
   )
 
   val usage = "usage: Bench [--out docs/reports/performance.md] [--layouts nori,2,4,8] [--runs cornell-box-primary,dragon-ao,...] " +
     "[--max-rays 2048] [--area build/bench/area.json] [--threads 2] [--render-only 0|1] [--system 0|1|cached|embree] " +
-    "[--verilog build/verilog/resources.md] [--rows build/bench/bench.json] [--box-test fp32|grid]"
+    "[--verilog build/verilog/resources.md] [--rows build/bench/bench.json] [--box-test fp32|grid] [--system-layout 4|4q|...]"
 
   val SystemModes: Seq[String] = Seq("0", "1", "cached", "embree")
 
@@ -91,7 +93,8 @@ object Bench {
         case "--render-only" => a.copy(renderOnly = v == "1")
         case "--system" =>
           if (SystemModes.contains(v)) a.copy(system = v) else fail(s"--system: '$v' (${SystemModes.mkString(", ")})")
-        case "--verilog" => a.copy(verilog = Paths.get(v))
+        case "--verilog"       => a.copy(verilog = Paths.get(v))
+        case "--system-layout" => a.copy(systemLayout = v)
         case "--box-test" =>
           a.copy(boxTest =
             try rtaccel.BoxTest.parse(v)
@@ -129,9 +132,10 @@ object Bench {
     val golden = FloatGolden(dp)
     // Refuse an unknown layout (or one BOX_TEST= cannot read) before any work.
     a.layouts.foreach(configFor(_, a.boxTest))
+    if (a.system != "0") configFor(a.systemLayout, a.boxTest)
     // The system section first (the C++ harness is quick, and a missing make verilog shows at once):
-    // measured now, or redrawn from build/bench/system.json (after re-measuring Embree alone with "embree").
-    val systemJson = root.resolve("system.json")
+    // measured now, or redrawn from its cache (after re-measuring Embree alone with "embree").
+    val systemJson = BenchSystem.cacheFile(root, a)
     def cached() = {
       if (!Files.exists(systemJson))
         throw new IllegalArgumentException(s"--system ${a.system}: $systemJson is missing (run with --system 1)")
@@ -199,7 +203,11 @@ object Bench {
         if (a.renderOnly) -1 else (System.nanoTime() - t0) / 1e9,
         system.fold("")(BenchSystemMarkdown(_, a.maxRays)),
         earlier.getOrElse("an earlier run"),
-        notesFor(a.out)
+        notesFor(a.out),
+        Option.unless(BenchSystem.isDefault(a) || a.system == "0")(
+          s"Performance of a system of ${a.systemLayout} nodes with ${a.boxTest.name} box tests " +
+            s"(`make bench${BenchSystem.makeVars(a.systemLayout, a.boxTest.name)}`)"
+        )
       )
     )
     println(s"bench: wrote ${a.out}")

@@ -22,15 +22,37 @@ import scala.sys.process._
   */
 object BenchSystem {
 
-  /** The core every system row instantiates: the ZC706 configuration, 4-wide nodes (what make verilog builds by default). */
-  val Layout = "4"
+  /** The node layout of the system's cores by default: the ZC706 configuration, 4-wide nodes (what make verilog builds
+    * by default). `make bench BVH=4q BOX_TEST=grid` measures another (Bench.Args.systemLayout, boxTest).
+    */
+  val DefaultLayout = "4"
+
+  /** The core every system row instantiates: the ZC706 configuration with the bench's system layout and box test. */
+  def config(a: Bench.Args, dp: FloatDatapath): AccelConfig =
+    Bench.configFor(a.systemLayout, a.boxTest).copy(boxFloat = dp.boxFmt, triFloat = dp.triFmt)
+
+  /** Whether `a` asks for the default system (4-wide nodes, FP32 box lanes): its cache and page keep their names. */
+  def isDefault(a: Bench.Args): Boolean = a.systemLayout == DefaultLayout && a.boxTest == rtaccel.BoxTest.Fp32
+
+  /** Where the section's measurements are cached: build/bench/system.json for the default system, else one file per
+    * layout and box test (system-4q-grid.json), so that measuring another system never overwrites the default's. */
+  def cacheFile(root: Path, a: Bench.Args): Path = root.resolve(cacheName(a.systemLayout, a.boxTest.name))
+
+  def cacheName(layout: String, boxTest: String): String =
+    if (layout == DefaultLayout && boxTest == rtaccel.BoxTest.Fp32.name) "system.json"
+    else s"system-$layout-$boxTest.json"
+
+  /** The make variables that select a system other than the default (`BVH=4q BOX_TEST=grid`), or "". */
+  def makeVars(layout: String, boxTest: String): String =
+    if (cacheName(layout, boxTest) == "system.json") ""
+    else s" BVH=$layout" + (if (boxTest == rtaccel.BoxTest.Fp32.name) "" else s" BOX_TEST=$boxTest")
 
   /** Core counts always measured; the cores that fit are added. */
   val Cores: Seq[Int] = Seq(1, 2, 4)
 
   /** Words resources.md's title must hold for its figures to be this core's. */
   def expectTitle(dp: FloatDatapath, cfg: AccelConfig): Seq[String] =
-    Seq(s"RtAccel ${dp.name},", s"(${cfg.boxLanes} box lanes)", s"${cfg.numRayIds} ray IDs")
+    Seq(rtaccel.tools.EmitVerilog.coreTitle(dp.name, cfg) + ",")
 
   /** One Embree figure and the conditions it was taken under: the 1-minute load average (/proc/loadavg) just before
     * the try that gave it (the machine is shared, so a high load understates Embree), when (UTC), and the host
@@ -81,15 +103,15 @@ object BenchSystem {
   }.maxBy(_.packetsMrays)
 
   /** The package of `run` that the system rows simulate (its whole ray set): Embree runs on it too. */
-  def packageDir(root: Path, run: Bench.Run): Path = root.resolve(Layout).resolve(run.name)
+  def packageDir(root: Path, layout: String, run: Bench.Run): Path = root.resolve(layout).resolve(run.name)
 
   /** Re-measures only Embree on the runs a cached result holds (`make bench-embree`): the packages are recompiled
     * (nori-bridge compile is deterministic), nothing is simulated. */
   def remeasureEmbree(a: Bench.Args, r: Result, root: Path): Result = {
     val runs = Bench.Runs.filter(run => r.embree.contains(run.name))
     r.copy(embree = runs.map { run =>
-      val dir = packageDir(root, run)
-      Bridge.compile(a.bridge, Paths.get(run.xml), dir, run.rays, bvh = Some(Layout))
+      val dir = packageDir(root, a.systemLayout, run)
+      Bridge.compile(a.bridge, Paths.get(run.xml), dir, run.rays, bvh = Some(a.systemLayout))
       val e = embree(a.bridge, dir)
       println(
         f"bench: ${run.name}: Embree ${e.packetsMrays}%.2f Mrays/s (packets of 8, ${e.threads} threads, load ${e.load1}%.2f)"
@@ -143,7 +165,9 @@ object BenchSystem {
       verilog: VerilogFigures,
       fabricMhz: Int,
       sim: Provenance = Provenance("unknown", "unknown"),
-      now: Option[(VerilogFigures, Provenance)] = None
+      now: Option[(VerilogFigures, Provenance)] = None,
+      layout: String = DefaultLayout,
+      boxTest: String = rtaccel.BoxTest.Fp32.name
   ) {
 
     /** The figures the estimate uses: the redrawn ones if any, else those of the simulation. */
@@ -166,6 +190,8 @@ object BenchSystem {
   def toJson(r: Result): ujson.Obj = ujson.Obj(
     "rows" -> ujson.Arr(r.rows: _*),
     "fabricMhz" -> r.fabricMhz,
+    "layout" -> r.layout,
+    "boxTest" -> r.boxTest,
     "commit" -> r.sim.commit,
     "at" -> r.sim.at,
     "verilog" -> verilogJson(r.verilog),
@@ -198,20 +224,24 @@ object BenchSystem {
       }.toMap,
       verilogOf(j("verilog")),
       j("fabricMhz").num.toInt,
-      Provenance(str(j, "commit"), str(j, "at"))
+      Provenance(str(j, "commit"), str(j, "at")),
+      layout = j.obj.get("layout").fold(DefaultLayout)(_.str),
+      boxTest = j.obj.get("boxTest").fold(rtaccel.BoxTest.Fp32.name)(_.str)
     )
   }
 
   /** A cached result redrawn against what resources.md says now (make verilog may have run since). */
   def redraw(a: Bench.Args, dp: FloatDatapath, r: Result): Result = {
-    val v = VerilogFigures.read(
-      a.verilog,
-      expectTitle(dp, Bench.configFor(Layout).copy(boxFloat = dp.boxFmt, triFloat = dp.triFmt))
-    )
+    if (r.layout != a.systemLayout || r.boxTest != a.boxTest.name)
+      throw new IllegalArgumentException(
+        s"${cacheFile(Paths.get("build/bench"), a)} holds a system of ${r.layout} nodes with ${r.boxTest} box tests, " +
+          s"not ${a.systemLayout} with ${a.boxTest.name}: run `make bench` (BENCH_SYSTEM=1) with the same BVH= and BOX_TEST="
+      )
+    val v = VerilogFigures.read(a.verilog, expectTitle(dp, config(a, dp)))
     val cores = r.rows.map(_("cores").num.toInt).distinct.sorted
     if (!cores.contains(v.coresFit))
       throw new IllegalArgumentException(
-        s"${a.verilog}: ${v.coresFit} cores fit now, but build/bench/system.json " +
+        s"${a.verilog}: ${v.coresFit} cores fit now, but ${cacheFile(Paths.get("build/bench"), a)} " +
           s"(simulated at ${r.sim.commit}) holds rows for ${cores.mkString(", ")} cores only: run `make bench` (BENCH_SYSTEM=1)"
       )
     if (v == r.verilog) r
@@ -223,7 +253,7 @@ object BenchSystem {
   }
 
   def run(a: Bench.Args, dp: FloatDatapath, golden: rtaccel.datapath.FloatGolden, root: Path): Result = {
-    val cfg = Bench.configFor(Layout).copy(boxFloat = dp.boxFmt, triFloat = dp.triFmt)
+    val cfg = config(a, dp)
     val v = VerilogFigures.read(a.verilog, expectTitle(dp, cfg))
     // The DDR model's clock is the accelerator's: ns -> cycles and 12.8 GB/s -> bytes per cycle at the estimated Fmax
     // (whole MHz, rounded down, so the latency in cycles is never understated by a fraction).
@@ -236,7 +266,7 @@ object BenchSystem {
     )
     val packages = a.runs.map { run =>
       val x = prepare(a, cfg, golden, root, run)
-      val e = embree(a.bridge, packageDir(root, run))
+      val e = embree(a.bridge, packageDir(root, a.systemLayout, run))
       println(
         f"bench: ${run.name}: Embree ${e.packetsMrays}%.2f Mrays/s (packets of 8, ${e.threads} threads, load ${e.load1}%.2f)"
       )
@@ -244,7 +274,15 @@ object BenchSystem {
     }
     val rows = for (n <- cores; dir = CppSim.build(cfg, dp, n); (x, _) <- packages)
       yield simulate(x, n, dir, mhz, root.resolve("system").resolve(s"${x.run.name}-c$n"))
-    Result(rows, packages.map { case (x, e) => x.run.name -> e }.toMap, v, mhz, sim)
+    Result(
+      rows,
+      packages.map { case (x, e) => x.run.name -> e }.toMap,
+      v,
+      mhz,
+      sim,
+      layout = cfg.layout.name,
+      boxTest = cfg.boxTest.name
+    )
   }
 
   /** A ray set ready to simulate: its package, the sample simulated, the golden model's hits for it (by ray number)
@@ -264,10 +302,11 @@ object BenchSystem {
       root: Path,
       run: Bench.Run
   ): Prepared = {
-    val dir = packageDir(root, run)
-    Bridge.compile(a.bridge, Paths.get(run.xml), dir, run.rays, bvh = Some(Layout))
+    val layout = cfg.layout.name
+    val dir = packageDir(root, layout, run)
+    Bridge.compile(a.bridge, Paths.get(run.xml), dir, run.rays, bvh = Some(layout))
     val p = ScenePackage.load(dir)
-    require(p.misfits(cfg).isEmpty, s"${run.name} ($Layout): ${p.misfits(cfg).mkString("; ")}")
+    require(p.misfits(cfg).isEmpty, s"${run.name} ($layout): ${p.misfits(cfg).mkString("; ")}")
     val rays = SpeedRuns.sample(p.rays, a.maxRays)
     val g = GoldenHits.run(cfg, p.image, golden, rays, a.threads).hits.map(h => h.number -> h).toMap
     Prepared(run, p, rays, g, subsetPackage(p, rays, root.resolve("system").resolve(s"${run.name}-${rays.size}")))

@@ -42,7 +42,7 @@ object BenchSystemMarkdown {
       "## The system on a ZC706 (estimate, not run on a board) against Embree (this machine)",
       "",
       s"Simulated by `make bench` at commit ${r.sim.commit} (${r.sim.at}). The system top `rtaccel_system` (N cores, the MemoryFabric with its node",
-      s"store and triangle store (the first ${store.nodeStoreBytes / 1024} KiB of nodes, ${store.triStoreBytes / 1024} KiB of triangles on chip: docs/scene-store.md), ray and hit DMA through DDR, registers), 4-wide FP32 watertight cores (conservative boxes, ${BenchMarkdown.idsNote(
+      s"store and triangle store (the first ${store.nodeStoreBytes / 1024} KiB of nodes, ${store.triStoreBytes / 1024} KiB of triangles on chip: docs/scene-store.md), ray and hit DMA through DDR, registers), ${coresNote(r)} FP32 watertight cores (conservative boxes, ${BenchMarkdown.idsNote(
           r.rows.map(_.obj.get("rayIds"))
         )}each),",
       "under the C++ harness (`sw/sim/`, driven by librtaccel as on the board) with the ZC706 DDR model behind `m_axi`:",
@@ -77,7 +77,8 @@ object BenchSystemMarkdown {
       "Embree: `nori-bridge bench` on the whole ray set, the best of 3 tries, wall clock on 2 threads of this shared",
       "2-core machine. The 1-minute load average just before the chosen try says how busy the machine was with",
       "other work (2 = both cores taken): above about 0.5, Embree is understated and the ratio overstated.",
-      "`make bench-embree` re-measures only Embree and redraws this section from `build/bench/system.json`.",
+      s"`make bench-embree${BenchSystem.makeVars(r.layout, r.boxTest)}` re-measures only Embree and redraws this section from " +
+        s"`build/bench/${BenchSystem.cacheName(r.layout, r.boxTest)}`.",
       "",
       s"| rays | ZC706, estimate, not run on a board: Mrays/s = rays/cycle of the $fit-core system × ${f(mhz, 0)} MHz | Embree, this machine: Mrays/s (2 threads, packets of 8) | load average (1 min) at Embree's try | Embree measured (UTC) | ZC706 estimate / Embree |",
       "| --- | ---: | ---: | ---: | --- | ---: |"
@@ -128,6 +129,18 @@ object BenchSystemMarkdown {
   }
 
   /** Where the estimate's cores and Fmax differ from those the rays/cycle were simulated with: say which came from where. */
+  /** The cores' node layout and box test, as the page's first paragraph names them ("4-wide" by default). */
+  def coresNote(r: BenchSystem.Result): String = {
+    val grid = r.boxTest == rtaccel.BoxTest.Grid.name
+    rtaccel.bvh.BvhLayout.parse(r.layout) match {
+      case w: rtaccel.bvh.BvhLayout.Wide if w.quantized =>
+        s"${w.name} (quantized ${w.k}-wide nodes of ${w.nodeBytes} bytes" +
+          (if (grid) ", child boxes tested in the node's grid: docs/kernels.md)" else ")")
+      case w: rtaccel.bvh.BvhLayout.Wide => s"${w.k}-wide"
+      case _                             => r.layout
+    }
+  }
+
   private def redrawn(r: BenchSystem.Result): Seq[String] = r.now.toSeq.flatMap { case (now, p) =>
     val sim = r.verilog
     Seq(

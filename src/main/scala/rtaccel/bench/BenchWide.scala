@@ -62,7 +62,7 @@ object BenchWide {
     val root = Paths.get("build/bench")
     val base = RegressArgs(root, root)
     val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.parse(base.triangle), BoxRounding.parse(base.rounding))
-    val cfg = Bench.configFor(BenchSystem.Layout).copy(boxFloat = dp.boxFmt, triFloat = dp.triFmt)
+    val cfg = Bench.configFor(BenchSystem.DefaultLayout).copy(boxFloat = dp.boxFmt, triFloat = dp.triFmt)
     val ba = Bench.Args(runs = a.runs, maxRays = a.maxRays)
     val prepared = a.runs.map(run => BenchSystem.prepare(ba, cfg, FloatGolden(dp), root, run))
     val sim = BenchSystem.provenance()

@@ -61,6 +61,25 @@ class BvhNode(cfg: AccelConfig) extends Bundle {
   val grid = Option.when(cfg.gridBox)(new NodeGrid)
 }
 
+/** A node record's slots as 32-byte wide-slot words (BvhNode.words): word0 (kind or leaf count), word1 (child
+  * index) and the planes, FP32 bits or with grid box tests the 8-bit offsets; with grid box tests the grid and
+  * its `bad` flag. What a fetch holds in a register between the decode's two halves (BvhNode.staged).
+  */
+class NodeWords(cfg: AccelConfig) extends Bundle {
+  private val planeBits = if (cfg.gridBox) cfg.gridParams.qBits else 32
+  val slots = Vec(
+    cfg.boxLanes,
+    new Bundle {
+      val word0 = UInt(32.W)
+      val word1 = UInt(32.W)
+      val lo = Vec(3, UInt(planeBits.W))
+      val hi = Vec(3, UInt(planeBits.W))
+    }
+  )
+  val grid = Option.when(cfg.gridBox)(new NodeGrid)
+  val gridBad = Option.when(cfg.gridBox)(Bool())
+}
+
 object BvhNode {
 
   /** Slot `word0` of an empty wide-node slot. */
@@ -76,11 +95,22 @@ object BvhNode {
     * a non-finite origin (an origin so large that a plane overflows, which
     * nori-bridge never writes, is not flagged: the grid test still bounds it).
     */
-  def decode(cfg: AccelConfig, record: UInt): BvhNode = {
+  def decode(cfg: AccelConfig, record: UInt): BvhNode = check(cfg, words(cfg, record))
+
+  /** Whether a fetch registers a record's [[NodeWords]] before [[check]]: in the quantized layouts the words come
+    * from an adder chain (a slot's child index is the node's base plus the leaf counts of the slots before it,
+    * QuantNode.refs) that, with the checks behind it, is a node fetch's longest path (19 cells, 10.3 ns by the
+    * delay model of docs/fmax.md). Plain layouts copy the words from the record and need no stage.
+    */
+  def staged(cfg: AccelConfig): Boolean = cfg.layout.quantized
+
+  /** A node record's slots as words: what a 32-byte wide slot would hold (QuantNode decodes a quantized record
+    * into the same), with the grid's fields for grid box tests. [[check]] turns them into the node.
+    */
+  def words(cfg: AccelConfig, record: UInt): NodeWords = {
     val bytes = cfg.layout.nodeBytes
     require(record.getWidth == bytes * 8, s"BvhNode.decode: record must be ${bytes * 8} bits")
     def word(slot: Int, i: Int): UInt = record(256 * slot + 32 * i + 31, 256 * slot + 32 * i)
-    def highBitsSet(w: UInt, keep: Int): Bool = if (keep >= 32) false.B else w(31, keep).orR
     // A quantized node is first decoded into the slot words a 32-byte slot would hold.
     val gridRaw = Option.when(cfg.gridBox)(QuantNode.decodeGrid(cfg.boxLanes, record))
     val raw: Seq[SlotWords[UInt]] = cfg.layout match {
@@ -90,6 +120,25 @@ object BvhNode {
           SlotWords(word(s, 0), word(s, 1), (2 until 5).map(word(s, _)), (5 until 8).map(word(s, _)))
         )
     }
+    val w = Wire(new NodeWords(cfg))
+    for ((x, r) <- w.slots.zip(raw)) {
+      x.word0 := r.word0
+      x.word1 := r.word1
+      x.lo := VecInit(r.boxMin)
+      x.hi := VecInit(r.boxMax)
+    }
+    for (g <- w.grid; r <- gridRaw) {
+      g.origin := VecInit(r.origin)
+      g.exp := VecInit(r.exp)
+    }
+    for (b <- w.gridBad; r <- gridRaw) b := r.bad
+    w
+  }
+
+  /** The node from its words, flagging fields too wide for `cfg`, corrupt kind words and bad boxes. */
+  def check(cfg: AccelConfig, w: NodeWords): BvhNode = {
+    def highBitsSet(x: UInt, keep: Int): Bool = if (keep >= 32) false.B else x(31, keep).orR
+    val raw = w.slots.map(x => SlotWords(x.word0, x.word1, x.lo.toSeq, x.hi.toSeq))
     val n = Wire(new BvhNode(cfg))
     val slotErrors = for (s <- 0 until cfg.boxLanes) yield {
       val (w0, w1) = (raw(s).word0, raw(s).word1)
@@ -115,15 +164,12 @@ object BvhNode {
       slot.present := present
       // A NaN or infinite bound would make the slab test miss (or hit)
       // silently: nori-bridge writes only finite bounds, so it is bad data.
-      val badBox = gridRaw.fold((slot.boxMin.get ++ slot.boxMax.get).map(ErrorFlags.nonFinite).reduce(_ || _))(_.bad)
+      val badBox = w.gridBad.getOrElse((slot.boxMin.get ++ slot.boxMax.get).map(ErrorFlags.nonFinite).reduce(_ || _))
       Mux(present && (indexTooWide || badKind), ErrorFlags.bit(ErrorFlags.IndexOverflow), 0.U) |
         Mux(present && leafTooBig, ErrorFlags.bit(ErrorFlags.LeafTooBig), 0.U) |
         Mux(present && badBox, ErrorFlags.bit(ErrorFlags.BadSceneData), 0.U)
     }
-    for (g <- n.grid; r <- gridRaw) {
-      g.origin := VecInit(r.origin)
-      g.exp := VecInit(r.exp)
-    }
+    for (g <- n.grid; r <- w.grid) g := r
     n.axis := raw(0).word0(1, 0)
     n.errors := slotErrors.reduce(_ | _)
     n

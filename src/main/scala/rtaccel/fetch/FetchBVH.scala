@@ -75,7 +75,17 @@ class FetchBVH[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   io.mem.req.bits.tag := genReg
   when(io.mem.req.fire) { rootAskedReg := true.B }
   io.mem.resp.ready := true.B
-  when(io.mem.resp.fire && io.mem.resp.bits.tag === genReg && !baseChanged) {
+  if (BvhNode.staged(cfg)) {
+    // The record's words are registered before the checks, as in PrepFetch (BvhNode.staged): the root is valid a
+    // cycle after its answer. A base change in that cycle drops it (the new base's root is fetched afresh).
+    val rootAnswer = io.mem.resp.fire && io.mem.resp.bits.tag === genReg && !baseChanged
+    val rootWordsReg = RegEnable(BvhNode.words(cfg, io.mem.resp.bits.data), rootAnswer)
+    val rootDecodeReg = RegNext(rootAnswer, false.B)
+    when(rootDecodeReg && !baseChanged) {
+      rootReg := BvhNode.check(cfg, rootWordsReg)
+      rootValidReg := true.B
+    }
+  } else when(io.mem.resp.fire && io.mem.resp.bits.tag === genReg && !baseChanged) {
     rootReg := BvhNode.decode(cfg, io.mem.resp.bits.data)
     rootValidReg := true.B
   }

@@ -1,5 +1,6 @@
 package rtaccel.formal
 
+import rtaccel.traversal.PrepFetch
 import rtaccel.AccelConfig
 import rtaccel.bvh.BvhLayout
 
@@ -65,10 +66,14 @@ object ResponseBound {
       // ray makes at most `fetches` of them).
       Term("entry", p + 3 + b + control + others * (1 + 1 + fetches) + 1),
       // control out -> Traversal fetch queue 1 -> PrepFetch queue 1 -> node
-      // request (stalled <= S) -> answer <= L -> register 1 -> atNode 1 -> box b
-      // -> control. Others: <= n - 1 requests ahead in PrepFetch's queue, each
-      // <= S + 1 cycles; the two-lane merge costs one cycle per other ray.
-      Term(s"node fetches ($fetches)", fetches * (2 + (s + 1) + l + 2 + b + control + others * (s + 2))),
+      // request (stalled <= S) -> answer <= L -> PrepFetch's registers (1, or 2
+      // with the quantized decode stage) -> atNode 1 -> box b -> control.
+      // Others: <= n - 1 requests ahead in PrepFetch's queue, each <= S + 1
+      // cycles; the two-lane merge costs one cycle per other ray.
+      Term(
+        s"node fetches ($fetches)",
+        fetches * (2 + (s + 1) + l + PrepFetch.latency(cfg) + 1 + b + control + others * (s + 2))
+      ),
       // control out -> Traversal leaf queue 1 -> LeafIntersect job queue 1 ->
       // m requests (each stalled <= S) -> last answer <= L -> register 1 ->
       // triangle q -> exit queue 1 -> tmax write (<= 1 lost to a ray entering)

@@ -32,6 +32,20 @@ object EmitVerilog {
   /** Yosys results shared with `make speed-vs-error` (keyed by the Verilog synthesised). */
   val areaCache: Path = Paths.get("build/area-cache")
 
+  /** resources.md's title up to the stack depth: the datapath, the node layout, the box unit and the ray IDs, which
+    * `make bench` checks before it takes the cores that fit and the Fmax estimate (VerilogFigures). The default
+    * reads "RtAccel e8m23_wt_cons, 4-wide BVH nodes (4 box lanes), 128 ray IDs".
+    */
+  def coreTitle(datapath: String, cfg: AccelConfig): String = {
+    val nodes = cfg.layout match {
+      case BvhLayout.Nori                   => "nori BVH nodes"
+      case w: BvhLayout.Wide if w.quantized => s"${w.name} (quantized ${w.k}-wide) BVH nodes"
+      case w: BvhLayout.Wide                => s"${w.k}-wide BVH nodes"
+    }
+    val lanes = if (cfg.gridBox) s"${cfg.boxLanes} grid box lanes" else s"${cfg.boxLanes} box lanes"
+    s"RtAccel $datapath, $nodes ($lanes), ${cfg.numRayIds} ray IDs"
+  }
+
   def main(args: Array[String]): Unit = {
     val kv = args.grouped(2).collect { case Array(k, v) => k -> v }.toMap
     val out = Paths.get(kv.getOrElse("--out", "build/verilog"))
@@ -95,13 +109,19 @@ object EmitVerilog {
         // than the core alone suggested, the system is emitted again with that many.
         val core = AccelArea.total(coreRows)
         def own(sv: Path) = SystemArea.measure(Files.readString(sv), areaCache, jobs, DelayModel.zynq7)
-        val own1 = own(svFile)
-        val fit = SystemArea.coresThatFit(core, own1.map(_.area).foldLeft(Synth.zero)(_ + _), Zc706).max(1)
-        val (cores, sysRows) =
-          if (coresArg.isEmpty && fit < first) {
-            println(s"verilog: $fit cores fit beside the system's units");
-            (fit, own(system(SystemConfig(core = cfg, cores = fit), dp, out)))
-          } else (first, own1)
+        def fits(n: Int, rows: Seq[FmaxEstimate.Row]) =
+          SystemArea.coresThatFit(core, rows.map(_.area).foldLeft(Synth.zero)(_ + _), Zc706) >= n
+        // Fewer cores than the core alone suggests may fit once the system's units are beside them, and those
+        // units grow with the cores (each store is one copy per two cores): each count is checked with the
+        // system built at that count, from `first` down, and the system is emitted again at the one that fits.
+        @scala.annotation.tailrec
+        def settle(n: Int, rows: Seq[FmaxEstimate.Row]): (Int, Seq[FmaxEstimate.Row]) =
+          if (coresArg.isDefined || n == 1 || fits(n, rows)) (n, rows)
+          else {
+            println(s"verilog: $n cores do not fit beside the system's units; trying ${n - 1}")
+            settle(n - 1, own(system(SystemConfig(core = cfg, cores = n - 1), dp, out)))
+          }
+        val (cores, sysRows) = settle(first, own(svFile))
         val worst = (coreFmax ++ sysRows).maxBy(_.ns)
         Files.writeString(
           out.resolve("resources.md"),
@@ -181,10 +201,8 @@ object EmitVerilog {
     Option.when(synth) {
       val rows = area(sv, dp, jobs)
       rows.foreach { case (u, a) => println(s"verilog: $u: $a") }
-      val nodes =
-        cfg.layout match { case BvhLayout.Nori => "nori BVH nodes"; case w: BvhLayout.Wide => s"${w.k}-wide BVH nodes" }
       val md = ResourceTable(
-        s"RtAccel ${dp.name}, $nodes (${cfg.boxLanes} box lanes), ${cfg.numRayIds} ray IDs, stack ${cfg.stackDepth}",
+        s"${coreTitle(dp.name, cfg)}, stack ${cfg.stackDepth}",
         rows.map {
           case ("BoxLane", a) => s"BoxLane x${cfg.boxLanes} (BboxIntersect)" -> a
           case (AccelArea.gridBoxUnit, a) =>

@@ -116,7 +116,9 @@ object SystemArea {
     val total = own + coresArea
     def cells(a: Synth.Area) = f"${a.lut}%,d | ${a.ff}%,d | ${a.dsp}%,d | ${a.bram36}%.1f | ${a.lutram}%,d"
     def pct(x: Double, of: Double) = f"${100 * x / of}%.1f%%"
-    val fit = coresThatFit(core, own, device)
+    // At most `cores`: more cores would bring more of the system's units (the stores double at 3 and 4 cores),
+    // which this system, built with `cores`, does not hold.
+    val fit = coresThatFit(core, own, device).min(cores)
     val worst = rows.maxBy(_.ns)
     (Seq(
       s"## The system's own units (rtaccel_system, $cores ${if (cores == 1) "core" else "cores"})",

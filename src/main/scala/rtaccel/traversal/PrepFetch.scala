@@ -4,7 +4,7 @@ import chisel3._
 import chisel3.util._
 import rtaccel.mem.{MemPort, MemPortParams}
 import rtaccel.AccelConfig
-import rtaccel.bvh.BvhNode
+import rtaccel.bvh.{BvhNode, NodeWords}
 
 /** Turns "ray `id` wants node `k`" into a node request tagged with `id`, and
   * each response back into (token, node).
@@ -42,16 +42,33 @@ class PrepFetch(cfg: AccelConfig) extends Module {
 
   io.mem.resp.ready := true.B
   private val fetched = Wire(new FetchedNode(cfg))
-  fetched.token := parked.read(io.mem.resp.bits.tag)
-  fetched.node := BvhNode.decode(cfg, io.mem.resp.bits.data)
-  io.out := Pipe(io.mem.resp.valid, fetched, 1)
+  class Answer extends Bundle {
+    val token = new TraversalToken(cfg)
+    val words = new NodeWords(cfg)
+  }
+  private val answer = Wire(Valid(new Answer))
+  answer.valid := io.mem.resp.valid
+  answer.bits.token := parked.read(io.mem.resp.bits.tag)
+  answer.bits.words := BvhNode.words(cfg, io.mem.resp.bits.data)
+  // Quantized layouts: the record's words (the child-index adders) are registered before the checks, one cycle
+  // more per node fetch (BvhNode.staged). The stage is a valid pipe, like the output: it never waits.
+  private val decoded = if (BvhNode.staged(cfg)) Pipe(answer) else answer
+  fetched.token := decoded.bits.token
+  fetched.node := BvhNode.check(cfg, decoded.bits.words)
+  io.out := Pipe(decoded.valid, fetched, 1)
 
   private val inMemoryReg = RegInit(0.U(log2Ceil(cfg.numRayIds + 1).W))
   inMemoryReg := inMemoryReg + io.mem.req.fire.asUInt - io.mem.resp.fire.asUInt
-  io.waiting := queue.io.count +& inMemoryReg
+  // A ray in the decode stage waits too (RtAccel's ray_conservation counts it here).
+  io.waiting := queue.io.count +& inMemoryReg +& (BvhNode.staged(cfg).B && decoded.valid)
 }
 
 object PrepFetch {
+
+  /** Cycles from a node answer to `out`: the output register, and the decode stage of the quantized layouts
+    * (BvhNode.staged).
+    */
+  def latency(cfg: AccelConfig): Int = if (BvhNode.staged(cfg)) 2 else 1
 
   /** Node requests are tagged with the ray ID; one request brings one whole node record. */
   def port(cfg: AccelConfig): MemPortParams = MemPortParams(cfg.addrBits, cfg.rayIdBits, cfg.layout.nodeBytes)

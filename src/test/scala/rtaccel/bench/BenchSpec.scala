@@ -213,6 +213,24 @@ class BenchSpec extends AnyFlatSpec {
     write(3, 12.5) // three cores fit now, and the cache has no 3-core rows
     val e = intercept[IllegalArgumentException](BenchSystem.redraw(a, dp, cached))
     assert(e.getMessage.contains("3 cores fit") && e.getMessage.contains("make bench"), e.getMessage)
+    // Another system (BVH=4q BOX_TEST=grid): its own cache file, and a cache of one system never redraws the other's.
+    val grid = Bench.parse(Seq("--verilog", res.toString, "--system-layout", "4q", "--box-test", "grid"))
+    assert(BenchSystem.cacheFile(dir, a) == dir.resolve("system.json"))
+    assert(BenchSystem.cacheFile(dir, grid) == dir.resolve("system-4q-grid.json"))
+    assert(BenchSystem.makeVars("4q", "grid") == " BVH=4q BOX_TEST=grid" && BenchSystem.makeVars("4", "fp32") == "")
+    val wrong = intercept[IllegalArgumentException](BenchSystem.redraw(grid, dp, cached))
+    assert(wrong.getMessage.contains("4 nodes with fp32") && wrong.getMessage.contains("BOX_TEST="), wrong.getMessage)
+    val gridCached = BenchSystem.fromJson(ujson.read(ujson.write(BenchSystem.toJson(cached.copy(
+      layout = "4q",
+      boxTest = "grid"
+    )))))
+    assert(gridCached.layout == "4q" && gridCached.boxTest == "grid")
+    // The default resources.md is not the grid system's: its title names the layout and the box unit.
+    val notGrid = intercept[IllegalArgumentException](BenchSystem.redraw(grid, dp, gridCached))
+    assert(notGrid.getMessage.contains("4q (quantized 4-wide) BVH nodes (4 grid box lanes)"), notGrid.getMessage)
+    assert(BenchSystemMarkdown.coresNote(gridCached) ==
+      "4q (quantized 4-wide nodes of 64 bytes, child boxes tested in the node's grid: docs/kernels.md)")
+    assert(BenchSystemMarkdown.coresNote(cached) == "4-wide")
   }
 
   it should "put layouts (in the order asked for) and memories side by side per run, with box-lane LUTs where known" in {
@@ -253,5 +271,19 @@ class BenchSpec extends AnyFlatSpec {
       "nori ddr"
     ))
     assert(rows(1).endsWith("| 1234 |") && rows.head.endsWith("| – |"), rows.mkString("\n"))
+  }
+
+  "EmitVerilog.coreTitle" should "keep the default system's title and name the quantized layout and the grid box test" in {
+    val cfg = rtaccel.AccelConfig.zc706
+    val ids = cfg.numRayIds
+    assert(
+      rtaccel.tools.EmitVerilog.coreTitle("e8m23_wt_cons", cfg) ==
+        s"RtAccel e8m23_wt_cons, 4-wide BVH nodes (4 box lanes), $ids ray IDs"
+    )
+    val q = cfg.copy(layout = rtaccel.bvh.BvhLayout.Wide(4, quantized = true), boxTest = rtaccel.BoxTest.Grid)
+    assert(
+      rtaccel.tools.EmitVerilog.coreTitle("e8m23_wt_cons", q) ==
+        s"RtAccel e8m23_wt_cons, 4q (quantized 4-wide) BVH nodes (4 grid box lanes), $ids ray IDs"
+    )
   }
 }

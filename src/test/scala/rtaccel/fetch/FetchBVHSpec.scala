@@ -153,4 +153,50 @@ class FetchBVHSpec extends AnyFlatSpec with ChiselScalatestTester {
       expectRoot(dut, 200, "rays see the new scene's root")
     }
   }
+
+  it should "decode a quantized root a cycle after its answer, and drop it if the scene base changes in that cycle" in {
+    // 4q with grid box tests: the record's words are registered before the checks (BvhNode.staged), so rays wait
+    // one cycle more; an answer whose decode cycle sees a new base must not become the new scene's root.
+    val q = cfg.copy(layout = BvhLayout.Wide(4, quantized = true), boxTest = rtaccel.BoxTest.Grid)
+    assert(BvhNode.staged(q) && !BvhNode.staged(cfg))
+    val img = rtaccel.sim.mem.SyntheticImage(nodes = 4, tris = 4, new scala.util.Random(5), q.layout)
+    val record = img.readLE(img.nodeAddr(0), q.layout.nodeBytes)
+    test(new FetchBVH(q, FieldDatapath)).withAnnotations(Backends.treadle) { dut =>
+      idle(dut)
+      dut.io.nodeBase.poke(0x400.U)
+      // Memory takes a request only here (ready otherwise low), so the request answered is the one read.
+      dut.io.mem.req.ready.poke(false.B)
+      def answer(): Int = {
+        while (!dut.io.mem.req.valid.peek().litToBoolean) dut.clock.step()
+        val tag = dut.io.mem.req.bits.tag.peek().litValue.toInt
+        dut.io.mem.req.ready.poke(true.B)
+        dut.clock.step()
+        dut.io.mem.req.ready.poke(false.B)
+        dut.io.mem.resp.valid.poke(true.B); dut.io.mem.resp.bits.tag.poke(tag.U)
+        dut.io.mem.resp.bits.data.poke(record.U)
+        dut.clock.step()
+        dut.io.mem.resp.valid.poke(false.B)
+        tag
+      }
+      dut.clock.step()
+      answer()
+      offer(dut, 1, shadow = false)
+      dut.io.rays.ready.expect(false.B, "the root's words are being checked: rays wait one cycle more")
+      dut.io.nodeBase.poke(0x800.U) // the scene changes in the decode cycle
+      dut.clock.step()
+      dut.io.rays.ready.expect(false.B, "the old base's root, decoded after the change, is not the new root")
+      dut.clock.step(3)
+      dut.io.rays.ready.expect(false.B, "no root until the new base's answer")
+      answer()
+      dut.io.rays.ready.expect(false.B, "the new root is in its decode cycle")
+      dut.clock.step()
+      dut.io.rays.ready.expect(true.B, "the new root is valid")
+      for (s <- 0 until 4) {
+        val words = img.readLE(img.nodeAddr(0), q.layout.nodeBytes)
+        assert(dut.io.root.slots(s).qMin.isDefined)
+        val planes = (0 until 3).map(p => ((words >> (8 * rtaccel.bvh.QuantNode.planeByte(4, p, s))) & 0xff).toInt)
+        for (a <- 0 until 3) dut.io.root.slots(s).qMin.get(a).expect(planes(a).U, s"slot $s lo[$a]")
+      }
+    }
+  }
 }

@@ -98,4 +98,24 @@ class FmaxEstimateSpec extends AnyFlatSpec {
     assert(u("Traversal_k4") == Seq("GridBboxIntersect_k4_q8"))
     assert(u("RtAccel_top").toSet == Set("GridBboxIntersect_k4_q8", "PrimIntersect_e8m23_wt_cons"))
   }
+
+  "SystemArea.markdown" should "never state more cores than the system it measured was built with" in {
+    // A core of 68k LUT beside units of 14k LUT and 285 BRAM36 (a 1-core system): by LUT three would fit, but a
+    // third core doubles the stores (570 BRAM36), so the page states only what it measured.
+    val core = Synth.Area(68000, 110000, 0, 106, 0, 0, 0, 0)
+    val own = Synth.Area(14000, 6000, 0, 0, 0, 285, 0, 0)
+    assert(SystemArea.coresThatFit(core, own, EmitVerilog.Zc706) == 3)
+    val row = FmaxEstimate.Row("NodeStore", "NodeStore", own, FmaxEstimate.PathCells(Seq("LUT6")), 2.0)
+    def fitLine(cores: Int) =
+      SystemArea.markdown(Seq(row), cores, core, EmitVerilog.Zc706, 1 << 20).linesIterator.find(
+        _.startsWith("Cores that fit")
+      )
+    assert(fitLine(1).contains("Cores that fit beside the system's own units (by the scarcest resource): **1**."))
+    assert(fitLine(2).get.contains("**2**"))
+    // Past the device: what the units leave holds fewer cores than were built.
+    val big = row.copy(area = own.copy(ramb36 = 570))
+    assert(SystemArea.markdown(Seq(big), 3, core, EmitVerilog.Zc706, 1 << 20).contains(
+      "system's own units (by the scarcest resource): **0**."
+    ))
+  }
 }

@@ -113,6 +113,7 @@ class PrepFetchSpec extends AnyFlatSpec with ChiselScalatestTester {
           dut.io.mem.resp.bits.data.poke(img.readLE(addr, layout.nodeBytes).U)
           dut.clock.step()
           dut.io.mem.resp.valid.poke(false.B)
+          for (_ <- 1 until PrepFetch.latency(cfg)) { dut.io.out.valid.expect(false.B); dut.clock.step() }
           dut.io.out.valid.expect(true.B)
           assert(expectFetched(cfg, dut, img, expected, s"response for ray $tag") == tag)
         }
