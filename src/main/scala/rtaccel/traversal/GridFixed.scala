@@ -153,21 +153,49 @@ object GridFixed {
   def hw(fmt: FloatFormat, x: UInt, s: Shift, up: Boolean, lo: BigInt, hi: BigInt): FixedHw =
     back(front(decide(fmt, x, s, up, lo, hi), lo, hi), up, lo, hi)
 
+  /** What [[examine]] hands to [[decide]]: `x`'s fields and its significand's leading and trailing zeros. */
+  class Examined(fmt: FloatFormat) extends Bundle {
+    val sig = UInt(fmt.precision.W)
+    val expF = UInt(fmt.expBits.W)
+    val lz = UInt(log2Ceil(fmt.precision + 1).W)
+    val tz = UInt(log2Ceil(fmt.precision + 1).W)
+    val sign = Bool()
+  }
+
+  /** `x`'s fields and the zero counts of its significand (two trees of LUTs and wide muxes): the part of
+    * [[decide]] that waits on no threshold. GridNodeStage registers it, so that no stage holds a count and the
+    * compares behind it.
+    */
+  def examine(fmt: FloatFormat, x: UInt): Examined = {
+    val expF = x(fmt.width - 2, fmt.manBits)
+    val sig = Cat(expF.orR, x(fmt.manBits - 1, 0))
+    val ex = Wire(new Examined(fmt))
+    ex.sig := sig
+    ex.expF := expF
+    ex.lz := FpUnpack.leadingZeros(sig) // sig = 0 is flagged apart
+    ex.tz := FpUnpack.leadingZeros(Reverse(sig))
+    ex.sign := x(fmt.width - 1)
+    ex
+  }
+
   /** The compares on `x`'s exponent: its right shift into the window, `big`, and whether it rounds away from zero. */
-  def decide(fmt: FloatFormat, x: UInt, s: Shift, up: Boolean, lo: BigInt, hi: BigInt): Decided = {
+  def decide(fmt: FloatFormat, x: UInt, s: Shift, up: Boolean, lo: BigInt, hi: BigInt): Decided =
+    decide(fmt, examine(fmt, x), s, up, lo, hi)
+
+  /** [[decide]] from an [[examine]] of the same `x`. */
+  def decide(fmt: FloatFormat, ex: Examined, s: Shift, up: Boolean, lo: BigInt, hi: BigInt): Decided = {
     val w = widthOf(lo, hi)
     val m = w - 1
     require(lo.abs < (BigInt(1) << m) && hi.abs < (BigInt(1) << m), s"GridFixed: $lo..$hi in $w bits")
     val p = fmt.precision
-    val expF = x(fmt.width - 2, fmt.manBits)
-    val frac = x(fmt.manBits - 1, 0)
-    val sign = x(fmt.width - 1)
+    val expF = ex.expF
+    val frac = ex.sig(fmt.manBits - 1, 0)
+    val sign = ex.sign
     val isSpecial = expF.andR
-    val sig = Cat(expF.orR, frac)
+    val sig = ex.sig
     val nonzero = sig.orR
     val e = Mux(expF.orR, expF, 1.U).zext
-    val lz = FpUnpack.leadingZeros(sig) // sig = 0 is flagged apart
-    val tz = FpUnpack.leadingZeros(Reverse(sig))
+    val (lz, tz) = (ex.lz, ex.tz)
     val big = nonzero && (isSpecial || e -& lz.zext >= s.big) // an infinity is big too
     val rem = nonzero && (tz.zext +& e < s.rem)
     // Right by a = m - 1 - sh; a < 0 is big (or sig = 0, which shifts to 0 anyway), a > p + m - 2 leaves 0.

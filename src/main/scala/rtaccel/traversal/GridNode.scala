@@ -87,7 +87,7 @@ class GridNodeIn(rays: RayConsts) extends Bundle {
 
 /** [[GridNode.soft]] in hardware: the FP32 [[GridKernel]] pipeline (HwArith
   * units, each enabled by the slot's valid), then three cycles of
-  * conversions (GridFixed.decide, front and back, a register after each).
+  * conversions (GridFixed.examine, decide, front and back, a register after each).
   * `out` is valid `latency` cycles after `in`.
   */
 class GridNodeStage(p: GridParams, rays: RayConsts) extends Module {
@@ -141,18 +141,20 @@ class GridNodeStage(p: GridParams, rays: RayConsts) extends Module {
   private val eu = new Timed(Mux(timed(flat0.reduce(_ && _)).at(3), 0.S, es3 - p.fracBits.S), 3, chain)
 
   val latency: Int =
-    (k.axes.flatMap(a => Seq(a.cLo, a.cHi, a.diffLo, a.diffHi)) ++ Seq(k.tminR, k.tmaxR)).map(_.ready).max + 3
-  // The conversions: decide in cycle c, front in c + 1, back in c + 2.
-  private val c = latency - 3
-  // The conversions' shifts, prepared a cycle ahead (GridFixed.shift) and registered.
+    (k.axes.flatMap(a => Seq(a.cLo, a.cHi, a.diffLo, a.diffHi)) ++ Seq(k.tminR, k.tmaxR)).map(_.ready).max + 4
+  // The conversions: examine in cycle c, decide in c + 1, front in c + 2, back in c + 3.
+  private val c = latency - 4
+  // The conversions' shifts, prepared ahead (GridFixed.shift) and registered for decide.
   private val euP = eu.at(c - 1)
   private val sP = sInt.map(timed(_).at(c - 1))
-  private def shift(k: SInt, lo: BigInt, hi: BigInt) = new Timed(GridFixed.shift(fmt, k, lo, hi), c - 1, chain).at(c)
+  private def shift(k: SInt, lo: BigInt, hi: BigInt) =
+    new Timed(GridFixed.shift(fmt, k, lo, hi), c - 1, chain).at(c + 1)
   private val rcpLoC = ray.rcpLo.map(_.at(c))
   private val rcpHiC = ray.rcpHi.map(_.at(c))
   private def fx(x: UInt, sh: GridFixed.Shift, up: Boolean, lo: BigInt, hi: BigInt) = {
-    val d = new Timed(GridFixed.decide(fmt, x, sh, up, lo, hi), c, chain).at(c + 1)
-    GridFixed.back(new Timed(GridFixed.front(d, lo, hi), c + 1, chain).at(c + 2), up, lo, hi)
+    val ex = new Timed(GridFixed.examine(fmt, x), c, chain).at(c + 1)
+    val d = new Timed(GridFixed.decide(fmt, ex, sh, up, lo, hi), c + 1, chain).at(c + 2)
+    GridFixed.back(new Timed(GridFixed.front(d, lo, hi), c + 2, chain).at(c + 3), up, lo, hi)
   }
   private def negF(x: UInt) = Cat(!x(fmt.width - 1), x(fmt.width - 2, 0))
   private val node = Wire(new GridNodeHw(p))
@@ -166,8 +168,8 @@ class GridNodeStage(p: GridParams, rays: RayConsts) extends Module {
     val sHi = fx(rcpHiC(i), kS, up = true, 0, p.stepMax)
     val cLo = fx(a.cLo.at(c), kC, up = false, p.cLo, p.cHi)
     val cHi = fx(a.cHi.at(c), kC, up = true, p.cLo, p.cHi)
-    o.flat := a.flat.at(c + 2)
-    o.neg := a.neg.at(c + 2)
+    o.flat := a.flat.at(c + 3)
+    o.neg := a.neg.at(c + 3)
     o.stepLo := sLo.value.asUInt(p.stepBits - 1, 0)
     o.stepHi := sHi.value.asUInt(p.stepBits - 1, 0)
     o.stepHiSat := sHi.above
@@ -181,8 +183,8 @@ class GridNodeStage(p: GridParams, rays: RayConsts) extends Module {
   private val kT = shift(-euP, p.bot, p.top)
   node.tmin := fx(k.tminR.at(c), kT, up = false, p.bot, p.top).value(p.width - 1, 0).asSInt
   node.tmax := fx(k.tmaxR.at(c), kT, up = true, p.bot, p.top).value(p.width - 1, 0).asSInt
-  node.err := k.err.at(c + 2)
+  node.err := k.err.at(c + 3)
   io.out.valid := chain.at(latency)
-  io.out.bits := RegEnable(node, chain.at(c + 2))
+  io.out.bits := RegEnable(node, chain.at(c + 3))
   io.badScale := timed(bad).at(latency)
 }
