@@ -121,7 +121,8 @@ object Bench {
     }
   }
 
-  private val root = Paths.get("build/bench")
+  /** Where the bench keeps its packages, rows and caches. */
+  val root: Path = Paths.get("build/bench")
 
   def main(args: Array[String]): Unit = Cli.orExit(run(parse(args.toSeq)))
 
@@ -135,7 +136,7 @@ object Bench {
     if (a.system != "0") configFor(a.systemLayout, a.boxTest)
     // The system section first (the C++ harness is quick, and a missing make verilog shows at once):
     // measured now, or redrawn from its cache (after re-measuring Embree alone with "embree").
-    val systemJson = BenchSystem.cacheFile(root, a)
+    val systemJson = BenchSystem.cacheFile(a)
     def cached() = {
       if (!Files.exists(systemJson))
         throw new IllegalArgumentException(s"--system ${a.system}: $systemJson is missing (run with --system 1)")

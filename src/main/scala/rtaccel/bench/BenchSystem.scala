@@ -31,20 +31,24 @@ object BenchSystem {
   def config(a: Bench.Args, dp: FloatDatapath): AccelConfig =
     Bench.configFor(a.systemLayout, a.boxTest).copy(boxFloat = dp.boxFmt, triFloat = dp.triFmt)
 
-  /** Whether `a` asks for the default system (4-wide nodes, FP32 box lanes): its cache and page keep their names. */
-  def isDefault(a: Bench.Args): Boolean = a.systemLayout == DefaultLayout && a.boxTest == rtaccel.BoxTest.Fp32
+  /** Whether `layout` and `boxTest` are the default system's (4-wide nodes, FP32 box lanes): its cache and page keep
+    * their names, and no make variable selects it. */
+  def isDefault(layout: String, boxTest: String): Boolean =
+    layout == DefaultLayout && boxTest == rtaccel.BoxTest.Fp32.name
 
-  /** Where the section's measurements are cached: build/bench/system.json for the default system, else one file per
-    * layout and box test (system-4q-grid.json), so that measuring another system never overwrites the default's. */
-  def cacheFile(root: Path, a: Bench.Args): Path = root.resolve(cacheName(a.systemLayout, a.boxTest.name))
+  def isDefault(a: Bench.Args): Boolean = isDefault(a.systemLayout, a.boxTest.name)
 
+  /** Where the section's measurements are cached (under build/bench, Bench.root): system.json for the default
+    * system, else one file per layout and box test (system-4q-grid.json), so that measuring another system never
+    * overwrites the default's. */
   def cacheName(layout: String, boxTest: String): String =
-    if (layout == DefaultLayout && boxTest == rtaccel.BoxTest.Fp32.name) "system.json"
-    else s"system-$layout-$boxTest.json"
+    if (isDefault(layout, boxTest)) "system.json" else s"system-$layout-$boxTest.json"
+
+  def cacheFile(a: Bench.Args): Path = Bench.root.resolve(cacheName(a.systemLayout, a.boxTest.name))
 
   /** The make variables that select a system other than the default (`BVH=4q BOX_TEST=grid`), or "". */
   def makeVars(layout: String, boxTest: String): String =
-    if (cacheName(layout, boxTest) == "system.json") ""
+    if (isDefault(layout, boxTest)) ""
     else s" BVH=$layout" + (if (boxTest == rtaccel.BoxTest.Fp32.name) "" else s" BOX_TEST=$boxTest")
 
   /** Core counts always measured; the cores that fit are added. */
@@ -234,14 +238,14 @@ object BenchSystem {
   def redraw(a: Bench.Args, dp: FloatDatapath, r: Result): Result = {
     if (r.layout != a.systemLayout || r.boxTest != a.boxTest.name)
       throw new IllegalArgumentException(
-        s"${cacheFile(Paths.get("build/bench"), a)} holds a system of ${r.layout} nodes with ${r.boxTest} box tests, " +
+        s"${cacheFile(a)} holds a system of ${r.layout} nodes with ${r.boxTest} box tests, " +
           s"not ${a.systemLayout} with ${a.boxTest.name}: run `make bench` (BENCH_SYSTEM=1) with the same BVH= and BOX_TEST="
       )
     val v = VerilogFigures.read(a.verilog, expectTitle(dp, config(a, dp)))
     val cores = r.rows.map(_("cores").num.toInt).distinct.sorted
     if (!cores.contains(v.coresFit))
       throw new IllegalArgumentException(
-        s"${a.verilog}: ${v.coresFit} cores fit now, but ${cacheFile(Paths.get("build/bench"), a)} " +
+        s"${a.verilog}: ${v.coresFit} cores fit now, but ${cacheFile(a)} " +
           s"(simulated at ${r.sim.commit}) holds rows for ${cores.mkString(", ")} cores only: run `make bench` (BENCH_SYSTEM=1)"
       )
     if (v == r.verilog) r

@@ -78,7 +78,7 @@ object BenchSystemMarkdown {
       "2-core machine. The 1-minute load average just before the chosen try says how busy the machine was with",
       "other work (2 = both cores taken): above about 0.5, Embree is understated and the ratio overstated.",
       s"`make bench-embree${BenchSystem.makeVars(r.layout, r.boxTest)}` re-measures only Embree and redraws this section from " +
-        s"`build/bench/${BenchSystem.cacheName(r.layout, r.boxTest)}`.",
+        s"`${Bench.root.resolve(BenchSystem.cacheName(r.layout, r.boxTest))}`.",
       "",
       s"| rays | ZC706, estimate, not run on a board: Mrays/s = rays/cycle of the $fit-core system × ${f(mhz, 0)} MHz | Embree, this machine: Mrays/s (2 threads, packets of 8) | load average (1 min) at Embree's try | Embree measured (UTC) | ZC706 estimate / Embree |",
       "| --- | ---: | ---: | ---: | --- | ---: |"

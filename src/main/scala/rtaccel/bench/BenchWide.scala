@@ -59,7 +59,7 @@ object BenchWide {
 
   def run(a: Args): Unit = {
     val t0 = System.nanoTime()
-    val root = Paths.get("build/bench")
+    val root = Bench.root
     val base = RegressArgs(root, root)
     val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.parse(base.triangle), BoxRounding.parse(base.rounding))
     val cfg = Bench.configFor(BenchSystem.DefaultLayout).copy(boxFloat = dp.boxFmt, triFloat = dp.triFmt)

@@ -109,7 +109,7 @@ object BvhNode {
     */
   def words(cfg: AccelConfig, record: UInt): NodeWords = {
     val bytes = cfg.layout.nodeBytes
-    require(record.getWidth == bytes * 8, s"BvhNode.decode: record must be ${bytes * 8} bits")
+    require(record.getWidth == bytes * 8, s"BvhNode.words: record must be ${bytes * 8} bits")
     def word(slot: Int, i: Int): UInt = record(256 * slot + 32 * i + 31, 256 * slot + 32 * i)
     // A quantized node is first decoded into the slot words a 32-byte slot would hold.
     val gridRaw = Option.when(cfg.gridBox)(QuantNode.decodeGrid(cfg.boxLanes, record))

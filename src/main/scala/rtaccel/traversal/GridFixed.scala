@@ -148,10 +148,10 @@ object GridFixed {
     * remainder are compares beside the shifter ([[Shift]]). The signed result
     * is one adder (the magnitude, complemented when negative, plus a carry
     * in), and the window's compares read the magnitude beside it.
-    * Combinational: [[decide]], [[front]], then [[back]].
+    * Combinational: [[examine]], [[decide]], [[front]], then [[back]].
     */
   def hw(fmt: FloatFormat, x: UInt, s: Shift, up: Boolean, lo: BigInt, hi: BigInt): FixedHw =
-    back(front(decide(fmt, x, s, up, lo, hi), lo, hi), up, lo, hi)
+    back(front(decide(fmt, examine(fmt, x), s, up, lo, hi), lo, hi), up, lo, hi)
 
   /** What [[examine]] hands to [[decide]]: `x`'s fields and its significand's leading and trailing zeros. */
   class Examined(fmt: FloatFormat) extends Bundle {
@@ -178,11 +178,8 @@ object GridFixed {
     ex
   }
 
-  /** The compares on `x`'s exponent: its right shift into the window, `big`, and whether it rounds away from zero. */
-  def decide(fmt: FloatFormat, x: UInt, s: Shift, up: Boolean, lo: BigInt, hi: BigInt): Decided =
-    decide(fmt, examine(fmt, x), s, up, lo, hi)
-
-  /** [[decide]] from an [[examine]] of the same `x`. */
+  /** The compares on the exponent of the `x` that [[examine]] read: its right shift into the window, `big`, and
+    * whether it rounds away from zero. */
   def decide(fmt: FloatFormat, ex: Examined, s: Shift, up: Boolean, lo: BigInt, hi: BigInt): Decided = {
     val w = widthOf(lo, hi)
     val m = w - 1

@@ -215,8 +215,8 @@ class BenchSpec extends AnyFlatSpec {
     assert(e.getMessage.contains("3 cores fit") && e.getMessage.contains("make bench"), e.getMessage)
     // Another system (BVH=4q BOX_TEST=grid): its own cache file, and a cache of one system never redraws the other's.
     val grid = Bench.parse(Seq("--verilog", res.toString, "--system-layout", "4q", "--box-test", "grid"))
-    assert(BenchSystem.cacheFile(dir, a) == dir.resolve("system.json"))
-    assert(BenchSystem.cacheFile(dir, grid) == dir.resolve("system-4q-grid.json"))
+    assert(BenchSystem.cacheFile(a) == Bench.root.resolve("system.json"))
+    assert(BenchSystem.cacheFile(grid) == Bench.root.resolve("system-4q-grid.json"))
     assert(BenchSystem.makeVars("4q", "grid") == " BVH=4q BOX_TEST=grid" && BenchSystem.makeVars("4", "fp32") == "")
     val wrong = intercept[IllegalArgumentException](BenchSystem.redraw(grid, dp, cached))
     assert(wrong.getMessage.contains("4 nodes with fp32") && wrong.getMessage.contains("BOX_TEST="), wrong.getMessage)
