@@ -25,5 +25,5 @@ object FabricArea extends App {
   Files.writeString(sv, Synth.emit(new MemoryFabric(sys, ports, flags)))
   val top = Synth.modules(Files.readString(sv)).last
   val a = Synth.yosys(sv, top)
-  println(s"$top: ${a.lut} LUT, ${a.ff} FF, ${a.lutram} LUTRAM cells, ${a.bram36} BRAM36, ${a.carry} CARRY4")
+  println(s"$top: ${a.lutSites} LUT (${a.lutMemory} as memory), ${a.ff} FF, ${a.bram36} BRAM36, ${a.carry} CARRY4")
 }

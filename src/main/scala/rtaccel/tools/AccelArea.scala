@@ -12,6 +12,12 @@ import scala.concurrent.{Await, ExecutionContext, Future}
   * counted once per instance (BboxIntersect holds K box lanes). A flattened run
   * of the whole FP-heavy design takes far longer than the units in parallel.
   *
+  * The control run is flattened: it holds the core's memories (the ray stacks,
+  * the ray buffer, the ray data), and only flattened does Yosys map them to
+  * block RAM as Vivado would ([[FmaxEstimate.script]]); kept hierarchical, the
+  * ray stacks alone became 2,304 RAM64M, 9,216 LUTs of distributed RAM. The
+  * datapath units hold no memory and keep the hierarchy.
+  *
   * Results are cached in `cacheDir`, keyed by a hash of the exact Verilog a
   * run reads with the datapath's name masked out: the same unit in two
   * configurations (say the box of the Moller and of the watertight variant,
@@ -78,6 +84,11 @@ object AccelArea {
     j("lutram").num.toInt
   )
 
+  /** What a cached area means: a result stored under another version is not read (the run is redone). Version 2
+    * counts distributed RAM in LUT sites ([[Synth.lutramSites]]), not in cells.
+    */
+  val cacheVersion = "area-v2"
+
   /** One cached Yosys run on `text` (the Verilog read), top `top`, black boxes `bb`. */
   private def cached(
       cacheDir: Path,
@@ -85,9 +96,16 @@ object AccelArea {
       mask: String,
       text: String,
       top: String,
-      bb: Seq[String]
+      bb: Seq[String],
+      flatten: Boolean = false
   ): Synth.Area = {
-    val key = hash(text.replace(mask, "#"), top.replace(mask, "#"), bb.map(_.replace(mask, "#")).mkString(","))
+    val key = hash(
+      cacheVersion,
+      if (flatten) "flatten" else "hierarchy",
+      text.replace(mask, "#"),
+      top.replace(mask, "#"),
+      bb.map(_.replace(mask, "#")).mkString(",")
+    )
     val done = cacheDir.resolve(s"$label-$key.json")
     if (Files.exists(done)) fromJson(ujson.read(Files.readString(done)))
     else {
@@ -95,7 +113,7 @@ object AccelArea {
       val run = s"$label-$key.${ProcessHandle.current().pid()}"
       val sv = cacheDir.resolve(s"$run.sv")
       Files.writeString(sv, text)
-      val a = Synth.yosys(sv, top, bb, Some(cacheDir.resolve(s"$run.yosys.log")))
+      val a = Synth.yosys(sv, top, bb, Some(cacheDir.resolve(s"$run.yosys.log")), flatten)
       // Written whole then renamed, so a concurrent reader never sees half a file.
       val tmp = Files.createTempFile(cacheDir, label, ".tmp")
       Files.writeString(tmp, toJson(a))
@@ -128,7 +146,8 @@ object AccelArea {
       val units = unitTops.map { case (u, m) =>
         u -> Future(cached(cacheDir, u, dpName, subtree(mods, m).map(_.text).mkString, m, Nil))
       }
-      val control = controlLabel -> Future(cached(cacheDir, controlLabel, dpName, sv, top, unitTops.map(_._2)))
+      val control =
+        controlLabel -> Future(cached(cacheDir, controlLabel, dpName, sv, top, unitTops.map(_._2), flatten = true))
       // Units are instantiated only by modules that are themselves instantiated
       // once (RayPrep in FetchBVH, the K lanes in BboxIntersect, PrimIntersect
       // in LeafIntersect), so instance lines count the copies.
@@ -160,10 +179,14 @@ object AccelArea {
 
   def total(rows: Seq[(String, Synth.Area)]): Synth.Area = rows.map(_._2).foldLeft(Synth.zero)(_ + _)
 
-  /** Whole instances of an accelerator of area `a` that fit on `device`, by its scarcest resource. */
+  /** Whole instances of an accelerator of area `a` that fit on `device`, by its scarcest resource: every LUT
+    * (logic and memory) against the device's LUTs, and the LUTs used as memory against its SLICEM LUTs
+    * (`device.lutram`).
+    */
   def instances(a: Synth.Area, device: Synth.Area): Int =
     Seq(
-      device.lut.toDouble / a.lut.max(1),
+      device.lut.toDouble / a.lutSites.max(1),
+      device.lutram.toDouble / a.lutMemory.max(1),
       device.ff.toDouble / a.ff.max(1),
       device.dsp.toDouble / a.dsp.max(1),
       device.bram36 / a.bram36.max(0.5)

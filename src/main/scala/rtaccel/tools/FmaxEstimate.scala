@@ -46,7 +46,10 @@ object FmaxEstimate {
     * memory is read asynchronously and lands in LUTRAM whatever its size.
     * Flattened, the ports share the one clock and block RAM is inferred
     * (Vivado infers it either way). The system's units use it
-    * ([[SystemArea]]); the core's rows keep the hierarchical run. */
+    * ([[SystemArea]]), and so does the core's area ([[AccelArea]]: its
+    * control run). The core's Fmax rows keep the hierarchical run: there a
+    * memory is distributed RAM, whose cells cut paths as block RAM's do, and
+    * their area column counts LUTs as logic only. */
   def script(sv: Path, top: String, blackboxes: Seq[String], flatten: Boolean = false): String = {
     val bb = if (blackboxes.isEmpty) "" else s"blackbox ${blackboxes.mkString(" ")}; "
     val rename = namedTypes.map(t => s"rename -enumerate -pattern c${t}_% t:$t; ").mkString
@@ -89,7 +92,7 @@ object FmaxEstimate {
       flatten: Boolean = false
   ): (Synth.Area, PathCells) = {
     Files.createDirectories(cacheDir)
-    val key = hash(text, top, bb.mkString(","), script(Path.of("x"), top, bb, flatten))
+    val key = hash(AccelArea.cacheVersion, text, top, bb.mkString(","), script(Path.of("x"), top, bb, flatten))
     val done = cacheDir.resolve(s"fmax-$label-$key.json")
     if (Files.exists(done)) {
       val j = ujson.read(Files.readString(done))
@@ -180,9 +183,9 @@ object FmaxEstimate {
     (Seq(
       "## Fmax estimate per unit (ESTIMATE)",
       "",
-      f"Each unit synthesised alone (`synth_xilinx -family xc7`, flattened; datapath units black-boxed in control units), longest register-to-register path by `ltp -noff t:FD* ... %%n`, cells on it turned into ns by the delay model *${model.name}* (docs/fmax.md) in $seconds%.0f s. Area here is per instance (the table above counts instances). No placement or routing: an estimate, not a timing sign-off.",
+      f"Each unit synthesised alone (`synth_xilinx -family xc7`, then flattened; datapath units black-boxed in control units), longest register-to-register path by `ltp -noff t:FD* ... %%n`, cells on it turned into ns by the delay model *${model.name}* (docs/fmax.md) in $seconds%.0f s. Area here is per instance (the table above counts instances); the hierarchy is kept through mapping, so memories are distributed RAM, cut like registers, and LUT counts logic only. No placement or routing: an estimate, not a timing sign-off.",
       "",
-      "| unit | LUT | FF | DSP48 | BRAM36 | path cells | ns | MHz |",
+      "| unit | LUT (logic) | FF | DSP48 | BRAM36 | path cells | ns | MHz |",
       "| --- | ---: | ---: | ---: | ---: | --- | ---: | ---: |"
     ) ++
       rows.map(line) ++

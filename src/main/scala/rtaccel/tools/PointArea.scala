@@ -54,13 +54,15 @@ object PointArea {
       kv.getOrElse("--jobs", "1").toInt
     )
     val total = AccelArea.total(rows)
+    // `lut` counts every LUT used, as logic or as memory, as make verilog's table does; `lutram` the LUTs used as
+    // memory among them.
     def obj(a: Synth.Area) = ujson.Obj(
-      "lut" -> a.lut,
+      "lut" -> a.lutSites,
       "ff" -> a.ff,
       "dsp" -> a.dsp,
       "bram36" -> a.bram36,
       "carry" -> a.carry,
-      "lutram" -> a.lutram
+      "lutram" -> a.lutMemory
     )
     val js = obj(total)
     js("config") = out.getFileName.toString.stripSuffix(".json")

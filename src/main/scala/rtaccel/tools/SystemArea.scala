@@ -82,7 +82,7 @@ object SystemArea {
     )
     rows.foreach(r =>
       println(
-        f"| ${r.unit} | ${r.area.lut}%,d | ${r.area.ff}%,d | ${r.area.dsp}%,d | ${r.area.bram36}%.1f | ${r.area.lutram}%,d | ${r.path.summary} | ${r.ns}%.2f | ${r.mhz}%.0f |"
+        f"| ${r.unit} | ${r.area.lutSites}%,d | ${r.area.ff}%,d | ${r.area.dsp}%,d | ${r.area.bram36}%.1f | ${r.area.lutMemory}%,d | ${r.path.summary} | ${r.ns}%.2f | ${r.mhz}%.0f |"
       )
     )
   }
@@ -90,14 +90,14 @@ object SystemArea {
   /** Whole cores of area `core` that fit on `device` beside `own` (the system's units), by the scarcest resource. */
   def coresThatFit(core: Synth.Area, own: Synth.Area, device: Synth.Area): Int = {
     val left = Synth.Area(
-      device.lut - own.lut,
+      device.lut - own.lutSites,
       device.ff - own.ff,
       0,
       device.dsp - own.dsp,
       0,
       device.ramb36 - own.ramb36 - (own.ramb18 + 1) / 2,
       0,
-      0
+      device.lutram - own.lutMemory
     )
     AccelArea.instances(core, left).max(0)
   }
@@ -114,7 +114,7 @@ object SystemArea {
     val own = rows.map(_.area).foldLeft(Synth.zero)(_ + _)
     val coresArea = Seq.fill(cores)(core).foldLeft(Synth.zero)(_ + _)
     val total = own + coresArea
-    def cells(a: Synth.Area) = f"${a.lut}%,d | ${a.ff}%,d | ${a.dsp}%,d | ${a.bram36}%.1f | ${a.lutram}%,d"
+    def cells(a: Synth.Area) = f"${a.lutSites}%,d | ${a.ff}%,d | ${a.dsp}%,d | ${a.bram36}%.1f | ${a.lutMemory}%,d"
     def pct(x: Double, of: Double) = f"${100 * x / of}%.1f%%"
     // At most `cores`: more cores would bring more of the system's units (the stores double at 3 and 4 cores),
     // which this system, built with `cores`, does not hold.
@@ -127,7 +127,7 @@ object SystemArea {
         s"SystemCore with its units and cores black-boxed). Node store: ${nodeStoreBytes / 1024} KiB, " +
         s"triangle store: ${triStoreBytes / 1024} KiB, each one copy per two clients (cores). ESTIMATE, as above.",
       "",
-      "| unit | LUT | FF | DSP48 | BRAM36 | LUTRAM cells | path cells | ns | MHz |",
+      "| unit | LUT | FF | DSP48 | BRAM36 | LUT as memory | path cells | ns | MHz |",
       "| --- | ---: | ---: | ---: | ---: | ---: | --- | ---: | ---: |"
     ) ++
       rows.map(r => f"| ${r.unit} | ${cells(r.area)} | ${r.path.summary} | ${r.ns}%.2f | ${r.mhz}%.0f |") ++
@@ -135,7 +135,10 @@ object SystemArea {
         s"| **system units** | ${cells(own)} | | | |",
         s"| $cores x core (table above) | ${cells(coresArea)} | | | |",
         s"| **system total** | ${cells(total)} | | | |",
-        s"| share of the device | ${pct(total.lut, device.lut)} | ${pct(total.ff, device.ff)} | ${pct(total.dsp, device.dsp)} | ${pct(total.bram36, device.bram36)} | | | | |",
+        s"| share of the device | ${pct(total.lutSites, device.lut)} | ${pct(total.ff, device.ff)} | ${pct(
+            total.dsp,
+            device.dsp
+          )} | ${pct(total.bram36, device.bram36)} | ${pct(total.lutMemory, device.lutram)} | | | |",
         "",
         s"Cores that fit beside the system's own units (by the scarcest resource): **$fit**.",
         f"Slowest system unit: **${worst.unit}**, ${worst.mhz}%.0f MHz (${worst.ns}%.2f ns).",

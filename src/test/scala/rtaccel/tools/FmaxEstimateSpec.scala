@@ -105,6 +105,8 @@ class FmaxEstimateSpec extends AnyFlatSpec {
     val core = Synth.Area(68000, 110000, 0, 106, 0, 0, 0, 0)
     val own = Synth.Area(14000, 6000, 0, 0, 0, 285, 0, 0)
     assert(SystemArea.coresThatFit(core, own, EmitVerilog.Zc706) == 3)
+    // The units' LUTs used as memory count against the device's LUTs: 14k + 10k leave room for two.
+    assert(SystemArea.coresThatFit(core, own.copy(lutram = 10000), EmitVerilog.Zc706) == 2)
     val row = FmaxEstimate.Row("NodeStore", "NodeStore", own, FmaxEstimate.PathCells(Seq("LUT6")), 2.0)
     def fitLine(cores: Int) =
       SystemArea.markdown(Seq(row), cores, core, EmitVerilog.Zc706, 1 << 20).linesIterator.find(
