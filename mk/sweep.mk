@@ -6,7 +6,8 @@ SWEEP          ?= $(BUILD)/sweep
 SWEEP_JOBS     ?= 2
 # The grid: layout x box format x triangle format x box rounding x
 # triangle test. A point is `<layout>-<box>-<tri>-<rne|cons>-<mt|wt>`, e.g.
-# 4q-e8m10-e8m23-cons-wt. SWEEP_GRID=full runs every combination of the
+# 4q-e8m10-e8m23-cons-wt, and `-grid` after it tests a 4q/8q node's children in
+# the node's grid (BOX_TEST=grid; FP32 box constants). SWEEP_GRID=full runs every combination of the
 # SWEEP_* lists below; SWEEP_GRID=reduced (the default) the SWEEP_REDUCED
 # points; SWEEP_POINTS="..." names points directly.
 SWEEP_LAYOUTS     ?= 4 8 4q 8q
@@ -16,11 +17,12 @@ SWEEP_ROUNDING    ?= rne cons
 SWEEP_TESTS       ?= mt wt
 SWEEP_FULL     := $(foreach l,$(SWEEP_LAYOUTS),$(foreach b,$(SWEEP_BOX_FORMATS),$(foreach t,$(SWEEP_TRI_FORMATS),$(foreach r,$(SWEEP_ROUNDING),$(foreach x,$(SWEEP_TESTS),$(l)-$(b)-$(t)-$(r)-$(x))))))
 # FP32 baselines for K = 4 and 8; 4q/8q with FP32 boxes; 4q/8q with narrow
-# conservative boxes and FP32 watertight triangles; two narrowed-triangle points.
+# conservative boxes and FP32 watertight triangles; two narrowed-triangle points;
+# the 4q grid box test.
 SWEEP_REDUCED  ?= 4-e8m23-e8m23-cons-wt 8-e8m23-e8m23-cons-wt 4q-e8m23-e8m23-cons-wt 8q-e8m23-e8m23-cons-wt \
                   4q-e8m12-e8m23-cons-wt 4q-e8m10-e8m23-cons-wt 4q-e6m9-e8m23-cons-wt \
                   8q-e8m12-e8m23-cons-wt 8q-e8m10-e8m23-cons-wt 8q-e6m9-e8m23-cons-wt \
-                  4q-e8m10-e8m18-cons-wt 4q-e8m10-e8m15-cons-wt
+                  4q-e8m10-e8m18-cons-wt 4q-e8m10-e8m15-cons-wt 4q-e8m23-e8m23-cons-wt-grid
 SWEEP_GRID     ?= reduced
 SWEEP_POINTS   ?= $(if $(filter full,$(SWEEP_GRID)),$(SWEEP_FULL),$(SWEEP_REDUCED))
 sweep_field = $(word $(1),$(subst -, ,$(2)))
@@ -137,11 +139,12 @@ $(SWEEP)/hard-ref/%-trace.json: $(SWEEP)/packages/$(SWEEP_REF_LAYOUT)/hard-%/pac
 	$(BRIDGE) trace --package $(<D) --out $(@D)/$*-trace.csv
 	$(BRIDGE) hard-score --package $(<D) --hits $(@D)/$*-trace.csv --expect scenes/hard/$*/expect.csv --out $@
 
-# One point: $* = <layout>-<box>-<tri>-<rne|cons>-<mt|wt>. Two jobs per point:
+# One point: $* = <layout>-<box>-<tri>-<rne|cons>-<mt|wt>[-grid]. Two jobs per point:
 # the image runs (error on every ray, speed in RTL) and the hard cases (error
 # only); sweep-report merges `<point>.hard.json` into `<point>.json`.
 sweep_point_args = --bvh $(call sweep_field,1,$(1)) --box-float $(call sweep_field,2,$(1)) --tri-float $(call sweep_field,3,$(1)) \
-  --rounding $(call sweep_field,4,$(1)) --triangle $(call sweep_field,5,$(1))
+  --rounding $(call sweep_field,4,$(1)) --triangle $(call sweep_field,5,$(1)) \
+  $(if $(call sweep_field,6,$(1)),--box-test $(call sweep_field,6,$(1)))
 # The $$(...) prerequisites below use .SECONDEXPANSION (set in the Makefile).
 $(SWEEP)/points/%.hard.json: | $$(foreach c,$(HARD_CASES),$(SWEEP)/packages/$$(call sweep_field,1,$$*)/hard-$$(c)/package.json) $(SWEEP)/classpath
 	@mkdir -p $(SWEEP)/logs

@@ -18,6 +18,7 @@ cat > "$tmp/clean.md" <<'PAGE'
 # Node store
 TriStore serves the triangle records; `make bench` writes the table.
 Rounding mode: round to nearest even, then conservative rounding.
+The sweep point 4q-e8m23-e8m23-cons-wt-grid tests boxes in the node's grid.
 PAGE
 git -C "$tmp" add clean.md
 python3 "$check" --root "$tmp" >/dev/null || fail "a clean page was flagged"
@@ -36,9 +37,11 @@ plant "# Fmax estimate ($I 12)" "an issue number"
 plant "the goals of $I #13 are met" "an issue number with #"
 plant "written on $B \`tristore\` before the merge" "a branch name"
 plant "the $H leaf128 found the bug" "a helper's branch"
+W=wt
+plant "built in ../$W-grid first" "a worktree path"
 
 # CHANGELOG.md is where history goes: never flagged.
 printf '# Changelog\n%s 3 and %s 7, %s `wide`\n' "$S" "$I" "$B" > "$tmp/CHANGELOG.md"
 rm "$tmp/planted.md"; git -C "$tmp" rm -q --cached planted.md; git -C "$tmp" add CHANGELOG.md
 python3 "$check" --root "$tmp" >/dev/null || fail "CHANGELOG.md was flagged"
-echo "check-history-spec: passed (6 planted lines caught, clean page and CHANGELOG.md pass)"
+echo "check-history-spec: passed (7 planted lines caught, clean page and CHANGELOG.md pass)"

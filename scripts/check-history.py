@@ -15,8 +15,8 @@ Flagged, case-insensitively:
   - the word issue followed by a number, written plain, with # or with a
     hyphen, or a list of numbers: tracker numbers;
   - branch names of the project's history, but only beside the words branch,
-    helper or worktree (or as a wt-<name> worktree path): TriStore is also a
-    module, bench and formal are also targets.
+    helper or worktree (or as a wt-<name> worktree path, not inside a sweep
+    point's name): TriStore is also a module, bench and formal are also targets.
 
 Usage: scripts/check-history.py [--root DIR] [FILE ...]
 """
@@ -45,7 +45,8 @@ PATTERNS = [
         rf"\b(?:branch(?:es)?|helpers?|worktrees?)\s+{_q}(?:{_names}){_q}(?![\w-])", re.I)),
     ("branch name", re.compile(
         rf"(?<![\w-]){_q}(?:{_names}){_q}\s+(?:branch|helper|worktree)\b", re.I)),
-    ("branch name", re.compile(r"\bwt-[a-z0-9]", re.I)),
+    # A worktree path, not the tail of a sweep point's name (4q-e8m23-e8m23-cons-wt-grid).
+    ("branch name", re.compile(r"(?<![\w-])wt-[a-z0-9]", re.I)),
 ]
 
 # CHANGELOG.md holds the history; this check and its spec hold the patterns.

@@ -36,10 +36,17 @@ pub struct PointConfig {
     pub box_float: String,
     #[serde(default)]
     pub tri_float: String,
+    /// How child boxes are tested: fp32 (box lanes), or grid (a 4q/8q node's children in its grid).
+    #[serde(default = "fp32_box_test")]
+    pub box_test: String,
 }
 
 fn nori_layout() -> String {
     "nori".into()
+}
+
+fn fp32_box_test() -> String {
+    "fp32".into()
 }
 
 /// Exponent + mantissa bits of an `eXmY` name (0 if it is not one).
@@ -51,9 +58,25 @@ pub fn format_bits(f: &str) -> u32 {
 }
 
 impl PointConfig {
-    /// Rounding and triangle test: points of one variant differ in layout and formats.
+    /// Rounding and triangle test (and the grid box test, a variant of its own): points of one variant
+    /// differ in layout and formats.
     pub fn variant(&self) -> String {
-        format!("{}/{}", self.rounding, self.triangle)
+        if self.grid() {
+            format!("{}/{}/grid", self.rounding, self.triangle)
+        } else {
+            format!("{}/{}", self.rounding, self.triangle)
+        }
+    }
+    pub fn grid(&self) -> bool {
+        self.box_test == "grid"
+    }
+    /// The layout as the report names it: "4q", or "4q grid" for grid box tests.
+    pub fn layout_label(&self) -> String {
+        if self.grid() {
+            format!("{} grid", self.layout)
+        } else {
+            self.layout.clone()
+        }
     }
     pub fn box_fmt(&self) -> &str {
         if self.box_float.is_empty() {
@@ -324,4 +347,34 @@ pub fn load(dir: &Path) -> Result<SweepIn> {
         points,
         hard_refs,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::PointConfig;
+
+    fn config(extra: &str) -> PointConfig {
+        serde_json::from_str(&format!(
+            r#"{{"name": "4q-e8m23-e8m23-cons-wt", "float": "e8m23", "exp_bits": 8, "man_bits": 23,
+                "rounding": "conservative", "triangle": "watertight", "layout": "4q"{extra}}}"#
+        ))
+        .unwrap()
+    }
+
+    #[test]
+    fn a_point_without_a_box_test_tests_fp32_boxes() {
+        let c = config("");
+        assert_eq!(c.box_test, "fp32");
+        assert_eq!(c.variant(), "conservative/watertight");
+        assert_eq!(c.layout_label(), "4q");
+    }
+
+    #[test]
+    fn a_grid_point_is_a_variant_of_its_own_measured_against_fp32_on_plain_nodes() {
+        let c = config(r#", "box_test": "grid""#);
+        assert!(c.grid());
+        assert_eq!(c.variant(), "conservative/watertight/grid");
+        assert_eq!(c.layout_label(), "4q grid");
+        assert_eq!(c.plain_layout(), "4");
+    }
 }

@@ -115,7 +115,7 @@ fn main_table(points: &[PointOut]) -> Vec<String> {
         let l = &p.latency;
         out.push(format!(
             "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} / {} / {} | {} | {} | {} | {} / {} | {} | {} | {:.2} / {:.2} | {} | {}/{}/{} | {} | {} | {} | {} | {} |",
-            p.name, p.config.layout, p.config.box_fmt(), p.config.tri_fmt(), p.config.rounding, p.config.triangle, e.false_miss, e.false_hit,
+            p.name, p.config.layout_label(), p.config.box_fmt(), p.config.tri_fmt(), p.config.rounding, p.config.triangle, e.false_miss, e.false_hit,
             e.wrong_prim, e.t_error, p.error_flagged, e.tie, e.edge, e.reference_wrong, p.images_differing,
             p.hard.leaks + p.hard.false_hits + p.hard.wrong_prims, pct(p.pixel_share), sci(p.t_rel_mean), sci(Some(p.t_rel.max)),
             x2(p.speed.map(|s| s.rays_per_cycle)), pct1(p.speed.map(|s| s.share_of_bound)), p.node_tests_per_ray, p.tri_tests_per_ray,

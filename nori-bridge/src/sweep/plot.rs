@@ -58,7 +58,7 @@ fn by_variant(
                         y: xy(p).1,
                         label: format!(
                             "{} {}/{}",
-                            p.config.layout,
+                            p.config.layout_label(),
                             p.config.box_fmt(),
                             p.config.tri_fmt()
                         ),

@@ -72,7 +72,7 @@ fn baselines(s: &SweepIn, format: &str) -> Result<Vec<usize>> {
                 .iter()
                 .position(|(q, _)| {
                     let d = &q.config;
-                    d.box_fmt() == format && d.tri_fmt() == format && d.rounding == c.rounding && d.triangle == c.triangle && d.layout == c.plain_layout()
+                    d.box_fmt() == format && d.tri_fmt() == format && d.rounding == c.rounding && d.triangle == c.triangle && d.layout == c.plain_layout() && !d.grid()
                 })
                 .with_context(|| {
                     format!(

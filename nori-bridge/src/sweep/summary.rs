@@ -125,7 +125,7 @@ pub fn sentence(points: &[PointOut], _baseline_format: &str) -> String {
         "The smallest safe configuration is **{}**: {} nodes, boxes in **{}** ({} rounding), triangles in **{}** ({} test), {}. \
          Its t error: {} same-primitive hits outside FP32's tolerance, mean relative t error {}. Goal {}: {}",
         p.name,
-        p.config.layout,
+        p.config.layout_label(),
         p.config.box_fmt(),
         p.config.rounding,
         p.config.tri_fmt(),
@@ -167,7 +167,7 @@ pub fn per_variant(points: &[PointOut], _baseline_format: &str) -> Vec<String> {
                 Some(i) => format!(
                     "- {v}: **{}** ({} nodes, boxes {}, triangles {}), {}",
                     mine[i].name,
-                    mine[i].config.layout,
+                    mine[i].config.layout_label(),
                     mine[i].config.box_fmt(),
                     mine[i].config.tri_fmt(),
                     savings(mine[i])

@@ -5,7 +5,7 @@ import chisel3._
 import rtaccel.AccelConfig
 import rtaccel.fetch.RayPrepUnit
 import rtaccel.leaf.PrimIntersect
-import rtaccel.traversal.BoxLane
+import rtaccel.traversal.{BoxLane, GridBboxIntersect}
 import rtaccel.fp.FloatFormat
 import rtaccel.tools.Synth
 
@@ -62,10 +62,11 @@ object DatapathArea {
 
   /** The unit's derived latency, read from the elaborated module. */
   def latencyOf(m: RawModule): Int = m match {
-    case b: BoxLane[_]       => b.latency
-    case p: PrimIntersect[_] => p.latency
-    case r: RayPrepUnit[_]   => r.latency
-    case other               => throw new IllegalArgumentException(s"not a datapath unit: ${other.name}")
+    case b: BoxLane[_]        => b.latency
+    case p: PrimIntersect[_]  => p.latency
+    case r: RayPrepUnit[_]    => r.latency
+    case g: GridBboxIntersect => g.latency
+    case other                => throw new IllegalArgumentException(s"not a datapath unit: ${other.name}")
   }
 
   private def row(dir: Path, j: Job, top: String, sv: String, latency: Int): String = {

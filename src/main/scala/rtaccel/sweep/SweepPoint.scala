@@ -30,7 +30,7 @@ object SweepPoint {
       throw new IllegalArgumentException(
         s"${p.dir}: compiled with ${p.image.layout.name} nodes, but the point is ${a.layout.name}"
       )
-    val cfg = a.dp.configure(AccelConfig.zc706.copy(layout = a.layout))
+    val cfg = a.config
     // The numeric range is not checked here: where a narrow format cannot hold a
     // scene's range is exactly what the sweep measures (`in_range` per run).
     for ((r, p) <- packages; why <- p.structuralMisfits(cfg).headOption)
@@ -88,7 +88,8 @@ object SweepPoint {
         "box_float" -> a.boxFmt.name,
         "tri_float" -> a.triFmt.name,
         "rounding" -> (if (a.rounding.tag == "rne") "rne" else "conservative"),
-        "triangle" -> (if (a.test.tag == "wt") "watertight" else "moller")
+        "triangle" -> (if (a.test.tag == "wt") "watertight" else "moller"),
+        "box_test" -> a.boxTest.name
       ),
       "latency" -> latencies(cfg, a),
       "runs" -> ujson.Arr(runs: _*),
@@ -132,7 +133,11 @@ object SweepPoint {
       _root_.circt.stage.ChiselStage.emitCHIRRTL({ m = gen; m })
       DatapathArea.latencyOf(m)
     }
-    ujson.Obj("ray_prep" -> lat(a.dp.rayPrep(cfg)), "box" -> lat(a.dp.box(cfg)), "triangle" -> lat(a.dp.prim(cfg)))
+    // A grid box test's latency is its whole unit's (the FP32 node stage, then the grid lanes).
+    val box =
+      if (cfg.gridBox) lat(new rtaccel.traversal.GridBboxIntersect(cfg.boxLanes, cfg.gridParams, a.dp.gen))
+      else lat(a.dp.box(cfg))
+    ujson.Obj("ray_prep" -> lat(a.dp.rayPrep(cfg)), "box" -> box, "triangle" -> lat(a.dp.prim(cfg)))
   }
 
   /** Same answer as the golden model, under the regression's agreement rule. */
