@@ -49,6 +49,11 @@ final case class FloatDatapath(boxFmt: FloatFormat, triFmt: FloatFormat, test: T
   def box(cfg: AccelConfig): BoxLane[RayConsts] = { check(cfg); new FloatBox(cfg, this) }
   def prim(cfg: AccelConfig): PrimIntersect[RayConsts] = { check(cfg); new FloatPrim(cfg, this) }
 
+  /** The grid box unit of `cfg` (BoxTest.Grid: its FP32 node stage and `cfg.boxLanes` grid lanes). */
+  def gridBox(cfg: AccelConfig): rtaccel.traversal.GridBboxIntersect = {
+    check(cfg); new rtaccel.traversal.GridBboxIntersect(cfg.boxLanes, cfg.gridParams, gen)
+  }
+
   /** A triangle-format value (t, u, v) as FP32. Widening is exact, so the mode
     * is irrelevant; a latency-0 converter is wires.
     */

@@ -135,7 +135,7 @@ object SweepPoint {
     }
     // A grid box test's latency is its whole unit's (the FP32 node stage, then the grid lanes).
     val box =
-      if (cfg.gridBox) lat(new rtaccel.traversal.GridBboxIntersect(cfg.boxLanes, cfg.gridParams, a.dp.gen))
+      if (cfg.gridBox) lat(a.dp.gridBox(cfg))
       else lat(a.dp.box(cfg))
     ujson.Obj("ray_prep" -> lat(a.dp.rayPrep(cfg)), "box" -> box, "triangle" -> lat(a.dp.prim(cfg)))
   }

@@ -173,7 +173,7 @@ object AccelArea {
   /** The grid box unit of `cfg` (BoxTest.Grid: FP32 node stage and `cfg.boxLanes` grid lanes) alone, cached. */
   def gridUnit(dp: rtaccel.datapath.FloatDatapath, cfg: rtaccel.AccelConfig, cacheDir: Path): Synth.Area = {
     Files.createDirectories(cacheDir)
-    val sv = Synth.emit(new rtaccel.traversal.GridBboxIntersect(cfg.boxLanes, cfg.gridParams, dp.gen))
+    val sv = Synth.emit(dp.gridBox(cfg))
     cached(cacheDir, gridBoxUnit, dp.name, sv, modules(sv).last.name, Nil)
   }
 
