@@ -19,7 +19,7 @@ mutant fresh_forever "the free list hands out fresh IDs forever, so an ID in fli
   "s/wire       haveFresh = freshReg != 2'h2;/wire       haveFresh = 1'b1;/" "wire       haveFresh = freshReg != 2'h2;" \
   id_allocated_once_1 exactly_once_1
 mutant free_unfired "an ID is freed while its hit still waits for the host, so the hit is emitted twice" \
-  "s/(io_hits_ready & _trav_io_done_valid)/(_trav_io_done_valid)/" "(io_hits_ready & _trav_io_done_valid)" \
+  "s/(io_hits_ready & _doneQ_io_deq_valid)/(_doneQ_io_deq_valid)/" "(io_hits_ready & _doneQ_io_deq_valid)" \
   id_freed_once_1 exactly_once_1
 mutant init_queue_one "InitTraversal's queue holds one ray, not numRayIds: a prepared ray can find it full" \
   "/^module Queue2_PreparedEntry/,/^endmodule/{s/assign io_enq_ready = ~full;/assign io_enq_ready = empty;/;s/wire       do_enq = ~full \\& io_enq_valid;/wire       do_enq = empty \\& io_enq_valid;/}" \
@@ -55,8 +55,8 @@ mutant fetch_tight "(probe) PrepFetch's derived bound 8 cut to 6: a ray needs 7"
   "s/~(~insideReg_0 | ~(ageReg_0\[3\]))/~(~insideReg_0 | ageReg_0 < 4'h6)/" "~(~insideReg_0 | ~(ageReg_0[3]))" fetch_bounded_response_1
 case_=leaf2f; cdepth=$(awk '$1=="leaf2f"{print $2}' "$dir/cases-deep.txt"); formal_wrap "$dir" leaf2f
 mutant leaf_stuck_stop "LeafIntersect drops the exit of a ray that stopped issuing (empty leaf, occluded shadow ray): the ray is lost" \
-  "s/\.io_enq_valid               (lastAnswer | issueExit),/.io_enq_valid               (lastAnswer),/" \
-  ".io_enq_valid               (lastAnswer | issueExit)," leaf_bounded_response_1
+  "s/\(\.io_enq_valid *\)(lastAnswer | issueExit),/\1(lastAnswer),/" \
+  "(lastAnswer | issueExit)," leaf_bounded_response_1
 # A probe: LeafIntersect's derived bound 16 cut to 9 must fail: a ray needs
 # 10 cycles here (cut to 10, BMC finds none), so the bound has 6 cycles of slack.
 mutant leaf_tight "(probe) LeafIntersect's derived bound 16 cut to 9: a ray needs 10" \

@@ -26,6 +26,14 @@ class LeafExit(cfg: AccelConfig) extends Bundle {
   val occluded = Bool()
 }
 
+/** An exit as LeafIntersect queues it: with whether the ray holds a hit, so
+  * that the exit's tmax write and its handshake read no 1-of-`numRayIds` table.
+  */
+class QueuedExit(cfg: AccelConfig) extends Bundle {
+  val exit = new LeafExit(cfg)
+  val hasHit = Bool()
+}
+
 class BestHit(cfg: AccelConfig) extends Bundle {
   val t = UInt(cfg.triFloat.width.W)
   val u = UInt(cfg.triFloat.width.W)
@@ -89,7 +97,7 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
 
   private val n = cfg.numRayIds
   private val jobs = Module(new Queue(new LeafJob(cfg), n))
-  private val exits = Module(new Queue(new LeafExit(cfg), n))
+  private val exits = Module(new Queue(new QueuedExit(cfg), n))
   jobs.io.enq <> io.in
 
   private val parked = Mem(n, new TraversalToken(cfg))
@@ -113,6 +121,7 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   private val issueOccReg = RegInit(false.B) // occludedReg(issueIdReg)
   private val issueErrReg = RegInit(0.U(ErrorFlags.width.W)) // leafErrorsReg(issueIdReg)
   private val issueOutReg = RegInit(0.U(cfg.leafCountBits.W)) // outstandingReg(issueIdReg)
+  private val issueHitReg = RegInit(false.B) // hasHitReg(issueIdReg)
 
   private val stopEarly = busyReg && issueOccReg
   io.mem.req.valid := busyReg && !stopEarly
@@ -223,9 +232,12 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   // that ID; otherwise the registers are not read. ----
   private val toPre = doneId === preId
   private val clrPre = io.clear.valid && io.clear.bits === preId
-  private val outPre =
-    outstandingReg(preId) + (io.mem.req.fire && issueIdReg === preId).asUInt - (reduce && toPre).asUInt
-  doneLastReg := outPre === 1.U
+  // outstanding + inc - dec === 1, compared against the constant each case
+  // needs instead of added: no carry chain after the 1-of-n read.
+  private val outPre = outstandingReg(preId)
+  private val incPre = io.mem.req.fire && issueIdReg === preId
+  private val decPre = reduce && toPre
+  doneLastReg := Mux(incPre === decPre, outPre === 1.U, Mux(incPre, outPre === 0.U, outPre === 2.U))
   doneHasHitReg := !clrPre && (hasHitReg(preId) || (update && toPre))
   doneOldReg := Mux(update && toPre, b, best.read(preId))
   doneOccReg := !clrPre && (occludedReg(preId) || (occludes && toPre))
@@ -236,13 +248,17 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   // answer or clear can change its entries in the cycle its job is taken. ----
   issueOutReg := issueOutReg + io.mem.req.fire.asUInt - doneIssuing.asUInt
   when(doneIssuing && occludes) { issueOccReg := true.B }
+  when(doneIssuing && update) { issueHitReg := true.B }
   when(doneIssuing) { issueErrReg := issueErrReg | errNow }
-  when(io.clear.valid && io.clear.bits === issueIdReg) { issueOccReg := false.B; issueErrReg := 0.U }
+  when(io.clear.valid && io.clear.bits === issueIdReg) {
+    issueOccReg := false.B; issueErrReg := 0.U; issueHitReg := false.B
+  }
   when(jobs.io.deq.fire) {
     val id = jobs.io.deq.bits.token.rayId
     issueOutReg := 0.U
     issueOccReg := occludedReg(id)
     issueErrReg := leafErrorsReg(id)
+    issueHitReg := hasHitReg(id)
   }
   assert(
     !jobs.io.deq.fire || outstandingReg(jobs.io.deq.bits.token.rayId) === 0.U,
@@ -250,7 +266,7 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   )
   assert(
     !issuing || (issueOutReg === outstandingReg(issueIdReg) && issueOccReg === occludedReg(issueIdReg) &&
-      issueErrReg === leafErrorsReg(issueIdReg)),
+      issueErrReg === leafErrorsReg(issueIdReg) && issueHitReg === hasHitReg(issueIdReg)),
     "leaf_issue_view: the issuing ray's registers differ from its table entries"
   )
   assert(
@@ -263,19 +279,21 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   // ---- Exit: the answer side first (it cannot wait), then the issue side ----
   // A ray's exit in the cycle of its last answer also carries that answer's
   // error flags (its table entry takes them only at the clock edge).
-  private def exitOf(tok: TraversalToken, errors: UInt, occluded: Bool, answered: Bool): LeafExit = {
-    val e = Wire(new LeafExit(cfg))
-    e.token := tok
-    e.token.errors := tok.errors | errors | Mux(answered, errNow, 0.U)
-    e.occluded := occluded || (answered && ans.hit && tok.shadow)
+  // So does its hit: `update` is that answer's write to the ray's best hit.
+  private def exitOf(tok: TraversalToken, errors: UInt, occluded: Bool, hit: Bool, answered: Bool): QueuedExit = {
+    val e = Wire(new QueuedExit(cfg))
+    e.exit.token := tok
+    e.exit.token.errors := tok.errors | errors | Mux(answered, errNow, 0.U)
+    e.exit.occluded := occluded || (answered && ans.hit && tok.shadow)
+    e.hasHit := hit || (answered && update)
     e
   }
   private val issueExit = stoppingReg && issueDrained && !lastAnswer
   exits.io.enq.valid := lastAnswer || issueExit
   exits.io.enq.bits := Mux(
     lastAnswer,
-    exitOf(doneTok, doneErrReg, doneOccReg, reduce),
-    exitOf(issueTok, issueErrReg, issueOccReg, doneIssuing)
+    exitOf(doneTok, doneErrReg, doneOccReg, doneHasHitReg, reduce),
+    exitOf(issueTok, issueErrReg, issueOccReg, issueHitReg, doneIssuing)
   )
   when(issueExit && exits.io.enq.ready) { stoppingReg := false.B }
   private val brokenReg = RegInit(false.B)
@@ -287,17 +305,26 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   // ray's next RayBuffer read is several cycles later (decision, fetch), so it
   // sees the new tmax. tmax.valid never waits on a ready; out.valid waits on
   // the RayBuffer arbiter's grant, whose ready does not depend on out. A ray
-  // with no hit yet keeps the tmax it entered with and writes nothing.
+  // with no hit yet keeps the tmax it entered with and writes nothing. Whether
+  // it has a hit travels in its queue entry: a ray in `exits` gets no more
+  // answers, and its ID is not cleared before it leaves, so the bit stays
+  // equal to hasHitReg (assertion `leaf_exit_hit`), and the handshake reads no
+  // 1-of-n table (read from hasHitReg, the bit would be on the core control's
+  // longest path, docs/fmax.md).
   private val exitHead = exits.io.deq
-  private val headId = exitHead.bits.token.rayId
+  private val headId = exitHead.bits.exit.token.rayId
   private val writtenReg = RegInit(false.B)
-  private val needWrite = hasHitReg(headId) && !writtenReg
+  private val needWrite = exitHead.bits.hasHit && !writtenReg
   private val written = !needWrite || io.tmax.ready
   io.tmax.valid := exitHead.valid && needWrite
   io.tmax.bits.rayId := headId
   io.tmax.bits.tmax := best.read(headId).t
   io.out.valid := exitHead.valid && written
-  io.out.bits := exitHead.bits
+  io.out.bits := exitHead.bits.exit
+  assert(
+    !exitHead.valid || exitHead.bits.hasHit === hasHitReg(headId),
+    "leaf_exit_hit: an exit's hit bit differs from its ray's table entry"
+  )
   exitHead.ready := io.out.ready && written
   when(io.tmax.fire && !io.out.fire) { writtenReg := true.B }
   when(io.out.fire) { writtenReg := false.B }

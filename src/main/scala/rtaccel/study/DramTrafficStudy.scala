@@ -67,7 +67,7 @@ object DramTrafficStudy {
 
   /** The clock the R channel's bound assumes unless told (`--clock-mhz`): the system's Fmax estimate of
     * `make verilog` (docs/fmax.md), an estimate, not a board measurement. */
-  val DefaultClockMhz = 128.0
+  val DefaultClockMhz = 141.0
 
   /** `command`: how it was called, for the report's first line. */
   def run(a: Args, command: String): Unit = {

@@ -50,7 +50,15 @@ class RayStack(cfg: AccelConfig) extends Module {
   private val bankBits = log2Ceil(banks)
   private val mems = Seq.fill(banks)(SyncReadMem(cfg.numRayIds * cfg.stackRows, new ChildRef(cfg)))
   private val memsB = Seq.fill(banks)(SyncReadMem(cfg.numRayIds * cfg.stackRows, new ChildRef(cfg)))
-  private def rowAddr(slot: UInt, rayId: UInt = io.rayId): UInt = rayId * cfg.stackRows.U + (slot >> bankBits)
+  // With a power-of-two row count the row address is the ray ID beside the
+  // slot's row bits, with no adder after the push slot's (the unit's longest
+  // path, docs/fmax.md). Keeping only the row bits is exact: TraversalControl
+  // pushes only slots below stackDepth (it sets StackOverflow instead), so a
+  // written slot's row is below stackRows, and a pop reads sp - 1 < stackDepth.
+  private def rowAddr(slot: UInt, rayId: UInt = io.rayId): UInt =
+    if (cfg.stackRows == 1) rayId
+    else if (isPow2(cfg.stackRows)) Cat(rayId, (slot >> bankBits)(log2Ceil(cfg.stackRows) - 1, 0))
+    else rayId * cfg.stackRows.U + (slot >> bankBits)
   private def bankOf(slot: UInt): UInt = if (banks == 1) 0.U else slot(bankBits - 1, 0)
 
   // Push port p writes slot sp + p; bank b takes the port whose slot lands on it.

@@ -21,12 +21,14 @@ class RayStackSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   private final case class Ref(isLeaf: Boolean, index: Int, count: Int)
 
-  for (layout <- Seq(BvhLayout.Nori, BvhLayout.Wide(4), BvhLayout.Wide(8))) {
-    it should s"return every pushed entry of every ray, in LIFO order, on both ports (layout ${layout.name})" in
-      Seeded(s"RayStack.${layout.name}") { rnd =>
+  // Rows per ray: depth 9 gives 9 (Nori) and 3 (4-wide), a row address with an adder; depth 16 gives 16 and 4,
+  // the ray ID beside the row bits. 8-wide (8 banks) has 2 rows at both.
+  for (layout <- Seq(BvhLayout.Nori, BvhLayout.Wide(4), BvhLayout.Wide(8)); depth <- Seq(9, 16)) {
+    it should s"return every pushed entry of every ray, in LIFO order, on both ports (layout ${layout.name}, depth $depth)" in
+      Seeded(s"RayStack.${layout.name}.d$depth") { rnd =>
         val cfg = AccelConfig(
           numRayIds = 6,
-          stackDepth = 9,
+          stackDepth = depth,
           maxNodes = 256,
           maxTriangles = 256,
           maxLeafSize = 4,
