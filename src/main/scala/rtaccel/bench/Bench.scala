@@ -126,10 +126,15 @@ object Bench {
 
   def main(args: Array[String]): Unit = Cli.orExit(run(parse(args.toSeq)))
 
+  /** The datapath the bench simulates: FP32 with the regression's default triangle test and box rounding. */
+  def datapath: FloatDatapath = {
+    val base = RegressArgs(root, root)
+    FloatDatapath(FloatFormat.FP32, TriangleTest.parse(base.triangle), BoxRounding.parse(base.rounding))
+  }
+
   def run(a: Args): Unit = {
     val t0 = System.nanoTime()
-    val base = RegressArgs(root, root)
-    val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.parse(base.triangle), BoxRounding.parse(base.rounding))
+    val dp = datapath
     val golden = FloatGolden(dp)
     // Refuse an unknown layout (or one BOX_TEST= cannot read) before any work.
     a.layouts.foreach(configFor(_, a.boxTest))

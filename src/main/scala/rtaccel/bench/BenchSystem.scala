@@ -181,6 +181,13 @@ object BenchSystem {
     def estimateMhz: Int = BenchSystem.wholeMhz(estimateFigures)
   }
 
+  /** What `make verilog` wrote in `verilog` for the default system (4-wide FP32 cores), refused if it was made for
+    * another configuration. */
+  def defaultFigures(verilog: Path): VerilogFigures = {
+    val (a, dp) = (Bench.Args(verilog = verilog), Bench.datapath)
+    VerilogFigures.read(verilog, expectTitle(dp, config(a, dp)))
+  }
+
   /** Whole MHz, rounded down, so the DDR latency in cycles is never understated by a fraction. */
   def wholeMhz(v: VerilogFigures): Int = math.floor(v.fmaxMhz).toInt.max(1)
 

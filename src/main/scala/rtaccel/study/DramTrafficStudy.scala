@@ -1,6 +1,7 @@
 package rtaccel.study
 
 import rtaccel.AccelConfig
+import rtaccel.bench.BenchSystem
 import rtaccel.bvh.BvhLayout
 import rtaccel.datapath.{BoxRounding, FloatDatapath, FloatGolden, TriangleTest}
 import rtaccel.fp.FloatFormat
@@ -23,12 +24,15 @@ object DramTrafficStudy {
       command: String = "make dram-traffic-study",
       /** Only the candidates whose name contains one of these (all when empty). */
       only: Seq[String] = Nil,
-      /** m_axi's clock for the R channel's bound, MHz. */
-      clockMhz: Double = DramTrafficStudy.DefaultClockMhz
+      /** m_axi's clock for the R channel's bound, MHz (default: [[clockOf]]). */
+      clockMhz: Option[Double] = None,
+      /** What `make verilog` wrote: the default system's Fmax estimate. */
+      verilog: Path = Paths.get("build/verilog/resources.md")
   )
 
   val usage = "usage: DramTrafficStudy [--root build/dram-traffic] [--max-rays 2048] [--runs dragon-primary,...] " +
-    "[--out build/dram-traffic/study.md] [--only today,cache,...] [--clock-mhz 128]"
+    "[--out build/dram-traffic/study.md] [--only today,cache,...] [--clock-mhz 141] " +
+    "[--verilog build/verilog/resources.md]"
 
   def parse(args: Seq[String]): Args = {
     def fail(why: String): Nothing = throw new IllegalArgumentException(s"$why\n$usage")
@@ -48,9 +52,10 @@ object DramTrafficStudy {
           a.copy(only = keys)
         case "--clock-mhz" =>
           a.copy(clockMhz =
-            v.toDoubleOption.filter(_ > 0).getOrElse(fail(s"--clock-mhz: '$v' is not a clock in MHz > 0"))
+            Some(v.toDoubleOption.filter(_ > 0).getOrElse(fail(s"--clock-mhz: '$v' is not a clock in MHz > 0")))
           )
-        case other => fail(s"unknown option '$other'")
+        case "--verilog" => a.copy(verilog = Paths.get(v))
+        case other       => fail(s"unknown option '$other'")
       }
     }
   }
@@ -65,12 +70,15 @@ object DramTrafficStudy {
   val PsDdr = 4300.0
   def PortRead(clockMhz: Double): Double = 64 * clockMhz
 
-  /** The clock the R channel's bound assumes unless told (`--clock-mhz`): the system's Fmax estimate of
-    * `make verilog` (docs/fmax.md), an estimate, not a board measurement. */
-  val DefaultClockMhz = 141.0
+  /** The clock the R channel's bound assumes: `--clock-mhz`, or the default system's Fmax estimate that
+    * `make verilog` wrote (docs/fmax.md; an estimate, not a board measurement), in whole MHz rounded down as
+    * `make bench` clocks its DDR model. Read, never hard-coded: the estimate moves with the design. */
+  def clockOf(a: Args): Double =
+    a.clockMhz.getOrElse(BenchSystem.wholeMhz(BenchSystem.defaultFigures(a.verilog)).toDouble)
 
   /** `command`: how it was called, for the report's first line. */
   def run(a: Args, command: String): Unit = {
+    val mhz = clockOf(a) // first: a missing or foreign resources.md fails before the walk
     val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.parse("watertight"), BoxRounding.parse("conservative"))
     val golden = FloatGolden(dp)
     val md = new StringBuilder
@@ -80,7 +88,7 @@ object DramTrafficStudy {
       "ray states) = total; the total at 1 and 4 cores; BRAM36 of the stores and what the candidate adds, at 1 / 2 / 4 " +
       "cores (the xc7z045 has 545); bounds in Mrays/s (estimates): the PL DDR3's 12.8 GB/s over the total, with the PS " +
       "DDR3's 4.3 GB/s beside it (best placement of whole regions: nodes, triangles, rays and hits), and m_axi's R " +
-      f"channel (64 bytes per cycle at ${a.clockMhz}%.0f MHz, 512 bits) over the bytes read.\n"
+      f"channel (64 bytes per cycle at ${mhz}%.0f MHz, 512 bits) over the bytes read.\n"
     val packages = mutable.Map.empty[(String, String), (ScenePackage, IndexedSeq[RayReads])]
     def load(layout: String, run: String) = packages.getOrElseUpdate(
       (layout, run), {
@@ -98,7 +106,7 @@ object DramTrafficStudy {
       val (p0, rays0) = load("4", run)
       md ++= s"\n### $run (${rays0.size} of ${p0.rays.size} rays, strided)\n\n"
       md ++= "| candidate (key) | layout | BRAM36 1 / 2 / 4 cores | bytes/ray at 2 cores: nodes / triangles / rays / hits (+ parks) = total | " +
-        f"total at 1 / 4 cores | parks/ray | bound, PL DDR 12.8 GB/s | PL + PS DDR | m_axi R at ${a.clockMhz}%.0f MHz |\n"
+        f"total at 1 / 4 cores | parks/ray | bound, PL DDR 12.8 GB/s | PL + PS DDR | m_axi R at ${mhz}%.0f MHz |\n"
       md ++= "| --- | --- | --- | --- | ---: | ---: | ---: | ---: | ---: |\n"
       for (c <- Candidates.all if a.only.isEmpty || a.only.contains(c.key)) {
         val (p, rays) = load(c.layout, run)
@@ -111,7 +119,7 @@ object DramTrafficStudy {
           s"${f0(t.nodes(1))} / ${f0(t.tris(1))} / ${f0(t.rays)} / ${f0(t.hits)}$parks = **${f0(t.total(1))}**"
         val row =
           s"| ${c.name} (`${c.key}`) | ${c.layout} | $bramText | $split | ${f0(t.total(0))} / ${f0(t.total(2))} | " +
-            f"${t.parks}%.1f | ${PlDdr / t.total(1)}%.1f | ${withPs(t)}%.1f | ${PortRead(a.clockMhz) / t.readBytes(1)}%.1f |"
+            f"${t.parks}%.1f | ${PlDdr / t.total(1)}%.1f | ${withPs(t)}%.1f | ${PortRead(mhz) / t.readBytes(1)}%.1f |"
         md ++= row + "\n"
         println(s"$run $row")
       }
