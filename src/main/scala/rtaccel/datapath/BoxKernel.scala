@@ -13,10 +13,18 @@ import rtaccel.fp.RoundingMode.{RDN, RNE, RUP}
   * == Conservative mode: why there are no false misses ==
   * Let a = bmin - o, b = bmax - o exactly, R = 1/|d| exactly, and R- <= R <= R+
   * the per-ray RTZ/RUP reciprocals. We compute
-  *   Pmin = RDN(RDN(a) * (RDN(a) < 0 ? R+ : R-))  <= a * R
-  *   Pmax = RUP(RUP(b) * (RUP(b) > 0 ? R+ : R-))  >= b * R
+  *   Pmin = RDN(RDN(a) * (bmin < o ? R+ : R-))  <= a * R
+  *   Pmax = RUP(RUP(b) * (bmax > o ? R+ : R-))  >= b * R
   * (a smaller factor of the right sign only lowers a product: case analysis
-  * on the sign of the rounded difference, every step monotone). For d > 0,
+  * on the sign of the exact difference, every step monotone; RDN keeps a >= 0
+  * at or above 0 and RUP keeps b <= 0 at or below it, because 0 is
+  * representable). The choice is the exact difference's sign, taken from the
+  * comparator the in-slab test already has, not from the rounded difference:
+  * the two agree on every input (gradual underflow makes a nonzero
+  * difference's rounding nonzero, of its sign; an exact zero picks R-, a NaN
+  * neither side), so this is bit for bit the test on the rounded sign, and
+  * the multiplier's operand mux waits on a register, not on the subtractor's
+  * result (docs/fmax.md, BoxLane). For d > 0,
   * [Pmin, Pmax] encloses the exact [tmin_i, tmax_i]; for d < 0 the slab is
   * [-Pmax, -Pmin] = sign(d)[Pmax, Pmin], which encloses it too. The box is
   * narrowed outward (bmin RDN, bmax RUP), so it contains the FP32 box, and
@@ -74,8 +82,10 @@ object BoxKernel {
       val bmax = fromF32(bmax32(i), up)
       val a = sub(bmin, oHi, dn) // B1: <= bmin - origin
       val b = sub(bmax, o, up) // B2: >= bmax - origin
+      // lt(bmin, oHi) = ltZero(a) and gt(bmax, o) = gtZero(b) on every input (above); the
+      // comparators are the ones `in` below uses (ge(oHi, bmin) = le(bmin, oHi), le(o, bmax)).
       val (rMin, rMax) =
-        if (cons) (mux(ltZero(a), ray.rcpHi(i), ray.rcpLo(i)), mux(gtZero(b), ray.rcpHi(i), ray.rcpLo(i)))
+        if (cons) (mux(lt(bmin, oHi), ray.rcpHi(i), ray.rcpLo(i)), mux(gt(bmax, o), ray.rcpHi(i), ray.rcpLo(i)))
         else (ray.rcpLo(i), ray.rcpLo(i))
       val pMin = mul(a, rMin, dn) // B3 (magnitude form)
       val pMax = mul(b, rMax, up) // B4

@@ -84,6 +84,20 @@ object FpUnpack {
     shiftRightStickyClamped(x, Mux(amount > w.U, w.U, amount)(log2Ceil(w + 1) - 1, 0))
   }
 
+  /** `w` bits, bit j set when j < amount: the positions a right shift by
+    * `amount` drops. A decode of the amount (each bit a function of its low
+    * bits and one OR of the rest), not a compare per bit.
+    */
+  def belowMask(w: Int, amount: UInt): UInt = {
+    val lowBits = log2Ceil(w + 1)
+    if (amount.getWidth <= lowBits) (~(Fill(w, 1.U(1.W)) << amount))(w - 1, 0)
+    else {
+      val low = amount(lowBits - 1, 0)
+      val high = amount(amount.getWidth - 1, lowBits).orR
+      Mux(high, Fill(w, 1.U(1.W)), (~(Fill(1 << lowBits, 1.U(1.W)) << low))(w - 1, 0))
+    }
+  }
+
   /** [[shiftRightSticky]] by an amount the caller has already clamped to `x`'s width (a register
     * of log2Ceil(width + 1) bits), so no compare sits in front of the shifter.
     */

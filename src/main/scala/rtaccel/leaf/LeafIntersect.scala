@@ -175,9 +175,21 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
     yield ErrorFlags.nonFinite(TriangleRecord.vertexWord(respReg.data, v, a))).reduce(_ || _)
   // `pre`: the answer pipe one stage before `carry`, where the reduce stage's
   // per-ID table reads are made (registered, with the cycle's own writes forwarded).
-  private val (preValid, preId, carry) =
-    if (prim.latency == 0) (io.mem.resp.valid, io.mem.resp.bits.tag, Pipe(respValidReg, carryIn, 0))
-    else { val p = Pipe(respValidReg, carryIn, prim.latency - 1); (p.valid, p.bits.rayId, Pipe(p, 1)) }
+  // `preOH` is `preId` decoded, registered beside it (a stage ahead): the
+  // outstanding count's read-ahead is then an AND-OR over the n counts, not a
+  // 1-of-n mux whose mapping Yosys leaves 12 cells deep (docs/fmax.md).
+  private val (preValid, preId, preOH, carry) =
+    if (prim.latency == 0)
+      (io.mem.resp.valid, io.mem.resp.bits.tag, UIntToOH(io.mem.resp.bits.tag, n), Pipe(respValidReg, carryIn, 0))
+    else if (prim.latency == 1) {
+      // preId is respReg's tag, taken when a response arrives.
+      val oh = RegEnable(UIntToOH(io.mem.resp.bits.tag, n), io.mem.resp.valid)
+      (respValidReg, respReg.tag, oh, Pipe(respValidReg, carryIn, 1))
+    } else {
+      val before = Pipe(respValidReg, carryIn, prim.latency - 2)
+      val p = Pipe(before, 1)
+      (p.valid, p.bits.rayId, RegEnable(UIntToOH(before.bits.rayId, n), before.valid), Pipe(p, 1))
+    }
   io.tested := prim.io.out.valid
 
   private val doneId = carry.bits.rayId
@@ -234,7 +246,8 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   private val clrPre = io.clear.valid && io.clear.bits === preId
   // outstanding + inc - dec === 1, compared against the constant each case
   // needs instead of added: no carry chain after the 1-of-n read.
-  private val outPre = outstandingReg(preId)
+  // Written as ANDs and ORs, not Mux1H: Yosys maps a Mux1H to a $pmux, and that to MUXF chains.
+  private val outPre = (0 until n).map(i => Fill(cfg.leafCountBits, preOH(i)) & outstandingReg(i)).reduce(_ | _)
   private val incPre = io.mem.req.fire && issueIdReg === preId
   private val decPre = reduce && toPre
   doneLastReg := Mux(incPre === decPre, outPre === 1.U, Mux(incPre, outPre === 0.U, outPre === 2.U))
@@ -260,6 +273,7 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
     issueErrReg := leafErrorsReg(id)
     issueHitReg := hasHitReg(id)
   }
+  assert(!preValid || preOH === UIntToOH(preId, n), "leaf_pre_onehot: the decoded read-ahead ID differs from preId")
   assert(
     !jobs.io.deq.fire || outstandingReg(jobs.io.deq.bits.token.rayId) === 0.U,
     "leaf_job_drained: a ray's job was taken while it still had triangle requests outstanding"

@@ -143,6 +143,23 @@ class FpModelSpec extends AnyFlatSpec {
       }
   }
 
+  "FpModel sub in RDN and RUP" should "give a result of the operands' exact order, on every pair of two small formats (BoxKernel picks its reciprocal by the compare)" in {
+    // BoxKernel chooses R+ or R- by lt(bmin, o) and gt(bmax, o) instead of the
+    // rounded difference's sign; this is the equivalence it relies on, every
+    // special value and subnormal included (gradual underflow: a nonzero
+    // difference never rounds to zero).
+    for (fmt <- Seq(FloatFormat(3, 2), FloatFormat(4, 3))) {
+      val all = (0 until (1 << fmt.width)).map(BigInt(_))
+      def below(r: BigInt) = fmt.sign(r) && !fmt.isZero(r) && !fmt.isNaN(r)
+      def above(r: BigInt) = !fmt.sign(r) && !fmt.isZero(r) && !fmt.isNaN(r)
+      for (a <- all; b <- all) {
+        val (dn, up) = (sub(fmt, RDN, a, b), sub(fmt, RUP, a, b))
+        assert(below(dn) == lt(fmt, a, b), s"$fmt: RDN(${hex(a)} - ${hex(b)}) = ${hex(dn)}, lt = ${lt(fmt, a, b)}")
+        assert(above(up) == lt(fmt, b, a), s"$fmt: RUP(${hex(a)} - ${hex(b)}) = ${hex(up)}, gt = ${lt(fmt, b, a)}")
+      }
+    }
+  }
+
   "FpModel min/max" should "let a NaN lose, order -0 below +0, and return NaN only for two NaNs" in {
     for (fmt <- formats) {
       val (pz, nz, one, nan) = (fmt.zero(false), fmt.zero(true), fmt.one(false), fmt.canonicalNaN)
