@@ -134,16 +134,12 @@ object FpAdd {
     f0.infSign := Mux(ua.isInf, ua.sign, ub.sign)
     val f1 = stages(f0)
 
-    // Cut 2: align the smaller significand. The bits shifted out are those of
-    // the unshifted value below position dist, so the sticky bit is that value
-    // masked by a decode of dist, beside the shifter rather than an OR of its
-    // output (the adder's longest path, docs/fmax.md).
+    // Cut 2: align the smaller significand (its sticky bit beside the shifter).
     val f2 = Wire(new FpAddFront(fmt, dynamicRm))
     f2 := f1
-    val unaligned = Cat(f1.smallSig, 0.U(extra.W))
-    val (smallAligned, _) = FpUnpack.shiftRightSticky(unaligned, f1.dist)
+    val (smallAligned, sticky) = FpUnpack.shiftRightSticky(Cat(f1.smallSig, 0.U(extra.W)), f1.dist)
     f2.smallAligned := smallAligned
-    f2.sticky := (unaligned & FpUnpack.belowMask(sw, f1.dist)).orR
+    f2.sticky := sticky
     val f3 = stages(f2)
 
     // Cut 3: add or subtract. A true difference is big - (smallAligned + d),

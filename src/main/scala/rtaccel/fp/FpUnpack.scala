@@ -77,11 +77,15 @@ object FpUnpack {
   }
 
   /** Shifts `x` right by `amount` (clamped to its width); returns the shifted
-    * value and whether any 1 bit fell off the end (the sticky bit).
+    * value and whether any 1 bit fell off the end (the sticky bit). The sticky
+    * bit is `x` masked by a decode of the amount ([[belowMask]]), beside the
+    * shifter rather than an OR of its output (the FP adder's longest path
+    * that way, docs/fmax.md).
     */
   def shiftRightSticky(x: UInt, amount: UInt): (UInt, Bool) = {
     val w = x.getWidth
-    shiftRightStickyClamped(x, Mux(amount > w.U, w.U, amount)(log2Ceil(w + 1) - 1, 0))
+    val (shifted, _) = shiftRightStickyClamped(x, Mux(amount > w.U, w.U, amount)(log2Ceil(w + 1) - 1, 0))
+    (shifted, (x & belowMask(w, amount)).orR)
   }
 
   /** `w` bits, bit j set when j < amount: the positions a right shift by
@@ -90,12 +94,11 @@ object FpUnpack {
     */
   def belowMask(w: Int, amount: UInt): UInt = {
     val lowBits = log2Ceil(w + 1)
-    if (amount.getWidth <= lowBits) (~(Fill(w, 1.U(1.W)) << amount))(w - 1, 0)
-    else {
-      val low = amount(lowBits - 1, 0)
-      val high = amount(amount.getWidth - 1, lowBits).orR
-      Mux(high, Fill(w, 1.U(1.W)), (~(Fill(1 << lowBits, 1.U(1.W)) << low))(w - 1, 0))
-    }
+    val narrow = amount.getWidth <= lowBits
+    val low = if (narrow) amount else amount(lowBits - 1, 0)
+    // Bit j < w of the ones shifted left by `low` is set exactly when j >= low (2^lowBits > w ones).
+    val below = (~(Fill(1 << lowBits, 1.U(1.W)) << low))(w - 1, 0)
+    if (narrow) below else Mux(amount(amount.getWidth - 1, lowBits).orR, Fill(w, 1.U(1.W)), below)
   }
 
   /** [[shiftRightSticky]] by an amount the caller has already clamped to `x`'s width (a register
