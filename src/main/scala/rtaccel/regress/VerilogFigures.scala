@@ -44,4 +44,16 @@ object VerilogFigures {
     if (fits < 1) throw new IllegalArgumentException(s"$path: $fits instances fit: nothing to simulate")
     VerilogFigures(title, fits, ns, unit)
   }
+
+  // The system section's row of its cores' area (SystemArea.markdown): LUT, FF, DSP48, then BRAM36.
+  private val coresRowRe = """\| (\d+) x core \(table above\) \| [\d,]+ \| [\d,]+ \| [\d,]+ \| ([\d.]+) \|""".r
+
+  /** BRAM36 of one core (its ray stacks, ray buffer and per-ray tables), from the system section of `path`: what
+    * every core takes from the device's block RAM beside the stores. */
+  def coreBram36(path: Path): Double = {
+    val how = "run `make verilog` (the default ZC706 configuration, with synthesis and the system top) first"
+    if (!Files.exists(path)) throw new IllegalArgumentException(s"$path: missing; $how")
+    coresRowRe.findFirstMatchIn(Files.readString(path)).map(m => m.group(2).toDouble / m.group(1).toInt)
+      .getOrElse(throw new IllegalArgumentException(s"$path: no '| N x core (table above) |' row; $how"))
+  }
 }

@@ -18,7 +18,9 @@ import rtaccel.axi.Axi4Params
   *                       docs/system-wide.md)
   * @param axiAddrBits    m_axi address width (the PL DDR3's 1 GB needs 30; 32 as the MIG presents it)
   * @param axiIdBits      m_axi ID width; read IDs name outstanding records (MemoryFabric)
-  * @param nodeStoreBytes on-chip node store (top of the tree, preloaded): see docs/node-store.md
+  * @param nodeStoreBytes on-chip node store (top of the tree, preloaded), a multiple of its word: 1.5 MiB, 342 BRAM36,
+  *                       what the block RAM left by 2 cores and the triangle store holds with room to spare
+  *                       (docs/node-store.md)
   * @param triStoreBytes  on-chip triangle store (the triangle array's first bytes, preloaded), 0 or a power of two:
   *                       see docs/scene-store.md
   * @param raysPerBlock   rays fetched per ray-DMA read: 4 x 48 B = 192 B = 3 whole 64-byte lines,
@@ -37,7 +39,7 @@ case class SystemConfig(
     axiDataBits: Int = SystemConfig.defaultAxiDataBits,
     axiAddrBits: Int = 32,
     axiIdBits: Int = 6,
-    nodeStoreBytes: Int = 1024 * 1024,
+    nodeStoreBytes: Int = 1536 * 1024,
     triStoreBytes: Int = 256 * 1024,
     raysPerBlock: Int = 4,
     rayBlockTags: Int = 16,

@@ -80,6 +80,14 @@ class BenchSpec extends AnyFlatSpec {
     )
     val sys = VerilogFigures.read(f, want)
     assert(sys.coresFit == 2 && sys.fmaxNs == 20.0 && sys.slowestUnit == "MemoryFabric", sys)
+    // The cores' own block RAM (the DRAM traffic study's budget): the system section's row of its cores, per core.
+    val noRow = intercept[IllegalArgumentException](VerilogFigures.coreBram36(f))
+    assert(noRow.getMessage.contains("x core (table above)") && noRow.getMessage.contains(f.toString), noRow.getMessage)
+    java.nio.file.Files.writeString(
+      f,
+      text + "\n| 2 x core (table above) | 171,400 | 209,800 | 188 | 87.0 | 2,200 | | | |\n"
+    )
+    assert(VerilogFigures.coreBram36(f) == 43.5)
   }
 
   it should "state each throughput goal as met or not and name the term that holds it back" in {
