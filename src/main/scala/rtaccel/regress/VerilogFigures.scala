@@ -19,6 +19,7 @@ object VerilogFigures {
   private val systemFmaxRe =
     """\*\*Estimated Fmax of the system\*\* \(its slowest unit, core or system, \*\*(.+?)\*\*\): \*\*[\d.]+ MHz\*\* \(([\d.]+) ns\)""".r
   private val fitsRe = """Instances that fit on the device \(by its scarcest resource\): \*\*(\d+)\*\*""".r
+  private val nodeStoreRe = """Node store: (\d+) KiB""".r
   private val fmaxRe = """Estimated system Fmax \(slowest unit, \*\*(.+?)\*\*\): \*\*[\d.]+ MHz\*\* \(([\d.]+) ns\)""".r
 
   /** Parses `path`; `expect` are words the title must hold (the configuration the bench simulates). */
@@ -42,6 +43,14 @@ object VerilogFigures {
         s"$path: no 'Estimated system Fmax' line (the Fmax estimate); $how"
       ))
     if (fits < 1) throw new IllegalArgumentException(s"$path: $fits instances fit: nothing to simulate")
+    // The system section names its node store (SystemArea.markdown); the bench's systems take the default's.
+    val wantKib = rtaccel.system.SystemConfig.defaultNodeStoreBytes / 1024
+    nodeStoreRe.findFirstMatchIn(text).map(_.group(1).toInt).filter(_ != wantKib).foreach { kib =>
+      throw new IllegalArgumentException(
+        s"$path: made with a $kib KiB node store, not the $wantKib KiB this run builds (NODE_STORE_KIB); " +
+          "run `make verilog` with the same NODE_STORE_KIB first"
+      )
+    }
     VerilogFigures(title, fits, ns, unit)
   }
 

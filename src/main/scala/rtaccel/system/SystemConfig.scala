@@ -18,9 +18,9 @@ import rtaccel.axi.Axi4Params
   *                       docs/system-wide.md)
   * @param axiAddrBits    m_axi address width (the PL DDR3's 1 GB needs 30; 32 as the MIG presents it)
   * @param axiIdBits      m_axi ID width; read IDs name outstanding records (MemoryFabric)
-  * @param nodeStoreBytes on-chip node store (top of the tree, preloaded), a multiple of its word: 1.5 MiB, 342 BRAM36,
-  *                       what the block RAM left by 2 cores and the triangle store holds with room to spare
-  *                       (docs/node-store.md)
+  * @param nodeStoreBytes on-chip node store (top of the tree, preloaded), by default
+  *                       [[SystemConfig.defaultNodeStoreBytes]]: 1.5 MiB, 342 BRAM36, what the block RAM left by
+  *                       2 cores and the triangle store holds with room to spare (docs/node-store.md)
   * @param triStoreBytes  on-chip triangle store (the triangle array's first bytes, preloaded), 0 or a power of two:
   *                       see docs/scene-store.md
   * @param raysPerBlock   rays fetched per ray-DMA read: 4 x 48 B = 192 B = 3 whole 64-byte lines,
@@ -39,7 +39,7 @@ case class SystemConfig(
     axiDataBits: Int = SystemConfig.defaultAxiDataBits,
     axiAddrBits: Int = 32,
     axiIdBits: Int = 6,
-    nodeStoreBytes: Int = 1536 * 1024,
+    nodeStoreBytes: Int = SystemConfig.defaultNodeStoreBytes,
     triStoreBytes: Int = 256 * 1024,
     raysPerBlock: Int = 4,
     rayBlockTags: Int = 16,
@@ -91,6 +91,26 @@ object SystemConfig {
     case Some(v) => v.toIntOption.filter(AxiDataBitsChoices.contains).getOrElse(throw new IllegalArgumentException(
         s"AXI_DATA_BITS=$v: the m_axi data width must be one of ${AxiDataBitsChoices.mkString(", ")}"
       ))
+  }
+
+  /** The node store of every SystemConfig that names none: `NODE_STORE_KIB` from the environment, as
+    * `AXI_DATA_BITS` (`make verilog NODE_STORE_KIB=512`, then `make bench` or `make regress SIM=cpp` with the same
+    * setting, sizes the store to a scene or to more cores; `make bench` refuses a resources.md made with another
+    * size), else 1.5 MiB. Whole KiB, so that it is a multiple of every layout's node word. Read once per JVM.
+    */
+  lazy val defaultNodeStoreBytes: Int = nodeStoreBytesOf(sys.env.get("NODE_STORE_KIB"))
+  val DefaultNodeStoreKib = 1536
+
+  /** The largest store the setting takes: 4 MiB, past the xc7z045's block RAM (545 BRAM36, about 2.4 MiB). */
+  val MaxNodeStoreKib = 4096
+  def nodeStoreBytesOf(setting: Option[String]): Int = setting.map(_.trim).filter(_.nonEmpty) match {
+    case None => DefaultNodeStoreKib * 1024
+    case Some(v) =>
+      v.toIntOption.filter(k => k >= 0 && k <= MaxNodeStoreKib).map(_ * 1024).getOrElse(
+        throw new IllegalArgumentException(
+          s"NODE_STORE_KIB=$v: the node store must be a whole number of KiB from 0 (no store) to $MaxNodeStoreKib"
+        )
+      )
   }
 
   /** Ray and hit records in DDR (docs/reports/register-map.md). */

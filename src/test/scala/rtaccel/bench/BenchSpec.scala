@@ -80,6 +80,20 @@ class BenchSpec extends AnyFlatSpec {
     )
     val sys = VerilogFigures.read(f, want)
     assert(sys.coresFit == 2 && sys.fmaxNs == 20.0 && sys.slowestUnit == "MemoryFabric", sys)
+    // The system section names its node store: a resources.md made with another size than the default this run
+    // builds (NODE_STORE_KIB) is refused, the same size read.
+    val kib = rtaccel.system.SystemConfig.defaultNodeStoreBytes / 1024
+    java.nio.file.Files.writeString(
+      f,
+      java.nio.file.Files.readString(f) + s"\nNode store: ${kib + 1} KiB, triangle store: 256 KiB."
+    )
+    val otherStore = intercept[IllegalArgumentException](VerilogFigures.read(f, want))
+    assert(
+      otherStore.getMessage.contains(s"${kib + 1} KiB node store") && otherStore.getMessage.contains("NODE_STORE_KIB"),
+      otherStore.getMessage
+    )
+    java.nio.file.Files.writeString(f, java.nio.file.Files.readString(f).replace(s"${kib + 1} KiB", s"$kib KiB"))
+    assert(VerilogFigures.read(f, want).coresFit == 2)
     // The cores' own block RAM (the DRAM traffic study's budget): the system section's row of its cores, per core.
     val noRow = intercept[IllegalArgumentException](VerilogFigures.coreBram36(f))
     assert(noRow.getMessage.contains("x core (table above)") && noRow.getMessage.contains(f.toString), noRow.getMessage)
