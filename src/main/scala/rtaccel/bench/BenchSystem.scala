@@ -185,8 +185,13 @@ object BenchSystem {
     * another configuration. */
   def defaultFigures(verilog: Path): VerilogFigures = {
     val (a, dp) = (Bench.Args(verilog = verilog), Bench.datapath)
-    VerilogFigures.read(verilog, expectTitle(dp, config(a, dp)))
+    figures(verilog, dp, config(a, dp))
   }
+
+  /** What `make verilog` wrote in `verilog`, refused unless it was made for the system the bench builds: cores
+    * of `cfg`, the node store SystemConfig gives (NODE_STORE_KIB). */
+  private def figures(verilog: Path, dp: FloatDatapath, cfg: AccelConfig): VerilogFigures =
+    VerilogFigures.read(verilog, expectTitle(dp, cfg), Some(rtaccel.system.SystemConfig.defaultNodeStoreBytes / 1024))
 
   /** Whole MHz, rounded down, so the DDR latency in cycles is never understated by a fraction. */
   def wholeMhz(v: VerilogFigures): Int = math.floor(v.fmaxMhz).toInt.max(1)
@@ -248,7 +253,7 @@ object BenchSystem {
         s"${cacheFile(a)} holds a system of ${r.layout} nodes with ${r.boxTest} box tests, " +
           s"not ${a.systemLayout} with ${a.boxTest.name}: run `make bench` (BENCH_SYSTEM=1) with the same BVH= and BOX_TEST="
       )
-    val v = VerilogFigures.read(a.verilog, expectTitle(dp, config(a, dp)))
+    val v = figures(a.verilog, dp, config(a, dp))
     val cores = r.rows.map(_("cores").num.toInt).distinct.sorted
     if (!cores.contains(v.coresFit))
       throw new IllegalArgumentException(
@@ -265,7 +270,7 @@ object BenchSystem {
 
   def run(a: Bench.Args, dp: FloatDatapath, golden: rtaccel.datapath.FloatGolden, root: Path): Result = {
     val cfg = config(a, dp)
-    val v = VerilogFigures.read(a.verilog, expectTitle(dp, cfg))
+    val v = figures(a.verilog, dp, cfg)
     // The DDR model's clock is the accelerator's: ns -> cycles and 12.8 GB/s -> bytes per cycle at the estimated Fmax
     // (whole MHz, rounded down, so the latency in cycles is never understated by a fraction).
     val mhz = wholeMhz(v)

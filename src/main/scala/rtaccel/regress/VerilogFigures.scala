@@ -22,11 +22,16 @@ object VerilogFigures {
   private val nodeStoreRe = """Node store: (\d+) KiB""".r
   private val fmaxRe = """Estimated system Fmax \(slowest unit, \*\*(.+?)\*\*\): \*\*[\d.]+ MHz\*\* \(([\d.]+) ns\)""".r
 
-  /** Parses `path`; `expect` are words the title must hold (the configuration the bench simulates). */
-  def read(path: Path, expect: Seq[String]): VerilogFigures = {
-    val how = "run `make verilog` (the default ZC706 configuration, with synthesis) first"
+  private val how = "run `make verilog` (the default ZC706 configuration, with synthesis) first"
+  private def load(path: Path): String = {
     if (!Files.exists(path)) throw new IllegalArgumentException(s"$path: missing; $how")
-    val text = Files.readString(path)
+    Files.readString(path)
+  }
+
+  /** Parses `path`; `expect` are words the title must hold (the configuration the bench simulates), and
+    * `nodeStoreKib` the node store its system section must name, when it has one (the system the bench builds). */
+  def read(path: Path, expect: Seq[String], nodeStoreKib: Option[Int] = None): VerilogFigures = {
+    val text = load(path)
     val title = text.linesIterator.find(_.startsWith("# Resources: ")).map(_.stripPrefix("# Resources: "))
       .getOrElse(throw new IllegalArgumentException(s"$path: no '# Resources:' title line; $how"))
     val missing = expect.filterNot(title.contains)
@@ -43,14 +48,12 @@ object VerilogFigures {
         s"$path: no 'Estimated system Fmax' line (the Fmax estimate); $how"
       ))
     if (fits < 1) throw new IllegalArgumentException(s"$path: $fits instances fit: nothing to simulate")
-    // The system section names its node store (SystemArea.markdown); the bench's systems take the default's.
-    val wantKib = rtaccel.system.SystemConfig.defaultNodeStoreBytes / 1024
-    nodeStoreRe.findFirstMatchIn(text).map(_.group(1).toInt).filter(_ != wantKib).foreach { kib =>
+    // The system section names its node store (SystemArea.markdown).
+    for (wantKib <- nodeStoreKib; kib <- nodeStoreRe.findFirstMatchIn(text).map(_.group(1).toInt) if kib != wantKib)
       throw new IllegalArgumentException(
         s"$path: made with a $kib KiB node store, not the $wantKib KiB this run builds (NODE_STORE_KIB); " +
           "run `make verilog` with the same NODE_STORE_KIB first"
       )
-    }
     VerilogFigures(title, fits, ns, unit)
   }
 
@@ -59,10 +62,8 @@ object VerilogFigures {
 
   /** BRAM36 of one core (its ray stacks, ray buffer and per-ray tables), from the system section of `path`: what
     * every core takes from the device's block RAM beside the stores. */
-  def coreBram36(path: Path): Double = {
-    val how = "run `make verilog` (the default ZC706 configuration, with synthesis and the system top) first"
-    if (!Files.exists(path)) throw new IllegalArgumentException(s"$path: missing; $how")
-    coresRowRe.findFirstMatchIn(Files.readString(path)).map(m => m.group(2).toDouble / m.group(1).toInt)
-      .getOrElse(throw new IllegalArgumentException(s"$path: no '| N x core (table above) |' row; $how"))
-  }
+  def coreBram36(path: Path): Double =
+    coresRowRe.findFirstMatchIn(load(path)).map(m => m.group(2).toDouble / m.group(1).toInt).getOrElse(
+      throw new IllegalArgumentException(s"$path: no '| N x core (table above) |' row (the system top's); $how")
+    )
 }

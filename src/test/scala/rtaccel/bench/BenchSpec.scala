@@ -87,13 +87,13 @@ class BenchSpec extends AnyFlatSpec {
       f,
       java.nio.file.Files.readString(f) + s"\nNode store: ${kib + 1} KiB, triangle store: 256 KiB."
     )
-    val otherStore = intercept[IllegalArgumentException](VerilogFigures.read(f, want))
+    val otherStore = intercept[IllegalArgumentException](VerilogFigures.read(f, want, Some(kib)))
     assert(
       otherStore.getMessage.contains(s"${kib + 1} KiB node store") && otherStore.getMessage.contains("NODE_STORE_KIB"),
       otherStore.getMessage
     )
     java.nio.file.Files.writeString(f, java.nio.file.Files.readString(f).replace(s"${kib + 1} KiB", s"$kib KiB"))
-    assert(VerilogFigures.read(f, want).coresFit == 2)
+    assert(VerilogFigures.read(f, want, Some(kib)).coresFit == 2)
     // The cores' own block RAM (the DRAM traffic study's budget): the system section's row of its cores, per core.
     val noRow = intercept[IllegalArgumentException](VerilogFigures.coreBram36(f))
     assert(noRow.getMessage.contains("x core (table above)") && noRow.getMessage.contains(f.toString), noRow.getMessage)
