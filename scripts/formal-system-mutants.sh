@@ -69,8 +69,8 @@ if [ "$which" != probes ]; then
     "/^module HitDma(/,/^endmodule/s/\.io_deq_ready       (io_write_ready),/.io_deq_ready       (1'b0),/" \
     ".io_deq_ready       (io_write_ready)," hit_written_once_1
   maybe_mutant hit_stride "HitDma writes line p at HIT_BASE + 128 p (the line size doubled): outside the buffer" \
-    "/^module HitDma(/,/^endmodule/s/_arb_io_out_bits_number\[6:1\], 6'h0}/_arb_io_out_bits_number[6:1], 7'h0}/" \
-    "_arb_io_out_bits_number[6:1], 6'h0}" hit_in_buffer_1
+    "/^module HitDma(/,/^endmodule/s/_inQ_io_deq_bits_number\[6:1\], 6'h0}/_inQ_io_deq_bits_number[6:1], 7'h0}/" \
+    "_inQ_io_deq_bits_number[6:1], 6'h0}" hit_in_buffer_1
   maybe_mutant rays_early "RayDma hands out rays without waiting for their block: a hit for a ray not read" \
     "/^module RayDma(/,/^endmodule/s/assign io_rays_valid = _q_io_deq_valid \& ~io_stop;/assign io_rays_valid = ~io_stop;/" \
     "assign io_rays_valid = _q_io_deq_valid & ~io_stop;" hit_after_fetch_1
@@ -78,8 +78,8 @@ if [ "$which" != probes ]; then
     "/^module RayDma(/,/^endmodule/s/wire \( *\)last = subReg == \(_GEN_[0-9]*\) | io_stop/wire \1last = subReg == 2'h2 | subReg == \2 | io_stop/" \
     "last = subReg == _GEN_" system_ray_conservation_1
   maybe_mutant hit_drop "HitDma takes ray 0's hit from the core but never queues its line (alone or paired): the hit is lost" \
-    "/^module HitDma(/,/^endmodule/s/= flushing | _arb_io_out_valid \& inBatch \& ~store;/= flushing | _arb_io_out_valid \& inBatch \& ~store \& (|_arb_io_out_bits_number);/" \
-    "= flushing | _arb_io_out_valid & inBatch & ~store;" system_ray_conservation_1
+    "/^module HitDma(/,/^endmodule/s/= flushing | _inQ_io_deq_valid \& inBatch \& ~store;/= flushing | _inQ_io_deq_valid \& inBatch \& ~store \& (|_inQ_io_deq_bits_number);/" \
+    "= flushing | _inQ_io_deq_valid & inBatch & ~store;" system_ray_conservation_1
 fi
 # The DMA window (case w1: the host sets a free window first): the guard made to pass reads outside it.
 # (No hit write happens within w1's depth, so a guard passing writes outside is not caught there:
@@ -109,8 +109,8 @@ if [ "$which" != probes ]; then
     "/^module HitDma(/,/^endmodule/s/countReg <= io_rayCount;/countReg <= io_rayCount - 32'h1;/" \
     "countReg <= io_rayCount;" hit_in_batch_1
   maybe_mutant hit_drop_unit "HitDma takes ray 0's hit but never queues its line (alone or paired): the hit is lost" \
-    "/^module HitDma(/,/^endmodule/s/= flushing | _arb_io_out_valid \& inBatch \& ~store;/= flushing | _arb_io_out_valid \& inBatch \& ~store \& (|_arb_io_out_bits_number);/" \
-    "= flushing | _arb_io_out_valid & inBatch & ~store;" hitdma_bounded_response_1
+    "/^module HitDma(/,/^endmodule/s/= flushing | _inQ_io_deq_valid \& inBatch \& ~store;/= flushing | _inQ_io_deq_valid \& inBatch \& ~store \& (|_inQ_io_deq_bits_number);/" \
+    "= flushing | _inQ_io_deq_valid & inBatch & ~store;" hitdma_bounded_response_1
   case_=readeng; cdepth=$(unit_depth readeng); formal_wrap "$dir" readeng
   maybe_mutant wrong_tag "ReadEngine answers every record with tag 0" \
     "/^module ReadEngine(/,/^endmodule/s/pickTagReg <= _meta_ext_R1_data\[[0-9]*:[0-9]*\];/pickTagReg <= 2'h0;/" \

@@ -35,13 +35,14 @@ object SystemUnitBound {
   def writeStall(e: UnitEnv): Int = e.stall + 1
 
   /** HitDma, the batch's last hit taken -> every record handed to the writer (a hit may wait in the pair buffer
-    * for its neighbour until then): the hit queue's lines (FIFO, <= hitQueue - 1 ahead) and the pair buffer's
-    * flush, one line per slot, each line leaving within W + 1 (W: writeStall); the queue's register 1; the
-    * monitor 1. */
-  def hitDma(sys: SystemConfig, e: UnitEnv): Int = (sys.hitQueue + sys.hitPairSlots) * (writeStall(e) + 1) + 2
+    * for its neighbour until then): the input slice's hits (<= 2, a line each at most), the hit queue's lines
+    * (FIFO, <= hitQueue - 1 ahead) and the pair buffer's flush, a scan of one slot a cycle, each slot's line
+    * leaving within W + 1 (W: writeStall); the slice's register 1; the queue's register 1; the monitor 1. */
+  def hitDma(sys: SystemConfig, e: UnitEnv): Int = (2 + sys.hitQueue + sys.hitPairSlots) * (writeStall(e) + 1) + 3
 
-  /** HitDma takes a hit offered within W + 1 cycles (a full queue's head leaves by then) + 1. */
-  def hitTake(e: UnitEnv): Int = writeStall(e) + 2
+  /** HitDma takes a hit offered within W + 1 cycles (a full queue's head leaves by then, the input slice's head
+    * into it the cycle after) + 1 (the slice's room shows the cycle after its head leaves) + 1 + 1. */
+  def hitTake(e: UnitEnv): Int = writeStall(e) + 4
 
   /** ReadEngine, a request taken -> its record taken by the client:
     *  AR register 1, AR refusals S (the slave never fills: one burst per record, records <= slots <= bursts);

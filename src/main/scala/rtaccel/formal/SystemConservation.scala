@@ -2,7 +2,7 @@ package rtaccel.formal
 
 import chisel3._
 import chisel3.util._
-import rtaccel.RtAccel
+import rtaccel.{HitOut, RtAccel}
 import rtaccel.axi.Axi4W
 import rtaccel.system.{HitDma, MemoryFabric, RayDma, SystemConfig, SystemCore, WriteEngine, WriteRecord}
 
@@ -13,7 +13,8 @@ import rtaccel.system.{HitDma, MemoryFabric, RayDma, SystemConfig, SystemCore, W
   *     == hit records written (the records of the W beats) + rays held, where held =
   *        RayDma (the rays of its queued blocks not yet handed out)
   *      + the core (rays taken at its port minus hits given at its port)
-  *      + HitDma (its pair buffer's waiting hits, and the records of the lines in its hit queue)
+  *      + HitDma (the hits in its input slice, its pair buffer's waiting hits, and the records of the lines in its
+  *        hit queue)
   *      + WriteEngine (the records of the beats in its W queue).
   *
   * A queue's records are counted at its ports (the records of the lines or beats it took, minus those it gave),
@@ -41,6 +42,7 @@ object SystemConservation {
     require(cores.size == 1, "SystemConservation: one core")
     val hitDma = Peek[HitDma](dut, "hitDma")
     val hitQ = Peek[Queue[WriteRecord]](hitDma, "q")
+    val hitInQ = Peek[Queue[HitOut]](hitDma, "inQ")
     val held = Peek[Vec[Bool]](hitDma, "heldRegs")
     val wQ = Peek[Queue[Axi4W]](Peek[WriteEngine](Peek[MemoryFabric](dut, "fabric"), "writer"), "wQ")
     def b[A <: Data](x: A): A = Peek.bore(x)
@@ -64,7 +66,7 @@ object SystemConservation {
     def beatRecords(strb: UInt): UInt = PopCount((0 until strb.getWidth / SystemConfig.HitBytes).map(g =>
       strb(SystemConfig.HitBytes * (g + 1) - 1, SystemConfig.HitBytes * g).orR
     ))
-    val inHitDma = PopCount(held.map(x => b(x))) +&
+    val inHitDma = PopCount(held.map(x => b(x))) +& records(hitInQ.io.enq, 1.U, hitInQ.io.deq, 1.U) +&
       records(hitQ.io.enq, PopCount(b(hitQ.io.enq.bits.halves)), hitQ.io.deq, PopCount(b(hitQ.io.deq.bits.halves)))
     val inWriter =
       records(wQ.io.enq, beatRecords(b(wQ.io.enq.bits.strb)), wQ.io.deq, beatRecords(b(wQ.io.deq.bits.strb)))

@@ -16,9 +16,11 @@ import rtaccel.{ErrorFlags, HitOut}
   * partner is not in the batch (the odd last ray) leaves alone; a hit whose
   * slot is empty waits there for its partner; a hit whose slot holds another
   * pair leaves alone (the buffer never overflows: a hit is stored only in an
-  * empty slot). Once every hit of the batch has been taken, what still waits
-  * (a partner that had left alone) leaves alone, one a cycle, so the batch's
-  * last record is written at most `hitPairSlots` cycles after its last hit.
+  * empty slot). Once every hit of the batch has been taken, a scan visits the
+  * slots one a cycle, and what still waits there (a partner that had left
+  * alone) leaves alone as the scan reaches it, so the batch's last record is
+  * written at most `hitPairSlots` cycles after its last hit (and the hit
+  * queue's refusals).
   * A stopped batch (ABORT, a fault: `stop`, `issued` rays handed out and no
   * more to come) flushes the same way once its `issued` hits are taken: a
   * hit waiting for a partner that was never handed out would otherwise wait
@@ -43,6 +45,12 @@ class HitDma(sys: SystemConfig) extends Module {
   })
   private val arb = Module(new RRArbiter(new HitOut(sys.core), sys.cores))
   arb.io.in <> io.hits
+  // A register slice after the arbiter (two entries: a hit a cycle, its ready from its own count): the batch's
+  // compares and the pair buffer's slot read start from a register, not from the cores' valids through the
+  // arbiter's choice.
+  private val inQ = Module(new Queue(new HitOut(sys.core), 2))
+  inQ.io.enq <> arb.io.out
+  private val in = inQ.io.deq
   private val baseReg = RegInit(0.U(sys.axiAddrBits.W))
   private val countReg = RegInit(0.U(32.W))
   private val takenReg = RegInit(0.U(32.W))
@@ -55,28 +63,33 @@ class HitDma(sys: SystemConfig) extends Module {
   private val heldRegs = RegInit(VecInit(Seq.fill(slots)(false.B)))
   private val numbers = Mem(slots, UInt(32.W))
   private val records = Mem(slots, UInt((8 * SystemConfig.HitBytes).W))
+  // A held hit's line address, formed as it is stored, so that no adder follows the flush's slot read.
+  private val lines = Mem(slots, UInt(sys.axiAddrBits.W))
   private def slotOf(number: UInt): UInt = if (slots == 1) 0.U else (number >> 1)(log2Ceil(slots) - 1, 0)
 
-  private val h = arb.io.out.bits
+  private val h = in.bits
   private val rec = HitDma.record(h)
   private val inBatch = h.number < countReg
   private val slot = slotOf(h.number)
-  private val (anyHeld, firstHeld) = FirstSet(heldRegs.asUInt)
   // Every hit of the batch taken (of a stopped batch: every ray handed out): what still waits has no partner to come.
   private val allTaken = takenReg === countReg || (io.stop && takenReg === io.issued)
-  private val flushing = allTaken && anyHeld
-  private val idx = Mux(flushing, firstHeld(log2Ceil(slots).max(1) - 1, 0), slot)
+  // The flush's scan: one slot a cycle, from a register, so that no search for the first waiting slot (a 64-input
+  // tree) lies between the pair buffer and its own clear (that path was the unit's longest, 6.69 ns).
+  private val scanReg = RegInit(0.U(log2Ceil(slots).max(1).W))
+  private val flushing = allTaken && heldRegs(scanReg)
+  private val idx = Mux(flushing, scanReg, slot)
   private val heldNumber = numbers(idx)
   private val heldRecord = records(idx)
+  private val heldLine = lines(idx)
   private val partnered = heldRegs(slot) && heldNumber === (h.number ^ 1.U)
   private val noPartner = (h.number ^ 1.U) >= countReg
   private val store = !heldRegs(slot) && !noPartner
 
   // Hit queue: a record is enqueued only when it has room (valid/ready); a stored hit enqueues nothing.
   private val q = Module(new Queue(new WriteRecord(sys), sys.hitQueue))
-  q.io.enq.valid := flushing || (arb.io.out.valid && inBatch && !store)
+  q.io.enq.valid := flushing || (in.valid && inBatch && !store)
   // While flushing every hit of the batch has been taken: anything offered is out of the batch, held until after.
-  arb.io.out.ready := !flushing && (q.io.enq.ready || store || !inBatch)
+  in.ready := !flushing && (q.io.enq.ready || store || !inBatch)
   private def line(number: UInt): UInt = baseReg + ((number >> 1) << log2Ceil(WriteRecord.Bytes))
 
   /** A record alone: in both halves of the line, its own half's strobes only. */
@@ -87,12 +100,14 @@ class HitDma(sys: SystemConfig) extends Module {
   private val pairData = Mux(h.number(0), Cat(rec, heldRecord), Cat(heldRecord, rec))
   private val data = Mux(flushing, flushData, Mux(partnered, pairData, aloneData))
   private val halves = Mux(flushing, flushHalves, Mux(partnered, 3.U(2.W), aloneHalves))
-  q.io.enq.bits.addr := line(Mux(flushing, heldNumber, h.number))
+  q.io.enq.bits.addr := Mux(flushing, heldLine, line(h.number))
   q.io.enq.bits.data := data
   q.io.enq.bits.halves := halves
 
-  when(flushing && q.io.enq.fire) { heldRegs(firstHeld) := false.B }
-  when(arb.io.out.fire) {
+  when(flushing && q.io.enq.fire) { heldRegs(scanReg) := false.B }
+  // The scan moves on from an empty slot, or from a waiting one as it leaves.
+  if (slots > 1) when(allTaken && (!heldRegs(scanReg) || q.io.enq.fire)) { scanReg := scanReg + 1.U }
+  when(in.fire) {
     when(!inBatch) { brokenReg := true.B }
     assert(inBatch, "hit_in_batch: a hit whose number is not in the batch")
     when(inBatch) { takenReg := takenReg + 1.U }
@@ -102,6 +117,7 @@ class HitDma(sys: SystemConfig) extends Module {
       heldRegs(slot) := true.B
       numbers.write(slot, h.number)
       records.write(slot, rec)
+      lines.write(slot, line(h.number))
     }
   }
   io.write <> q.io.deq
