@@ -74,7 +74,7 @@ class HitDma(sys: SystemConfig) extends Module {
   // Every hit of the batch taken (of a stopped batch: every ray handed out): what still waits has no partner to come.
   private val allTaken = takenReg === countReg || (io.stop && takenReg === io.issued)
   // The flush's scan: one slot a cycle, from a register, so that no search for the first waiting slot (a 64-input
-  // tree) lies between the pair buffer and its own clear (that path was the unit's longest, 6.69 ns).
+  // tree) lies between the pair buffer and its own clear (that path would be the unit's longest, 6.69 ns).
   private val scanReg = RegInit(0.U(log2Ceil(slots).max(1).W))
   private val flushing = allTaken && heldRegs(scanReg)
   private val idx = Mux(flushing, scanReg, slot)

@@ -187,8 +187,8 @@ class Traversal[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   private val inBox = atNode.valid +& inPipeReg
   private val queued = (fetchQs ++ leafQs ++ doneQs).map(_.io.count).reduce(_ +& _)
   // The unit's rays are counted the same way, as they enter (new rays, leaf returns) and leave (to LeafIntersect,
-  // done): the sum of its parts' counts was the unit's longest path (6.71 ns), for a count only assertions read.
-  // The sum stays as an assertion (simulation and formal only).
+  // done): the sum of its parts' counts would be the unit's longest path (6.71 ns), for a count only assertions
+  // read. The sum stays as an assertion (simulation and formal only).
   private val heldReg = RegInit(0.U(io.held.getWidth.W))
   heldReg := heldReg + io.entry.fire.asUInt + io.leafIn.fire.asUInt - io.leafOut.fire.asUInt - io.done.fire.asUInt
   assert(
