@@ -48,7 +48,7 @@ class HitDma(sys: SystemConfig) extends Module {
   // A register slice after the arbiter (two entries: a hit a cycle, its ready from its own count): the batch's
   // compares and the pair buffer's slot read start from a register, not from the cores' valids through the
   // arbiter's choice.
-  private val inQ = Module(new Queue(new HitOut(sys.core), 2))
+  private val inQ = Module(new Queue(new HitOut(sys.core), HitDma.InSlice))
   inQ.io.enq <> arb.io.out
   private val in = inQ.io.deq
   private val baseReg = RegInit(0.U(sys.axiAddrBits.W))
@@ -133,4 +133,7 @@ object HitDma {
     Cat(0.U(64.W), h.prim.pad(32), h.v, h.u, h.t, status.pad(32), h.number)
   }
   val StatusErrorShift = 8
+
+  /** Entries of the register slice after the cores' arbiter: two take a hit a cycle with a ready from its count. */
+  val InSlice = 2
 }
