@@ -26,7 +26,7 @@ mutant init_queue_one "InitTraversal's queue holds one ray, not numRayIds: a pre
   "module Queue2_PreparedEntry" no_overflow_init_1
 mutant lose_ray "a ray that ends on the leaf-return lane is never queued for its hit: lost, no ID freed twice, no number twice" \
   "/Queue2_TraversalToken doneQs_1 (/,/io_enq_valid/s/(_q_io_enq_valid_T_15)/(1'b0)/" "Queue2_TraversalToken doneQs_1 (" \
-  ray_conservation_1
+  traversal_held_count_1
 # Not a break: an assertion that no ray ever comes back from a leaf. Its
 # shortest counterexample is the first step at which a leaf round trip (box
 # test, leaf job, triangle fetches and tests, return to TraversalControl) lies

@@ -92,21 +92,32 @@ final class HwArith(val fmt: FloatFormat, val valid: ValidChain) extends KernelA
     val r = unary(u.io, u.latency, a)
     (field(r)(_.lo), field(r)(_.hi))
   }
+  override def recipModes(a: F, modes: Seq[RoundingMode]): Seq[F] = {
+    val u = Module(new FpRecipModes(fmt, modes))
+    val r = unary(u.io, u.latency, a)
+    modes.indices.map(i => field(r)(_(i)))
+  }
   def fromF32(a: F, rm: RoundingMode): F = convert(a, f32, rm)
   def convert(a: F, from: FloatFormat, rm: RoundingMode): F =
     if (fmt == from) a
     else { val u = Module(new FpConvert(from, fmt, Some(rm))); unary(u.io, u.latency, a) }
 
-  /** One comparator per operand pair, shared by every min/max/lt/le/eq on it. */
+  /** One comparator per operand pair, shared by every min/max/lt/le/eq on it:
+    * FpCompare's logic and its output register (the unit's latency), built
+    * in place rather than as an FpCompare module, so that synthesis drops the
+    * outputs no use reads (most uses read one flag; a min or max against a
+    * constant infinity folds). Bit for bit the unit's result, as its spec
+    * checks the same `FpCompare.logic`.
+    */
   private val compares = mutable.Map.empty[(F, F), Timed[FpCompareOut]]
   private def compare(a: F, b: F): Timed[FpCompareOut] = compares.getOrElseUpdate(
     (a, b), {
-      val u = Module(new FpCompare(fmt))
       val c = when2(a, b)
-      u.io.in.valid := valid.at(c)
-      u.io.in.bits.a := a.at(c)
-      u.io.in.bits.b := b.at(c)
-      new Timed(u.io.out.bits, c + u.latency, valid)
+      val latency = FpCompare.defaultLatency
+      val out = (0 until latency).foldLeft(FpCompare.logic(fmt, a.at(c), b.at(c))) { (x, i) =>
+        RegEnable(x, valid.at(c + i))
+      }
+      new Timed(out, c + latency, valid)
     }
   )
   private def field[S <: Data, T <: Data](t: Timed[S])(f: S => T): Timed[T] = new Timed(f(t.value), t.ready, valid)

@@ -57,6 +57,9 @@ trait KernelArith[F, B] {
   /** `(recip(a, lo), recip(a, hi))`: one reciprocal rounded in two modes (hardware may share the quotient). */
   def recipPair(a: F, lo: RoundingMode, hi: RoundingMode): (F, F) = (recip(a, lo), recip(a, hi))
 
+  /** `modes.map(recip(a, _))`: one reciprocal rounded in several modes (hardware may share the quotient). */
+  def recipModes(a: F, modes: Seq[RoundingMode]): Seq[F] = modes.map(recip(a, _))
+
   def gt(a: F, b: F): B = lt(b, a)
   def ge(a: F, b: F): B = le(b, a)
   def all(bs: Seq[B]): B = bs.reduce(and)

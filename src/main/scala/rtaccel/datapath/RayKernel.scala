@@ -61,8 +61,8 @@ object RayKernel {
       (SplitRay(k, k), tmax, k.err)
     } else {
       val box = if (rounding == BoxRounding.Conservative) outward(boxAr, o32, d32, tmin32, tmax32)
-      else narrowed(boxAr, o32, d32, tmin32, tmax32, rounding, withRcp = true)._1
-      val (tri, tmax) = narrowed(triAr, o32, d32, tmin32, tmax32, rounding, withRcp = false)
+      else narrowed(boxAr, o32, d32, tmin32, tmax32, rounding, withRcp = true, withNearest = false)._1
+      val (tri, tmax, _) = narrowed(triAr, o32, d32, tmin32, tmax32, rounding, withRcp = false, withNearest = false)
       // R4 without the box's reciprocals: 1/d[kz] (RNE) on its own, the same bits as -(1/|d|) picked by sign.
       val shear = Option.when(test == TriangleTest.Watertight)(shearOf(triAr, tri.d, tri.d.map(triAr.abs), None))
       (SplitRay(box, tri.copy(shear = shear)), tmax, boxAr.or(box.err, tri.err))
@@ -85,10 +85,9 @@ object RayKernel {
       rounding: BoxRounding,
       test: TriangleTest
   ): (RayK[F, B], F) = {
-    val (k, tmax) = narrowed(ar, o32, d32, tmin32, tmax32, rounding, withRcp = true)
-    val cons = rounding == BoxRounding.Conservative
-    val shear =
-      Option.when(test == TriangleTest.Watertight)(shearOf(ar, k.d, k.d.map(ar.abs), if (cons) None else Some(k.rcpLo)))
+    val watertight = test == TriangleTest.Watertight
+    val (k, tmax, rcpNearest) = narrowed(ar, o32, d32, tmin32, tmax32, rounding, withRcp = true, watertight)
+    val shear = Option.when(watertight)(shearOf(ar, k.d, k.d.map(ar.abs), Some(rcpNearest)))
     (k.copy(shear = shear), tmax)
   }
 
@@ -126,8 +125,9 @@ object RayKernel {
     RayK(oLo, dAway, tmin, err, rcpLo, rcpHi, None, Some(oHi))
   }
 
-  /** The narrowing of [[apply]] for one unit: o, d, tmin, the error bit, tmax
-    * and (`withRcp`: for the box lanes) the reciprocals.
+  /** The narrowing of [[apply]] for one unit: o, d, tmin, the error bit, tmax,
+    * (`withRcp`: for the box lanes) the reciprocals and (`withNearest` too:
+    * for the watertight shear) |1/d| rounded to nearest, else Nil.
     */
   private def narrowed[F, B](
       ar: KernelArith[F, B],
@@ -136,8 +136,9 @@ object RayKernel {
       tmin32: F,
       tmax32: F,
       rounding: BoxRounding,
-      withRcp: Boolean
-  ): (RayK[F, B], F) = {
+      withRcp: Boolean,
+      withNearest: Boolean
+  ): (RayK[F, B], F, Seq[F]) = {
     import ar._
     val cons = rounding == BoxRounding.Conservative
     val o = o32.map(fromF32(_, RNE))
@@ -149,15 +150,21 @@ object RayKernel {
     // 1/|d| is positive, so RTZ = RDN. RTZ never overflows: for 0 < |d| <= 2^-(emax+1)
     // it gives maxFinite where RNE gives inf (the origin-on-plane 0 * inf case).
     // |d| = 0 gives inf in every mode; such an axis is flat (B6) and not used.
-    // Conservative: both of one |d| (recipPair: hardware shares the quotient).
-    val (rcpLo, rcpHi) =
-      if (!withRcp) (Nil, Nil)
-      else if (cons) mag.map(recipPair(_, RTZ, RUP)).unzip
-      else { val r = mag.map(recip(_, RNE)); (r, r) }
-    (RayK(o, d, tmin, err, rcpLo, rcpHi, None), tmax)
+    // Conservative: both of one |d| (recipPair: hardware shares the quotient), and with
+    // `withNearest` the shear's RNE too, from the same quotient (recipModes).
+    val (rcpLo, rcpHi, rcpNearest) =
+      if (!withRcp) (Nil, Nil, Nil)
+      else if (cons && withNearest) {
+        val r = mag.map(recipModes(_, Seq(RTZ, RUP, RNE)))
+        (r.map(_(0)), r.map(_(1)), r.map(_(2)))
+      } else if (cons) { val (lo, hi) = mag.map(recipPair(_, RTZ, RUP)).unzip; (lo, hi, Nil) }
+      else { val r = mag.map(recip(_, RNE)); (r, r, if (withNearest) r else Nil) }
+    (RayK(o, d, tmin, err, rcpLo, rcpHi, None), tmax, rcpNearest)
   }
 
-  /** R2-R5. `rcpMag` is |1/d| rounded to nearest when the box already has it. */
+  /** R2-R5. `rcpMag` is |1/d| rounded to nearest when the setup already has it (the box lanes'
+    * reciprocal units give it beside their bounds); None computes 1/d[kz] on its own.
+    */
   private def shearOf[F, B](ar: KernelArith[F, B], d: Seq[F], mag: Seq[F], rcpMag: Option[Seq[F]]): Shear[F, B] = {
     import ar._
     // R2: largest |d|, ties to the lowest axis (strict >). On non-NaN magnitudes

@@ -118,8 +118,20 @@ class FetchBVH[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   carryIn.rayId := id
   carryIn.shadow := io.rays.bits.shadow
   private val carry = Pipe(io.rays.fire, carryIn, prep.latency)
-  // The rays in RayPrep: one per valid stage of the carry pipe (the same registers).
-  io.held := PopCount(ShiftRegisters(io.rays.fire, prep.latency, false.B, true.B))
+  // The rays in RayPrep, counted as they enter and leave it. A popcount of the carry pipe's valid stages
+  // would be the unit's longest path (6.71 ns, docs/fmax.md), for a count only assertions read; the
+  // handshakes are registered before they are added, so no valid reaches the add in its own cycle. `held` is
+  // this cycle's count, bit for bit: last cycle's (heldReg) plus last cycle's entry, minus last cycle's exit.
+  // The popcount stays as an assertion (simulation and formal only).
+  private val movedReg = RegNext(VecInit(io.rays.fire, carry.valid), VecInit.fill(2)(false.B))
+  private val heldReg = RegInit(0.U(log2Ceil(prep.latency + 1).W))
+  private val held = heldReg + movedReg(0).asUInt - movedReg(1).asUInt
+  heldReg := held
+  assert(
+    held === PopCount(ShiftRegisters(io.rays.fire, prep.latency, false.B, true.B)),
+    "fetch_held_count: the rays counted into and out of RayPrep differ from the carry pipe's valid stages"
+  )
+  io.held := held
   io.prepared.valid := prep.io.out.valid
   io.prepared.bits.rayId := carry.bits.rayId
   io.prepared.bits.shadow := carry.bits.shadow

@@ -49,14 +49,16 @@ object ResponseBound {
   def terms(cfg: AccelConfig, dp: FormalDatapath, env: FormalEnv): Seq[Term] = {
     require(
       cfg.layout.isInstanceOf[BvhLayout.Wide],
-      "ResponseBound: derived for the wide layouts (rank stage, 2-cycle control)"
+      "ResponseBound: derived for the wide layouts (rank stage, 3-cycle control)"
     )
     val (p, b, q) = (dp.prepLatency, dp.boxLatency, dp.primLatency)
     val (l, s, h, m) = (env.memLatency, env.memStall, env.hitStall, cfg.maxLeafSize)
     val others = cfg.numRayIds - 1
     val (fetches, leaves) = env.scene.visits(cfg)
-    // Control: rank register, decision + resolve register.
-    val control = 2
+    // Control: rank register, decision + resolve register, then the register
+    // between each lane's decision and its queues (`lane`).
+    val lane = 1
+    val control = 2 + lane
     Seq(
       // accept -> RayPrep p -> InitTraversal queue 1 -> RayBuffer write 1 ->
       // hand-over (box stage pick) -> atNode 1 -> box b -> control.
@@ -77,12 +79,12 @@ object ResponseBound {
       // control out -> Traversal leaf queue 1 -> LeafIntersect job queue 1 ->
       // m requests (each stalled <= S) -> last answer <= L -> register 1 ->
       // triangle q -> exit queue 1 -> tmax write (<= 1 lost to a ray entering)
-      // -> leaf-return lane 1. Others: <= n - 1 leaves ahead in the job queue,
+      // -> leaf-return lane 1 -> its lane register. Others: <= n - 1 leaves ahead in the job queue,
       // each issuing m requests (<= S + 1 cycles each) or an empty leaf's
       // exit (1), <= n - 1 exits ahead (<= 2 cycles each), one merge cycle.
       Term(
         s"leaf visits ($leaves)",
-        leaves * (2 + m * (s + 1) + l + 1 + q + 1 + 1 + 1 + others * ((m * (s + 1)).max(1) + 2 + 1))
+        leaves * (2 + m * (s + 1) + l + 1 + q + 1 + 1 + 1 + lane + others * ((m * (s + 1)).max(1) + 2 + 1))
       ),
       // control out -> Traversal done queue 1 -> RtAccel's done queue 1 ->
       // hit, the host refusing <= H times. Others: <= n - 1 hits ahead (each

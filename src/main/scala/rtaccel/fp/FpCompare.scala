@@ -30,30 +30,37 @@ class FpCompareOut(val fmt: FloatFormat) extends Bundle {
 class FpCompare(val fmt: FloatFormat, val latency: Int = FpCompare.defaultLatency) extends Module {
   val io = IO(new FpUnitIO(new FpBinaryIn(fmt, dynamicRm = false), new FpCompareOut(fmt)))
   override def desiredName: String = s"FpCompare_${fmt.name}_l$latency"
-
-  private val (a, b) = (io.in.bits.a, io.in.bits.b)
-  private val ua = FpUnpack(fmt, a)
-  private val ub = FpUnpack(fmt, b)
-
-  /** Maps sign-magnitude to an unsigned order in which -0 sits just below +0. */
-  private def key(x: UInt): UInt = {
-    val s = x(fmt.width - 1)
-    Mux(s, ~x, x | (BigInt(1) << (fmt.width - 1)).U)
-  }
-  private val aBelowOrSame = key(a) <= key(b)
-  private val bothZero = ua.isZero && ub.isZero
-  private val unordered = ua.isNaN || ub.isNaN
-  private val nan = fmt.canonicalNaN.U(fmt.width.W)
-
-  private val res = Wire(new FpCompareOut(fmt))
-  res.unordered := unordered
-  res.eq := !unordered && (a === b || bothZero)
-  res.lt := !unordered && key(a) < key(b) && !bothZero
-  res.min := MuxCase(Mux(aBelowOrSame, a, b), Seq((ua.isNaN && ub.isNaN) -> nan, ua.isNaN -> b, ub.isNaN -> a))
-  res.max := MuxCase(Mux(aBelowOrSame, b, a), Seq((ua.isNaN && ub.isNaN) -> nan, ua.isNaN -> b, ub.isNaN -> a))
-  io.out := Pipe(io.in.valid, res, latency)
+  io.out := Pipe(io.in.valid, FpCompare.logic(fmt, io.in.bits.a, io.in.bits.b), latency)
 }
 
 object FpCompare {
   val defaultLatency: Int = 1
+
+  /** The comparator's logic, unregistered. The datapaths build it in place
+    * (HwArith), not as a module, so that synthesis keeps only the outputs a
+    * use reads: a box lane's `le` needs no min/max muxes, and a min against
+    * a constant infinity folds.
+    */
+  def logic(fmt: FloatFormat, a: UInt, b: UInt): FpCompareOut = {
+    val ua = FpUnpack(fmt, a)
+    val ub = FpUnpack(fmt, b)
+
+    /* Maps sign-magnitude to an unsigned order in which -0 sits just below +0. */
+    def key(x: UInt): UInt = {
+      val s = x(fmt.width - 1)
+      Mux(s, ~x, x | (BigInt(1) << (fmt.width - 1)).U)
+    }
+    val aBelowOrSame = key(a) <= key(b)
+    val bothZero = ua.isZero && ub.isZero
+    val unordered = ua.isNaN || ub.isNaN
+    val nan = fmt.canonicalNaN.U(fmt.width.W)
+
+    val res = Wire(new FpCompareOut(fmt))
+    res.unordered := unordered
+    res.eq := !unordered && (a === b || bothZero)
+    res.lt := !unordered && key(a) < key(b) && !bothZero
+    res.min := MuxCase(Mux(aBelowOrSame, a, b), Seq((ua.isNaN && ub.isNaN) -> nan, ua.isNaN -> b, ub.isNaN -> a))
+    res.max := MuxCase(Mux(aBelowOrSame, b, a), Seq((ua.isNaN && ub.isNaN) -> nan, ua.isNaN -> b, ub.isNaN -> a))
+    res
+  }
 }

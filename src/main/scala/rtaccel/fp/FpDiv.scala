@@ -163,3 +163,21 @@ class FpRecipPair(val fmt: FloatFormat, val lo: RoundingMode, val hi: RoundingMo
     FpLoHi(fmt, _)
   )
 }
+
+/** Reciprocal `1 / a` rounded in each of `modes` (fixed, at least one) from
+  * one recurrence and one normaliser, as [[FpRecipPair]]: each result is bit
+  * for bit [[FpRecip]]'s in that mode; same cuts and latency. RayPrep takes
+  * |1/d| toward zero, up and to nearest from one unit per axis: the box
+  * lanes' two bounds and the watertight shear's 1/d[kz] (RNE is
+  * sign-symmetric, so the magnitude's result negated is 1/d's).
+  */
+class FpRecipModes(val fmt: FloatFormat, val modes: Seq[RoundingMode], val latency: Int) extends Module {
+  require(modes.nonEmpty && modes.distinct == modes, s"FpRecipModes: modes $modes must be distinct and not empty")
+  def this(fmt: FloatFormat, modes: Seq[RoundingMode]) = this(fmt, modes, FpDivCore.defaultLatency(fmt))
+  val io = IO(new FpUnitIO(new FpUnaryIn(fmt, false), Vec(modes.size, UInt(fmt.width.W))))
+  override def desiredName: String = s"FpRecip_${fmt.name}_${modes.map(_.name).mkString("_")}_l$latency"
+  private val codes = modes.map(_.code.U(RoundingMode.width.W))
+  io.out := FpDivCore.inModes(fmt, latency, io.in.valid, fmt.one(false).U(fmt.width.W), io.in.bits.a, None, _ => codes)(
+    VecInit(_)
+  )
+}

@@ -101,11 +101,11 @@ object DatapathReport {
     line("Box variants: `rne` rounds to nearest (bit-exact with hls/ in FP32), `cons` rounds each plane distance outward " +
       "(no false misses in any format; the bound is in BoxKernel.scala and DatapathPropertySpec checks it against exact " +
       "rational slab tests). The box does not depend on the triangle test, nor the triangle unit on the box rounding. " +
-      "RayPrep `wt_cons` is the most expensive prep: 3 two-mode reciprocals (FpRecipPair: |1/d| rounded toward zero and up " +
-      "from one recurrence) and one RNE 1/d[kz] for the shear; " +
+      "RayPrep `wt_cons` is the most expensive prep: 3 three-mode reciprocals (FpRecipModes: |1/d| rounded toward zero, up " +
+      "and to nearest from one recurrence; the shear's 1/d[kz] is axis kz's nearest, negated for a negative d[kz]); " +
       "`mt_rne` has 3 reciprocals. Ray prep runs once per ray, not per box or triangle. " +
       "A unit's area is essentially the sum of its FP units (docs/reports/fp-area.md; the box is 6 subtractors, 6 multipliers and " +
-      "about 15 comparators), so LUT differences from the seed come from the FP units (full subnormal support, every rounding " +
+      "18 comparisons, built in place so that only the outputs read are kept), so LUT differences from the seed come from the FP units (full subnormal support, every rounding " +
       "mode, LUT-based rounding), while the shorter pipelines cost fewer FFs.")
     line("")
     leaks(line)

@@ -2,15 +2,16 @@ package rtaccel.tools
 
 import rtaccel.AccelConfig
 import rtaccel.datapath.{BoxRounding, FloatDatapath, TriangleTest}
-import rtaccel.fp.{FloatFormat, FpRecip, FpRecipPair, RoundingMode}
+import rtaccel.fp.{FloatFormat, FpRecip, FpRecipModes, FpRecipPair, RoundingMode}
 
 import java.nio.file.Paths
 
 /** Yosys area and longest path (the delay model of docs/fmax.md) of the
-  * default core's ray setup (`RayPrep_e8m23_wt_cons`) and of its conservative
-  * reciprocals: the pair unit it uses per axis (1/|d| in RTZ and RUP from one
-  * recurrence) beside the two single-mode units (`make recip-area` →
-  * build/recip/area.md; cached in build/area-cache).
+  * default core's ray setup (`RayPrep_e8m23_wt_cons`) and of its
+  * reciprocals: the three-mode unit it uses per axis (1/|d| in RTZ, RUP and
+  * RNE from one recurrence), the two-mode pair (RTZ and RUP) and the
+  * single-mode units (`make recip-area` → build/recip/area.md; cached in
+  * build/area-cache).
   */
 object RecipArea {
   def rows: Seq[(String, String, String)] = {
@@ -18,12 +19,18 @@ object RecipArea {
     val dp = FloatDatapath(f32, f32, TriangleTest.Watertight, BoxRounding.Conservative)
     val cfg = AccelConfig().withFloat(f32)
     val lat = rtaccel.fp.FpDivCore.defaultLatency(f32)
-    import RoundingMode.{RTZ, RUP}
+    import RoundingMode.{RNE, RTZ, RUP}
     Seq(
       ("ray setup (FP32, watertight, conservative)", s"RayPrep_${dp.name}", Synth.emit(dp.rayPrep(cfg))),
+      (
+        "1/a in RTZ, RUP and RNE",
+        s"FpRecip_${f32.name}_rtz_rup_rne_l$lat",
+        Synth.emit(new FpRecipModes(f32, Seq(RTZ, RUP, RNE)))
+      ),
       ("1/a in RTZ and RUP", s"FpRecipPair_${f32.name}_rtz_rup_l$lat", Synth.emit(new FpRecipPair(f32, RTZ, RUP))),
       ("1/a in RTZ", s"FpRecip_${f32.name}_rtz_l$lat", Synth.emit(new FpRecip(f32, Some(RTZ)))),
-      ("1/a in RUP", s"FpRecip_${f32.name}_rup_l$lat", Synth.emit(new FpRecip(f32, Some(RUP))))
+      ("1/a in RUP", s"FpRecip_${f32.name}_rup_l$lat", Synth.emit(new FpRecip(f32, Some(RUP)))),
+      ("1/a in RNE", s"FpRecip_${f32.name}_rne_l$lat", Synth.emit(new FpRecip(f32, Some(RNE))))
     )
   }
 

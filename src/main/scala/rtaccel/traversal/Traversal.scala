@@ -140,7 +140,10 @@ class Traversal[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
 
   // ---- Routing: each lane has its own queues (every one holds numRayIds, so
   // none can overflow: each ray is in one place), merged round-robin ----
-  private val lanes = Seq(control.io.out, control.io.retOut)
+  // A register between each lane's decision and its queues: the decision reads the ray stack,
+  // and the stack's read through the decision into a queue's write enable maps to 10 LUTs
+  // (8.52 ns, docs/fmax.md). A cycle per decision; the queues take one ray per lane per cycle.
+  private val lanes = Seq(Pipe(control.io.out), Pipe(control.io.retOut))
   private def isFetch(o: Valid[ControlOut]) =
     o.valid && (o.bits.state === TraversalState.Traverse || o.bits.state === TraversalState.GoBack)
   private val fetchQs = lanes.map { o =>
@@ -188,12 +191,19 @@ class Traversal[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   private val queued = (fetchQs ++ leafQs ++ doneQs).map(_.io.count).reduce(_ +& _)
   // The unit's rays are counted the same way, as they enter (new rays, leaf returns) and leave (to LeafIntersect,
   // done): the sum of its parts' counts would be the unit's longest path (6.71 ns), for a count only assertions
-  // read. The sum stays as an assertion (simulation and formal only).
+  // read. The handshakes are registered before they are added: a leaf return's valid comes through RayBuffer's
+  // write arbiter from InitTraversal, and that chain ending in the count's add is 8.15 ns in the control's
+  // flattened netlist (docs/fmax.md). `held` is the count of this cycle, bit for bit: the count as of last cycle
+  // (heldReg) plus last cycle's handshakes. The sum stays as an assertion (simulation and formal only).
+  private val firedReg =
+    RegNext(VecInit(io.entry.fire, io.leafIn.fire, io.leafOut.fire, io.done.fire), VecInit.fill(4)(false.B))
   private val heldReg = RegInit(0.U(io.held.getWidth.W))
-  heldReg := heldReg + io.entry.fire.asUInt + io.leafIn.fire.asUInt - io.leafOut.fire.asUInt - io.done.fire.asUInt
+  private val held = heldReg + firedReg(0).asUInt + firedReg(1).asUInt - firedReg(2).asUInt - firedReg(3).asUInt
+  heldReg := held
   assert(
-    heldReg === inBox +& control.io.held +& queued +& fetch.io.waiting +& fetch.io.out.valid,
+    held === inBox +& control.io.held +& lanes.map(_.valid.asUInt).reduce(_ +& _) +& queued +& fetch.io.waiting +&
+      fetch.io.out.valid,
     "traversal_held_count: the rays counted into and out of Traversal differ from the sum of its parts"
   )
-  io.held := heldReg
+  io.held := held
 }

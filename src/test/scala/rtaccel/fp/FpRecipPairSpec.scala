@@ -7,23 +7,33 @@ import org.scalatest.flatspec.AnyFlatSpec
 import rtaccel.sim.Backends
 import rtaccel.testutil.Seeded
 
-/** For each mode pair, an [[FpRecipPair]] beside the two single-mode
-  * [[FpRecip]]s on a shared operand: one Verilator build per format.
+/** For each mode set, an [[FpRecipPair]] (two modes) or an [[FpRecipModes]]
+  * (three) beside the single-mode [[FpRecip]]s on a shared operand: one
+  * Verilator build per format.
   */
-class FpRecipPairHarness(val fmt: FloatFormat, val modes: Seq[(RoundingMode, RoundingMode)]) extends Module {
+class FpRecipPairHarness(val fmt: FloatFormat, val modes: Seq[Seq[RoundingMode]]) extends Module {
+  private val widest = modes.map(_.size).max
   val io = IO(new Bundle {
     val in = Flipped(Valid(new FpUnaryIn(fmt, false)))
 
-    /** Per mode pair: the pair unit's lo and hi, then the single-mode units'. */
-    val out = Vec(modes.size, Valid(Vec(4, UInt(fmt.width.W))))
+    /** Per mode set: the shared unit's results, then the single-mode units' (unused places 0). */
+    val out = Vec(modes.size, Valid(Vec(2 * widest, UInt(fmt.width.W))))
   })
-  for (((lo, hi), o) <- modes.zip(io.out)) {
-    val pair = Module(new FpRecipPair(fmt, lo, hi))
-    val singles = Seq(lo, hi).map(m => Module(new FpRecip(fmt, Some(m))))
-    pair.io.in := io.in
+  for ((ms, o) <- modes.zip(io.out)) {
+    val (valid, shared) = if (ms.size == 2) {
+      val pair = Module(new FpRecipPair(fmt, ms(0), ms(1)))
+      pair.io.in := io.in
+      (pair.io.out.valid, Seq(pair.io.out.bits.lo, pair.io.out.bits.hi))
+    } else {
+      val unit = Module(new FpRecipModes(fmt, ms))
+      unit.io.in := io.in
+      (unit.io.out.valid, unit.io.out.bits.toSeq)
+    }
+    val singles = ms.map(m => Module(new FpRecip(fmt, Some(m))))
     singles.foreach(_.io.in := io.in)
-    o.valid := pair.io.out.valid
-    o.bits := VecInit(Seq(pair.io.out.bits.lo, pair.io.out.bits.hi) ++ singles.map(_.io.out.bits))
+    def padded(xs: Seq[UInt]) = xs ++ Seq.fill(widest - xs.size)(0.U(fmt.width.W))
+    o.valid := valid
+    o.bits := VecInit(padded(shared) ++ padded(singles.map(_.io.out.bits)))
   }
 }
 
@@ -32,8 +42,8 @@ class FpRecipPairSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   import RoundingMode._
 
-  /** RayPrep's pair, and one with the other two modes. */
-  private val modes = Seq((RTZ, RUP), (RNE, RDN))
+  /** The split box lanes' pair, one with the other two modes, and RayPrep's three (FpRecipModes). */
+  private val modes = Seq(Seq(RTZ, RUP), Seq(RNE, RDN), Seq(RTZ, RUP, RNE))
 
   /** Streams `ops` one per cycle; both results of every pair unit must equal the single-mode units' and FpModel's. */
   private def run(fmt: FloatFormat, ops: IndexedSeq[BigInt]): Unit =
@@ -45,15 +55,17 @@ class FpRecipPairSpec extends AnyFlatSpec with ChiselScalatestTester {
         if (send) dut.io.in.bits.a.poke(ops(cycle).U)
         if (dut.io.out(0).valid.peek().litToBoolean) {
           val a = ops(next)
-          for (((lo, hi), port) <- modes.zip(dut.io.out)) {
+          val widest = modes.map(_.size).max
+          for ((ms, port) <- modes.zip(dut.io.out)) {
             assert(port.valid.peek().litToBoolean)
             val got = port.bits.map(_.peek().litValue)
-            val want = Seq(FpModel.recip(fmt, lo, a), FpModel.recip(fmt, hi, a))
+            val want = ms.map(FpModel.recip(fmt, _, a))
+            val (shared, singles) = (got.take(ms.size), got.slice(widest, widest + ms.size))
             def hex(x: BigInt) = "0x" + x.toString(16)
             assert(
-              got == want ++ want,
-              s"1/${hex(a)} ${fmt.name} ($lo, $hi): pair ${got.take(2).map(hex)}, single ${got.drop(2).map(hex)}, " +
-                s"model ${want.map(hex)}"
+              shared == want && singles == want,
+              s"1/${hex(a)} ${fmt.name} (${ms.mkString(", ")}): shared unit ${shared.map(hex)}, single " +
+                s"${singles.map(hex)}, model ${want.map(hex)}"
             )
           }
           next += 1
@@ -73,7 +85,7 @@ class FpRecipPairSpec extends AnyFlatSpec with ChiselScalatestTester {
     (FpOperands.corners(fmt) ++ all ++ all.map(fmt.negate)).distinct
   }
 
-  it should "round every e4m3 operand in (RTZ, RUP) and (RNE, RDN) as FpRecip and the model do (exhaustive)" in {
+  it should "round every e4m3 operand in (RTZ, RUP), (RNE, RDN) and (RTZ, RUP, RNE) as FpRecip and the model do (exhaustive)" in {
     val fmt = FloatFormat(4, 3)
     run(fmt, (0 until (1 << fmt.width)).map(BigInt(_)))
   }
