@@ -16,7 +16,7 @@ log=$dir/mutants.log
 status=0
 case_=n2; cdepth=$depth
 mutant fresh_forever "the free list hands out fresh IDs forever, so an ID in flight is issued again" \
-  "s/wire       haveFresh = freshReg != 2'h2;/wire       haveFresh = 1'b1;/" "wire       haveFresh = freshReg != 2'h2;" \
+  "s/haveFreshReg <= freshReg != 2'h1;/haveFreshReg <= 1'b1;/" "haveFreshReg <= freshReg != 2'h1;" \
   id_allocated_once_1 exactly_once_1
 mutant free_unfired "an ID is freed while its hit still waits for the host, so the hit is emitted twice" \
   "s/(io_hits_ready & _doneQ_io_deq_valid)/(_doneQ_io_deq_valid)/" "(io_hits_ready & _doneQ_io_deq_valid)" \
@@ -35,7 +35,7 @@ mutant reach_leaf_exit "(probe) no ray ever returns from a leaf: fails at the fi
   "s/^      if (~reset \& _init_io_broken) begin/      if (~reset \& _leaf_io_out_valid) begin reach_leaf_exit_1: assert(1'b0); end\n&/" \
   "      if (~reset & _init_io_broken) begin" reach_leaf_exit_1
 # Not a break either: the core's bounded_response with its derived bound
-# (cases.txt, 141 cycles for n2) cut to 16. It must fail (a ray with a leaf
+# (cases.txt, 149 cycles for n2) cut to 16. It must fail (a ray with a leaf
 # visit or a node fetch lives longer): the monitor catches a ray that
 # overstays its bound, though the derived bound itself lies past the depth.
 n2bound=$(awk '$1=="n2"{print $3}' "$dir/cases.txt")

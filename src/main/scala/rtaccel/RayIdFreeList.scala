@@ -38,13 +38,14 @@ class RayIdFreeList(numIds: Int) extends Module {
   // updated by two one-hot masks instead of one write port per bit (cheaper
   // for the C++ model to evaluate every cycle).
   private val inUseReg = RegInit(0.U(numIds.W))
-  private val inFlightReg = RegInit(0.U(log2Ceil(numIds + 1).W))
   private val doubleFreeReg = RegInit(false.B)
 
-  private val haveFresh = freshReg =/= numIds.U
-  io.alloc.valid := haveFresh || returned.io.deq.valid
-  io.alloc.bits := Mux(haveFresh, freshReg(idBits - 1, 0), returned.io.deq.bits)
-  returned.io.deq.ready := io.alloc.ready && !haveFresh
+  // freshReg =/= numIds, kept beside freshReg: the allocation's valid, its ID mux and the in-use update read a
+  // register, not a compare of one (docs/fmax.md).
+  private val haveFreshReg = RegInit(true.B)
+  io.alloc.valid := haveFreshReg || returned.io.deq.valid
+  io.alloc.bits := Mux(haveFreshReg, freshReg(idBits - 1, 0), returned.io.deq.bits)
+  returned.io.deq.ready := io.alloc.ready && !haveFreshReg
 
   // The FIFO holds at most numIds - inFlight entries, so it always has room.
   io.free.ready := true.B
@@ -54,7 +55,10 @@ class RayIdFreeList(numIds: Int) extends Module {
 
   private val allocFire = io.alloc.fire
   private val freeFire = io.free.valid && freeLegal
-  when(allocFire && haveFresh) { freshReg := freshReg + 1.U }
+  when(allocFire && haveFreshReg) {
+    freshReg := freshReg + 1.U
+    haveFreshReg := freshReg =/= (numIds - 1).U
+  }
   // Were the same ID freed and re-allocated in one cycle, the allocation would
   // win (its mask is applied last); it cannot be, because a freed ID enters the
   // FIFO and leaves it a cycle later.
@@ -62,13 +66,16 @@ class RayIdFreeList(numIds: Int) extends Module {
   private val allocMask = Mux(allocFire, UIntToOH(io.alloc.bits, numIds), 0.U)
   inUseReg := (inUseReg & ~freeMask) | allocMask
   when(io.free.valid && !freeLegal) { doubleFreeReg := true.B }
-  inFlightReg := inFlightReg + allocFire.asUInt - freeFire.asUInt
+  // Counted from registered handshakes (HeldCount): the count's add was the unit's longest path, behind the
+  // allocation's ready and the 1-of-numIds in-use read of a free (docs/fmax.md). It reads exactly.
+  private val inFlight = HeldCount(Seq(allocFire), Seq(freeFire), log2Ceil(numIds + 1))
 
   // Checked in every simulation and proved by `make formal` (docs/formal.md);
   // they hold whatever `free` is driven with, since illegal frees are dropped.
   assert(!(allocFire && inUseReg(io.alloc.bits)), "id_allocated_once: an ID in flight was handed out again")
-  assert(inFlightReg === PopCount(inUseReg), "id_count: the in-flight count disagrees with the IDs in use")
+  assert(inFlight === PopCount(inUseReg), "id_count: the in-flight count disagrees with the IDs in use")
+  assert(haveFreshReg === (freshReg =/= numIds.U), "id_fresh: the fresh flag disagrees with the fresh counter")
 
-  io.inFlight := inFlightReg
+  io.inFlight := inFlight
   io.doubleFree := doubleFreeReg
 }

@@ -56,7 +56,11 @@ class RtAccel[T <: Data](val cfg: AccelConfig, val dp: Datapath[T]) extends Modu
   trav.io.entry <> init.io.out
   leaf.io.in <> trav.io.leafOut
   trav.io.leafIn <> leaf.io.out
-  leaf.io.clear := fetch.io.started
+  // A ray's leaf tables are cleared a cycle after its ID is handed out: its first answer is RayPrep's and a
+  // traversal step's latency away, and its ID's last ray has left. Registered, the clear does not carry the
+  // free list's valid through the fetch handshake into LeafIntersect's read-ahead, the control's longest
+  // path (docs/fmax.md).
+  leaf.io.clear := Pipe(fetch.io.started)
 
   // ---- Output: one hit per finished ray, then its ID goes back ----
   // A register stage between Traversal's done lanes and the hit: without it the lanes' arbiter, the result

@@ -4,7 +4,7 @@ import chisel3._
 import chisel3.util._
 import rtaccel.mem.{MemPort, MemPortParams}
 import rtaccel.traversal.PrepFetch
-import rtaccel.{AccelConfig, Datapath, RayIdFreeList}
+import rtaccel.{AccelConfig, Datapath, HeldCount, RayIdFreeList}
 import rtaccel.bvh.BvhNode
 
 /** A ray with its ID, out of RayPrep. */
@@ -120,13 +120,9 @@ class FetchBVH[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   private val carry = Pipe(io.rays.fire, carryIn, prep.latency)
   // The rays in RayPrep, counted as they enter and leave it. A popcount of the carry pipe's valid stages
   // would be the unit's longest path (6.71 ns, docs/fmax.md), for a count only assertions read; the
-  // handshakes are registered before they are added, so no valid reaches the add in its own cycle. `held` is
-  // this cycle's count, bit for bit: last cycle's (heldReg) plus last cycle's entry, minus last cycle's exit.
+  // handshakes are registered before they are added (HeldCount), so no valid reaches the add in its own cycle.
   // The popcount stays as an assertion (simulation and formal only).
-  private val movedReg = RegNext(VecInit(io.rays.fire, carry.valid), VecInit.fill(2)(false.B))
-  private val heldReg = RegInit(0.U(log2Ceil(prep.latency + 1).W))
-  private val held = heldReg + movedReg(0).asUInt - movedReg(1).asUInt
-  heldReg := held
+  private val held = HeldCount(Seq(io.rays.fire), Seq(carry.valid), log2Ceil(prep.latency + 1))
   assert(
     held === PopCount(ShiftRegisters(io.rays.fire, prep.latency, false.B, true.B)),
     "fetch_held_count: the rays counted into and out of RayPrep differ from the carry pipe's valid stages"

@@ -10,12 +10,12 @@ object SystemBound {
     val e = c.env
     val s = e.stall
     val blocks = (rays + c.sys.raysPerBlock - 1) / c.sys.raysPerBlock
-    // A record read: client arbiter 1, ReadEngine slot register 1, AR register 1, AR queue 1, WindowGuard's AR
-    // slice 1, slave refusals s + 1;
+    // A record read: client arbiter 1, the fabric's request slice 1, ReadEngine slot register 1, AR register 1,
+    // AR queue 1, WindowGuard's AR slice 1, slave refusals s + 1;
     // the burst is overdue after L cycles, then waits at most for every beat of the bursts the slave holds
     // (3 beats each at most: a ray block); R stage 1, bank write 1, completion queue 1, select 1, read 1, output queue 1;
     // the client refuses the answer at most s cycles.
-    val read = 5 + (s + 1) + e.readLatency + 3 * e.bursts + 6 + s
+    val read = 6 + (s + 1) + e.readLatency + 3 * e.bursts + 6 + s
     Seq(
       ResponseBound.Term("start (CTRL write to the ray DMA's first request)", 2),
       // Each block: its read; the block queue and unpack 1.
@@ -32,8 +32,9 @@ object SystemBound {
         s"pair buffer flush (${c.sys.hitPairSlots} slots)",
         c.sys.hitPairSlots * (3 + (s + 1) + e.bLatency + 1)
       ),
-      // writesDone reaches RAY_COUNT: finish 1, IRQ_STATUS 1, the interrupt register 1.
-      ResponseBound.Term("done", 3)
+      // writesDone reaches RAY_COUNT: WriteEngine's count register 1, finish 1, IRQ_STATUS 1, the interrupt
+      // register 1.
+      ResponseBound.Term("done", 4)
     )
   }
 }

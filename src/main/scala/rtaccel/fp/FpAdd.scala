@@ -4,7 +4,7 @@ import chisel3._
 import chisel3.util._
 
 /** Floating-point adder (or subtractor, with `subtract`): `a + b` (`a - b`)
-  * rounded once in the mode. Front: compare the exponents and swap; align
+  * rounded once in the mode. Front: compare the magnitudes and swap; align
   * the smaller significand with guard/round/sticky bits; add or subtract;
   * then [[FpRound]]. Cut points ([[FpPipeline]]): after the swap, after the
   * alignment, after the add, the rounder's, and the output; the default
@@ -123,7 +123,11 @@ object FpAdd {
     }
     val fa = field(in.a)
     val fb = field(in.b)
-    val aBig = fa >= fb // = ua.exp >= ub.exp
+    // |a| >= |b|, compared as the magnitudes' bit patterns (IEEE magnitudes order as integers, subnormals
+    // included), so the exponents are in order (fa >= fb) and, when they are equal, the significands too: a
+    // difference is never negative, and the add stage needs no second chain for its negation nor a select
+    // behind its carry chain (docs/fmax.md). NaNs compare arbitrarily; they leave as the canonical NaN.
+    val aBig = in.a(fmt.width - 2, 0) >= in.b(fmt.width - 2, 0)
     val big = Mux(aBig, ua, ub)
     f0.big := big
     f0.smallSig := Mux(aBig, ub.sig, ua.sig)
@@ -144,16 +148,15 @@ object FpAdd {
 
     // Cut 3: add or subtract. A true difference is big - (smallAligned + d),
     // d in (0,1) when sticky: = (big - smallAligned - 1) + (1 - d), so subtract
-    // the sticky bit too. Its negation is formed beside it, not after it.
+    // the sticky bit too. big >= smallAligned + sticky (the swap, and sticky needs the exponents apart), so
+    // the difference is never negative: big + ~smallAligned + !sticky, the sticky's borrow as the chain's carry
+    // in (an extra low bit: 1 + !sticky carries exactly !sticky), one two-operand chain.
     //
-    // Timing (docs/fmax.md): the carry chains feed only the final mux. `negative` is the
-    // difference's sign bit (a `< 0` compare maps to one more chain), and the exact-zero test,
-    // which the result's sign waits on, reads the operands beside the chains, not their result.
+    // Timing (docs/fmax.md): the carry chains feed only the final mux, and the exact-zero test, which the
+    // result's sign waits on, reads the operands beside the chains, not their result.
     val bigExt = Cat(f3.big.sig, 0.U(extra.W))
-    val diff = bigExt.zext - f3.smallAligned.zext - f3.sticky.asUInt.zext
-    val negDiff = f3.smallAligned.zext + f3.sticky.asUInt.zext - bigExt.zext
-    val negative = diff(diff.getWidth - 1) // only when the exponents are equal (then no sticky)
-    val mag = Mux(f3.effSub, Mux(negative, negDiff.asUInt, diff.asUInt), bigExt +& f3.smallAligned)
+    val diff = (Cat(bigExt, 1.U(1.W)) + Cat(~f3.smallAligned, !f3.sticky))(sw, 1)
+    val mag = Mux(f3.effSub, diff, bigExt +& f3.smallAligned)
     // mag === 0, from the operands. A difference with sticky set is never 0: sticky needs the
     // exponents extra + 1 or more apart, so big is normal, bigExt >= 2^(p + extra - 1) and
     // smallAligned < 2^(p - 1). Without sticky it is 0 exactly when the aligned significands
@@ -174,7 +177,7 @@ object FpAdd {
     raw.isZero := magZero && !f3.sticky
     for ((m, j) <- modes.zipWithIndex)
       front.signs(j) := MuxCase(
-        f3.big.sign ^ (f3.effSub && negative),
+        f3.big.sign,
         Seq(f3.isInf -> f3.infSign, (magZero && f3.effSub) -> (m === RoundingMode.RDN.code.U))
       )
     raw.sign := front.signs(0)

@@ -67,6 +67,9 @@ object FpRound {
     val window = UInt((p + 2).W)
     val tail = Bool()
     val up = Vec(modes, Bool())
+
+    /** The kept bits below the top one are all ones: rounding up carries into the top bit. */
+    val lowOnes = Bool()
     val expNormal = SInt(ew.W)
     val expInc = SInt(ew.W)
     val ovSame = Bool()
@@ -187,21 +190,27 @@ object FpRound {
       s4.overflowToInf(j) := rm3 === RoundingMode.RNE.code.U ||
         (rm3 === RoundingMode.RUP.code.U && !sign) || (rm3 === RoundingMode.RDN.code.U && sign)
     }
+    s4.lowOnes := kept0(p - 2, 0).andR
     s4.expNormal := Mux(s3.tiny, 1.S(ew.W), s3.biasedExp)
     s4.expInc := s4.expNormal + 1.S
     s4.ovSame := s4.expNormal >= fmt.maxExpField.S
     s4.ovInc := s4.expInc >= fmt.maxExpField.S
     val s5 = cut(s4)
 
-    // Stage 4: round, encode, substitute special values (per mode).
+    // Stage 4: round, encode, substitute special values (per mode). The increment's carries into the top
+    // kept bit and out of it are known from `lowOnes` and the top bit, so the exponent, the overflow test and
+    // the special-value select do not wait on the increment's carry chain, which feeds only the fraction bits
+    // (docs/fmax.md). Each is the bit of `kept + up` it stands for.
     val kept = s5.window(p + 1, 2)
     (0 until nModes).map { j =>
       val rounded = kept +& s5.up(j)
-      val carry = rounded(p) // 1.11..1 rounded up to 10.00..0: next binade
-      val expOut = Mux(carry, s5.expInc, Mux(rounded(p - 1), s5.expNormal, 0.S))
-      val fracOut = Mux(carry, 0.U, rounded(p - 2, 0))
+      val intoTop = s5.up(j) && s5.lowOnes
+      val carry = intoTop && kept(p - 1) // rounded(p): 1.11..1 rounded up to 10.00..0, the next binade
+      val top = kept(p - 1) ^ intoTop // rounded(p - 1)
+      val expOut = Mux(carry, s5.expInc, Mux(top, s5.expNormal, 0.S))
+      val fracOut = rounded(p - 2, 0) // 0 when carry
       // expOut >= maxExpField, from the tests made beside each candidate (0 never overflows).
-      val overflow = Mux(carry, s5.ovInc, rounded(p - 1) && s5.ovSame)
+      val overflow = Mux(carry, s5.ovInc, top && s5.ovSame)
       val sign = s5.sign(j)
       val signBit = Cat(sign, 0.U((fmt.width - 1).W))
       MuxCase(

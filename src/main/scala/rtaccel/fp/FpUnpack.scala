@@ -102,12 +102,13 @@ object FpUnpack {
   }
 
   /** [[shiftRightSticky]] by an amount the caller has already clamped to `x`'s width (a register
-    * of log2Ceil(width + 1) bits), so no compare sits in front of the shifter.
+    * of log2Ceil(width + 1) bits), so no compare sits in front of the shifter. The sticky bit is
+    * formed beside the shifter as there ([[belowMask]]): as an OR of the shifter's dropped bits it
+    * was the rounder's longest path in the reciprocal (docs/fmax.md).
     */
   def shiftRightStickyClamped(x: UInt, amt: UInt): (UInt, Bool) = {
     val w = x.getWidth
     require(amt.getWidth <= log2Ceil(w + 1), s"shiftRightStickyClamped: a ${amt.getWidth}-bit amount for $w bits")
-    val ext = Cat(x, 0.U(w.W)) >> amt
-    (ext(2 * w - 1, w), ext(w - 1, 0).orR)
+    ((x >> amt)(w - 1, 0), (x & belowMask(w, amt)).orR)
   }
 }

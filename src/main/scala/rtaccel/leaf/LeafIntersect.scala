@@ -77,7 +77,10 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
     val out = Decoupled(new LeafExit(cfg))
     val tmax = Decoupled(new TmaxUpdate(cfg))
 
-    /** A ray enters the accelerator: forget any hit of the ID's previous ray. */
+    /** A ray enters the accelerator: forget any hit of the ID's previous ray. It comes in a cycle before the
+      * ray's first job (RtAccel clears a cycle after the ID is handed out, RayPrep's latency and a traversal
+      * step before any job), never while the ray is inside this unit.
+      */
     val clear = Flipped(Valid(UInt(cfg.rayIdBits.W)))
 
     /** The best hit of a finished ray, read combinationally by the output stage. */
@@ -174,21 +177,18 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   carryIn.bad := (for (v <- 0 until 3; a <- 0 until 3)
     yield ErrorFlags.nonFinite(TriangleRecord.vertexWord(respReg.data, v, a))).reduce(_ || _)
   // `pre`: the answer pipe one stage before `carry`, where the reduce stage's
-  // per-ID table reads are made (registered, with the cycle's own writes forwarded).
-  // `preOH` is `preId` decoded, registered beside it (a stage ahead): the
-  // outstanding count's read-ahead is then an AND-OR over the n counts, not a
-  // 1-of-n mux whose mapping Yosys leaves 12 cells deep (docs/fmax.md).
-  private val (preValid, preId, preOH, carry) =
-    if (prim.latency == 0)
-      (io.mem.resp.valid, io.mem.resp.bits.tag, UIntToOH(io.mem.resp.bits.tag, n), Pipe(respValidReg, carryIn, 0))
-    else if (prim.latency == 1) {
-      // preId is respReg's tag, taken when a response arrives.
-      val oh = RegEnable(UIntToOH(io.mem.resp.bits.tag, n), io.mem.resp.valid)
-      (respValidReg, respReg.tag, oh, Pipe(respValidReg, carryIn, 1))
+  // per-ID table reads end (registered, with the cycle's own writes forwarded);
+  // `pre2` one stage before that, where they begin (below, "two stages").
+  require(prim.latency >= 1, "LeafIntersect: the table reads take the triangle unit's last two stages")
+  private val (pre2Id, preId, carry) =
+    if (prim.latency == 1) {
+      // pre is respReg's stage; pre2 the response itself (respReg takes it when valid).
+      val p = Pipe(respValidReg, carryIn, 0)
+      (io.mem.resp.bits.tag, p.bits.rayId, Pipe(p, 1))
     } else {
-      val before = Pipe(respValidReg, carryIn, prim.latency - 2)
-      val p = Pipe(before, 1)
-      (p.valid, p.bits.rayId, RegEnable(UIntToOH(before.bits.rayId, n), before.valid), Pipe(p, 1))
+      val p2 = Pipe(respValidReg, carryIn, prim.latency - 2)
+      val p = Pipe(p2, 1)
+      (p2.bits.rayId, p.bits.rayId, Pipe(p, 1))
     }
   io.tested := prim.io.out.valid
 
@@ -206,19 +206,28 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   private val doneErrReg = Reg(UInt(ErrorFlags.width.W)) // leafErrorsReg(doneId)
   private val doneLastReg = Reg(Bool()) // outstandingReg(doneId) === 1
   private val old = doneOldReg
-  private val (tKey, oldKey) = (FpOrder.key(cfg.triFloat, ans.t), FpOrder.key(cfg.triFloat, old.t))
+  // The best distance's order key is registered beside it (doneOldKeyReg), so the closer-hit compare, whose
+  // result enables the best table's write, has no key mapping on that side (docs/fmax.md).
+  private val doneOldKeyReg = Reg(UInt(cfg.triFloat.width.W)) // FpOrder.key(best(doneId).t)
+  private val (tKey, oldKey) = (FpOrder.key(cfg.triFloat, ans.t), doneOldKeyReg)
   private val closer = !doneHasHitReg || tKey < oldKey || (tKey === oldKey && primIdx < old.prim)
   private val reduce = prim.io.out.valid
-  private val update = reduce && ans.hit && !primTooWide && closer
-  private val occludes = update && doneTok.shadow
+  // Any valid hit sets the ray's has-hit and occluded flags; only a closer one replaces its best. The two
+  // differ only for a ray that has a hit already (`closer` holds when it has none), and then both flags are
+  // set: a shadow ray's first hit sets both (asserted: leaf_shadow_occluded). So the flags, their forwards and
+  // the exit's hit bit do not wait on the distance compare, which through the occluded table's read-ahead
+  // was the unit's longest path (docs/fmax.md).
+  private val anyHit = reduce && ans.hit && !primTooWide
+  private val update = anyHit && closer
+  private val occludes = anyHit && doneTok.shadow
   private val b = Wire(new BestHit(cfg))
   b.t := ans.t; b.u := ans.u; b.v := ans.v; b.prim := primIdx
 
   /** This cycle's error flags for `doneId`. */
   private val errNow = Mux(reduce && primTooWide, ErrorFlags.bit(ErrorFlags.IndexOverflow), 0.U) |
     Mux(reduce && carry.bits.bad, ErrorFlags.bit(ErrorFlags.BadSceneData), 0.U)
-  when(update) {
-    best.write(doneId, b)
+  when(update) { best.write(doneId, b) }
+  when(anyHit) {
     hasHitReg(doneId) := true.B
     when(doneTok.shadow) { occludedReg(doneId) := true.B }
   }
@@ -227,53 +236,140 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   }
 
   // ---- Outstanding counts: +1 per request, -1 per reduced answer ----
-  for (i <- 0 until n) {
+  // Beside each count, whether it is 0, 1, 2 or 3 (`outIsReg`, from the count's next value): the reduce
+  // stage's read-ahead (doneLastReg, below) reads the flag its case needs, where a select of the n counts and
+  // a compare after it was the unit's longest path, 12 cells of Yosys's mapping (docs/fmax.md).
+  private val nextOut = (0 until n).map { i =>
     val inc = io.mem.req.fire && issueIdReg === i.U
     val dec = reduce && doneId === i.U
-    outstandingReg(i) := outstandingReg(i) + inc.asUInt - dec.asUInt
+    outstandingReg(i) + inc.asUInt - dec.asUInt
   }
+  outstandingReg := VecInit(nextOut)
+  // Bit k of an ID's entry: its count is k.
+  private val outIsReg = RegInit(VecInit(Seq.fill(n)(1.U(4.W)))) // every count is 0 at reset
+  private def outIs(count: UInt): UInt = VecInit((0 until 4).map(k => count === k.U)).asUInt
+  outIsReg := VecInit(nextOut.map(outIs))
+  assert(
+    outIsReg.asUInt === VecInit(outstandingReg.map(outIs)).asUInt,
+    "leaf_out_is: an outstanding count's flags disagree with it"
+  )
   private val issuing = busyReg || stoppingReg
   private val doneIssuing = reduce && doneId === issueIdReg
   private val lastAnswer = reduce && doneLastReg && !(issuing && issueIdReg === doneId)
   private val issueDrained = issueOutReg === 0.U || (issueOutReg === 1.U && doneIssuing)
 
-  // ---- The reduce stage's reads, one cycle ahead: the tables for `preId` as
-  // they will stand after this cycle's writes (each forwarded when it is to
-  // `preId`; a clear is applied last, as above: `when(io.clear.valid)` comes
-  // after the reduce's writes). `preValid` now means `reduce` next cycle for
-  // that ID; otherwise the registers are not read. ----
+  // ---- The reduce stage's reads, in two stages: the tables for `preId` as
+  // they will stand after the next cycle's writes. A 1-of-n read of a table
+  // in one stage maps to a chain of up to six LUT/MUXF7/MUXF8 levels (the
+  // unit's longest path, 6.2 to 9.3 ns by the netlist, docs/fmax.md). So at
+  // `pre2` each group of 16 IDs selects its entry for `pre2Id` (zero unless
+  // the ID is in the group) into a register, and at `pre`, `preId` being the
+  // same ID a cycle later, the groups' entries are ORed. Every write to the ID
+  // in either cycle is forwarded: the pre2 cycle's from registers beside the
+  // groups', the pre cycle's as it happens; a clear is applied last in each
+  // cycle, as in the tables (`when(io.clear.valid)` comes after the reduce's
+  // writes). When pre2 carries no answer, nothing reads the result. ----
+  private val groupSize = n.min(16)
+  private val groups = (n + groupSize - 1) / groupSize
+
+  /** `table(id)` as it stood a cycle ago, `id` being last cycle's: each group's pick registered, then ORed. */
+  private def twoStage(table: Seq[UInt], id: UInt): UInt = {
+    val w = table.head.getWidth
+    val low = id(log2Ceil(groupSize).max(1) - 1, 0)
+    val picked = (0 until groups).map { g =>
+      val entries = (0 until groupSize).map(j => table.lift(g * groupSize + j).getOrElse(0.U(w.W)))
+      val entry = if (groupSize == 1) entries.head else VecInit(entries)(low)
+      if (groups == 1) entry else Mux((id >> log2Ceil(groupSize)) === g.U, entry, 0.U)
+    }
+    RegNext(VecInit(picked)).reduce(_ | _)
+  }
+  private val toPre2 = doneId === pre2Id
+  private val clrPre2Reg = RegNext(io.clear.valid && io.clear.bits === pre2Id)
+  private val incPre2Reg = RegNext(io.mem.req.fire && issueIdReg === pre2Id)
+  private val decPre2Reg = RegNext(reduce && toPre2)
+  private val hitPre2Reg = RegNext(anyHit && toPre2)
+  private val occPre2Reg = RegNext(occludes && toPre2)
+  private val errPre2Reg = RegNext(Mux(reduce && toPre2, errNow, 0.U))
+  private val outIsPre = twoStage(outIsReg, pre2Id)
+  private val hasHitPre = !clrPre2Reg && (twoStage(hasHitReg.map(_.asUInt), pre2Id).asBool || hitPre2Reg)
+  private val occPre = !clrPre2Reg && (twoStage(occludedReg.map(_.asUInt), pre2Id).asBool || occPre2Reg)
+  private val errPre = Mux(clrPre2Reg, 0.U, twoStage(leafErrorsReg, pre2Id) | errPre2Reg)
+
   private val toPre = doneId === preId
   private val clrPre = io.clear.valid && io.clear.bits === preId
-  // outstanding + inc - dec === 1, compared against the constant each case
-  // needs instead of added: no carry chain after the 1-of-n read.
-  // Written as ANDs and ORs, not Mux1H: Yosys maps a Mux1H to a $pmux, and that to MUXF chains.
-  private val outPre = (0 until n).map(i => Fill(cfg.leafCountBits, preOH(i)) & outstandingReg(i)).reduce(_ | _)
+  // outstanding + (inc - dec over both cycles) === 1: the flag of the count that needs, of the count as the
+  // pre2 cycle began (0 to 3, since the net change is -2 to 2), so no carry chain or compare follows the read.
   private val incPre = io.mem.req.fire && issueIdReg === preId
   private val decPre = reduce && toPre
-  doneLastReg := Mux(incPre === decPre, outPre === 1.U, Mux(incPre, outPre === 0.U, outPre === 2.U))
-  doneHasHitReg := !clrPre && (hasHitReg(preId) || (update && toPre))
-  doneOldReg := Mux(update && toPre, b, best.read(preId))
-  doneOccReg := !clrPre && (occludedReg(preId) || (occludes && toPre))
-  doneErrReg := Mux(clrPre, 0.U, leafErrorsReg(preId) | Mux(reduce && toPre, errNow, 0.U))
+  private val net = incPre2Reg.asUInt +& incPre.asUInt
+  private val drop = decPre2Reg.asUInt +& decPre.asUInt
+  doneLastReg := MuxLookup(Cat(net, drop), false.B)(
+    Seq(
+      Cat(0.U(2.W), 0.U(2.W)) -> outIsPre(1),
+      Cat(1.U(2.W), 1.U(2.W)) -> outIsPre(1),
+      Cat(2.U(2.W), 2.U(2.W)) -> outIsPre(1),
+      Cat(1.U(2.W), 0.U(2.W)) -> outIsPre(0),
+      Cat(2.U(2.W), 1.U(2.W)) -> outIsPre(0),
+      Cat(0.U(2.W), 1.U(2.W)) -> outIsPre(2),
+      Cat(1.U(2.W), 2.U(2.W)) -> outIsPre(2),
+      Cat(0.U(2.W), 2.U(2.W)) -> outIsPre(3)
+    )
+  )
+  doneHasHitReg := !clrPre && (hasHitPre || (anyHit && toPre))
+  private val oldPre = Mux(update && toPre, b, best.read(preId))
+  doneOldReg := oldPre
+  doneOldKeyReg := FpOrder.key(cfg.triFloat, oldPre.t)
+  assert(
+    !reduce || doneOldKeyReg === FpOrder.key(cfg.triFloat, old.t),
+    "leaf_old_key: the best distance's key is stale"
+  )
+  doneOccReg := !clrPre && (occPre || (occludes && toPre))
+  doneErrReg := Mux(clrPre, 0.U, errPre | Mux(reduce && toPre, errNow, 0.U))
 
   // ---- The issuing ray's view (see issueOccReg): a job's ray has no request
   // outstanding (it left its last leaf drained, and is in one place), so no
   // answer or clear can change its entries in the cycle its job is taken. ----
   issueOutReg := issueOutReg + io.mem.req.fire.asUInt - doneIssuing.asUInt
   when(doneIssuing && occludes) { issueOccReg := true.B }
-  when(doneIssuing && update) { issueHitReg := true.B }
+  when(doneIssuing && anyHit) { issueHitReg := true.B }
   when(doneIssuing) { issueErrReg := issueErrReg | errNow }
   when(io.clear.valid && io.clear.bits === issueIdReg) {
     issueOccReg := false.B; issueErrReg := 0.U; issueHitReg := false.B
   }
-  when(jobs.io.deq.fire) {
-    val id = jobs.io.deq.bits.token.rayId
-    issueOutReg := 0.U
-    issueOccReg := occludedReg(id)
-    issueErrReg := leafErrorsReg(id)
-    issueHitReg := hasHitReg(id)
+  // A job's table entries are read as it enters the job queue, in the same two stages, and wait beside it in
+  // `jobFlags` (enqueued a cycle after the job, passing straight through when that queue is empty, so a job
+  // is never held back): a job's ray has no request outstanding and no clear can come for it (a ray's clear
+  // comes before its first job, in an earlier cycle: see `clear`), so its entries stand still from its entry
+  // until it is taken (`leaf_job_flags`). Read when the job is taken, from the job
+  // queue's head, the select was the unit's longest path (6.07 ns, docs/fmax.md).
+  class JobFlags extends Bundle {
+    val occ = Bool()
+    val err = UInt(ErrorFlags.width.W)
+    val hit = Bool()
   }
-  assert(!preValid || preOH === UIntToOH(preId, n), "leaf_pre_onehot: the decoded read-ahead ID differs from preId")
+  private val enteredId = jobs.io.enq.bits.token.rayId
+  private val enteredFlags = Wire(new JobFlags)
+  enteredFlags.occ := twoStage(occludedReg.map(_.asUInt), enteredId).asBool
+  enteredFlags.err := twoStage(leafErrorsReg, enteredId)
+  enteredFlags.hit := twoStage(hasHitReg.map(_.asUInt), enteredId).asBool
+  // As many entries as `jobs`, and never more in it than in `jobs`: it cannot overflow (checked all the same).
+  private val jobFlags = Module(new Queue(new JobFlags, n, flow = true))
+  jobFlags.io.enq.valid := RegNext(jobs.io.enq.fire, false.B)
+  jobFlags.io.enq.bits := enteredFlags
+  jobFlags.io.deq.ready := jobs.io.deq.fire
+  assert(!jobFlags.io.enq.valid || jobFlags.io.enq.ready, "no_overflow_leaf_flags: a job's flags found no room")
+  assert(!jobs.io.deq.valid || jobFlags.io.deq.valid, "leaf_flags_aligned: a job's flags are not beside it")
+  private val taken = jobFlags.io.deq.bits
+  when(jobs.io.deq.fire) {
+    issueOutReg := 0.U
+    issueOccReg := taken.occ
+    issueErrReg := taken.err
+    issueHitReg := taken.hit
+  }
+  private val takenId = jobs.io.deq.bits.token.rayId
+  private val takenSame =
+    taken.occ === occludedReg(takenId) && taken.err === leafErrorsReg(takenId) && taken.hit === hasHitReg(takenId)
+  assert(!jobs.io.deq.fire || takenSame, "leaf_job_flags: a job's table entries, read as it entered, have changed")
   assert(
     !jobs.io.deq.fire || outstandingReg(jobs.io.deq.bits.token.rayId) === 0.U,
     "leaf_job_drained: a ray's job was taken while it still had triangle requests outstanding"
@@ -289,17 +385,21 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
     // (not `best`: a fourth read port would replicate the memory; the specs compare every hit)
     "leaf_done_view: the reduce stage's registers differ from the answered ray's table entries"
   )
+  assert(
+    !(reduce && doneHasHitReg && doneTok.shadow) || doneOccReg,
+    "leaf_shadow_occluded: a shadow ray with a hit is not marked occluded"
+  )
 
   // ---- Exit: the answer side first (it cannot wait), then the issue side ----
   // A ray's exit in the cycle of its last answer also carries that answer's
   // error flags (its table entry takes them only at the clock edge).
-  // So does its hit: `update` is that answer's write to the ray's best hit.
+  // So does its hit: `anyHit` is that answer's has-hit write.
   private def exitOf(tok: TraversalToken, errors: UInt, occluded: Bool, hit: Bool, answered: Bool): QueuedExit = {
     val e = Wire(new QueuedExit(cfg))
     e.exit.token := tok
     e.exit.token.errors := tok.errors | errors | Mux(answered, errNow, 0.U)
     e.exit.occluded := occluded || (answered && ans.hit && tok.shadow)
-    e.hasHit := hit || (answered && update)
+    e.hasHit := hit || (answered && anyHit)
     e
   }
   private val issueExit = stoppingReg && issueDrained && !lastAnswer

@@ -75,12 +75,19 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
     /** The record's byte address within its 4 KB page: offset and beat position. */
     val page = UInt(pageBits.W)
     val beats = UInt(countBits.W)
+
+    /** beats - 2 (mod 2^countBits): the count before which the next beat is the last. */
+    val penult = UInt(countBits.W)
   }
   // Slot table: written when a slot is taken, read by R beats and the pick.
   private val meta = Mem(slots, new Meta)
   private val busyReg = RegInit(0.U(slots.W))
   private val doneReg = RegInit(0.U(slots.W)) // all beats in, not yet picked
   private val countRegs = RegInit(VecInit(Seq.fill(slots)(0.U(countBits.W))))
+  // Whether a slot's next beat is its record's last (countRegs(s) === beats - 1), kept beside the count: an R
+  // beat's completion reads one bit, not the count and the slot's beat count through a subtract and a compare
+  // (that chain into the done bits was the fabric's longest path, docs/fmax.md).
+  private val finalRegs = RegInit(VecInit(Seq.fill(slots)(false.B)))
   private val errorReg = RegInit(false.B)
 
   // ---- Issue: take a slot, then emit the record's bursts (split at 4 KB) ----
@@ -88,9 +95,17 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
   private val pendAddrReg = Reg(UInt(p.addrBits.W)) // beat-aligned address of the next burst
   private val pendLeftReg = Reg(UInt(countBits.W))
   private val pendIdReg = Reg(UInt(slotBits.W))
-  private val toBoundary = BurstMath.beatsToBoundary(p, pendAddrReg)
-  private val burstBeats = Mux(pendLeftReg < toBoundary, pendLeftReg, toBoundary)
-  private val lastBurst = burstBeats === pendLeftReg
+  // The beats from pendAddrReg to its 4 KB boundary, kept beside it: loaded with each address (a full page
+  // after a boundary), so the last-burst test, which the request's ready waits on, is one compare of two
+  // registers, not a subtraction and a compare (through the ready and the client arbiter it was the
+  // fabric's longest path, docs/fmax.md).
+  private val toBoundaryReg = Reg(chiselTypeOf(BurstMath.beatsToBoundary(p, pendAddrReg)))
+  private val burstBeats = Mux(pendLeftReg < toBoundaryReg, pendLeftReg, toBoundaryReg)
+  private val lastBurst = pendLeftReg <= toBoundaryReg // = (burstBeats === pendLeftReg)
+  assert(
+    !pendValidReg || toBoundaryReg === BurstMath.beatsToBoundary(p, pendAddrReg),
+    "read_to_boundary: the beats to the page boundary differ from the pending address's"
+  )
   io.ar.valid := pendValidReg
   io.ar.bits := Axi4Addr.incr(p, pendIdReg, pendAddrReg, burstBeats)
   when(io.ar.fire) {
@@ -102,6 +117,7 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
     pendAddrReg := (if (p.addrBits > pageBits) Cat(pendAddrReg(p.addrBits - 1, pageBits) + 1.U, 0.U(pageBits.W))
                     else 0.U)
     pendLeftReg := pendLeftReg - burstBeats
+    toBoundaryReg := (Axi4.BoundaryBytes / B).U // a page start (0, wrapped, in a one-page space)
     when(lastBurst) { pendValidReg := false.B }
   }
 
@@ -123,8 +139,25 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
     freeSlotReg := otherSlot
     freeOHReg := UIntToOH(otherSlot, slots)
   }
-  private val bytesOf = VecInit(recordBytes.map(_.U(13.W)))
-  private val reqBeats = BurstMath.beatsCovering(p, io.req.bits.addr, bytesOf(io.req.bits.client))
+  // The beats a record covers, BurstMath.beatsCovering of its offset in a beat and its client's size b: with
+  // b - 1 = q * B + r, q + 1, or q + 2 when the offset is B - r or more (it then crosses one more beat
+  // boundary). A compare of the offset with a constant per client, then a select by the client: no adder
+  // behind the client arbiter's choice, which through the size's select and the beat count's two adds into
+  // pendLeftReg was the fabric's longest path (docs/fmax.md).
+  private val reqOffset = io.req.bits.addr(beatBits - 1, 0)
+  private val reqBeats = VecInit(recordBytes.map { b =>
+    val (q, r) = ((b - 1) / B, (b - 1) % B)
+    Mux(reqOffset >= (B - r).U, (q + 2).U(countBits.W), (q + 1).U(countBits.W))
+  })(io.req.bits.client)
+  assert(
+    !io.req.valid || io.req.bits.client >= n.U ||
+      reqBeats === BurstMath.beatsCovering(
+        p,
+        io.req.bits.addr,
+        VecInit(recordBytes.map(_.U(13.W)))(io.req.bits.client)
+      ),
+    "read_beats: a record's beat count differs from the beats its bytes cover"
+  )
   private val allocOH = Mux(io.req.fire, freeOHReg, 0.U)
   when(io.req.fire) {
     val m = Wire(new Meta)
@@ -132,9 +165,13 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
     m.tag := io.req.bits.tag
     m.page := io.req.bits.addr(pageBits - 1, 0)
     m.beats := reqBeats
+    m.penult := reqBeats - 2.U
     meta.write(newSlot, m)
+    finalRegs(newSlot) := reqBeats === 1.U
     pendValidReg := true.B
-    pendAddrReg := Cat(io.req.bits.addr(p.addrBits - 1, beatBits), 0.U(beatBits.W))
+    val addr = Cat(io.req.bits.addr(p.addrBits - 1, beatBits), 0.U(beatBits.W))
+    pendAddrReg := addr
+    toBoundaryReg := BurstMath.beatsToBoundary(p, addr)
     pendLeftReg := reqBeats
     pendIdReg := newSlot
   }
@@ -145,17 +182,32 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
   private val rMeta = meta(rSlot)
   private val rCount = countRegs(rSlot)
   private val rKnown = rId < slots.U && busyReg(rSlot) && !doneReg(rSlot)
-  private val rFinal = rCount === rMeta.beats - 1.U
-  // The beat ends a burst where the next beat would start a new 4 KB page.
-  private val rBeatInPage = rMeta.page(pageBits - 1, beatBits) +& rCount + 1.U
-  private val rEndsPage = rBeatInPage(pageBits - beatBits - 1, 0) === 0.U
-  private val rLastOk = io.r.bits.last === (rFinal || rEndsPage)
+  private val rFinal = finalRegs(rSlot)
+  assert(
+    !(io.r.valid && rKnown) || rFinal === (rCount === rMeta.beats - 1.U),
+    "read_final: a slot's last-beat flag is wrong"
+  )
   // A beat of a waiting record is kept even with an error, so the record
   // still completes (its client does not hang; `error` tells the host).
   private val rGood = io.r.valid && rKnown
-  when(io.r.valid && !(rKnown && rLastOk && io.r.bits.resp === 0.U)) { errorReg := true.B }
   private val completeOH = Mux(rGood && rFinal, UIntToOH(rSlot, slots), 0.U)
-  when(rGood) { countRegs(rSlot) := Mux(rFinal, 0.U, rCount + 1.U) }
+  when(rGood) {
+    countRegs(rSlot) := Mux(rFinal, 0.U, rCount + 1.U)
+    finalRegs(rSlot) := !rFinal && rCount === rMeta.penult
+  }
+  // The beat's checks, a cycle later from registers: it ends a burst where its record ends or where the next
+  // beat would start a new 4 KB page, and its response is OKAY. `error` is sticky, so a cycle later is no loss.
+  private val chkValidReg = RegNext(io.r.valid, false.B)
+  private val chkKnownReg = RegNext(rKnown)
+  private val chkFinalReg = RegNext(rFinal)
+  private val chkLastReg = RegNext(io.r.bits.last)
+  private val chkOkayReg = RegNext(io.r.bits.resp === 0.U)
+  private val chkPageReg = RegNext(rMeta.page(pageBits - 1, beatBits))
+  private val chkCountReg = RegNext(rCount)
+  private val chkBeatInPage = chkPageReg +& chkCountReg + 1.U
+  private val chkEndsPage = chkBeatInPage(pageBits - beatBits - 1, 0) === 0.U
+  private val chkLastOk = chkLastReg === (chkFinalReg || chkEndsPage)
+  when(chkValidReg && !(chkKnownReg && chkLastOk && chkOkayReg)) { errorReg := true.B }
 
   private val wValidReg = RegNext(rGood, false.B)
   private val wSlotReg = RegEnable(rSlot, rGood)
@@ -202,16 +254,27 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
   private val pickClientReg = Reg(UInt(clientBits.W))
   private val pickTagReg = Reg(UInt(tagBits.W))
   private val arb = Module(new RRArbiter(UInt(slotBits.W), n))
-  for (c <- 0 until n) {
-    // Credit: queued + selected + being read < OutDepth, so every record picked
-    // now has a place in its queue when it arrives two cycles later: the
-    // queue only loses entries meanwhile, and both stages ahead of it count.
+  // Credit: queued + selected + being read < OutDepth, so every record picked
+  // now has a place in its queue when it arrives two cycles later: the
+  // queue only loses entries meanwhile, and both stages ahead of it count.
+  // The sum is kept in a register per client (`heldReg`: +1 when the arbiter
+  // picks the client, -1 when the client takes a record), so the arbiter's
+  // request valids start from a 2-bit compare of a register, not from the
+  // queue's count and the stages' adds (that chain through the arbiter into
+  // the select registers was the fabric's longest path, docs/fmax.md).
+  private val heldRegs = Seq.fill(n)(RegInit(0.U(log2Ceil(ReadEngine.OutDepth + 1).W)))
+  for ((heldReg, c) <- heldRegs.zipWithIndex) {
     val inSel = selValidReg && selClientReg === c.U
     val inRead = pickValidReg && pickClientReg === c.U
-    val credit = outQs(c).io.count +& inSel.asUInt +& inRead.asUInt < ReadEngine.OutDepth.U
+    assert(
+      heldReg === outQs(c).io.count +& inSel.asUInt +& inRead.asUInt,
+      "read_out_credit: a client's credit count differs from its queued, selected and read records"
+    )
+    val credit = heldReg < ReadEngine.OutDepth.U
     arb.io.in(c).valid := completions(c).io.deq.valid && credit
     arb.io.in(c).bits := completions(c).io.deq.bits
     completions(c).io.deq.ready := arb.io.in(c).ready && credit
+    heldReg := heldReg + arb.io.in(c).fire.asUInt - outQs(c).io.deq.fire.asUInt
   }
   arb.io.out.ready := true.B
   selValidReg := arb.io.out.valid

@@ -216,7 +216,12 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   for ((b, name) <- rm.errorFlags) hw(s"ERR_COUNT_$name") := hitDma.io.errCount(b)
 
   // ---- 64-bit counters: since CLEAR_COUNTERS (a snapshot of the running sums is subtracted) ----
-  private def sum(f: rtaccel.PerfCounters => UInt): UInt = cores.map(c => f(c.io.perf)).reduce(_ + _)
+  // The cores' counts are summed into a register: a 64-bit sum of the cores' counters and the snapshot's
+  // subtraction after it were two carry chains in one cycle, SystemCore's longest path (docs/fmax.md). The
+  // registered sum runs a cycle behind, and so does its snapshot, so a counter still counts exactly the events
+  // since CLEAR_COUNTERS, a cycle later.
+  private def sum(f: rtaccel.PerfCounters => UInt): UInt =
+    RegNext(cores.map(c => f(c.io.perf)).reduce(_ + _), 0.U(64.W))
   private def count(event: Bool): UInt = PerfCounter(event.asUInt)
   private val a = io.axi
   private val cyclesReg = RegInit(0.U(64.W))

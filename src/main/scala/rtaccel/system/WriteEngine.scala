@@ -14,7 +14,9 @@ import rtaccel.axi.{Axi4, Axi4Addr, Axi4B, Axi4Params, Axi4W}
   * always high. `writesDone` counts the records of the writes whose B has
   * come (a line's one or two), read from a queue of the records per write in
   * flight: a line is taken only while that queue has room, so at most
-  * `maxOutstanding` writes are in flight and the queue never overflows.
+  * `maxOutstanding` writes are in flight and the queue never overflows. A
+  * write's records reach `writesDone` two cycles after its B (the add is
+  * registered).
   * `error` is sticky on a non-OKAY bresp or a B for no write.
   */
 class WriteEngine(p: Axi4Params, maxOutstanding: Int = WriteEngine.MaxOutstanding) extends Module {
@@ -58,8 +60,11 @@ class WriteEngine(p: Axi4Params, maxOutstanding: Int = WriteEngine.MaxOutstandin
   private val errorReg = RegInit(false.B)
   io.b.ready := true.B
   recordsQ.io.deq.ready := io.b.valid
+  // A B's records are added a cycle after it comes: the queue's empty test and the select in front of the
+  // 32-bit add were the fabric's longest path (docs/fmax.md). writesDone counts them a cycle later for it.
+  private val doneAddReg = RegNext(Mux(io.b.fire && recordsQ.io.deq.valid, recordsQ.io.deq.bits, 0.U), 0.U(2.W))
+  doneReg := doneReg + doneAddReg
   when(io.b.fire) {
-    doneReg := doneReg + Mux(recordsQ.io.deq.valid, recordsQ.io.deq.bits, 0.U)
     when(io.b.bits.resp =/= Axi4.RespOkay.U || !recordsQ.io.deq.valid) { errorReg := true.B }
   }
   io.writesDone := doneReg

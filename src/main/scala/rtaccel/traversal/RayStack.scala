@@ -62,9 +62,14 @@ class RayStack(cfg: AccelConfig) extends Module {
   private def bankOf(slot: UInt): UInt = if (banks == 1) 0.U else slot(bankBits - 1, 0)
 
   // Push port p writes slot sp + p; bank b takes the port whose slot lands on it.
+  // Slot sp + p lands on bank b exactly when sp's bank bits are (b - p) mod B: a compare of sp's low bits with
+  // a constant, not of the sum's, so a bank's write enable is one function of those bits and pushCount, with no
+  // adder's carry chain in front of it (that was the unit's longest path, docs/fmax.md).
   private val slots = (0 until pushes).map(p => io.sp.pad(slotBits) + p.U)
+  private def landsOn(sp: UInt, offset: Int, b: Int): Bool =
+    if (banks == 1) true.B else sp(bankBits - 1, 0) === Math.floorMod(b - offset, banks).U
   for (((mem, memB), b) <- mems.zip(memsB).zipWithIndex) {
-    val hits = slots.zipWithIndex.map { case (s, p) => p.U < io.pushCount && bankOf(s) === b.U }
+    val hits = (0 until pushes).map(p => p.U < io.pushCount && landsOn(io.sp, p, b))
     when(hits.reduce(_ || _)) {
       val (addr, value) = (rowAddr(Mux1H(hits, slots)), Mux1H(hits, io.pushVals))
       mem.write(addr, value)
@@ -73,7 +78,7 @@ class RayStack(cfg: AccelConfig) extends Module {
   }
   private def popPort(ms: Seq[SyncReadMem[ChildRef]], rayId: UInt, sp: UInt, pop: Bool): ChildRef = {
     val slot = sp.pad(slotBits) - 1.U
-    val reads = ms.zipWithIndex.map { case (mem, b) => mem.read(rowAddr(slot, rayId), pop && bankOf(slot) === b.U) }
+    val reads = ms.zipWithIndex.map { case (mem, b) => mem.read(rowAddr(slot, rayId), pop && landsOn(sp, -1, b)) }
     if (banks == 1) reads.head else VecInit(reads)(RegEnable(bankOf(slot), pop))
   }
   io.popVal := popPort(mems, io.rayId, io.sp, io.pop)

@@ -4,7 +4,7 @@ import chisel3._
 import chisel3.util._
 import rtaccel.leaf.{LeafExit, LeafJob}
 import rtaccel.mem.MemPort
-import rtaccel.{AccelConfig, Datapath}
+import rtaccel.{AccelConfig, Datapath, HeldCount}
 import rtaccel.datapath.RayConsts
 import rtaccel.bvh.BvhNode
 
@@ -193,13 +193,8 @@ class Traversal[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   // done): the sum of its parts' counts would be the unit's longest path (6.71 ns), for a count only assertions
   // read. The handshakes are registered before they are added: a leaf return's valid comes through RayBuffer's
   // write arbiter from InitTraversal, and that chain ending in the count's add is 8.15 ns in the control's
-  // flattened netlist (docs/fmax.md). `held` is the count of this cycle, bit for bit: the count as of last cycle
-  // (heldReg) plus last cycle's handshakes. The sum stays as an assertion (simulation and formal only).
-  private val firedReg =
-    RegNext(VecInit(io.entry.fire, io.leafIn.fire, io.leafOut.fire, io.done.fire), VecInit.fill(4)(false.B))
-  private val heldReg = RegInit(0.U(io.held.getWidth.W))
-  private val held = heldReg + firedReg(0).asUInt + firedReg(1).asUInt - firedReg(2).asUInt - firedReg(3).asUInt
-  heldReg := held
+  // flattened netlist (docs/fmax.md). The sum stays as an assertion (simulation and formal only).
+  private val held = HeldCount(Seq(io.entry.fire, io.leafIn.fire), Seq(io.leafOut.fire, io.done.fire), io.held.getWidth)
   assert(
     held === inBox +& control.io.held +& lanes.map(_.valid.asUInt).reduce(_ +& _) +& queued +& fetch.io.waiting +&
       fetch.io.out.valid,
