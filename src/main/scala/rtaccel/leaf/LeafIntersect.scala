@@ -13,34 +13,6 @@ object LeafIntersect {
   def port(cfg: AccelConfig): MemPortParams = MemPortParams(cfg.addrBits, cfg.rayIdBits, TriangleRecord.RecordBytes)
 }
 
-class LeafJob(cfg: AccelConfig) extends Bundle {
-  val token = new TraversalToken(cfg)
-  val first = UInt(cfg.triIndexBits.W)
-  val count = UInt(cfg.leafCountBits.W)
-}
-
-class LeafExit(cfg: AccelConfig) extends Bundle {
-  val token = new TraversalToken(cfg)
-
-  /** A shadow ray found an occluder: its traversal is over. */
-  val occluded = Bool()
-}
-
-/** An exit as LeafIntersect queues it: with whether the ray holds a hit, so
-  * that the exit's tmax write and its handshake read no 1-of-`numRayIds` table.
-  */
-class QueuedExit(cfg: AccelConfig) extends Bundle {
-  val exit = new LeafExit(cfg)
-  val hasHit = Bool()
-}
-
-class BestHit(cfg: AccelConfig) extends Bundle {
-  val t = UInt(cfg.triFloat.width.W)
-  val u = UInt(cfg.triFloat.width.W)
-  val v = UInt(cfg.triFloat.width.W)
-  val prim = UInt(cfg.triIndexBits.W)
-}
-
 /** Tests a ray against every triangle of a leaf and keeps its closest hit.
   *
   *  - Issue: one leaf at a time, one triangle request per cycle, tagged with
@@ -54,12 +26,13 @@ class BestHit(cfg: AccelConfig) extends Bundle {
   *    new tmax is written to the RayBuffer before it leaves, so its next box
   *    test sees it (the golden model relies on that).
   *
-  * Timing (docs/fmax.md): no 1-of-`numRayIds` table read feeds logic in the
-  * cycle it is used. The reduce stage's entries (best hit, hit, occluded,
-  * errors, last outstanding answer) are read a cycle ahead, at the answer
-  * pipe's stage before it, into registers, with that cycle's own writes
-  * forwarded; the issuing ray keeps its entries in registers beside
-  * `issueIdReg`. Cycle for cycle the unit behaves as if it read the tables
+  * Timing (docs/fmax.md): no 1-of-`numRayIds` table read is made in one
+  * cycle. The reduce stage's entries (hit, occluded, errors, last
+  * outstanding answer) are read over the answer pipe's two stages before it
+  * ([[GroupedRead]]) into registers, with those cycles' own writes forwarded,
+  * and its best hit a stage before it; a job's entries are read as it enters
+  * the job queue and wait beside it; the issuing ray keeps its entries in
+  * registers beside `issueIdReg`. Cycle for cycle the unit behaves as if it read the tables
   * directly (assertions `leaf_done_view`, `leaf_issue_view` check it).
   *
   * Every queue holds up to `numRayIds` entries, and each ray is in one place,
@@ -262,27 +235,13 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   // they will stand after the next cycle's writes. A 1-of-n read of a table
   // in one stage maps to a chain of up to six LUT/MUXF7/MUXF8 levels (the
   // unit's longest path, 6.2 to 9.3 ns by the netlist, docs/fmax.md). So at
-  // `pre2` each group of 16 IDs selects its entry for `pre2Id` (zero unless
-  // the ID is in the group) into a register, and at `pre`, `preId` being the
-  // same ID a cycle later, the groups' entries are ORed. Every write to the ID
+  // `pre2` each group of 16 IDs selects its entry for `pre2Id` into a
+  // register, and at `pre`, `preId` being the same ID a cycle later, the
+  // groups' entries are ORed (GroupedRead). Every write to the ID
   // in either cycle is forwarded: the pre2 cycle's from registers beside the
   // groups', the pre cycle's as it happens; a clear is applied last in each
   // cycle, as in the tables (`when(io.clear.valid)` comes after the reduce's
   // writes). When pre2 carries no answer, nothing reads the result. ----
-  private val groupSize = n.min(16)
-  private val groups = (n + groupSize - 1) / groupSize
-
-  /** `table(id)` as it stood a cycle ago, `id` being last cycle's: each group's pick registered, then ORed. */
-  private def twoStage(table: Seq[UInt], id: UInt): UInt = {
-    val w = table.head.getWidth
-    val low = id(log2Ceil(groupSize).max(1) - 1, 0)
-    val picked = (0 until groups).map { g =>
-      val entries = (0 until groupSize).map(j => table.lift(g * groupSize + j).getOrElse(0.U(w.W)))
-      val entry = if (groupSize == 1) entries.head else VecInit(entries)(low)
-      if (groups == 1) entry else Mux((id >> log2Ceil(groupSize)) === g.U, entry, 0.U)
-    }
-    RegNext(VecInit(picked)).reduce(_ | _)
-  }
   private val toPre2 = doneId === pre2Id
   private val clrPre2Reg = RegNext(io.clear.valid && io.clear.bits === pre2Id)
   private val incPre2Reg = RegNext(io.mem.req.fire && issueIdReg === pre2Id)
@@ -290,10 +249,10 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   private val hitPre2Reg = RegNext(anyHit && toPre2)
   private val occPre2Reg = RegNext(occludes && toPre2)
   private val errPre2Reg = RegNext(Mux(reduce && toPre2, errNow, 0.U))
-  private val outIsPre = twoStage(outIsReg, pre2Id)
-  private val hasHitPre = !clrPre2Reg && (twoStage(hasHitReg.map(_.asUInt), pre2Id).asBool || hitPre2Reg)
-  private val occPre = !clrPre2Reg && (twoStage(occludedReg.map(_.asUInt), pre2Id).asBool || occPre2Reg)
-  private val errPre = Mux(clrPre2Reg, 0.U, twoStage(leafErrorsReg, pre2Id) | errPre2Reg)
+  private val outIsPre = GroupedRead(outIsReg, pre2Id)
+  private val hasHitPre = !clrPre2Reg && (GroupedRead(hasHitReg.map(_.asUInt), pre2Id).asBool || hitPre2Reg)
+  private val occPre = !clrPre2Reg && (GroupedRead(occludedReg.map(_.asUInt), pre2Id).asBool || occPre2Reg)
+  private val errPre = Mux(clrPre2Reg, 0.U, GroupedRead(leafErrorsReg, pre2Id) | errPre2Reg)
 
   private val toPre = doneId === preId
   private val clrPre = io.clear.valid && io.clear.bits === preId
@@ -342,16 +301,11 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   // comes before its first job, in an earlier cycle: see `clear`), so its entries stand still from its entry
   // until it is taken (`leaf_job_flags`). Read when the job is taken, from the job
   // queue's head, the select was the unit's longest path (6.07 ns, docs/fmax.md).
-  class JobFlags extends Bundle {
-    val occ = Bool()
-    val err = UInt(ErrorFlags.width.W)
-    val hit = Bool()
-  }
   private val enteredId = jobs.io.enq.bits.token.rayId
   private val enteredFlags = Wire(new JobFlags)
-  enteredFlags.occ := twoStage(occludedReg.map(_.asUInt), enteredId).asBool
-  enteredFlags.err := twoStage(leafErrorsReg, enteredId)
-  enteredFlags.hit := twoStage(hasHitReg.map(_.asUInt), enteredId).asBool
+  enteredFlags.occ := GroupedRead(occludedReg.map(_.asUInt), enteredId).asBool
+  enteredFlags.err := GroupedRead(leafErrorsReg, enteredId)
+  enteredFlags.hit := GroupedRead(hasHitReg.map(_.asUInt), enteredId).asBool
   // As many entries as `jobs`, and never more in it than in `jobs`: it cannot overflow (checked all the same).
   private val jobFlags = Module(new Queue(new JobFlags, n, flow = true))
   jobFlags.io.enq.valid := RegNext(jobs.io.enq.fire, false.B)

@@ -1,0 +1,40 @@
+package rtaccel.leaf
+
+import chisel3._
+import rtaccel.traversal.TraversalToken
+import rtaccel.{AccelConfig, ErrorFlags}
+
+class LeafJob(cfg: AccelConfig) extends Bundle {
+  val token = new TraversalToken(cfg)
+  val first = UInt(cfg.triIndexBits.W)
+  val count = UInt(cfg.leafCountBits.W)
+}
+
+class LeafExit(cfg: AccelConfig) extends Bundle {
+  val token = new TraversalToken(cfg)
+
+  /** A shadow ray found an occluder: its traversal is over. */
+  val occluded = Bool()
+}
+
+/** An exit as LeafIntersect queues it: with whether the ray holds a hit, so
+  * that the exit's tmax write and its handshake read no 1-of-`numRayIds` table.
+  */
+class QueuedExit(cfg: AccelConfig) extends Bundle {
+  val exit = new LeafExit(cfg)
+  val hasHit = Bool()
+}
+
+class BestHit(cfg: AccelConfig) extends Bundle {
+  val t = UInt(cfg.triFloat.width.W)
+  val u = UInt(cfg.triFloat.width.W)
+  val v = UInt(cfg.triFloat.width.W)
+  val prim = UInt(cfg.triIndexBits.W)
+}
+
+/** A job's table entries, read as it enters LeafIntersect's job queue and waiting beside it. */
+class JobFlags extends Bundle {
+  val occ = Bool()
+  val err = UInt(ErrorFlags.width.W)
+  val hit = Bool()
+}
