@@ -43,26 +43,36 @@ class RayIdFreeList(numIds: Int) extends Module {
   // freshReg =/= numIds, kept beside freshReg: the allocation's valid, its ID mux and the in-use update read a
   // register, not a compare of one (docs/fmax.md).
   private val haveFreshReg = RegInit(true.B)
-  io.alloc.valid := haveFreshReg || returned.io.deq.valid
+  // The FIFO is not empty, also a register beside it: the FIFO's own valid, a compare of its pointers, ran
+  // through the allocation's handshake into the in-use bits (docs/fmax.md). Next cycle's count is
+  // count + enq - deq.
+  private val returnedReg = RegInit(false.B)
+  returnedReg := returned.io.enq.valid || returned.io.count > 1.U ||
+    (returned.io.count === 1.U && !returned.io.deq.ready)
+  io.alloc.valid := haveFreshReg || returnedReg
   io.alloc.bits := Mux(haveFreshReg, freshReg(idBits - 1, 0), returned.io.deq.bits)
   returned.io.deq.ready := io.alloc.ready && !haveFreshReg
 
-  // The FIFO holds at most numIds - inFlight entries, so it always has room.
+  // A legal free enters the FIFO a cycle later, from registers: the 1-of-numIds in-use read behind `freeLegal`
+  // then ends in a register, not in the FIFO's write enables (docs/fmax.md). The ID waits a cycle more before it
+  // can be handed out again. The FIFO and that register hold the IDs freed and not yet re-allocated, at most
+  // numIds - inFlight, so the FIFO always has room (`no_overflow_returned`).
   io.free.ready := true.B
   private val freeLegal = inUseReg(io.free.bits)
-  returned.io.enq.valid := io.free.valid && freeLegal
-  returned.io.enq.bits := io.free.bits
-
   private val allocFire = io.alloc.fire
   private val freeFire = io.free.valid && freeLegal
+  returned.io.enq.valid := RegNext(freeFire, false.B)
+  returned.io.enq.bits := RegEnable(io.free.bits, freeFire)
   when(allocFire && haveFreshReg) {
     freshReg := freshReg + 1.U
     haveFreshReg := freshReg =/= (numIds - 1).U
   }
   // Were the same ID freed and re-allocated in one cycle, the allocation would
   // win (its mask is applied last); it cannot be, because a freed ID enters the
-  // FIFO and leaves it a cycle later.
-  private val freeMask = Mux(freeFire, UIntToOH(io.free.bits, numIds), 0.U)
+  // FIFO and leaves it a cycle later. Any free clears its bit, legal or not: an
+  // illegal free names a clear bit, so the clear changes nothing, and the bits'
+  // update does not wait on the 1-of-numIds read of `freeLegal` (docs/fmax.md).
+  private val freeMask = Mux(io.free.valid, UIntToOH(io.free.bits, numIds), 0.U)
   private val allocMask = Mux(allocFire, UIntToOH(io.alloc.bits, numIds), 0.U)
   inUseReg := (inUseReg & ~freeMask) | allocMask
   when(io.free.valid && !freeLegal) { doubleFreeReg := true.B }
@@ -75,6 +85,8 @@ class RayIdFreeList(numIds: Int) extends Module {
   assert(!(allocFire && inUseReg(io.alloc.bits)), "id_allocated_once: an ID in flight was handed out again")
   assert(inFlight === PopCount(inUseReg), "id_count: the in-flight count disagrees with the IDs in use")
   assert(haveFreshReg === (freshReg =/= numIds.U), "id_fresh: the fresh flag disagrees with the fresh counter")
+  assert(!returned.io.enq.valid || returned.io.enq.ready, "no_overflow_returned: a freed ID found the FIFO full")
+  assert(returnedReg === returned.io.deq.valid, "id_returned: the FIFO's flag disagrees with the FIFO")
 
   io.inFlight := inFlight
   io.doubleFree := doubleFreeReg

@@ -137,41 +137,76 @@ object BvhNode {
 
   /** The node from its words, flagging fields too wide for `cfg`, corrupt kind words and bad boxes. */
   def check(cfg: AccelConfig, w: NodeWords): BvhNode = {
-    def highBitsSet(x: UInt, keep: Int): Bool = if (keep >= 32) false.B else x(31, keep).orR
-    val raw = w.slots.map(x => SlotWords(x.word0, x.word1, x.lo.toSeq, x.hi.toSeq))
-    val n = Wire(new BvhNode(cfg))
-    val slotErrors = for (s <- 0 until cfg.boxLanes) yield {
-      val (w0, w1) = (raw(s).word0, raw(s).word1)
-      val slot = n.slots(s)
-      val leaf = w0(31)
-      slot.child.isLeaf := leaf
-      slot.child.index := w1(cfg.refIndexBits - 1, 0)
-      slot.child.count := w0(cfg.leafCountBits - 1, 0)
-      for (a <- 0 until 3) {
-        slot.boxMin.foreach(_(a) := raw(s).boxMin(a))
-        slot.boxMax.foreach(_(a) := raw(s).boxMax(a))
-        slot.qMin.foreach(_(a) := raw(s).boxMin(a))
-        slot.qMax.foreach(_(a) := raw(s).boxMax(a))
-      }
-      val indexTooWide = Mux(leaf, highBitsSet(w1, cfg.triIndexBits), highBitsSet(w1, cfg.nodeIndexBits))
-      val leafTooBig = leaf && (w0(30, 0) > cfg.maxLeafSize.U)
-      // Nori: an inner node's word0 is its split axis, 0..2. Wide: an inner
-      // child's word0 is 0, an empty slot's is EmptySlot; nothing else is valid.
-      val (present, badKind) = cfg.layout match {
-        case BvhLayout.Nori    => (true.B, !leaf && (w0(30, 0) > 2.U))
-        case _: BvhLayout.Wide => (w0 =/= EmptySlot.U, !leaf && w0 =/= 0.U && w0 =/= EmptySlot.U)
-      }
-      slot.present := present
-      // A NaN or infinite bound would make the slab test miss (or hit)
-      // silently: nori-bridge writes only finite bounds, so it is bad data.
-      val badBox = w.gridBad.getOrElse((slot.boxMin.get ++ slot.boxMax.get).map(ErrorFlags.nonFinite).reduce(_ || _))
-      Mux(present && (indexTooWide || badKind), ErrorFlags.bit(ErrorFlags.IndexOverflow), 0.U) |
-        Mux(present && leafTooBig, ErrorFlags.bit(ErrorFlags.LeafTooBig), 0.U) |
-        Mux(present && badBox, ErrorFlags.bit(ErrorFlags.BadSceneData), 0.U)
-    }
-    for (g <- n.grid; r <- w.grid) g := r
-    n.axis := raw(0).word0(1, 0)
-    n.errors := slotErrors.reduce(_ | _)
+    val n = fields(cfg, w)
+    n.errors := errors(slotChecks(cfg, w))
     n
   }
+
+  /** The node from its words, its error flags left unset (DontCare): [[check]] without [[slotChecks]]. */
+  def fields(cfg: AccelConfig, w: NodeWords): BvhNode = {
+    val n = Wire(new BvhNode(cfg))
+    n.errors := DontCare
+    for ((slot, x) <- n.slots.zip(w.slots)) {
+      val leaf = x.word0(31)
+      slot.child.isLeaf := leaf
+      slot.child.index := x.word1(cfg.refIndexBits - 1, 0)
+      slot.child.count := x.word0(cfg.leafCountBits - 1, 0)
+      for (a <- 0 until 3) {
+        slot.boxMin.foreach(_(a) := x.lo(a))
+        slot.boxMax.foreach(_(a) := x.hi(a))
+        slot.qMin.foreach(_(a) := x.lo(a))
+        slot.qMax.foreach(_(a) := x.hi(a))
+      }
+      slot.present := present(cfg, x.word0)
+    }
+    for (g <- n.grid; r <- w.grid) g := r
+    n.axis := w.slots(0).word0(1, 0)
+    n
+  }
+
+  /** A slot is used: the nori layout's one slot always; a wide slot unless its word0 is EmptySlot. */
+  private def present(cfg: AccelConfig, word0: UInt): Bool = cfg.layout match {
+    case BvhLayout.Nori    => true.B
+    case _: BvhLayout.Wide => word0 =/= EmptySlot.U
+  }
+
+  /** What [[errors]] reads of one slot: each test on the record's words, before they are combined. A fetch may
+    * register these (PrepFetch), so that the compares of whole words and the OR over the slots are not one path.
+    */
+  class SlotChecks extends Bundle {
+    val present = Bool()
+    val indexBad = Bool()
+    val leafTooBig = Bool()
+    val badBox = Bool()
+  }
+
+  def slotChecks(cfg: AccelConfig, w: NodeWords): Vec[SlotChecks] = {
+    def highBitsSet(x: UInt, keep: Int): Bool = if (keep >= 32) false.B else x(31, keep).orR
+    VecInit(w.slots.map { x =>
+      val c = Wire(new SlotChecks)
+      val (w0, w1) = (x.word0, x.word1)
+      val leaf = w0(31)
+      val indexTooWide = Mux(leaf, highBitsSet(w1, cfg.triIndexBits), highBitsSet(w1, cfg.nodeIndexBits))
+      // Nori: an inner node's word0 is its split axis, 0..2. Wide: an inner
+      // child's word0 is 0, an empty slot's is EmptySlot; nothing else is valid.
+      val badKind = cfg.layout match {
+        case BvhLayout.Nori    => !leaf && (w0(30, 0) > 2.U)
+        case _: BvhLayout.Wide => !leaf && w0 =/= 0.U && w0 =/= EmptySlot.U
+      }
+      c.present := present(cfg, w0)
+      c.indexBad := indexTooWide || badKind
+      c.leafTooBig := leaf && (w0(30, 0) > cfg.maxLeafSize.U)
+      // A NaN or infinite bound would make the slab test miss (or hit)
+      // silently: nori-bridge writes only finite bounds, so it is bad data.
+      c.badBox := w.gridBad.getOrElse((x.lo ++ x.hi).map(ErrorFlags.nonFinite).reduce(_ || _))
+      c
+    })
+  }
+
+  /** The node's error flags from its slots' checks: only used slots can flag. */
+  def errors(checks: Seq[SlotChecks]): UInt = checks.map { c =>
+    Mux(c.present && c.indexBad, ErrorFlags.bit(ErrorFlags.IndexOverflow), 0.U) |
+      Mux(c.present && c.leafTooBig, ErrorFlags.bit(ErrorFlags.LeafTooBig), 0.U) |
+      Mux(c.present && c.badBox, ErrorFlags.bit(ErrorFlags.BadSceneData), 0.U)
+  }.reduce(_ | _)
 }

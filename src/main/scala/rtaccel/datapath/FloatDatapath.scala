@@ -153,6 +153,9 @@ class FloatBox(cfg: AccelConfig, dp: FloatDatapath) extends BoxLane[RayConsts](c
   io.out.bits.hit := out.hit.at(lat)
   io.out.bits.near := out.near.at(lat)
   io.out.valid := ar.valid.at(lat)
+  // The hit compares the entry distance, so it is ready at least a cycle before the answer.
+  require(out.near.ready < lat, s"FloatBox: entry distance ready at ${out.near.ready}, answer at $lat")
+  io.nearAhead := out.near.at(lat - 1)
 }
 
 class FloatPrim(cfg: AccelConfig, dp: FloatDatapath) extends PrimIntersect[RayConsts](cfg, dp.gen) {

@@ -121,8 +121,20 @@ final class HwArith(val fmt: FloatFormat, val valid: ValidChain) extends KernelA
     }
   )
   private def field[S <: Data, T <: Data](t: Timed[S])(f: S => T): Timed[T] = new Timed(f(t.value), t.ready, valid)
-  def min(a: F, b: F): F = field(compare(a, b))(_.min)
-  def max(a: F, b: F): F = field(compare(a, b))(_.max)
+  // min(+inf, x) and max(-inf, x) are x unless x is NaN (a NaN loses, as in FpModel.min/max): that value, after
+  // the comparator's latency, without its compare (BoxKernel's folds start from these constants, and the
+  // compare of a selected operand with a constant was a box lane's longest path, docs/fmax.md).
+  private def againstInf(a: F, b: F, inf: BigInt): Option[F] = {
+    def isInf(t: F): Boolean = t.constant && t.value.litOption.contains(inf)
+    val other = if (isInf(a)) Some(b) else if (isInf(b)) Some(a) else None
+    other.filter(!_.constant).map { x =>
+      val v = wire1(x, y => Mux(exp(y).andR && man(y).orR, inf.U(fmt.width.W), y))
+      val c = x.ready + FpCompare.defaultLatency
+      new Timed(v.at(c), c, valid)
+    }
+  }
+  def min(a: F, b: F): F = againstInf(a, b, fmt.infinity(false)).getOrElse(field(compare(a, b))(_.min))
+  def max(a: F, b: F): F = againstInf(a, b, fmt.infinity(true)).getOrElse(field(compare(a, b))(_.max))
   def lt(a: F, b: F): B = field(compare(a, b))(_.lt)
   def le(a: F, b: F): B = field(compare(a, b))(o => o.lt || o.eq)
   def eq(a: F, b: F): B = field(compare(a, b))(_.eq)
@@ -152,6 +164,8 @@ final class HwArith(val fmt: FloatFormat, val valid: ValidChain) extends KernelA
   def not(a: B): B = new Timed(!a.value, a.ready, valid, a.constant)
   def const(bits: BigInt): F = new Timed(fmt.checkBits(bits).U(fmt.width.W), 0, valid, constant = true)
   def bool(b: Boolean): B = new Timed(b.B, 0, valid, constant = true)
+
+  override def cut(a: F): F = if (a.constant) a else new Timed(a.at(a.ready + 1), a.ready + 1, valid)
 
   /** An input valid at cycle 0. */
   def input(x: UInt): F = new Timed(x, 0, valid)

@@ -60,6 +60,11 @@ trait KernelArith[F, B] {
   /** `modes.map(recip(a, _))`: one reciprocal rounded in several modes (hardware may share the quotient). */
   def recipModes(a: F, modes: Seq[RoundingMode]): Seq[F] = modes.map(recip(a, _))
 
+  /** `a` itself; in hardware a register between the steps before and after it (HwArith), where wires (selects,
+    * sign flips) would otherwise stack on a unit's first stage.
+    */
+  def cut(a: F): F = a
+
   def gt(a: F, b: F): B = lt(b, a)
   def ge(a: F, b: F): B = le(b, a)
   def all(bs: Seq[B]): B = bs.reduce(and)

@@ -181,7 +181,8 @@ object RayKernel {
     val ky = kxUp.indices.map(i => muxB(flip, kxUp(i), kyUp(i)))
     // R4: Sz = 1/d[kz] (RNE). RNE is sign-symmetric, so -(1/|d|) = 1/(-|d|) bit for bit.
     val sz = rcpMag match {
-      case Some(r) => val rz = select(kz, r); mux(flip, neg(rz), rz)
+      // Registered before the multiplies: the select and the sign flip stacked on a multiplier's first stage.
+      case Some(r) => val rz = select(kz, r); cut(mux(flip, neg(rz), rz))
       case None    => recip(dz, RNE)
     }
     // R5

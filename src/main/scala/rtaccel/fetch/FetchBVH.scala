@@ -59,21 +59,28 @@ class FetchBVH[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   // Requests carry a generation number, so a late answer for an old base is
   // never taken for the new root.
   private val rootReg = Reg(new BvhNode(cfg))
+  private val rootChecksReg = Reg(Vec(cfg.boxLanes, new BvhNode.SlotChecks))
   private val rootValidReg = RegInit(false.B)
   private val rootAskedReg = RegInit(false.B)
   private val baseReg = RegInit(0.U(cfg.addrBits.W))
   private val genReg = RegInit(0.U(cfg.rayIdBits.W))
   private val baseChanged = io.nodeBase =/= baseReg
+  // The root's request leaves from a one-entry queue, so the base's compare does not run through the node
+  // port's arbiter into PrepFetch (docs/fmax.md): a cycle more per root fetch. A request still queued when the
+  // base changes is dropped in that cycle (it is offered in it, so a user that must never see the old base's
+  // request holds the port for a cycle after a change: SystemCore), and the new root is asked for.
+  private val rootReq = Wire(Decoupled(chiselTypeOf(io.mem.req.bits)))
+  rootReq.valid := !rootAskedReg && !baseChanged
+  rootReq.bits.addr := baseReg
+  rootReq.bits.tag := genReg
+  io.mem.req <> Queue(rootReq, 1, flush = Some(baseChanged))
+  when(rootReq.fire) { rootAskedReg := true.B }
   when(baseChanged) {
     baseReg := io.nodeBase
     genReg := genReg + 1.U
     rootValidReg := false.B
     rootAskedReg := false.B
   }
-  io.mem.req.valid := !rootAskedReg && !baseChanged
-  io.mem.req.bits.addr := baseReg
-  io.mem.req.bits.tag := genReg
-  when(io.mem.req.fire) { rootAskedReg := true.B }
   io.mem.resp.ready := true.B
   if (BvhNode.staged(cfg)) {
     // The record's words are registered before the checks, as in PrepFetch (BvhNode.staged): the root is valid a
@@ -82,14 +89,19 @@ class FetchBVH[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
     val rootWordsReg = RegEnable(BvhNode.words(cfg, io.mem.resp.bits.data), rootAnswer)
     val rootDecodeReg = RegNext(rootAnswer, false.B)
     when(rootDecodeReg && !baseChanged) {
-      rootReg := BvhNode.check(cfg, rootWordsReg)
+      rootReg := BvhNode.fields(cfg, rootWordsReg)
+      rootChecksReg := BvhNode.slotChecks(cfg, rootWordsReg)
       rootValidReg := true.B
     }
   } else when(io.mem.resp.fire && io.mem.resp.bits.tag === genReg && !baseChanged) {
-    rootReg := BvhNode.decode(cfg, io.mem.resp.bits.data)
+    val words = BvhNode.words(cfg, io.mem.resp.bits.data)
+    rootReg := BvhNode.fields(cfg, words)
+    rootChecksReg := BvhNode.slotChecks(cfg, words)
     rootValidReg := true.B
   }
+  // The slots' checks are registered with the root and combined after the register, as in PrepFetch.
   io.root := rootReg
+  io.root.errors := BvhNode.errors(rootChecksReg)
 
   // ---- IDs and ray constants ----
   private val ids = Module(new RayIdFreeList(cfg.numRayIds))

@@ -27,6 +27,8 @@ class FormalDatapath(val prepLatency: Int, val boxLatency: Int, val primLatency:
   def box(cfg: AccelConfig): BoxLane[UInt] = new BoxLane[UInt](cfg, gen) {
     def latency: Int = boxLatency
     io.out := Pipe(io.in.valid, FormalAnySeq(chiselTypeOf(io.out.bits)), latency)
+    // Any entry distances: the children's order is the solver's choice too.
+    io.nearAhead := FormalAnySeq(chiselTypeOf(io.nearAhead))
   }
   def prim(cfg: AccelConfig): PrimIntersect[UInt] = new PrimIntersect[UInt](cfg, gen) {
     def latency: Int = primLatency

@@ -30,7 +30,7 @@ class FpDivState(fmt: FloatFormat, dynamicRm: Boolean) extends Bundle {
   * [[inModes]]), so every mode is correctly rounded (not just faithfully, as
   * a Newton-Raphson estimate without a remainder correction would be).
   *
-  * Pipelining: cut points after normalisation, after each recurrence step,
+  * Pipelining: cut points after the leading-zero counts, after the normalising shifts, after each recurrence step,
   * the rounder's, and at the output share the `latency` registers evenly
   * ([[FpPipeline]]). Each step is one (p+1)-bit compare-subtract, i.e. one
   * carry chain and a mux. The normalisation stage only counts and shifts:
@@ -40,7 +40,7 @@ class FpDivState(fmt: FloatFormat, dynamicRm: Boolean) extends Bundle {
   * RayPrep's shear, lands on that stage).
   */
 object FpDivCore {
-  def cuts(fmt: FloatFormat): Int = 1 + (fmt.precision + 2) + FpRound.cuts(fmt, fmt.precision + 2) + 1
+  def cuts(fmt: FloatFormat): Int = 2 + (fmt.precision + 2) + FpRound.cuts(fmt, fmt.precision + 2) + 1
 
   /** One register per cut point: one recurrence step per cycle (docs/fmax.md). */
   def defaultLatency(fmt: FloatFormat): Int = cuts(fmt)
@@ -75,12 +75,9 @@ object FpDivCore {
     val pipe = new FpPipeline(latency, cuts(fmt))
     val ua = FpUnpack(fmt, a)
     val ub = FpUnpack(fmt, b)
-    def normalise(u: FpUnpacked): (UInt, UInt) = {
-      val lz = FpUnpack.leadingZeros(u.sig) // a zero operand is flagged apart
-      (FpUnpack.shiftLeftMsbFirst(u.sig, lz), lz)
-    }
-    val (sigA, lzA) = normalise(ua)
-    val (sigB, lzB) = normalise(ub)
+    // Normalisation in two cut points: the leading-zero counts, then the shifts by them (a count and the shift
+    // behind it in one stage were the 3-mode reciprocal's longest path, docs/fmax.md).
+    def lz(u: FpUnpacked): UInt = FpUnpack.leadingZeros(u.sig) // a zero operand is flagged apart
 
     val s0 = Wire(new FpDivState(fmt, dynamicRm))
     val raw = s0.meta.raw
@@ -94,13 +91,18 @@ object FpDivCore {
     raw.exp := ua.exp -& ub.exp -& (p + 1).S
     raw.sig := DontCare
     raw.sticky := DontCare
-    s0.rem := sigA
-    s0.divisor := sigB
+    s0.rem := ua.sig
+    s0.divisor := ub.sig
     s0.quo := 0.U
-    s0.lzA := lzA
-    s0.lzB := lzB
+    s0.lzA := lz(ua)
+    s0.lzB := lz(ub)
+    val counted = pipe.cut(valid, s0)
+    val s1 = Wire(new FpDivState(fmt, dynamicRm))
+    s1 := counted.bits
+    s1.rem := FpUnpack.shiftLeftMsbFirst(counted.bits.rem(p - 1, 0), counted.bits.lzA)
+    s1.divisor := FpUnpack.shiftLeftMsbFirst(counted.bits.divisor, counted.bits.lzB)
 
-    var stage = pipe.cut(valid, s0)
+    var stage = pipe.cut(counted.valid, s1)
     for (i <- 0 until p + 2) {
       val s = stage.bits
       val next = Wire(new FpDivState(fmt, dynamicRm))

@@ -12,6 +12,19 @@ object FpOrder {
     Mux(x(fmt.width - 1), ~x, x | (BigInt(1) << (fmt.width - 1)).U(fmt.width.W))
   }
 
+  /** `key(a) <= key(b)`, from the signs and one compare of the magnitudes: the key's sign-dependent inversion
+    * does not stand in front of the compare's carry chain. Negative encodings order by descending magnitude, and
+    * every negative one below every positive one.
+    */
+  def keyLe(fmt: FloatFormat, a: UInt, b: UInt): Bool = {
+    val w = fmt.width
+    require(a.getWidth == w && b.getWidth == w, s"FpOrder.keyLe: expected $w bits for $fmt")
+    val (sa, sb) = (a(w - 1), b(w - 1))
+    val less = a(w - 2, 0) < b(w - 2, 0)
+    val same = a(w - 2, 0) === b(w - 2, 0)
+    Mux(sa =/= sb, sa, Mux(sa, !less, less || same))
+  }
+
   /** Scala twin of `key`, for golden models. */
   def keyOf(fmt: FloatFormat, x: BigInt): BigInt = {
     val mask = (BigInt(1) << fmt.width) - 1

@@ -51,13 +51,15 @@ object FpRound {
     val sig = UInt(w.W)
     val lz = UInt(lzw.W)
 
-    /** Biased exponent of the MSB position, and one less. */
+    /** Biased exponent of the MSB position, one less and one more. */
     val eTop = SInt(ew.W)
     val eTopM1 = SInt(ew.W)
+    val eTopP1 = SInt(ew.W)
 
     /** eTopM1 + p + 2: the right shift onto the subnormal grid passes the whole window when lz exceeds it. */
     val eShiftOut = SInt(ew.W)
     val biasedExp = SInt(ew.W)
+    val biasedExpP1 = SInt(ew.W)
     val tiny = Bool()
 
     /** The right shift onto the subnormal grid, already clamped to the window's p + 2 bits. */
@@ -130,6 +132,7 @@ object FpRound {
     // Biased exponent of the leading one is eTop - lz.
     s0.eTop := exp + (w - 1 + fmt.bias).S(ew.W)
     s0.eTopM1 := exp + (w - 2 + fmt.bias).S(ew.W)
+    s0.eTopP1 := exp + (w + fmt.bias).S(ew.W)
     val fast = fastPath(fmt, w, pd, minExp)
     if (!fast) s0.eShiftOut := exp + (w - 2 + fmt.bias + p + 2).S(ew.W)
     val s1 = cut(s0)
@@ -139,6 +142,7 @@ object FpRound {
     val s2 = next(s1)
     val lzS = s1.lz.zext.pad(ew)
     s2.biasedExp := s1.eTop - lzS
+    s2.biasedExpP1 := s1.eTopP1 - lzS // the rounding carry's exponent, beside it: no chain on a chain next stage
     s2.tiny := s1.eTopM1 < lzS
     def below(n: UInt): Bool = if (w > p + 2) n(w - p - 3, 0).orR else false.B
     val s3 =
@@ -191,10 +195,11 @@ object FpRound {
         (rm3 === RoundingMode.RUP.code.U && !sign) || (rm3 === RoundingMode.RDN.code.U && sign)
     }
     s4.lowOnes := kept0(p - 2, 0).andR
+    // expInc is expNormal + 1 and each overflow test compares a registered value: the mux is the last step.
     s4.expNormal := Mux(s3.tiny, 1.S(ew.W), s3.biasedExp)
-    s4.expInc := s4.expNormal + 1.S
-    s4.ovSame := s4.expNormal >= fmt.maxExpField.S
-    s4.ovInc := s4.expInc >= fmt.maxExpField.S
+    s4.expInc := Mux(s3.tiny, 2.S(ew.W), s3.biasedExpP1)
+    s4.ovSame := Mux(s3.tiny, (1 >= fmt.maxExpField).B, s3.biasedExp >= fmt.maxExpField.S)
+    s4.ovInc := Mux(s3.tiny, (2 >= fmt.maxExpField).B, s3.biasedExpP1 >= fmt.maxExpField.S)
     val s5 = cut(s4)
 
     // Stage 4: round, encode, substitute special values (per mode). The increment's carries into the top

@@ -49,6 +49,7 @@ object FieldDatapath extends Datapath[UInt] {
     a.hit := (m(15) || m(14)) && q.boxMin(1) <= q.tmax
     a.near := q.boxMin(1)
     io.out := Pipe(io.in.valid, a, latency)
+    io.nearAhead := Pipe(io.in.valid, a, latency - 1).bits.near
   }
 
   def prim(cfg: AccelConfig): PrimIntersect[UInt] = new PrimIntersect[UInt](cfg, gen) {

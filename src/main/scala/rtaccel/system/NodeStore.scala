@@ -21,9 +21,9 @@ import rtaccel.mem.{MemPortParams, MemResponse}
   *
   * A request hits when the store is loaded, its address is record-aligned
   * relative to `base`, and lies below base + storedBytes. Latency: request
-  * accepted in cycle t, response offered from t + `NodeStore.Latency` = 2
-  * (the BRAM read, then the output queue). Full rate: one record per client per
-  * cycle.
+  * accepted in cycle t, response offered from t + `NodeStore.Latency` = 3
+  * (the request register, the BRAM read, then the output queue). Full rate:
+  * one record per client per cycle.
   */
 class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: Int, fillId: Int) extends Module {
   private val B = p.beatBytes
@@ -64,20 +64,26 @@ class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes:
   for (c <- 0 until clients) {
     val mem = mems(c / 2)
     val outQ = Module(new Queue(new MemResponse(port), NodeStore.OutDepth))
+    val s0ValidReg = RegInit(false.B)
     val s1ValidReg = RegInit(false.B)
-    // Credit: queued + being read < depth, so every read has a place when it lands.
-    val credit = outQ.io.count +& s1ValidReg.asUInt < NodeStore.OutDepth.U
+    // Credit: queued + registered + being read < depth, so every read has a place when it lands.
+    val credit = outQ.io.count +& s0ValidReg.asUInt +& s1ValidReg.asUInt < NodeStore.OutDepth.U
     io.req(c).ready := credit
     val fire = io.req(c).fire
-    val rel = io.req(c).bits.addr - baseReg
-    val word = rel >> log2Ceil(wordBytes)
-    val rdata = if (c % 2 == 0) mem.readWrite(Mux(wEnable, wWord, word), wData, wMask, wEnable || fire, wEnable)
-    else mem.read(word, fire)
+    // The request's offset from the base is registered before the read: the subtraction and the block RAMs'
+    // enables behind it were one path (docs/fmax.md).
+    s0ValidReg := fire
+    val s0RelReg = RegEnable(io.req(c).bits.addr - baseReg, fire)
+    val s0TagReg = RegEnable(io.req(c).bits.tag, fire)
+    val word = s0RelReg >> log2Ceil(wordBytes)
+    val read = s0ValidReg
+    val rdata = if (c % 2 == 0) mem.readWrite(Mux(wEnable, wWord, word), wData, wMask, wEnable || read, wEnable)
+    else mem.read(word, read)
     // A hit is only accepted when loaded, and the fill writes only while not loaded.
-    when(fire && wEnable) { errorReg := true.B }
-    s1ValidReg := fire
-    val s1TagReg = RegEnable(io.req(c).bits.tag, fire)
-    val s1SubReg = RegEnable(rel(log2Ceil(wordBytes) - 1, 0), fire)
+    when(read && wEnable) { errorReg := true.B }
+    s1ValidReg := read
+    val s1TagReg = RegEnable(s0TagReg, read)
+    val s1SubReg = RegEnable(s0RelReg(log2Ceil(wordBytes) - 1, 0), read)
     // The read data goes straight into the output queue, with no register of
     // its own: Yosys 0.23 would merge such a register into the memory's read
     // port first and leave the port's address register outside, so the shared
@@ -96,8 +102,10 @@ class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes:
 
 object NodeStore {
 
-  /** Request to response offered, in cycles: the BRAM read (its address register), then the output queue. */
-  val Latency = 2
+  /** Request to response offered, in cycles: the request register, the BRAM read (its address register), then
+    * the output queue.
+    */
+  val Latency = 3
 
   /** Output queue per client: the read in the pipeline + 1 more than it takes to see a dequeue, so a client that always takes keeps one per cycle. */
   val OutDepth: Int = Latency + 1

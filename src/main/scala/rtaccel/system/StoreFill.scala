@@ -2,7 +2,7 @@ package rtaccel.system
 
 import chisel3._
 import chisel3.util._
-import rtaccel.axi.{Axi4Addr, Axi4Params, Axi4R, BurstMath, ByteRotate}
+import rtaccel.axi.{Axi4, Axi4Addr, Axi4Params, Axi4R, ByteRotate}
 
 /** The fill of an on-chip store (NodeStore, TriStore): on `load.start`,
   * copies the first `capacityBytes` bytes at `load.base` (or `load.bytes`,
@@ -73,6 +73,7 @@ class StoreFill(p: Axi4Params, capacityBytes: Int, wordBytes: Int, fillId: Int) 
   private val baseReg = RegInit(0.U(p.addrBits.W))
   private val totalReg = RegInit(0.U(lineBits.W)) // lines to fill
   private val issuedReg = RegInit(0.U(lineBits.W))
+  private val leftReg = RegInit(0.U(lineBits.W)) // lines not yet asked for: totalReg - issuedReg
   private val receivedReg = RegInit(0.U(lineBits.W))
   private val burstsReg = RegInit(0.U(log2Ceil(StoreFill.FillBursts + 1).W))
   private val busyReg = RegInit(false.B)
@@ -84,20 +85,37 @@ class StoreFill(p: Axi4Params, capacityBytes: Int, wordBytes: Int, fillId: Int) 
   private val alignBits = log2Ceil(StoreFill.BaseAlign)
   private val offReg = Option.when(realign)(RegInit(0.U((beatBits - alignBits).W)))
   private val storedLinesReg = Option.when(realign)(RegInit(0.U(lineBits.W)))
+  // The fill is sized in the cycle after its start, from the registered byte count (`sizingReg`): no burst is
+  // prepared and the fill cannot end in that cycle. The count's compare, round-up and the registers it loads
+  // were one path from the load port (docs/fmax.md).
+  private val bytesReg = RegInit(0.U(io.load.bytes.getWidth.W))
+  private val sizingReg = RegInit(false.B)
   when(startNow) {
-    // Whole words (a record never straddles the end), at most the capacity.
-    val wanted = (io.load.bytes +& (wordBytes - 1).U) >> log2Ceil(wordBytes)
-    val ws = Mux(wanted > words.U, words.U, wanted)
+    bytesReg := io.load.bytes
+    sizingReg := true.B
     baseReg := io.load.base
-    val off = offReg.map(_ => io.load.base(beatBits - 1, alignBits))
-    totalReg := off.fold(ws << log2Ceil(lanes))(o => (ws << log2Ceil(lanes)) +& (o =/= 0.U).asUInt)
-    offReg.zip(off).foreach { case (r, o) => r := o }
-    storedLinesReg.foreach(_ := ws << log2Ceil(lanes))
+    offReg.foreach(_ := io.load.base(beatBits - 1, alignBits))
     if (realign) when(io.load.base(alignBits - 1, 0) =/= 0.U) { errorReg := true.B }
+    leftReg := 0.U
     issuedReg := 0.U
     receivedReg := 0.U
     busyReg := true.B
     loadedReg := false.B
+  }
+  when(sizingReg) {
+    // Whole words (a record never straddles the end), at most the capacity: ceil(bytes / wordBytes) is more
+    // than `words` exactly when bytes is more than the capacity, so the clamp compares `bytes` with a constant
+    // beside the round-up, whose add then needs only the bits of a count up to `words`.
+    val over = bytesReg > capacityBytes.U
+    val wordBits = log2Ceil(wordBytes)
+    val whole = bytesReg >> wordBits
+    val roundUp = (whole(lineBits - 1, 0) +& bytesReg(wordBits - 1, 0).orR.asUInt)(lineBits - 1, 0)
+    val ws = Mux(over, words.U, roundUp)
+    val total = offReg.fold(ws << log2Ceil(lanes))(o => (ws << log2Ceil(lanes)) +& (o =/= 0.U).asUInt)
+    totalReg := total
+    leftReg := total
+    storedLinesReg.foreach(_ := ws << log2Ceil(lanes))
+    sizingReg := false.B
   }
   // The next burst is sized a cycle before it is offered, from registers
   // only (its address, the lines left), and waits in arAddrReg/arBeatsReg:
@@ -107,11 +125,23 @@ class StoreFill(p: Axi4Params, capacityBytes: Int, wordBytes: Int, fillId: Int) 
   private val fillAddrReg = RegInit(0.U(p.addrBits.W)) // the next burst's address: base + issued beats
   private val arPendReg = RegInit(false.B)
   private val arAddrReg = Reg(UInt(p.addrBits.W))
-  private val arBeatsReg = Reg(UInt(log2Ceil(StoreFill.FillBurstBeats + 1).W))
-  private val left = totalReg - issuedReg
-  private val room = BurstMath.beatsToBoundary(p, fillAddrReg)
-  private val beats = Seq(left, room, StoreFill.FillBurstBeats.U).reduce((a, b) => Mux(a < b, a, b))
-  when(busyReg && !arPendReg && issuedReg =/= totalReg && burstsReg =/= StoreFill.FillBursts.U) {
+  private val burstBits = log2Ceil(StoreFill.FillBurstBeats + 1)
+  private val arBeatsReg = Reg(UInt(burstBits.W))
+  // The beats not yet asked for (total - issued) in a register, and their minimum with a burst a cycle behind it;
+  // a burst is sized only once that minimum has caught up (`settledReg`: no start or AR in the cycle before).
+  // The 4 KB room, capped at a burst, is a table of the address's beat-in-page bits (one LUT per bit). No
+  // subtraction or carry-chain compare lies before the burst's size (docs/fmax.md).
+  private val burstCap = StoreFill.FillBurstBeats.U(burstBits.W)
+  private val leftCapReg = RegNext(Mux(leftReg > burstCap, burstCap, leftReg.pad(burstBits)(burstBits - 1, 0)), 0.U)
+  private val settledReg = RegNext(!(startNow || sizingReg || io.ar.fire), false.B)
+  private val pageBits = log2Ceil(Axi4.BoundaryBytes)
+  private val pageBeats = Axi4.BoundaryBytes / B
+  private val room =
+    VecInit(Seq.tabulate(pageBeats)(q => (pageBeats - q).min(StoreFill.FillBurstBeats).U(burstBits.W)))(
+      fillAddrReg(pageBits - 1, beatBits)
+    )
+  private val beats = Mux(leftCapReg < room, leftCapReg, room)
+  when(busyReg && !arPendReg && settledReg && leftReg =/= 0.U && burstsReg =/= StoreFill.FillBursts.U) {
     arPendReg := true.B
     arAddrReg := fillAddrReg
     arBeatsReg := beats
@@ -121,6 +151,7 @@ class StoreFill(p: Axi4Params, capacityBytes: Int, wordBytes: Int, fillId: Int) 
   when(io.ar.fire) {
     arPendReg := false.B
     issuedReg := issuedReg + arBeatsReg
+    leftReg := leftReg - arBeatsReg
     fillAddrReg := fillAddrReg + (arBeatsReg << beatBits)
   }
   when(startNow) {
@@ -135,7 +166,7 @@ class StoreFill(p: Axi4Params, capacityBytes: Int, wordBytes: Int, fillId: Int) 
   private val fillWrite = io.r.valid && beatOk
   burstsReg := burstsReg + io.ar.fire.asUInt - (fillWrite && io.r.bits.last).asUInt
   when(fillWrite) { receivedReg := receivedReg + 1.U }
-  when(busyReg && receivedReg === totalReg) {
+  when(busyReg && !sizingReg && receivedReg === totalReg) {
     busyReg := false.B
     loadedReg := true.B
   }

@@ -69,9 +69,9 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
     // loader's checks: that read, at an address nothing says is the scene's, waits (held, not dropped) until the
     // bases are the scene's. Otherwise, after SOFT_RESET under a DMA window that leaves out address 0, it is
     // refused and sets WINDOW_ERROR before any scene can load. The bases and `basesValid` change in the same
-    // cycle, and FetchBVH withdraws the old request in the cycle its base changes, so the fabric only ever sees
-    // the request for the scene's root.
-    val ok = loader.io.basesValid
+    // cycle; FetchBVH drops a request it still holds for the old base in that cycle (it offers it there), and the
+    // port opens a cycle after `basesValid` rises, so the fabric only ever sees the request for the scene's root.
+    val ok = loader.io.basesValid && RegNext(loader.io.basesValid, false.B)
     fabric.io.readers(2 * i).req.valid := c.io.nodeMem.req.valid && ok
     c.io.nodeMem.req.ready := fabric.io.readers(2 * i).req.ready && ok
   }

@@ -25,7 +25,7 @@ import rtaccel.mem.{MemPortParams, MemResponse}
   * A request hits when the store is loaded, its address is 16-byte aligned
   * relative to `base` and the whole record lies below base + storedBytes.
   * Latency: request accepted in cycle t, response offered from t +
-  * `NodeStore.Latency` = 2 (the BRAM read, then the output queue). Full
+  * `NodeStore.Latency` = 3 (the request register, the BRAM read, then the output queue). Full
   * rate: one record per client per cycle.
   */
 class TriStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: Int, fillId: Int) extends Module {
@@ -52,16 +52,24 @@ class TriStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: 
   private val errorReg = RegInit(false.B)
   io.error := errorReg || fill.io.error
   private val baseReg = fill.io.base
-  // The last address at which a whole record is stored, + 1: limit - (rec - 1), registered like the limit
-  // (it follows it a cycle late, long before `ready`). Below base when nothing whole is stored: no hit.
+  // The last address at which a whole record is stored, + 1: limit - (rec - 1), registered like the limit.
+  // Below base when nothing whole is stored: no hit.
+  // base + rec is registered first (a cycle later still), so its add and the compare are not one path.
+  private val baseRecReg = RegNext(baseReg +& recBytes.U, 0.U)
   private val recLimitReg =
-    RegNext(Mux(fill.io.limit >= baseReg +& recBytes.U, fill.io.limit - (recBytes - 1).U, 0.U), 0.U)
+    RegNext(Mux(fill.io.limit >= baseRecReg, fill.io.limit - (recBytes - 1).U, 0.U), 0.U)
+  // base - B, for bank 0's word index (below), registered the same way: only its low bits are read, so the
+  // wrap below address 0 changes nothing.
+  private val baseLessLineReg = RegNext(baseReg - B.U, 0.U)
+  // recLimitReg is two registers behind the fill's limit and base; an empty fill is ready two cycles after its
+  // start, so hits also wait until `ready` has held for two cycles (no hit is tested against a stale limit).
+  private val settledReg = RegNext(RegNext(fill.io.ready, false.B), false.B)
 
   // ---- Serve ----
   for (c <- 0 until clients) {
     val a = io.probe(c)
     val aligned = a(grainBits - 1, 0) === baseReg(grainBits - 1, 0)
-    io.hit(c) := fill.io.ready && a >= baseReg && a < recLimitReg && aligned
+    io.hit(c) := fill.io.ready && settledReg && a >= baseReg && a < recLimitReg && aligned
   }
   private val copies = (clients + 1) / 2
   private val banks = Seq.fill(copies)(Seq.fill(2)(SyncReadMem(words, UInt((8 * B).W))))
@@ -71,28 +79,35 @@ class TriStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: 
 
   for (c <- 0 until clients) {
     val outQ = Module(new Queue(new MemResponse(port), NodeStore.OutDepth))
+    val s0ValidReg = RegInit(false.B)
     val s1ValidReg = RegInit(false.B)
-    // Credit: queued + being read < depth, so every read has a place when it lands.
-    val credit = outQ.io.count +& s1ValidReg.asUInt < NodeStore.OutDepth.U
+    // Credit: queued + registered + being read < depth, so every read has a place when it lands.
+    val credit = outQ.io.count +& s0ValidReg.asUInt +& s1ValidReg.asUInt < NodeStore.OutDepth.U
     io.req(c).ready := credit
     val fire = io.req(c).fire
-    val rel = io.req(c).bits.addr - baseReg
-    val line = rel >> lineBits
-    // Bank 0 holds the even line of L, L+1, bank 1 the odd one. (L+1)/2 past the last word (L the last line,
-    // odd) wraps to word 0, a power of two: that line is then not part of the record (it lies below the stored end).
-    val idx = Seq(((line +& 1.U) >> 1)(idxBits - 1, 0), (line >> 1)(idxBits - 1, 0))
+    // The request's offsets are registered before the read, as in NodeStore. Bank 0 holds the even line of L,
+    // L+1, bank 1 the odd one. (L + 1) / 2 is (addr - (base - B)) / 2B: one subtraction, not a subtraction and
+    // an increment. (L+1)/2 past the last word (L the last line, odd) wraps to word 0, a power of two: that line
+    // is then not part of the record (it lies below the stored end).
+    s0ValidReg := fire
+    val s0RelReg = RegEnable(io.req(c).bits.addr - baseReg, fire)
+    val s0AheadReg = RegEnable(io.req(c).bits.addr - baseLessLineReg, fire)
+    val s0TagReg = RegEnable(io.req(c).bits.tag, fire)
+    val line = s0RelReg >> lineBits
+    val idx = Seq((s0AheadReg >> (lineBits + 1))(idxBits - 1, 0), (line >> 1)(idxBits - 1, 0))
+    val read = s0ValidReg
     val rdata = banks(c / 2).zipWithIndex.map { case (mem, b) =>
       if (c % 2 == 0) {
         val w = wEnable && wLine(0) === b.U
-        mem.readWrite(Mux(w, wIdx, idx(b)), fill.io.write.bits.data, w || fire, w)
-      } else mem.read(idx(b), fire)
+        mem.readWrite(Mux(w, wIdx, idx(b)), fill.io.write.bits.data, w || read, w)
+      } else mem.read(idx(b), read)
     }
     // A hit is only accepted when loaded, and the fill writes only while not loaded.
-    when(fire && wEnable) { errorReg := true.B }
-    s1ValidReg := fire
-    val s1TagReg = RegEnable(io.req(c).bits.tag, fire)
-    val s1OddReg = RegEnable(line(0), fire)
-    val s1SubReg = RegEnable(rel(lineBits - 1, grainBits), fire)
+    when(read && wEnable) { errorReg := true.B }
+    s1ValidReg := read
+    val s1TagReg = RegEnable(s0TagReg, read)
+    val s1OddReg = RegEnable(line(0), read)
+    val s1SubReg = RegEnable(s0RelReg(lineBits - 1, grainBits), read)
     // As in NodeStore: no register on the read data (Yosys would double the memory); the BRAM's output is it.
     val pair = Mux(s1OddReg, Cat(rdata(0), rdata(1)), Cat(rdata(1), rdata(0))) // line L+1 above line L
     outQ.io.enq.valid := s1ValidReg

@@ -26,6 +26,9 @@ class BboxAnswer(cfg: AccelConfig) extends Bundle {
     * grid's signed integer relative to the node (GridBboxIntersect), as bits.
     */
   val near = Vec(cfg.boxLanes, UInt(cfg.nearBits.W))
+
+  /** The entry order of each pair of slots (TraversalControl.order). */
+  val order = Vec(TraversalControl.pairs(cfg.boxLanes).size, Bool())
 }
 
 /** The box test of the traversal loop: one node per cycle, its K child boxes
@@ -57,4 +60,6 @@ class BboxIntersect[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module
     io.out.bits.hit(i) := lane.io.out.bits.hit && present(i)
     io.out.bits.near(i) := lane.io.out.bits.near
   }
+  // Compared a cycle before the answer leaves, from each lane's entry distance as it is ready, and registered.
+  if (cfg.boxLanes > 1) io.out.bits.order := RegNext(TraversalControl.order(cfg, lanes.map(_.io.nearAhead)))
 }

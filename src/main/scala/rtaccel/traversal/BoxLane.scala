@@ -32,5 +32,8 @@ abstract class BoxLane[T <: Data](val cfg: AccelConfig, val gen: T) extends Modu
   val io = IO(new Bundle {
     val in = Flipped(Valid(new BoxQuery(cfg, gen)))
     val out = Valid(new BoxAnswer(cfg))
+
+    /** The entry distance of the answer that leaves next cycle (BboxIntersect orders the children on it). */
+    val nearAhead = Output(UInt(cfg.boxFloat.width.W))
   })
 }

@@ -3,7 +3,7 @@ package rtaccel.traversal
 import chisel3._
 import chisel3.util._
 import rtaccel.mem.{MemPort, MemPortParams}
-import rtaccel.AccelConfig
+import rtaccel.{AccelConfig, HeldCount}
 import rtaccel.bvh.{BvhNode, NodeWords}
 
 /** Turns "ray `id` wants node `k`" into a node request tagged with `id`, and
@@ -54,13 +54,19 @@ class PrepFetch(cfg: AccelConfig) extends Module {
   // more per node fetch (BvhNode.staged). The stage is a valid pipe, like the output: it never waits.
   private val decoded = if (BvhNode.staged(cfg)) Pipe(answer) else answer
   fetched.token := decoded.bits.token
-  fetched.node := BvhNode.check(cfg, decoded.bits.words)
+  fetched.node := BvhNode.fields(cfg, decoded.bits.words)
   io.out := Pipe(decoded.valid, fetched, 1)
+  // The slots' checks (compares of whole words) are registered with the node and combined into its error flags
+  // after the register: the same flags in the same cycle, and the compares and the OR over the slots are not one
+  // path from the answer (docs/fmax.md).
+  private val checksReg = RegEnable(BvhNode.slotChecks(cfg, decoded.bits.words), decoded.valid)
+  io.out.bits.node.errors := BvhNode.errors(checksReg)
 
-  private val inMemoryReg = RegInit(0.U(log2Ceil(cfg.numRayIds + 1).W))
-  inMemoryReg := inMemoryReg + io.mem.req.fire.asUInt - io.mem.resp.fire.asUInt
+  // Counted from registered handshakes (HeldCount): the request's handshake comes through the node port's
+  // arbiter, and into the count's add it was the core control's longest path (docs/fmax.md).
+  private val inMemory = HeldCount(Seq(io.mem.req.fire), Seq(io.mem.resp.fire), log2Ceil(cfg.numRayIds + 1))
   // A ray in the decode stage waits too (RtAccel's ray_conservation counts it here).
-  io.waiting := queue.io.count +& inMemoryReg +& (BvhNode.staged(cfg).B && decoded.valid)
+  io.waiting := queue.io.count +& inMemory +& (BvhNode.staged(cfg).B && decoded.valid)
 }
 
 object PrepFetch {

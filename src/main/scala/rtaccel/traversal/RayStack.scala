@@ -16,9 +16,10 @@ import rtaccel.bvh.ChildRef
   * Port A (TraversalControl's box-result lane) either pushes up to
   * `layout.maxPushes` entries or pops one (slot `sp - 1`); port B (its
   * leaf-return lane) only pops. A popped value appears the next cycle
-  * (synchronous read). Each bank is kept twice, written together, so each
-  * port has a read port of its own. The two ports always serve different
-  * rays, and a ray is never in TraversalControl twice at once, so no access
+  * (synchronous read); pushes are written the cycle after they are offered.
+  * Each bank is kept twice, written together, so each port has a read port
+  * of its own. The two ports always serve different rays, and a ray is never
+  * in TraversalControl twice at once nor in two cycles in a row, so no access
   * meets a write to the same entry in flight (no read-after-write hazard).
   */
 class RayStack(cfg: AccelConfig) extends Module {
@@ -65,13 +66,20 @@ class RayStack(cfg: AccelConfig) extends Module {
   // Slot sp + p lands on bank b exactly when sp's bank bits are (b - p) mod B: a compare of sp's low bits with
   // a constant, not of the sum's, so a bank's write enable is one function of those bits and pushCount, with no
   // adder's carry chain in front of it (that was the unit's longest path, docs/fmax.md).
-  private val slots = (0 until pushes).map(p => io.sp.pad(slotBits) + p.U)
+  // The pushes are registered and written a cycle after their decision: the decision's logic and the memories'
+  // write enables and data are not one path (docs/fmax.md). A ray is back in TraversalControl many cycles after
+  // a decision (a node fetch and the box test, or a leaf), so no read of its stack meets a write still waiting.
+  private val wRayIdReg = RegNext(io.rayId)
+  private val wSpReg = RegNext(io.sp)
+  private val wCountReg = RegNext(io.pushCount, 0.U)
+  private val wValsReg = RegNext(io.pushVals)
+  private val slots = (0 until pushes).map(p => wSpReg.pad(slotBits) + p.U)
   private def landsOn(sp: UInt, offset: Int, b: Int): Bool =
     if (banks == 1) true.B else sp(bankBits - 1, 0) === Math.floorMod(b - offset, banks).U
   for (((mem, memB), b) <- mems.zip(memsB).zipWithIndex) {
-    val hits = (0 until pushes).map(p => p.U < io.pushCount && landsOn(io.sp, p, b))
+    val hits = (0 until pushes).map(p => p.U < wCountReg && landsOn(wSpReg, p, b))
     when(hits.reduce(_ || _)) {
-      val (addr, value) = (rowAddr(Mux1H(hits, slots)), Mux1H(hits, io.pushVals))
+      val (addr, value) = (rowAddr(Mux1H(hits, slots), wRayIdReg), Mux1H(hits, wValsReg))
       mem.write(addr, value)
       memB.write(addr, value)
     }

@@ -107,6 +107,7 @@ class Traversal[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
     out.valid := grid.io.out.valid
     out.bits.hit := grid.io.out.bits.hit
     out.bits.near := VecInit(grid.io.out.bits.near.map(_.asUInt))
+    out.bits.order := TraversalControl.order(cfg, out.bits.near)
     (grid.latency, out)
   }
   private val tested = Pipe(atNode.valid, atNode.bits, boxLatency)
@@ -119,7 +120,7 @@ class Traversal[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   boxDone.valid := boxOut.valid
   b.token := tested.bits.token
   b.hit := boxOut.bits.hit
-  b.near := boxOut.bits.near
+  b.order := boxOut.bits.order
   b.refs := VecInit(tested.bits.node.slots.map(_.child))
   b.axis := tested.bits.node.axis
   b.nodeErrors := tested.bits.node.errors
@@ -133,17 +134,22 @@ class Traversal[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   control.io.ret.bits.token := io.leafIn.bits.token
   control.io.ret.bits.occluded := io.leafIn.bits.occluded
   io.leafIn.ready := true.B
-  io.control(0).valid := control.io.out.valid
-  io.control(0).bits := control.io.out.bits.state
-  io.control(1).valid := control.io.retOut.valid
-  io.control(1).bits := control.io.retOut.bits.state
 
   // ---- Routing: each lane has its own queues (every one holds numRayIds, so
   // none can overflow: each ray is in one place), merged round-robin ----
   // A register between each lane's decision and its queues: the decision reads the ray stack,
   // and the stack's read through the decision into a queue's write enable maps to 10 LUTs
   // (8.52 ns, docs/fmax.md). A cycle per decision; the queues take one ray per lane per cycle.
-  private val lanes = Seq(Pipe(control.io.out), Pipe(control.io.retOut))
+  // The register takes the decision and the popped entry apart and combines them after it.
+  private val lanes = Seq(control.io.out, control.io.retOut).map { d =>
+    val r = Pipe(d)
+    val o = Wire(Valid(new ControlOut(cfg)))
+    o.valid := r.valid
+    o.bits := TraversalControl.resolve(cfg, r.bits)
+    o
+  }
+  // Decisions per lane, for the performance counters, as they leave the register.
+  for ((c, o) <- io.control.zip(lanes)) { c.valid := o.valid; c.bits := o.bits.state }
   private def isFetch(o: Valid[ControlOut]) =
     o.valid && (o.bits.state === TraversalState.Traverse || o.bits.state === TraversalState.GoBack)
   private val fetchQs = lanes.map { o =>

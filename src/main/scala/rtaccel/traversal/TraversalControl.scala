@@ -30,8 +30,10 @@ class ControlIn(cfg: AccelConfig) extends Bundle {
   /** BboxIntersect's answer for each slot of node `token.nodeIdx`. */
   val hit = Vec(cfg.boxLanes, Bool())
 
-  /** Entry distances: box-format floats, or with grid box tests signed integers relative to the node (as bits). */
-  val near = Vec(cfg.boxLanes, UInt(cfg.nearBits.W))
+  /** The children's entry order, decided by the box stage beside its hits: per pair (j, i), j < i, of
+    * [[TraversalControl.pairs]], child j's entry distance orders at or before child i's.
+    */
+  val order = Vec(TraversalControl.pairs(cfg.boxLanes).size, Bool())
 
   /** Where each slot leads (nori: the node itself). */
   val refs = Vec(cfg.boxLanes, new ChildRef(cfg))
@@ -73,21 +75,23 @@ class ControlOut(cfg: AccelConfig) extends Bundle {
   * order, so the golden model stays bit-exact.
   *
   * Pipeline (box-result lane): wide layouts rank the children in a first
-  * cycle (K(K-1)/2 key comparisons and a popcount per lane, beside them the
-  * push count, the stack-overflow test and the error flags); then the
-  * decision and the stack access; the popped value (synchronous read) joins
-  * the output the cycle after. The leaf-return lane decides in its input
-  * cycle and outputs the next. A ray is never in this unit twice at once, so
-  * no stack hazard.
+  * cycle (a popcount per child of the pairs' order, which the box stage
+  * decided; beside it the push count, the stack-overflow test and the error
+  * flags); then the decision and the stack access; the popped value
+  * (synchronous read) leaves beside the decision the cycle after, and the
+  * consumer combines them after its register ([[TraversalControl.resolve]]).
+  * The leaf-return lane decides in its input cycle and outputs the next. A
+  * ray is never in this unit twice at once, nor back the cycle after its
+  * output, so no stack hazard.
   */
 class TraversalControl(cfg: AccelConfig) extends Module {
   val io = IO(new Bundle {
     val in = Flipped(Valid(new ControlIn(cfg)))
-    val out = Valid(new ControlOut(cfg))
+    val out = Valid(new Decided(cfg))
 
     /** The leaf-return lane: one ray back from a leaf per cycle, out the next cycle. */
     val ret = Flipped(Valid(new ReturnIn(cfg)))
-    val retOut = Valid(new ControlOut(cfg))
+    val retOut = Valid(new Decided(cfg))
 
     /** Rays in its pipeline registers (RtAccel's ray_conservation assertion). */
     val held = Output(UInt(2.W))
@@ -109,6 +113,9 @@ class TraversalControl(cfg: AccelConfig) extends Module {
   class Ranked extends Bundle {
     val in = new ControlIn(cfg)
     val rank = Vec(k, UInt(rankBits.W))
+
+    /** Hit children after child i in entry order: hits - 1 - rank(i) for a hit child, counted beside the rank. */
+    val after = Vec(k, UInt(rankBits.W))
     val hits = UInt(log2Ceil(k + 1).W)
 
     /** Some child box was hit: there is a next child. */
@@ -124,14 +131,14 @@ class TraversalControl(cfg: AccelConfig) extends Module {
   private def rank(in: ControlIn): Ranked = {
     val r = Wire(new Ranked)
     r.in := in
-    // Unsigned keys in entry order: a float's (FpOrder), or a two's-complement integer's sign bit flipped.
-    val keys =
-      if (cfg.gridBox) in.near.map(x => Cat(!x(cfg.nearBits - 1), x(cfg.nearBits - 2, 0)))
-      else in.near.map(FpOrder.key(cfg.boxFloat, _))
+    // The pairs' order comes from the box stage (TraversalControl.order); j after i is the negation of i's pair.
+    val pairLe = TraversalControl.pairs(k).zip(in.order).toMap
     for (i <- 0 until k) {
-      val before = for (j <- 0 until k if j != i)
-        yield in.hit(j) && (if (j < i) keys(j) <= keys(i) else keys(j) < keys(i))
-      r.rank(i) := PopCount(before)
+      val isBefore = for (j <- 0 until k if j != i) yield (if (j < i) pairLe((j, i)) else !pairLe((i, j)))
+      val others = (0 until k).filter(_ != i).map(in.hit(_))
+      r.rank(i) := PopCount(others.zip(isBefore).map { case (h, b) => h && b })
+      // The order is total, so every other hit child is before or after i.
+      r.after(i) := PopCount(others.zip(isBefore).map { case (h, b) => h && !b })
     }
     r.hits := PopCount(in.hit)
     val overflow = cfg.layout match {
@@ -188,9 +195,10 @@ class TraversalControl(cfg: AccelConfig) extends Module {
       pushVals(0) := inner(Mux(rightNear, left, self.index))
     case _: BvhLayout.Wide =>
       chosen := Mux1H(in.hit.zip(d.rank).map { case (h, r) => h && r === 0.U }, in.refs)
-      // Port p (slot sp + p) takes the child ranked hits-1-p: farthest lowest.
+      // Port p (slot sp + p) takes the child ranked hits-1-p, i.e. with p hit children after it: farthest
+      // lowest. Selected by `after`, a compare with a constant: no subtraction before the stack's write data.
       for (p <- 0 until pushes)
-        pushVals(p) := Mux1H(in.hit.zip(d.rank).map { case (h, r) => h && r === d.hits - 1.U - p.U }, in.refs)
+        pushVals(p) := Mux1H(in.hit.zip(d.after).map { case (h, a) => h && a === p.U }, in.refs)
   }
 
   private val errors = d.errors
@@ -220,7 +228,7 @@ class TraversalControl(cfg: AccelConfig) extends Module {
   next.leafFirst := chosen.index(cfg.triIndexBits - 1, 0)
   next.leafCount := chosen.count
 
-  io.out := resolve(valid, next, stack.io.popVal)
+  io.out := decided(valid, next, stack.io.popVal)
 
   // ---- Leaf-return lane: pop, or DONE (an error, an occluder, an empty stack) ----
   private val r = io.ret.bits
@@ -233,28 +241,64 @@ class TraversalControl(cfg: AccelConfig) extends Module {
   retNext.state := Mux(retDone, TraversalState.Done, TraversalState.GoBack)
   retNext.token := r.token
   retNext.token.sp := Mux(retDone, r.token.sp, r.token.sp - 1.U)
-  io.retOut := resolve(io.ret.valid, retNext, stack.io.popValB)
+  io.retOut := decided(io.ret.valid, retNext, stack.io.popValB)
   // The nori layout has no rank register: its input is not held here.
   private val ranked = if (cfg.layout == BvhLayout.Nori) false.B else valid
   io.held := ranked +& io.out.valid +& io.retOut.valid
 
-  /** A lane's output, a cycle after its decision: a popped entry is an inner
-    * node to fetch (GOBACK) or a leaf to test (LEAF).
+  /** A lane's output, a cycle after its decision: the decision and the popped entry (the stack's synchronous
+    * read), not yet combined ([[TraversalControl.resolve]]): the consumer registers both first, so that the
+    * stack's read is not one path with the combination and what follows it (docs/fmax.md).
     */
-  private def resolve(valid: Bool, next: ControlOut, popped: ChildRef): Valid[ControlOut] = {
-    val outReg = RegEnable(next, valid)
-    val o = Wire(Valid(new ControlOut(cfg)))
+  private def decided(valid: Bool, next: ControlOut, popped: ChildRef): Valid[Decided] = {
+    val o = Wire(Valid(new Decided(cfg)))
     o.valid := RegNext(valid, false.B)
-    o.bits := outReg
-    when(outReg.state === TraversalState.GoBack) {
-      when(popped.isLeaf) {
-        o.bits.state := TraversalState.Leaf
-        o.bits.leafFirst := popped.index(cfg.triIndexBits - 1, 0)
-        o.bits.leafCount := popped.count
+    o.bits.next := RegEnable(next, valid)
+    o.bits.popped := popped
+    o
+  }
+}
+
+/** A lane's decision and the stack entry it popped (meaningful for GOBACK), before [[TraversalControl.resolve]]. */
+class Decided(cfg: AccelConfig) extends Bundle {
+  val next = new ControlOut(cfg)
+  val popped = new ChildRef(cfg)
+}
+
+object TraversalControl {
+
+  /** The lane's output: a popped entry is an inner node to fetch (GOBACK) or a leaf to test (LEAF). */
+  def resolve(cfg: AccelConfig, d: Decided): ControlOut = {
+    val o = WireInit(d.next)
+    when(d.next.state === TraversalState.GoBack) {
+      when(d.popped.isLeaf) {
+        o.state := TraversalState.Leaf
+        o.leafFirst := d.popped.index(cfg.triIndexBits - 1, 0)
+        o.leafCount := d.popped.count
       }.otherwise {
-        o.bits.token.nodeIdx := popped.index(cfg.nodeIndexBits - 1, 0)
+        o.token.nodeIdx := d.popped.index(cfg.nodeIndexBits - 1, 0)
       }
     }
     o
   }
+
+  /** The pairs (j, i), j < i, of `k` children whose entry order the box stage decides, in [[ControlIn]]'s order. */
+  def pairs(k: Int): Seq[(Int, Int)] = for (j <- 0 until k; i <- j + 1 until k) yield (j, i)
+
+  /** Per pair (j, i): child j's entry distance `near(j)` orders at or before child i's, ties to the lower slot.
+    * A float's key (FpOrder, compared by sign and magnitude), or with grid box tests a two's-complement integer's
+    * with its sign bit flipped. The box stage registers it beside its hits: the compares and the ranks behind
+    * them were one path in the rank stage (docs/fmax.md).
+    */
+  def order(cfg: AccelConfig, near: Seq[UInt]): Vec[Bool] = {
+    def flipped(x: UInt): UInt = Cat(!x(cfg.nearBits - 1), x(cfg.nearBits - 2, 0))
+    val ps = pairs(cfg.boxLanes)
+    val o = Wire(Vec(ps.size, Bool())) // empty with one child (the nori layout)
+    for (((j, i), n) <- ps.zipWithIndex)
+      o(n) := (if (cfg.gridBox) flipped(near(j)) <= flipped(near(i)) else FpOrder.keyLe(cfg.boxFloat, near(j), near(i)))
+    o
+  }
+
+  /** [[order]]'s bits from the children's unsigned keys (FpOrder.keyOf), for models and specs. */
+  def orderOf(keys: Seq[BigInt]): Seq[Boolean] = pairs(keys.size).map { case (j, i) => keys(j) <= keys(i) }
 }

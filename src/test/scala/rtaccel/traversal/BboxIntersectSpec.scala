@@ -15,7 +15,7 @@ import rtaccel.datapath.{
   RayConsts,
   TriangleTest
 }
-import rtaccel.fp.FloatFormat
+import rtaccel.fp.{FloatFormat, FpOrder}
 import rtaccel.testutil.Seeded
 import rtaccel.AccelConfig
 import rtaccel.bvh.{BvhLayout, BvhNode, QuantNode}
@@ -123,6 +123,10 @@ class BboxIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
                 }
                 checked += 1
               }
+              // The children's entry order (TraversalControl.order) agrees with the distances given out.
+              val keys = (0 until k).map(s => FpOrder.keyOf(cfg.boxFloat, dut.io.out.bits.near(s).peek().litValue))
+              for ((o, n) <- TraversalControl.orderOf(keys).zipWithIndex)
+                dut.io.out.bits.order(n).expect(o.B, s"cycle $cycle: ray ${r.where}, pair $n: entry order")
             } else dut.io.out.valid.expect(false.B, s"cycle $cycle: nothing due")
             dut.clock.step()
           }

@@ -12,7 +12,7 @@ import scala.collection.mutable
 
 /** RayStack alone, against one Scala stack per ray: port A pushes up to
   * `maxPushes` entries or pops one, port B pops, on two different rays each
-  * cycle (TraversalControl's contract), with seeded random choices and idle
+  * cycle, neither at a port the cycle before (TraversalControl's contract), with seeded random choices and idle
   * cycles. Every popped value is checked the cycle after its pop: nothing
   * pushed is lost, overwritten by another ray or bank, or read twice.
   */
@@ -47,13 +47,19 @@ class RayStackSpec extends AnyFlatSpec with ChiselScalatestTester {
           var pendingA: Option[(Ref, String)] = None
           var pendingB: Option[(Ref, String)] = None
           var pushes, pops = 0
+          var prev = Set.empty[Int]
           for (cycle <- 0 until 800) {
             pendingA.foreach { case (r, w) => expectRef(dut.io.popVal, r, w) }
             pendingB.foreach { case (r, w) => expectRef(dut.io.popValB, r, w) }
             pendingA = None; pendingB = None
 
-            val a = rnd.nextInt(cfg.numRayIds)
-            val b = (a + 1 + rnd.nextInt(cfg.numRayIds - 1)) % cfg.numRayIds
+            // Neither ray was at a port in the last cycle: a ray is back in TraversalControl only many cycles
+            // after a decision, and a push is written the cycle after it is offered.
+            val freeA = (0 until cfg.numRayIds).filterNot(prev.contains)
+            val a = freeA(rnd.nextInt(freeA.size))
+            val freeB = freeA.filter(_ != a)
+            val b = freeB(rnd.nextInt(freeB.size))
+            prev = Set(a, b)
             val sa = stacks(a); val sb = stacks(b)
             // Port A: push (more often while the stack is shallow), pop, or idle.
             val room = cfg.stackDepth - sa.size
@@ -83,8 +89,11 @@ class RayStackSpec extends AnyFlatSpec with ChiselScalatestTester {
           }
           pendingA.foreach { case (r, w) => expectRef(dut.io.popVal, r, w) }
           pendingB.foreach { case (r, w) => expectRef(dut.io.popValB, r, w) }
-          // Drain: every entry still held comes back, on alternating ports.
+          // Drain: every entry still held comes back, on alternating ports, after an idle cycle (the last pushes'
+          // write).
           dut.io.pushCount.poke(0.U)
+          dut.io.pop.poke(false.B); dut.io.popB.poke(false.B)
+          dut.clock.step()
           for (ray <- 0 until cfg.numRayIds; s = stacks(ray); _ <- s.indices) {
             val port = if (s.size % 2 == 0) dut.io.popVal else dut.io.popValB
             dut.io.pop.poke((s.size % 2 == 0).B); dut.io.popB.poke((s.size % 2 == 1).B)

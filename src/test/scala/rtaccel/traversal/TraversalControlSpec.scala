@@ -21,6 +21,26 @@ import scala.util.Random
   * random traffic from interleaved rays with the output checked exactly
   * `latency` cycles after each input.
   */
+/** TraversalControl with each lane's output resolved (TraversalControl.resolve) as Traversal resolves it after
+  * its lane register, here without one: the lanes' outputs as they leave the unit.
+  */
+class ResolvedControl(cfg: AccelConfig) extends Module {
+  private val c = Module(new TraversalControl(cfg))
+  val latency: Int = c.latency
+  val io = IO(new Bundle {
+    val in = Flipped(Valid(new ControlIn(cfg)))
+    val out = Valid(new ControlOut(cfg))
+    val ret = Flipped(Valid(new ReturnIn(cfg)))
+    val retOut = Valid(new ControlOut(cfg))
+  })
+  c.io.in := io.in
+  c.io.ret := io.ret
+  for ((o, d) <- Seq(io.out -> c.io.out, io.retOut -> c.io.retOut)) {
+    o.valid := d.valid
+    o.bits := TraversalControl.resolve(cfg, d.bits)
+  }
+}
+
 class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "TraversalControl"
 
@@ -47,18 +67,20 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
   }
 
   /** A ray back from a leaf goes to the leaf-return lane, a box result to the box-result lane. */
-  private def poke(dut: TraversalControl, cfg: AccelConfig, in: In): Unit =
+  private def poke(dut: ResolvedControl, cfg: AccelConfig, in: In): Unit =
     if (in.fromLeaf) {
       dut.io.ret.valid.poke(true.B)
       pokeToken(dut.io.ret.bits.token, in.tok)
       dut.io.ret.bits.occluded.poke(in.occluded.B)
-    } else pokeBox(dut, in)
+    } else pokeBox(dut, cfg, in)
 
-  private def pokeBox(dut: TraversalControl, in: In): Unit = {
+  private def pokeBox(dut: ResolvedControl, cfg: AccelConfig, in: In): Unit = {
     val b = dut.io.in.bits
     dut.io.in.valid.poke(true.B)
     pokeToken(b.token, in.tok)
-    for (((hit, near), i) <- in.hits.zipWithIndex) { b.hit(i).poke(hit.B); b.near(i).poke(near.U) }
+    for (((hit, _), i) <- in.hits.zipWithIndex) b.hit(i).poke(hit.B)
+    val keys = in.hits.map { case (_, near) => FpOrder.keyOf(cfg.boxFloat, BigInt(near)) }
+    for ((o, n) <- TraversalControl.orderOf(keys).zipWithIndex) b.order(n).poke(o.B)
     for ((r, i) <- in.node.refs.zipWithIndex) {
       b.refs(i).isLeaf.poke(r.isLeaf.B); b.refs(i).index.poke(r.index.U); b.refs(i).count.poke(r.count.U)
     }
@@ -78,10 +100,10 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
       in.node
     )
 
-  private def lane(dut: TraversalControl, fromLeaf: Boolean): Valid[ControlOut] =
+  private def lane(dut: ResolvedControl, fromLeaf: Boolean): Valid[ControlOut] =
     if (fromLeaf) dut.io.retOut else dut.io.out
-  private def latencyOf(dut: TraversalControl, fromLeaf: Boolean): Int = if (fromLeaf) 1 else dut.latency
-  private def idle(dut: TraversalControl): Unit = { dut.io.in.valid.poke(false.B); dut.io.ret.valid.poke(false.B) }
+  private def latencyOf(dut: ResolvedControl, fromLeaf: Boolean): Int = if (fromLeaf) 1 else dut.latency
+  private def idle(dut: ResolvedControl): Unit = { dut.io.in.valid.poke(false.B); dut.io.ret.valid.poke(false.B) }
 
   private def expectOut(port: Valid[ControlOut], e: Out, what: String): Unit = {
     val o = port.bits
@@ -108,7 +130,7 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
     * output its lane's latency later, and no output on a lane with nothing due.
     */
   private def run(
-      dut: TraversalControl,
+      dut: ResolvedControl,
       cfg: AccelConfig,
       stacks: Int => mutable.ArrayBuffer[Ref],
       ins: Seq[(In, String)]
@@ -139,7 +161,7 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   it should "visit a wide node's hit children nearest first, ties to the lower slot, and pop the rest in order" in {
     val cfg = cfgOf(BvhLayout.Wide(4), stackDepth = 6)
-    test(new TraversalControl(cfg)).withAnnotations(Backends.treadle) { dut =>
+    test(new ResolvedControl(cfg)).withAnnotations(Backends.treadle) { dut =>
       val stacks = Array.fill(cfg.numRayIds)(mutable.ArrayBuffer.empty[Ref])
       // Slots: 0 inner 10 at 5.0, 1 leaf (100, 3) at -2.0 (origin inside), 2 inner 30 at -2.0 (a tie), 3 missed.
       val node = NodeView(IndexedSeq(Ref(false, 10, 0), Ref(true, 100, 3), Ref(false, 30, 0), Ref(false, 40, 0)), 0, 0)
@@ -164,7 +186,7 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   it should "pop a leaf entry straight to LEAF, without a node fetch" in {
     val cfg = cfgOf(BvhLayout.Wide(2))
-    test(new TraversalControl(cfg)).withAnnotations(Backends.treadle) { dut =>
+    test(new ResolvedControl(cfg)).withAnnotations(Backends.treadle) { dut =>
       val stacks = Array.fill(cfg.numRayIds)(mutable.ArrayBuffer.empty[Ref])
       val node = NodeView(IndexedSeq(Ref(true, 7, 2), Ref(true, 9, 1)), 0, 0)
       val t0 = Token(1, 4, 0, Seq(true, true, true), shadow = true, 0)
@@ -184,7 +206,7 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
   for (layout <- BvhLayout.all.filterNot(_.quantized)) {
     it should s"end a ray with StackOverflow instead of dropping a subtree, and stop on errors (layout ${layout.name})" in {
       val cfg = cfgOf(layout, stackDepth = 8)
-      test(new TraversalControl(cfg)).withAnnotations(Backends.treadle) { dut =>
+      test(new ResolvedControl(cfg)).withAnnotations(Backends.treadle) { dut =>
         val k = cfg.boxLanes
         val stacks = Array.fill(cfg.numRayIds)(mutable.ArrayBuffer.empty[Ref])
         val node = NodeView(IndexedSeq.tabulate(k)(i => Ref(false, 20 + i, 0)), 1, 0)
@@ -209,7 +231,7 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
       val cfg = cfgOf(layout, stackDepth = 7, ids = 16)
       val k = cfg.boxLanes
       // Verilator for the wide layouts: treadle takes minutes on K(K-1)/2 key comparators.
-      test(new TraversalControl(cfg)).withAnnotations(if (k > 2) Backends.verilator else Backends.treadle) { dut =>
+      test(new ResolvedControl(cfg)).withAnnotations(if (k > 2) Backends.verilator else Backends.treadle) { dut =>
         val stacks = Array.fill(cfg.numRayIds)(mutable.ArrayBuffer.empty[Ref])
         def fresh(i: Int) = Token(i, rnd.nextInt(1000), 0, Seq.fill(3)(rnd.nextBoolean()), rnd.nextBoolean(), 0)
         val toks = Array.tabulate(cfg.numRayIds)(fresh)
@@ -223,7 +245,7 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
           idle(dut)
           // Each lane may take a ray this cycle: one back from a leaf, one with a
           // box result. A ray is never in the unit twice: only rays whose last
-          // input has come out are eligible.
+          // input came out a cycle ago or more are eligible.
           for (fromLeaf <- Seq(true, false)) {
             val free = (0 until cfg.numRayIds).filter(i => busyUntil(i) < cycle && (lastState(i) == Leaf) == fromLeaf)
             if (free.nonEmpty && rnd.nextInt(5) != 0) {
@@ -244,7 +266,9 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
               else e.token
               lastState(id) = if (e.state == Done) Traverse else e.state
               val lat = latencyOf(dut, fromLeaf)
-              busyUntil(id) = cycle + lat - 1
+              // Back no sooner than a cycle after its output (Traversal's lane register at least): the stack
+              // writes a push the cycle after the decision.
+              busyUntil(id) = cycle + lat
               seen(e.state) += 1
               due(fromLeaf).enqueue((
                 cycle + lat,
@@ -267,7 +291,7 @@ class TraversalControlSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   it should "pick the near child by the split axis in the nori layout" in {
     val cfg = cfgOf(BvhLayout.Nori)
-    test(new TraversalControl(cfg)).withAnnotations(Backends.treadle) { dut =>
+    test(new ResolvedControl(cfg)).withAnnotations(Backends.treadle) { dut =>
       val stacks = Array.fill(cfg.numRayIds)(mutable.ArrayBuffer.empty[Ref])
       // Node 4: inner, split axis 1, right child 9. Ray A runs -y: right first; ray B +y: left (5) first.
       val node = NodeView(IndexedSeq(Ref(false, 9, 0)), 1, 0)
