@@ -105,7 +105,7 @@ class TraversalControl(cfg: AccelConfig) extends Module {
 
   // ---- Rank stage (wide): rank(i) = hit children before child i ----
   // What depends only on which children were hit (not on their order) is
-  // decided here too, beside the key comparisons (which are longer): the push
+  // decided here too, beside the ranks' counts: the push
   // count, the overflow test and the error flags then leave a register rather
   // than run into the stack's write address in the decision cycle (Fmax,
   // docs/fmax.md). Same logic, one register earlier; the nori layout has no
