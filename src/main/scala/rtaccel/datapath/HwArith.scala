@@ -128,7 +128,7 @@ final class HwArith(val fmt: FloatFormat, val valid: ValidChain) extends KernelA
     def isInf(t: F): Boolean = t.constant && t.value.litOption.contains(inf)
     val other = if (isInf(a)) Some(b) else if (isInf(b)) Some(a) else None
     other.filter(!_.constant).map { x =>
-      val v = wire1(x, y => Mux(exp(y).andR && man(y).orR, inf.U(fmt.width.W), y))
+      val v = wire1(x, y => Mux(nanBits(y), inf.U(fmt.width.W), y))
       val c = x.ready + FpCompare.defaultLatency
       new Timed(v.at(c), c, valid)
     }
@@ -142,7 +142,8 @@ final class HwArith(val fmt: FloatFormat, val valid: ValidChain) extends KernelA
   private def wire1[T <: Data](a: F, f: UInt => T): Timed[T] = new Timed(f(a.value), a.ready, valid, a.constant)
   private def exp(x: UInt): UInt = x(fmt.width - 2, fmt.manBits)
   private def man(x: UInt): UInt = x(fmt.manBits - 1, 0)
-  def isNaN(a: F): B = wire1(a, x => exp(x).andR && man(x).orR)
+  private def nanBits(x: UInt): Bool = exp(x).andR && man(x).orR
+  def isNaN(a: F): B = wire1(a, nanBits)
   def isZero(a: F): B = wire1(a, x => x(fmt.width - 2, 0) === 0.U)
   def isNonFinite(a: F): B = wire1(a, x => exp(x).andR)
   def signBit(a: F): B = wire1(a, x => x(fmt.width - 1))

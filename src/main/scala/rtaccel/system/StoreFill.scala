@@ -117,18 +117,16 @@ class StoreFill(p: Axi4Params, capacityBytes: Int, wordBytes: Int, fillId: Int) 
     storedLinesReg.foreach(_ := ws << log2Ceil(lanes))
     sizingReg := false.B
   }
-  // The next burst is sized a cycle before it is offered, from registers
-  // only (its address, the lines left), and waits in arAddrReg/arBeatsReg:
-  // the 4 KB room, the two minimums and the counters' adds are not one path
-  // (docs/fmax.md). A burst is prepared only while none waits, and counted in
-  // burstsReg when it leaves, so at most FillBursts are outstanding.
+  // The next burst is sized a cycle before it is offered and waits in arAddrReg/arBeatsReg. A burst is prepared
+  // only while none waits, and counted in burstsReg when it leaves, so at most FillBursts are outstanding.
   private val fillAddrReg = RegInit(0.U(p.addrBits.W)) // the next burst's address: base + issued beats
   private val arPendReg = RegInit(false.B)
   private val arAddrReg = Reg(UInt(p.addrBits.W))
   private val burstBits = log2Ceil(StoreFill.FillBurstBeats + 1)
   private val arBeatsReg = Reg(UInt(burstBits.W))
-  // The beats not yet asked for (total - issued) in a register, and their minimum with a burst a cycle behind it;
-  // a burst is sized only once that minimum has caught up (`settledReg`: no start or AR in the cycle before).
+  // Its size comes from registers: the beats not yet asked for (total - issued), and their minimum with a burst
+  // a cycle behind it; a burst is sized only once that minimum has caught up (`settledReg`: no start or AR in the
+  // cycle before).
   // The 4 KB room, capped at a burst, is a table of the address's beat-in-page bits (one LUT per bit). No
   // subtraction or carry-chain compare lies before the burst's size (docs/fmax.md).
   private val burstCap = StoreFill.FillBurstBeats.U(burstBits.W)
