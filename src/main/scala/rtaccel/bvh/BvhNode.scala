@@ -61,9 +61,17 @@ class BvhNode(cfg: AccelConfig) extends Bundle {
   val grid = Option.when(cfg.gridBox)(new NodeGrid)
 }
 
+/** A node record as a staged fetch registers it first (BvhNode.record): the record and, in the quantized layouts,
+  * its slots' QuantNode.befores counts (none otherwise).
+  */
+class NodeRecord(cfg: AccelConfig) extends Bundle {
+  val data = UInt((cfg.layout.nodeBytes * 8).W)
+  val before = Vec(if (cfg.layout.quantized) cfg.boxLanes else 0, UInt(QuantNode.BeforeBits.W))
+}
+
 /** A node record's slots as 32-byte wide-slot words (BvhNode.words): word0 (kind or leaf count), word1 (child
   * index) and the planes, FP32 bits or with grid box tests the 8-bit offsets; with grid box tests the grid and
-  * its `bad` flag. What a fetch holds in a register between the decode's two halves (BvhNode.staged).
+  * its `bad` flag. What a staged fetch registers before the checks (BvhNode.staged).
   */
 class NodeWords(cfg: AccelConfig) extends Bundle {
   private val planeBits = if (cfg.gridBox) cfg.gridParams.qBits else 32
@@ -97,25 +105,37 @@ object BvhNode {
     */
   def decode(cfg: AccelConfig, record: UInt): BvhNode = check(cfg, words(cfg, record))
 
-  /** Whether a fetch registers a record's [[NodeWords]] before [[check]]: in the quantized layouts the words come
-    * from an adder chain (a slot's child index is the node's base plus the leaf counts of the slots before it,
-    * QuantNode.refs) that, with the checks behind it, is a node fetch's longest path (19 cells, 10.3 ns by the
-    * delay model of docs/fmax.md). Plain layouts copy the words from the record and need no stage.
+  /** Whether a fetch decodes a record in two registered stages before [[check]]: in the quantized layouts a slot's
+    * child index is the node's base plus the counts of the slots before it (QuantNode.befores, a prefix sum), and
+    * that sum, the 32-bit add and the checks behind it were a node fetch's longest path (19 cells, 10.3 ns by the
+    * delay model of docs/fmax.md). So a fetch registers the record with its slots' counts ([[record]]), then the
+    * words ([[words]]), then the node. Plain layouts copy the words from the record and need neither stage.
     */
   def staged(cfg: AccelConfig): Boolean = cfg.layout.quantized
+
+  /** A record with its slots' [[QuantNode.befores]] counts: the first register of a staged fetch. */
+  def record(cfg: AccelConfig, data: UInt): NodeRecord = {
+    val r = Wire(new NodeRecord(cfg))
+    r.data := data
+    if (cfg.layout.quantized) r.before := VecInit(QuantNode.befores(cfg.boxLanes, data))
+    r
+  }
 
   /** A node record's slots as words: what a 32-byte wide slot would hold (QuantNode decodes a quantized record
     * into the same), with the grid's fields for grid box tests. [[check]] turns them into the node.
     */
-  def words(cfg: AccelConfig, record: UInt): NodeWords = {
+  def words(cfg: AccelConfig, data: UInt): NodeWords = words(cfg, record(cfg, data))
+
+  def words(cfg: AccelConfig, r: NodeRecord): NodeWords = {
     val bytes = cfg.layout.nodeBytes
+    val record = r.data
     require(record.getWidth == bytes * 8, s"BvhNode.words: record must be ${bytes * 8} bits")
     def word(slot: Int, i: Int): UInt = record(256 * slot + 32 * i + 31, 256 * slot + 32 * i)
     // A quantized node is first decoded into the slot words a 32-byte slot would hold.
-    val gridRaw = Option.when(cfg.gridBox)(QuantNode.decodeGrid(cfg.boxLanes, record))
+    val gridRaw = Option.when(cfg.gridBox)(QuantNode.decodeGrid(cfg.boxLanes, record, r.before))
     val raw: Seq[SlotWords[UInt]] = cfg.layout match {
       case _ if cfg.gridBox                 => gridRaw.get.slots
-      case w: BvhLayout.Wide if w.quantized => QuantNode.decode(w.k, record)
+      case w: BvhLayout.Wide if w.quantized => QuantNode.decode(w.k, record, r.before)
       case _ => (0 until cfg.boxLanes).map(s =>
           SlotWords(word(s, 0), word(s, 1), (2 until 5).map(word(s, _)), (5 until 8).map(word(s, _)))
         )

@@ -45,14 +45,14 @@ object QuantNode {
   /** The k slots of a little-endian quantized node record. One FP32 adder
     * (combinational, exact for valid images) per plane per slot.
     */
-  def decode(k: Int, record: UInt): Seq[SlotWords[UInt]] = {
+  def decode(k: Int, record: UInt, before: Seq[UInt]): Seq[SlotWords[UInt]] = {
     require(record.getWidth == nodeBytes(k) * 8, s"QuantNode.decode: record must be ${nodeBytes(k) * 8} bits")
     def byte(i: Int): UInt = record(8 * i + 7, 8 * i)
     def word(i: Int): UInt = record(8 * i + 31, 8 * i)
     val origin = (0 until 3).map(a => word(4 * a))
     val exp = (0 until 3).map(a => byte(12 + a))
     val badExp = exp.map(e => e < ExpMin.U || e > ExpMax.U)
-    for ((s, (w0, w1)) <- refs(k, record).zipWithIndex.map(_.swap)) yield {
+    for ((s, (w0, w1)) <- refs(k, record, before).zipWithIndex.map(_.swap)) yield {
       def plane(p: Int): UInt = {
         val a = p % 3
         val sum = Module(new FpAdd(FloatFormat.FP32, Some(RoundingMode.RNE), latency = 0))
@@ -71,24 +71,44 @@ object QuantNode {
     */
   final case class Grid(slots: Seq[SlotWords[UInt]], origin: Seq[UInt], exp: Seq[UInt], bad: Bool)
 
-  def decodeGrid(k: Int, record: UInt): Grid = {
+  def decodeGrid(k: Int, record: UInt, before: Seq[UInt]): Grid = {
     require(record.getWidth == nodeBytes(k) * 8, s"QuantNode.decodeGrid: record must be ${nodeBytes(k) * 8} bits")
     def byte(i: Int): UInt = record(8 * i + 7, 8 * i)
     val origin = (0 until 3).map(a => record(32 * a + 31, 32 * a))
     val exp = (0 until 3).map(a => byte(12 + a))
     val bad = (exp.map(e => e < ExpMin.U || e > ExpMax.U) ++ origin.map(_(30, 23).andR)).reduce(_ || _)
-    val slots = for ((s, (w0, w1)) <- refs(k, record).zipWithIndex.map(_.swap))
+    val slots = for ((s, (w0, w1)) <- refs(k, record, before).zipWithIndex.map(_.swap))
       yield SlotWords(w0, w1, (0 until 3).map(p => byte(planeByte(k, p, s))), (3 until 6).map(p => byte(planeByte(k, p, s))))
     Grid(slots, origin, exp, bad)
   }
 
-  /** Slot s's word0 and word1 (a 32-byte wide slot's) from its meta byte and the bases. */
-  private def refs(k: Int, record: UInt): Seq[(UInt, UInt)] = {
+  /** Width of a slot's [[befores]] count: at most 7 leaf counts of up to 127 triangles. */
+  val BeforeBits = 11
+
+  /** Per slot, what its child index adds to its base: the inner slots before it (an inner slot), the leaf counts
+    * before it (a leaf), 0 (empty). A prefix sum over the slots' meta bytes: a fetch may register these before
+    * the index adders ([[refs]]), so that the prefix sum and the 32-bit adds are not one path (BvhNode.staged).
+    */
+  def befores(k: Int, record: UInt): Seq[UInt] = {
+    def byte(i: Int): UInt = record(8 * i + 7, 8 * i)
+    var innerBefore: UInt = 0.U(4.W)
+    var trisBefore: UInt = 0.U(BeforeBits.W)
+    for (s <- 0 until k) yield {
+      val m = byte(FixedBytes + s)
+      val (isInner, isLeaf) = (m === MetaInner.U, m(7))
+      val before = Mux(isInner, innerBefore.pad(BeforeBits), Mux(isLeaf, trisBefore, 0.U))
+      innerBefore = innerBefore +& isInner.asUInt
+      trisBefore = trisBefore +& Mux(isLeaf, m(6, 0), 0.U)
+      before(BeforeBits - 1, 0)
+    }
+  }
+
+  /** Slot s's word0 and word1 (a 32-byte wide slot's) from its meta byte, the bases and its [[befores]] count. */
+  private def refs(k: Int, record: UInt, before: Seq[UInt]): Seq[(UInt, UInt)] = {
+    require(before.length == k, s"QuantNode.refs: ${before.length} counts for $k slots")
     def byte(i: Int): UInt = record(8 * i + 7, 8 * i)
     def word(i: Int): UInt = record(8 * i + 31, 8 * i)
     val (childBase, triBase) = (word(16), word(20))
-    var innerBefore: UInt = 0.U(4.W)
-    var trisBefore: UInt = 0.U(11.W)
     for (s <- 0 until k) yield {
       val m = byte(FixedBytes + s)
       val (isEmpty, isInner, isLeaf) = (m === MetaEmpty.U, m === MetaInner.U, m(7))
@@ -98,9 +118,8 @@ object QuantNode {
         BvhNode.EmptySlot.U(32.W),
         Mux(isInner, 0.U(32.W), Mux(isLeaf, Cat(1.U(1.W), 0.U(24.W), count), m.pad(32)))
       )
-      val w1 = Mux(isInner, childBase +% innerBefore, Mux(isLeaf, triBase +% trisBefore, 0.U))
-      innerBefore = innerBefore +& isInner.asUInt
-      trisBefore = trisBefore +& Mux(isLeaf, count, 0.U)
+      // Both sums, then the select: the meta byte's compares run beside the adders, not before them.
+      val w1 = Mux(isInner, childBase +% before(s), Mux(isLeaf, triBase +% before(s), 0.U))
       (w0, w1)
     }
   }

@@ -42,18 +42,24 @@ object GridKernel {
       val neg = signBit(d)
       // base' = origin + span when d < 0; its bounds (exact for images nori-bridge writes, QuantNode).
       val (farLo, farHi) = addDnUp(origin(i), span(i))
-      // One subtractor per bound, operands picked by the sign: diffLo <= diff <= diffHi.
-      val diffLo = sub(mux(neg, o, origin(i)), mux(neg, farHi, oHi), RDN)
-      val diffHi = sub(mux(neg, oHi, origin(i)), mux(neg, farLo, o), RUP)
+      // One subtractor per bound, operands picked by the sign: diffLo <= diff <= diffHi. The picks are
+      // registered (cut): a select in front of a subtractor's first stage is past 5 ns by the delay model
+      // (docs/fmax.md) when the per-node stage is synthesised alone.
+      val diffLo = sub(cut(mux(neg, o, origin(i))), cut(mux(neg, farHi, oHi)), RDN)
+      val diffHi = sub(cut(mux(neg, oHi, origin(i))), cut(mux(neg, farLo, o)), RUP)
       // BoxKernel's rule: the reciprocal that moves the product outward.
-      val tbLo = mul(diffLo, mux(ltZero(diffLo), ray.rcpHi(i), ray.rcpLo(i)), RDN)
+      // The pick is registered (cut) before the multiply: the sign-and-nonzero test of the subtractor's answer
+      // and the select, in front of the multiplier's exponent add, were the grid unit's longest path.
+      val tbLo = mul(diffLo, cut(mux(ltZero(diffLo), ray.rcpHi(i), ray.rcpLo(i))), RDN)
       (isZero(d), neg, diffLo, diffHi, tbLo, abs(d))
     }
     // t0: the grid's entry distance, rounded down (any finite value keeps the
     // test conservative; this one keeps every relative bound of a child the
     // ray enters within qMax steps of 0). 0 when no axis gives a finite one.
     val t0Raw = pre.foldLeft(negInf) { case (m, (flat, _, _, _, tbLo, _)) => max(m, mux(flat, negInf, tbLo)) }
-    val t0 = mux(isNonFinite(t0Raw), posZero, t0Raw)
+    // Registered (cut) before the units that read it: the infinity test and the select after the compare's
+    // answer, in front of a unit's first stage, were the grid unit's longest path.
+    val t0 = cut(mux(isNonFinite(t0Raw), posZero, t0Raw))
     // t(q') - t0 = (q' - c) 2^s / |d| with c 2^s = t0 |d| - diff: the ray's grid
     // coordinate at t0, which for a ray through the grid lies in 0..qMax.
     val axes = pre.map { case (flat, neg, diffLo, diffHi, _, absD) =>

@@ -83,11 +83,14 @@ class FetchBVH[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   }
   io.mem.resp.ready := true.B
   if (BvhNode.staged(cfg)) {
-    // The record's words are registered before the checks, as in PrepFetch (BvhNode.staged): the root is valid a
-    // cycle after its answer. A base change in that cycle drops it (the new base's root is fetched afresh).
+    // The record with its slots' counts, then its words, are registered before the checks, as in PrepFetch
+    // (BvhNode.staged): the root is valid two cycles after its answer. A base change in either cycle drops it (the
+    // new base's root is fetched afresh).
     val rootAnswer = io.mem.resp.fire && io.mem.resp.bits.tag === genReg && !baseChanged
-    val rootWordsReg = RegEnable(BvhNode.words(cfg, io.mem.resp.bits.data), rootAnswer)
-    val rootDecodeReg = RegNext(rootAnswer, false.B)
+    val rootRecordReg = RegEnable(BvhNode.record(cfg, io.mem.resp.bits.data), rootAnswer)
+    val rootRecordedReg = RegNext(rootAnswer, false.B)
+    val rootWordsReg = RegEnable(BvhNode.words(cfg, rootRecordReg), rootRecordedReg)
+    val rootDecodeReg = RegNext(rootRecordedReg && !baseChanged, false.B)
     when(rootDecodeReg && !baseChanged) {
       rootReg := BvhNode.fields(cfg, rootWordsReg)
       rootChecksReg := BvhNode.slotChecks(cfg, rootWordsReg)

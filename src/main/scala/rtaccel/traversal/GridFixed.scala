@@ -81,12 +81,16 @@ object GridFixed {
     * For E the exponent field (1 for a subnormal), lz and tz sig's leading
     * and trailing zeros, and m = w - 1:
     *   - `right` - E = m - 1 - sh, sh = E - bias - manBits + k the LSB's exponent scaled:
-    *     the right shift that puts sig's bit -sh at bit 0;
+    *     the right shift that puts sig's bit -sh at bit 0 (no shift when E > `right`, all of sig shifted out
+    *     when E < `rightLessMax`);
     *   - big: msb(sig) + sh >= m, msb = p - 1 - lz, is E - lz >= `big`;
     *   - a remainder (a 1 of sig below bit -sh) is tz + E < `rem`.
     */
   class Shift(w: Int) extends Bundle {
     val right = SInt(w.W)
+
+    /** `right` less the largest useful shift (p + m - 1): E below it shifts every bit out. */
+    val rightLessMax = SInt(w.W)
     val big = SInt(w.W)
     val rem = SInt(w.W)
   }
@@ -96,6 +100,7 @@ object GridFixed {
     val off = fmt.bias + fmt.manBits
     val s = Wire(new Shift(k.getWidth.max(log2Ceil(off + m + fmt.precision + 1) + 1) + 2))
     s.right := (m - 1 + off).S -& k
+    s.rightLessMax := (m - 1 + off - (fmt.precision + m - 1)).S -& k
     s.big := (m - fmt.precision + 1 + off).S -& k
     s.rem := off.S -& k
     s
@@ -148,10 +153,10 @@ object GridFixed {
     * remainder are compares beside the shifter ([[Shift]]). The signed result
     * is one adder (the magnitude, complemented when negative, plus a carry
     * in), and the window's compares read the magnitude beside it.
-    * Combinational: [[examine]], [[decide]], [[front]], then [[back]].
+    * Combinational: [[examine]], [[sums]], [[decide]], [[front]], then [[back]].
     */
   def hw(fmt: FloatFormat, x: UInt, s: Shift, up: Boolean, lo: BigInt, hi: BigInt): FixedHw =
-    back(front(decide(fmt, examine(fmt, x), s, up, lo, hi), lo, hi), up, lo, hi)
+    back(front(decide(fmt, sums(fmt, examine(fmt, x)), s, up, lo, hi), lo, hi), up, lo, hi)
 
   /** What [[examine]] hands to [[decide]]: `x`'s fields and its significand's leading and trailing zeros. */
   class Examined(fmt: FloatFormat) extends Bundle {
@@ -178,34 +183,62 @@ object GridFixed {
     ex
   }
 
-  /** The compares on the exponent of the `x` that [[examine]] read: its right shift into the window, `big`, and
-    * whether it rounds away from zero. */
-  def decide(fmt: FloatFormat, ex: Examined, s: Shift, up: Boolean, lo: BigInt, hi: BigInt): Decided = {
+  /** What [[sums]] hands to [[decide]]: the exponent E and its sums with the zero counts, and `x`'s classes. */
+  class Summed(fmt: FloatFormat) extends Bundle {
+    private val eBits = fmt.expBits + 2
+    val sig = UInt(fmt.precision.W)
+    val e = SInt(eBits.W)
+
+    /** E - lz (the MSB's exponent, offset) and E + tz (the lowest 1's). */
+    val eLz = SInt(eBits.W)
+    val eTz = SInt(eBits.W)
+    val sign = Bool()
+    val nonzero = Bool()
+    val isSpecial = Bool()
+    val isNaN = Bool()
+  }
+
+  /** The exponent E (1 for a subnormal) and its sums with [[examine]]'s zero counts, each an adder of its own: a
+    * stage apart from [[decide]], so that each of decide's compares reads registers and a constant less `k`.
+    */
+  def sums(fmt: FloatFormat, ex: Examined): Summed = {
+    val expF = ex.expF
+    val e = Mux(expF.orR, expF, 1.U).zext
+    val o = Wire(new Summed(fmt))
+    o.sig := ex.sig
+    o.e := e
+    o.eLz := e -& ex.lz.zext
+    o.eTz := e +& ex.tz.zext
+    o.sign := ex.sign
+    o.nonzero := ex.sig.orR
+    o.isSpecial := expF.andR
+    o.isNaN := expF.andR && ex.sig(fmt.manBits - 1, 0).orR
+    o
+  }
+
+  /** The compares on the exponent of the `x` that [[sums]] read: its right shift into the window, `big`, and
+    * whether it rounds away from zero. The shift's clamps compare E with the thresholds beside the subtraction.
+    */
+  def decide(fmt: FloatFormat, su: Summed, s: Shift, up: Boolean, lo: BigInt, hi: BigInt): Decided = {
     val w = widthOf(lo, hi)
     val m = w - 1
     require(lo.abs < (BigInt(1) << m) && hi.abs < (BigInt(1) << m), s"GridFixed: $lo..$hi in $w bits")
     val p = fmt.precision
-    val expF = ex.expF
-    val frac = ex.sig(fmt.manBits - 1, 0)
-    val sign = ex.sign
-    val isSpecial = expF.andR
-    val sig = ex.sig
-    val nonzero = sig.orR
-    val e = Mux(expF.orR, expF, 1.U).zext
-    val (lz, tz) = (ex.lz, ex.tz)
-    val big = nonzero && (isSpecial || e -& lz.zext >= s.big) // an infinity is big too
-    val rem = nonzero && (tz.zext +& e < s.rem)
-    // Right by a = m - 1 - sh; a < 0 is big (or sig = 0, which shifts to 0 anyway), a > p + m - 2 leaves 0.
+    val (e, sign, nonzero) = (su.e, su.sign, su.nonzero)
+    val big = nonzero && (su.isSpecial || su.eLz >= s.big) // an infinity is big too
+    val rem = nonzero && (su.eTz < s.rem)
+    // Right by a = m - 1 - sh = right - E; a < 0 (E > right) is big (or sig = 0, which shifts to 0 anyway),
+    // a > aMax = p + m - 1 (E < rightLessMax) leaves 0.
     val a = s.right -& e
     val aMax = p + m - 1
     val aBits = log2Ceil(aMax + 1)
     val d = Wire(new Decided(p, aBits))
-    d.sig := sig
-    d.aC := Mux(a < 0.S, 0.U, Mux(a > aMax.S, aMax.U, a.asUInt(aBits - 1, 0)))
+    d.sig := su.sig
+    d.aC := Mux(e > s.right, 0.U, Mux(e < s.rightLessMax, aMax.U, a.asUInt(aBits - 1, 0)))
     d.big := big
     d.side.bump := rem && (if (up) !sign else sign)
     d.side.sign := sign
-    d.side.isNaN := isSpecial && frac.orR
+    d.side.isNaN := su.isNaN
     d
   }
 

@@ -107,19 +107,24 @@ class GridLane(p: GridParams) extends Module {
 
   private val n = io.in.bits.node
   private val c = io.in.bits.child
-  private val qMaxU = p.qMax.U(p.qBits.W)
-  // Cycle 1: offsets renumbered from the entry side, their distances from c, products.
+  // Cycle 1: offsets renumbered from the entry side, their distances from c, products. qMax - q is ~q
+  // (qMax = 2^qBits - 1), no carry chain; each distance's sign is a compare of its operands, beside the
+  // subtraction, so the step it picks for the multiplier does not wait on the difference.
   private val s1 = (0 until 3).map { i =>
     val a = n.axes(i)
-    val qe = Mux(a.neg, qMaxU - c.qMax(i), c.qMin(i))
-    val qx = Mux(a.neg, qMaxU - c.qMin(i), c.qMax(i))
-    val dLo = (qe << p.cFracBits).zext - a.cHi
-    val dHi = (qx << p.cFracBits).zext - a.cLo
+    val qe = Mux(a.neg, ~c.qMax(i), c.qMin(i))
+    val qx = Mux(a.neg, ~c.qMin(i), c.qMax(i))
+    val qeF = (qe << p.cFracBits).zext
+    val qxF = (qx << p.cFracBits).zext
+    val dLo = qeF - a.cHi
+    val dHi = qxF - a.cLo
+    val dLoNeg = qeF < a.cHi
+    val dHiPos = qxF > a.cLo
     val en = io.in.valid
-    val pLo = dLo * Mux(dLo >= 0.S, a.stepLo, a.stepHi).zext
-    val pHi = dHi * Mux(dHi > 0.S, a.stepHi, a.stepLo).zext
-    val loOut = a.flat || a.cHiAbove || (dLo < 0.S && a.stepHiSat)
-    val hiOut = a.flat || a.cLoBelow || (dHi > 0.S && a.stepHiSat)
+    val pLo = dLo * Mux(dLoNeg, a.stepHi, a.stepLo).zext
+    val pHi = dHi * Mux(dHiPos, a.stepHi, a.stepLo).zext
+    val loOut = a.flat || a.cHiAbove || (dLoNeg && a.stepHiSat)
+    val hiOut = a.flat || a.cLoBelow || (dHiPos && a.stepHiSat)
     val in = !a.flat || (qe.zext <= a.gHi && a.gLo <= qx.zext)
     (
       RegEnable(pLo, en),
@@ -134,21 +139,38 @@ class GridLane(p: GridParams) extends Module {
   private val tmax1 = RegEnable(n.tmax, io.in.valid)
   private def clamp(v: SInt): SInt =
     Mux(v < p.bot.S, p.bot.S(p.width.W), Mux(v > p.top.S, p.top.S(p.width.W), v(p.width - 1, 0).asSInt))
-  // Cycle 2: outward to units of u (an arithmetic shift is a floor), clamps.
+  // Cycle 2: outward to units of u (an arithmetic shift is a floor), clamps. The ceiling is (v + 2^f - 1) >> f,
+  // one add (the model's -((-v) >> f) is the same integer), and its clamp compares v itself with the window's
+  // ends scaled by 2^f, beside the add: ceil(v / 2^f) > top iff v > top 2^f, and < bot iff v <= (bot - 1) 2^f.
+  private def ceilClamp(v: SInt): SInt = {
+    val f = p.cFracBits
+    val q = ((v +& ((1 << f) - 1).S) >> f).asSInt
+    Mux(
+      v <= ((p.bot - 1) << f).S,
+      p.bot.S(p.width.W),
+      Mux(v > (p.top << f).S, p.top.S(p.width.W), q(p.width - 1, 0).asSInt)
+    )
+  }
   private val s2 = s1.map { case (pLo, pHi, loOut, hiOut, ok) =>
     val lo = Mux(loOut, p.bot.S(p.width.W), clamp(pLo >> p.cFracBits))
-    val hi = Mux(hiOut, p.top.S(p.width.W), clamp(-((-pHi) >> p.cFracBits)))
+    val hi = Mux(hiOut, p.top.S(p.width.W), ceilClamp(pHi))
     (RegEnable(lo, v1), RegEnable(hi, v1), RegEnable(ok, v1))
   }
   private val err2 = RegEnable(err1, v1)
   private val tmin2 = RegEnable(tmin1, v1)
   private val tmax2 = RegEnable(tmax1, v1)
-  // Cycle 3: the slab test on integers.
-  private def max2(a: SInt, b: SInt) = Mux(a < b, b, a)
-  private def min2(a: SInt, b: SInt) = Mux(a < b, a, b)
-  private val near = s2.map(_._1).reduce(max2)
-  private val far = s2.map(_._2).reduce(min2)
-  private val hit = !err2 && s2.map(_._3).reduce(_ && _) && near <= far && tmin2 <= far && near <= tmax2
+  // Cycle 3: the slab test on integers. near <= far, tmin <= far and near <= tmax, with near the largest lo and
+  // far the least hi, hold exactly when every lo is at most every hi and tmax, and tmin at most every hi: 15
+  // compares side by side, where the max and min in front of the compares were the lane's longest path.
+  private val los = s2.map(_._1)
+  private val his = s2.map(_._2)
+  private val ordered = for (lo <- los :+ tmin2; hi <- his :+ tmax2 if !(lo eq tmin2) || !(hi eq tmax2)) yield lo <= hi
+  private val hit = !err2 && s2.map(_._3).reduce(_ && _) && ordered.reduce(_ && _)
+  // near (the largest lo) from the three pairwise compares at once, not two compares in a row.
+  private val ge01 = los(0) >= los(1)
+  private val ge02 = los(0) >= los(2)
+  private val ge12 = los(1) >= los(2)
+  private val near = Mux(ge01 && ge02, los(0), Mux(!ge01 && ge12, los(1), los(2)))
   io.hit := RegEnable(hit, v2)
   io.near := RegEnable(near, v2)
 }

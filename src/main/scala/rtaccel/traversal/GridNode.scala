@@ -87,7 +87,7 @@ class GridNodeIn(rays: RayConsts) extends Bundle {
 
 /** [[GridNode.soft]] in hardware: the FP32 [[GridKernel]] pipeline (HwArith
   * units, each enabled by the slot's valid), then three cycles of
-  * conversions (GridFixed.examine, decide, front and back, a register after each).
+  * conversions (GridFixed.examine, sums, decide, front and back, a register after each).
   * `out` is valid `latency` cycles after `in`.
   */
 class GridNodeStage(p: GridParams, rays: RayConsts) extends Module {
@@ -111,14 +111,15 @@ class GridNodeStage(p: GridParams, rays: RayConsts) extends Module {
   private val tmax = BoxKernel.narrowTmax(ar, BoxRounding.Conservative, ar.input(io.in.bits.tmax), rays.triFmt)
   private val e = io.in.bits.exp
   private val bad = e.map(x => x < rtaccel.bvh.QuantNode.ExpMin.U || x > rtaccel.bvh.QuantNode.ExpMax.U).reduce(_ || _)
-  // qMax 2^s: exponent field e + qBits - 1, the qBits - 1 fraction bits below the point set.
+  // qMax 2^s: exponent field e + qBits - 1, the qBits - 1 fraction bits below the point set. Registered (cut)
+  // before the adder: the exponent's add in front of the adder's first stage was the unit's longest path.
   private val span = e.map(x =>
-    ar.input(Cat(
+    ar.cut(ar.input(Cat(
       0.U(1.W),
       x + (p.qBits - 1).U,
       ((BigInt(1) << (p.qBits - 1)) - 1).U((p.qBits - 1).W),
       0.U((fmt.manBits - p.qBits + 1).W)
-    ))
+    )))
   )
   private val k = GridKernel(ar, ray, tmax, io.in.bits.origin.map(ar.input), span)
 
@@ -141,20 +142,21 @@ class GridNodeStage(p: GridParams, rays: RayConsts) extends Module {
   private val eu = new Timed(Mux(timed(flat0.reduce(_ && _)).at(3), 0.S, es3 - p.fracBits.S), 3, chain)
 
   val latency: Int =
-    (k.axes.flatMap(a => Seq(a.cLo, a.cHi, a.diffLo, a.diffHi)) ++ Seq(k.tminR, k.tmaxR)).map(_.ready).max + 4
-  // The conversions: examine in cycle c, decide in c + 1, front in c + 2, back in c + 3.
-  private val c = latency - 4
+    (k.axes.flatMap(a => Seq(a.cLo, a.cHi, a.diffLo, a.diffHi)) ++ Seq(k.tminR, k.tmaxR)).map(_.ready).max + 5
+  // The conversions: examine in cycle c, sums in c + 1, decide in c + 2, front in c + 3, back in c + 4.
+  private val c = latency - 5
   // The conversions' shifts, prepared ahead (GridFixed.shift) and registered for decide.
   private val euP = eu.at(c - 1)
   private val sP = sInt.map(timed(_).at(c - 1))
   private def shift(k: SInt, lo: BigInt, hi: BigInt) =
-    new Timed(GridFixed.shift(fmt, k, lo, hi), c - 1, chain).at(c + 1)
+    new Timed(GridFixed.shift(fmt, k, lo, hi), c - 1, chain).at(c + 2)
   private val rcpLoC = ray.rcpLo.map(_.at(c))
   private val rcpHiC = ray.rcpHi.map(_.at(c))
   private def fx(x: UInt, sh: GridFixed.Shift, up: Boolean, lo: BigInt, hi: BigInt) = {
     val ex = new Timed(GridFixed.examine(fmt, x), c, chain).at(c + 1)
-    val d = new Timed(GridFixed.decide(fmt, ex, sh, up, lo, hi), c + 1, chain).at(c + 2)
-    GridFixed.back(new Timed(GridFixed.front(d, lo, hi), c + 2, chain).at(c + 3), up, lo, hi)
+    val su = new Timed(GridFixed.sums(fmt, ex), c + 1, chain).at(c + 2)
+    val d = new Timed(GridFixed.decide(fmt, su, sh, up, lo, hi), c + 2, chain).at(c + 3)
+    GridFixed.back(new Timed(GridFixed.front(d, lo, hi), c + 3, chain).at(c + 4), up, lo, hi)
   }
   private def negF(x: UInt) = Cat(!x(fmt.width - 1), x(fmt.width - 2, 0))
   private val node = Wire(new GridNodeHw(p))
@@ -168,8 +170,8 @@ class GridNodeStage(p: GridParams, rays: RayConsts) extends Module {
     val sHi = fx(rcpHiC(i), kS, up = true, 0, p.stepMax)
     val cLo = fx(a.cLo.at(c), kC, up = false, p.cLo, p.cHi)
     val cHi = fx(a.cHi.at(c), kC, up = true, p.cLo, p.cHi)
-    o.flat := a.flat.at(c + 3)
-    o.neg := a.neg.at(c + 3)
+    o.flat := a.flat.at(c + 4)
+    o.neg := a.neg.at(c + 4)
     o.stepLo := sLo.value.asUInt(p.stepBits - 1, 0)
     o.stepHi := sHi.value.asUInt(p.stepBits - 1, 0)
     o.stepHiSat := sHi.above
@@ -183,8 +185,8 @@ class GridNodeStage(p: GridParams, rays: RayConsts) extends Module {
   private val kT = shift(-euP, p.bot, p.top)
   node.tmin := fx(k.tminR.at(c), kT, up = false, p.bot, p.top).value(p.width - 1, 0).asSInt
   node.tmax := fx(k.tmaxR.at(c), kT, up = true, p.bot, p.top).value(p.width - 1, 0).asSInt
-  node.err := k.err.at(c + 3)
+  node.err := k.err.at(c + 4)
   io.out.valid := chain.at(latency)
-  io.out.bits := RegEnable(node, chain.at(c + 3))
+  io.out.bits := RegEnable(node, chain.at(c + 4))
   io.badScale := timed(bad).at(latency)
 }

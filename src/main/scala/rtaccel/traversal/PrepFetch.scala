@@ -4,7 +4,7 @@ import chisel3._
 import chisel3.util._
 import rtaccel.mem.{MemPort, MemPortParams}
 import rtaccel.{AccelConfig, HeldCount}
-import rtaccel.bvh.{BvhNode, NodeWords}
+import rtaccel.bvh.{BvhNode, NodeRecord, NodeWords}
 
 /** Turns "ray `id` wants node `k`" into a node request tagged with `id`, and
   * each response back into (token, node).
@@ -42,39 +42,46 @@ class PrepFetch(cfg: AccelConfig) extends Module {
 
   io.mem.resp.ready := true.B
   private val fetched = Wire(new FetchedNode(cfg))
-  class Answer extends Bundle {
+  class Answer[T <: Data](gen: T) extends Bundle {
     val token = new TraversalToken(cfg)
-    val words = new NodeWords(cfg)
+    val body = gen
   }
-  private val answer = Wire(Valid(new Answer))
+  private val answer = Wire(Valid(new Answer(new NodeRecord(cfg))))
   answer.valid := io.mem.resp.valid
   answer.bits.token := parked.read(io.mem.resp.bits.tag)
-  answer.bits.words := BvhNode.words(cfg, io.mem.resp.bits.data)
-  // Quantized layouts: the record's words (the child-index adders) are registered before the checks, one cycle
-  // more per node fetch (BvhNode.staged). The stage is a valid pipe, like the output: it never waits.
-  private val decoded = if (BvhNode.staged(cfg)) Pipe(answer) else answer
+  answer.bits.body := BvhNode.record(cfg, io.mem.resp.bits.data)
+  // Quantized layouts: the record with its slots' counts, then its words (the child-index adders), are each
+  // registered before the checks, two cycles more per node fetch (BvhNode.staged). The stages are valid pipes,
+  // like the output: they never wait.
+  private val recorded = if (BvhNode.staged(cfg)) Pipe(answer) else answer
+  private val worded = Wire(Valid(new Answer(new NodeWords(cfg))))
+  worded.valid := recorded.valid
+  worded.bits.token := recorded.bits.token
+  worded.bits.body := BvhNode.words(cfg, recorded.bits.body)
+  private val decoded = if (BvhNode.staged(cfg)) Pipe(worded) else worded
   fetched.token := decoded.bits.token
-  fetched.node := BvhNode.fields(cfg, decoded.bits.words)
+  fetched.node := BvhNode.fields(cfg, decoded.bits.body)
   io.out := Pipe(decoded.valid, fetched, 1)
   // The slots' checks (compares of whole words) are registered with the node and combined into its error flags
   // after the register: the same flags in the same cycle, and the compares and the OR over the slots are not one
   // path from the answer (docs/fmax.md).
-  private val checksReg = RegEnable(BvhNode.slotChecks(cfg, decoded.bits.words), decoded.valid)
+  private val checksReg = RegEnable(BvhNode.slotChecks(cfg, decoded.bits.body), decoded.valid)
   io.out.bits.node.errors := BvhNode.errors(checksReg)
 
   // Counted from registered handshakes (HeldCount): the request's handshake comes through the node port's
   // arbiter, and into the count's add it was the core control's longest path (docs/fmax.md).
   private val inMemory = HeldCount(Seq(io.mem.req.fire), Seq(io.mem.resp.fire), log2Ceil(cfg.numRayIds + 1))
-  // A ray in the decode stage waits too (RtAccel's ray_conservation counts it here).
-  io.waiting := queue.io.count +& inMemory +& (BvhNode.staged(cfg).B && decoded.valid)
+  // A ray in a decode stage waits too (RtAccel's ray_conservation counts it here).
+  io.waiting := queue.io.count +& inMemory +& (BvhNode.staged(cfg).B && recorded.valid) +&
+    (BvhNode.staged(cfg).B && decoded.valid)
 }
 
 object PrepFetch {
 
-  /** Cycles from a node answer to `out`: the output register, and the decode stage of the quantized layouts
+  /** Cycles from a node answer to `out`: the output register, and the two decode stages of the quantized layouts
     * (BvhNode.staged).
     */
-  def latency(cfg: AccelConfig): Int = if (BvhNode.staged(cfg)) 2 else 1
+  def latency(cfg: AccelConfig): Int = if (BvhNode.staged(cfg)) 3 else 1
 
   /** Node requests are tagged with the ray ID; one request brings one whole node record. */
   def port(cfg: AccelConfig): MemPortParams = MemPortParams(cfg.addrBits, cfg.rayIdBits, cfg.layout.nodeBytes)

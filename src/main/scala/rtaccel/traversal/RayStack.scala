@@ -74,6 +74,12 @@ class RayStack(cfg: AccelConfig) extends Module {
   private val wCountReg = RegNext(io.pushCount, 0.U)
   private val wValsReg = RegNext(io.pushVals)
   private val slots = (0 until pushes).map(p => wSpReg.pad(slotBits) + p.U)
+  // The contract this relies on, checked in every simulation and in formal: no pop, on either port, reads a ray
+  // whose pushes still wait in the write registers.
+  assert(
+    !(wCountReg =/= 0.U && ((io.pop && io.rayId === wRayIdReg) || (io.popB && io.rayIdB === wRayIdReg))),
+    "stack_pop_after_push: a ray is popped the cycle after its push, before the push is written"
+  )
   private def landsOn(sp: UInt, offset: Int, b: Int): Bool =
     if (banks == 1) true.B else sp(bankBits - 1, 0) === Math.floorMod(b - offset, banks).U
   for (((mem, memB), b) <- mems.zip(memsB).zipWithIndex) {

@@ -154,9 +154,10 @@ class FetchBVHSpec extends AnyFlatSpec with ChiselScalatestTester {
     }
   }
 
-  it should "decode a quantized root a cycle after its answer, and drop it if the scene base changes in that cycle" in {
-    // 4q with grid box tests: the record's words are registered before the checks (BvhNode.staged), so rays wait
-    // one cycle more; an answer whose decode cycle sees a new base must not become the new scene's root.
+  it should "decode a quantized root two cycles after its answer, and drop it if the scene base changes in them" in {
+    // 4q with grid box tests: the record with its slots' counts, then its words, are registered before the checks
+    // (BvhNode.staged), so rays wait two cycles more; an answer whose decode cycles see a new base must not become
+    // the new scene's root.
     val q = cfg.copy(layout = BvhLayout.Wide(4, quantized = true), boxTest = rtaccel.BoxTest.Grid)
     assert(BvhNode.staged(q) && !BvhNode.staged(cfg))
     val img = rtaccel.sim.mem.SyntheticImage(nodes = 4, tris = 4, new scala.util.Random(5), q.layout)
@@ -178,17 +179,26 @@ class FetchBVHSpec extends AnyFlatSpec with ChiselScalatestTester {
         dut.io.mem.resp.valid.poke(false.B)
         tag
       }
-      dut.clock.step()
+      // The base changes in the first decode cycle (the record's register), then in the second (the words').
+      for ((changeAt, base) <- Seq((0, 0x800), (1, 0xc00))) {
+        dut.clock.step()
+        answer()
+        offer(dut, 1, shadow = false)
+        for (_ <- 0 until changeAt) {
+          dut.io.rays.ready.expect(false.B, "the root's record is being decoded: rays wait")
+          dut.clock.step()
+        }
+        dut.io.rays.ready.expect(false.B, "the root's words are being decoded: rays wait")
+        dut.io.nodeBase.poke(base.U) // the scene changes in a decode cycle
+        dut.clock.step()
+        dut.io.rays.ready.expect(false.B, "the old base's root, decoded after the change, is not the new root")
+        dut.clock.step(3)
+        dut.io.rays.ready.expect(false.B, "no root until the new base's answer")
+      }
       answer()
-      offer(dut, 1, shadow = false)
-      dut.io.rays.ready.expect(false.B, "the root's words are being checked: rays wait one cycle more")
-      dut.io.nodeBase.poke(0x800.U) // the scene changes in the decode cycle
+      dut.io.rays.ready.expect(false.B, "the new root is in its first decode cycle")
       dut.clock.step()
-      dut.io.rays.ready.expect(false.B, "the old base's root, decoded after the change, is not the new root")
-      dut.clock.step(3)
-      dut.io.rays.ready.expect(false.B, "no root until the new base's answer")
-      answer()
-      dut.io.rays.ready.expect(false.B, "the new root is in its decode cycle")
+      dut.io.rays.ready.expect(false.B, "the new root is in its second decode cycle")
       dut.clock.step()
       dut.io.rays.ready.expect(true.B, "the new root is valid")
       for (s <- 0 until 4) {
