@@ -42,15 +42,17 @@ object QuantNode {
 
   // ---- Hardware ----
 
+  /** Byte i and the little-endian 32-bit word at byte i of a record. */
+  private def byteAt(record: UInt, i: Int): UInt = record(8 * i + 7, 8 * i)
+  private def wordAt(record: UInt, i: Int): UInt = record(8 * i + 31, 8 * i)
+
   /** The k slots of a little-endian quantized node record. One FP32 adder
     * (combinational, exact for valid images) per plane per slot.
     */
   def decode(k: Int, record: UInt, before: Seq[UInt]): Seq[SlotWords[UInt]] = {
     require(record.getWidth == nodeBytes(k) * 8, s"QuantNode.decode: record must be ${nodeBytes(k) * 8} bits")
-    def byte(i: Int): UInt = record(8 * i + 7, 8 * i)
-    def word(i: Int): UInt = record(8 * i + 31, 8 * i)
-    val origin = (0 until 3).map(a => word(4 * a))
-    val exp = (0 until 3).map(a => byte(12 + a))
+    val origin = (0 until 3).map(a => wordAt(record, 4 * a))
+    val exp = (0 until 3).map(a => byteAt(record, 12 + a))
     val badExp = exp.map(e => e < ExpMin.U || e > ExpMax.U)
     for ((s, (w0, w1)) <- refs(k, record, before).zipWithIndex.map(_.swap)) yield {
       def plane(p: Int): UInt = {
@@ -58,7 +60,7 @@ object QuantNode {
         val sum = Module(new FpAdd(FloatFormat.FP32, Some(RoundingMode.RNE), latency = 0))
         sum.io.in.valid := true.B
         sum.io.in.bits.a := origin(a)
-        sum.io.in.bits.b := scaled(byte(planeByte(k, p, s)), exp(a))
+        sum.io.in.bits.b := scaled(byteAt(record, planeByte(k, p, s)), exp(a))
         Mux(badExp(a), NaN32.U(32.W), sum.io.out.bits)
       }
       SlotWords(w0, w1, (0 until 3).map(plane), (3 until 6).map(plane))
@@ -73,12 +75,11 @@ object QuantNode {
 
   def decodeGrid(k: Int, record: UInt, before: Seq[UInt]): Grid = {
     require(record.getWidth == nodeBytes(k) * 8, s"QuantNode.decodeGrid: record must be ${nodeBytes(k) * 8} bits")
-    def byte(i: Int): UInt = record(8 * i + 7, 8 * i)
     val origin = (0 until 3).map(a => record(32 * a + 31, 32 * a))
-    val exp = (0 until 3).map(a => byte(12 + a))
+    val exp = (0 until 3).map(a => byteAt(record, 12 + a))
     val bad = (exp.map(e => e < ExpMin.U || e > ExpMax.U) ++ origin.map(_(30, 23).andR)).reduce(_ || _)
     val slots = for ((s, (w0, w1)) <- refs(k, record, before).zipWithIndex.map(_.swap))
-      yield SlotWords(w0, w1, (0 until 3).map(p => byte(planeByte(k, p, s))), (3 until 6).map(p => byte(planeByte(k, p, s))))
+      yield SlotWords(w0, w1, (0 until 3).map(p => byteAt(record, planeByte(k, p, s))), (3 until 6).map(p => byteAt(record, planeByte(k, p, s))))
     Grid(slots, origin, exp, bad)
   }
 
@@ -90,11 +91,10 @@ object QuantNode {
     * the index adders ([[refs]]), so that the prefix sum and the 32-bit adds are not one path (BvhNode.staged).
     */
   def befores(k: Int, record: UInt): Seq[UInt] = {
-    def byte(i: Int): UInt = record(8 * i + 7, 8 * i)
     var innerBefore: UInt = 0.U(4.W)
     var trisBefore: UInt = 0.U(BeforeBits.W)
     for (s <- 0 until k) yield {
-      val m = byte(FixedBytes + s)
+      val m = byteAt(record, FixedBytes + s)
       val (isInner, isLeaf) = (m === MetaInner.U, m(7))
       val before = Mux(isInner, innerBefore.pad(BeforeBits), Mux(isLeaf, trisBefore, 0.U))
       innerBefore = innerBefore +& isInner.asUInt
@@ -106,11 +106,9 @@ object QuantNode {
   /** Slot s's word0 and word1 (a 32-byte wide slot's) from its meta byte, the bases and its [[befores]] count. */
   private def refs(k: Int, record: UInt, before: Seq[UInt]): Seq[(UInt, UInt)] = {
     require(before.length == k, s"QuantNode.refs: ${before.length} counts for $k slots")
-    def byte(i: Int): UInt = record(8 * i + 7, 8 * i)
-    def word(i: Int): UInt = record(8 * i + 31, 8 * i)
-    val (childBase, triBase) = (word(16), word(20))
+    val (childBase, triBase) = (wordAt(record, 16), wordAt(record, 20))
     for (s <- 0 until k) yield {
-      val m = byte(FixedBytes + s)
+      val m = byteAt(record, FixedBytes + s)
       val (isEmpty, isInner, isLeaf) = (m === MetaEmpty.U, m === MetaInner.U, m(7))
       val count = m(6, 0)
       val w0 = Mux(

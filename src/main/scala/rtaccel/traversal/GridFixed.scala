@@ -95,12 +95,15 @@ object GridFixed {
     val rem = SInt(w.W)
   }
 
+  /** The largest right shift that keeps a bit of the significand in an m-bit window: p + m - 1. */
+  private def maxShift(fmt: FloatFormat, m: Int): Int = fmt.precision + m - 1
+
   def shift(fmt: FloatFormat, k: SInt, lo: BigInt, hi: BigInt): Shift = {
     val m = widthOf(lo, hi) - 1
     val off = fmt.bias + fmt.manBits
     val s = Wire(new Shift(k.getWidth.max(log2Ceil(off + m + fmt.precision + 1) + 1) + 2))
     s.right := (m - 1 + off).S -& k
-    s.rightLessMax := (m - 1 + off - (fmt.precision + m - 1)).S -& k
+    s.rightLessMax := (m - 1 + off - maxShift(fmt, m)).S -& k
     s.big := (m - fmt.precision + 1 + off).S -& k
     s.rem := off.S -& k
     s
@@ -230,7 +233,7 @@ object GridFixed {
     // Right by a = m - 1 - sh = right - E; a < 0 (E > right) is big (or sig = 0, which shifts to 0 anyway),
     // a > aMax = p + m - 1 (E < rightLessMax) leaves 0.
     val a = s.right -& e
-    val aMax = p + m - 1
+    val aMax = maxShift(fmt, m)
     val aBits = log2Ceil(aMax + 1)
     val d = Wire(new Decided(p, aBits))
     d.sig := su.sig

@@ -137,23 +137,20 @@ class GridLane(p: GridParams) extends Module {
   private val err1 = RegEnable(n.err || !c.present, io.in.valid)
   private val tmin1 = RegEnable(n.tmin, io.in.valid)
   private val tmax1 = RegEnable(n.tmax, io.in.valid)
-  private def clamp(v: SInt): SInt =
-    Mux(v < p.bot.S, p.bot.S(p.width.W), Mux(v > p.top.S, p.top.S(p.width.W), v(p.width - 1, 0).asSInt))
-  // Cycle 2: outward to units of u (an arithmetic shift is a floor), clamps. The ceiling is (v + 2^f - 1) >> f,
-  // one add (the model's -((-v) >> f) is the same integer), and its clamp compares v itself with the window's
-  // ends scaled by 2^f, beside the add: ceil(v / 2^f) > top iff v > top 2^f, and < bot iff v <= (bot - 1) 2^f.
-  private def ceilClamp(v: SInt): SInt = {
+  // Cycle 2: outward to units of u, v / 2^f rounded down (an arithmetic shift) or up ((v + 2^f - 1) >> f, one add;
+  // the model's -((-v) >> f) is the same integer), then clamped. The clamp compares v itself with the window's
+  // ends scaled by 2^f, beside the add: the rounded value is past top iff v > top 2^f (up) or v >= (top + 1) 2^f
+  // (down), and past bot iff v <= (bot - 1) 2^f (up) or v < bot 2^f (down).
+  private def outward(v: SInt, up: Boolean): SInt = {
     val f = p.cFracBits
-    val q = ((v +& ((1 << f) - 1).S) >> f).asSInt
-    Mux(
-      v <= ((p.bot - 1) << f).S,
-      p.bot.S(p.width.W),
-      Mux(v > (p.top << f).S, p.top.S(p.width.W), q(p.width - 1, 0).asSInt)
-    )
+    val q = ((if (up) v +& ((1 << f) - 1).S else v) >> f).asSInt
+    val below = if (up) v <= ((p.bot - 1) << f).S else v < (p.bot << f).S
+    val above = if (up) v > (p.top << f).S else v >= ((p.top + 1) << f).S
+    Mux(below, p.bot.S(p.width.W), Mux(above, p.top.S(p.width.W), q(p.width - 1, 0).asSInt))
   }
   private val s2 = s1.map { case (pLo, pHi, loOut, hiOut, ok) =>
-    val lo = Mux(loOut, p.bot.S(p.width.W), clamp(pLo >> p.cFracBits))
-    val hi = Mux(hiOut, p.top.S(p.width.W), ceilClamp(pHi))
+    val lo = Mux(loOut, p.bot.S(p.width.W), outward(pLo, up = false))
+    val hi = Mux(hiOut, p.top.S(p.width.W), outward(pHi, up = true))
     (RegEnable(lo, v1), RegEnable(hi, v1), RegEnable(ok, v1))
   }
   private val err2 = RegEnable(err1, v1)
@@ -164,7 +161,7 @@ class GridLane(p: GridParams) extends Module {
   // compares side by side, where the max and min in front of the compares were the lane's longest path.
   private val los = s2.map(_._1)
   private val his = s2.map(_._2)
-  private val ordered = for (lo <- los :+ tmin2; hi <- his :+ tmax2 if !(lo eq tmin2) || !(hi eq tmax2)) yield lo <= hi
+  private val ordered = (for (lo <- los; hi <- his) yield lo <= hi) ++ los.map(_ <= tmax2) ++ his.map(tmin2 <= _)
   private val hit = !err2 && s2.map(_._3).reduce(_ && _) && ordered.reduce(_ && _)
   // near (the largest lo) from the three pairwise compares at once, not two compares in a row.
   private val ge01 = los(0) >= los(1)

@@ -86,7 +86,7 @@ class GridNodeIn(rays: RayConsts) extends Bundle {
 }
 
 /** [[GridNode.soft]] in hardware: the FP32 [[GridKernel]] pipeline (HwArith
-  * units, each enabled by the slot's valid), then three cycles of
+  * units, each enabled by the slot's valid), then five cycles of
   * conversions (GridFixed.examine, sums, decide, front and back, a register after each).
   * `out` is valid `latency` cycles after `in`.
   */

@@ -72,8 +72,8 @@ class PrepFetch(cfg: AccelConfig) extends Module {
   // arbiter, and into the count's add it was the core control's longest path (docs/fmax.md).
   private val inMemory = HeldCount(Seq(io.mem.req.fire), Seq(io.mem.resp.fire), log2Ceil(cfg.numRayIds + 1))
   // A ray in a decode stage waits too (RtAccel's ray_conservation counts it here).
-  io.waiting := queue.io.count +& inMemory +& (BvhNode.staged(cfg).B && recorded.valid) +&
-    (BvhNode.staged(cfg).B && decoded.valid)
+  private val decoding = if (BvhNode.staged(cfg)) recorded.valid +& decoded.valid else 0.U
+  io.waiting := queue.io.count +& inMemory +& decoding
 }
 
 object PrepFetch {
