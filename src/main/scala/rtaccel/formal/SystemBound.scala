@@ -25,16 +25,16 @@ object SystemBound {
       // s + 1, the slave's B after at most bLatency refusals + 1.
       ResponseBound.Term(s"rays ($rays)", rays * (1 + read + 1 + 1 + 1 + 2 + 1 + 1 + (s + 1) + e.bLatency + 1)),
       // A hit waiting in HitDma's pair buffer for its neighbour leaves with it (the neighbour's trip, above) or, once
-      // the batch's last hit is taken, alone as the flush's scan (a slot a cycle) reaches it: one line per slot, each
-      // through the hit queue 1, WriteEngine queues 1,
+      // the batch's last hit is taken (HitDma's all-taken register 1), alone as the flush's scan (a slot a cycle)
+      // reaches it: one line per slot, each through the hit queue 1, WriteEngine queues 1,
       // WindowGuard's AW slice 1, AW and W refusals s + 1 and the slave's B after at most bLatency refusals + 1.
       ResponseBound.Term(
         s"pair buffer flush (${c.sys.hitPairSlots} slots)",
-        c.sys.hitPairSlots * (3 + (s + 1) + e.bLatency + 1)
+        1 + c.sys.hitPairSlots * (3 + (s + 1) + e.bLatency + 1)
       ),
-      // writesDone reaches RAY_COUNT: WriteEngine's count register 1, finish 1, IRQ_STATUS 1, the interrupt
-      // register 1.
-      ResponseBound.Term("done", 4)
+      // writesDone reaches RAY_COUNT: WriteEngine's count register 1, SystemCore's records-written register 1,
+      // finish 1, IRQ_STATUS 1, the interrupt register 1.
+      ResponseBound.Term("done", 5)
     )
   }
 }

@@ -16,7 +16,7 @@ final case class Candidate(
     case Candidate.Direct => 0
     case Candidate.Cached(bytes, _) =>
       MemoryDesign.copies(cores) * (MemoryDesign.bram(bytes) + Candidate.tagBram(bytes))
-    // Two treelet buffers (one streaming in while the other is traced), one copy per two cores; queues on chip
+    // Two treelet buffers (one streaming in while the other is traced), copied as the stores are; queues on chip
     // hold the batch's parked ray states.
     case Candidate.TreeletQueues(bytes, inDram) =>
       MemoryDesign.copies(cores) * 2 * MemoryDesign.bram(bytes) +

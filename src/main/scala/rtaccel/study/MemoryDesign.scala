@@ -72,7 +72,8 @@ final case class MemoryDesign(
 
   def isNode(read: SceneRead): Boolean = read.isInstanceOf[NodeRead]
 
-  /** BRAM36 of the two stores for `cores` cores: one dual-ported copy per two cores (NodeStore, TriStore), at the
+  /** BRAM36 of the two stores for `cores` cores: one dual-ported copy, its ports shared by the cores (NodeStore,
+    * TriStore, `SystemConfig.storeCopies`), at the
     * measured 228 BRAM36 per MiB of either (docs/node-store.md, docs/scene-store.md: Yosys 0.23 synth_xilinx). */
   def storeBram(cores: Int): Int = copies(cores) * (bram(nodeStoreBytes) + bram(triStoreBytes))
 }
@@ -86,8 +87,9 @@ object MemoryDesign {
   /** Measured: 57 BRAM36 per 256 KiB of store (both stores, 512- and 1024-bit words). */
   def bram(bytes: Long): Int = math.ceil(bytes * 228.0 / (1 << 20)).toInt
 
-  /** Dual-ported store copies `cores` cores need (each copy serves two clients of one kind). */
-  def copies(cores: Int): Int = (cores + 1) / 2
+  /** Store copies the system builds for `cores` cores: one (`SystemConfig.storeCopies`); beyond two cores the
+    * cores share its two ports. */
+  def copies(cores: Int): Int = rtaccel.system.SystemConfig().storeCopies.min((cores + 1) / 2)
 
   /** xc7z045 block RAM. */
   val DeviceBram36 = 545

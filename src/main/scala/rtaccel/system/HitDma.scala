@@ -19,7 +19,7 @@ import rtaccel.{ErrorFlags, HitOut}
   * empty slot). Once every hit of the batch has been taken, a scan visits the
   * slots one a cycle, and what still waits there (a partner that had left
   * alone) leaves alone as the scan reaches it, so the batch's last record is
-  * written at most `hitPairSlots` cycles after its last hit (and the hit
+  * written at most `hitPairSlots` + 1 cycles after its last hit (and the hit
   * queue's refusals).
   * A stopped batch (ABORT, a fault: `stop`, `issued` rays handed out and no
   * more to come) flushes the same way once its `issued` hits are taken: a
@@ -72,7 +72,12 @@ class HitDma(sys: SystemConfig) extends Module {
   private val inBatch = h.number < countReg
   private val slot = slotOf(h.number)
   // Every hit of the batch taken (of a stopped batch: every ray handed out): what still waits has no partner to come.
-  private val allTaken = takenReg === countReg || (io.stop && takenReg === io.issued)
+  // Registered, a cycle late (the flush waits a cycle more; no hit of the batch comes after it): the two 32-bit
+  // compares in front of the pair buffer's slot select and the hit queue's enqueue were one path, 6.66 ns with
+  // 3 cores (docs/fmax.md). Cleared by START, so a new batch never sees the last one's.
+  private val allTakenReg = RegInit(false.B)
+  allTakenReg := !io.start && (takenReg === countReg || (io.stop && takenReg === io.issued))
+  private val allTaken = allTakenReg
   // The flush's scan: one slot a cycle, from a register, so that no search for the first waiting slot (a 64-input
   // tree) lies between the pair buffer and its own clear (that path would be the unit's longest, 6.69 ns).
   private val scanReg = RegInit(0.U(log2Ceil(slots).max(1).W))

@@ -90,17 +90,17 @@ class MemoryFabric(
 
   private val tagBits = readers.map(_.tagBits).max
   private val engine = Module(new ReadEngine(p, readers.map(_.recordBytes), tagBits, readSlots))
-  private val store = Option.when(nodeIdx.nonEmpty && sys.nodeStoreBytes > 0)(
-    Module(new NodeStore(
-      p,
-      readers(nodeIdx.head).copy(addrBits = p.addrBits),
-      nodeIdx.size,
-      sys.nodeStoreBytes,
-      fillId
-    ))
+
+  /** A store for the clients `idx` (none without clients or bytes): their port, count and copies, then `make`. */
+  private def storeFor[S <: Module](idx: Seq[Int], bytes: Int)(make: (MemPortParams, Int, Int) => S): Option[S] =
+    Option.when(idx.nonEmpty && bytes > 0)(
+      Module(make(readers(idx.head).copy(addrBits = p.addrBits), idx.size, sys.storeCopiesFor(idx.size)))
+    )
+  private val store = storeFor(nodeIdx, sys.nodeStoreBytes)((port, n, copies) =>
+    new NodeStore(p, port, n, sys.nodeStoreBytes, fillId, copies)
   )
-  private val triStore = Option.when(triIdx.nonEmpty && sys.triStoreBytes > 0)(
-    Module(new TriStore(p, readers(triIdx.head).copy(addrBits = p.addrBits), triIdx.size, sys.triStoreBytes, fillId))
+  private val triStore = storeFor(triIdx, sys.triStoreBytes)((port, n, copies) =>
+    new TriStore(p, port, n, sys.triStoreBytes, fillId, copies)
   )
   private val writer = Module(new WriteEngine(p))
 

@@ -11,10 +11,11 @@ import rtaccel.mem.{MemPortParams, MemResponse}
   * from block RAM at a fixed latency to `clients` node clients.
   *
   * Storage: words of max(record, beat) bytes, written a beat (one masked
-  * lane) at a time by the fill. Each copy of the storage is a true dual-port
-  * BRAM serving two clients (port A also takes the fill's writes, which only
-  * happen while no client can hit); `clients` > 2 gets ceil(clients / 2)
-  * copies.
+  * lane) at a time by the fill. `copies` copies of the storage, each a true
+  * dual-port BRAM (port A also takes the fill's writes, which only happen
+  * while no client can hit); client c reads on port c mod (2 x copies), and
+  * clients on one port share it round-robin (StorePort). More copies buy no
+  * waiting at the price of the whole store's block RAM again.
   *
   * Fill: StoreFill (bursts with AXI ID `fillId`, 4 KB split, the 1024-bit
   * realignment), one whole line written per beat.
@@ -22,10 +23,16 @@ import rtaccel.mem.{MemPortParams, MemResponse}
   * A request hits when the store is loaded, its address is record-aligned
   * relative to `base`, and lies below base + storedBytes. Latency: request
   * accepted in cycle t, response offered from t + `NodeStore.Latency` = 3
-  * (the request register, the BRAM read, then the output queue). Full rate:
-  * one record per client per cycle.
+  * (the request register, the BRAM read, then the output queue) on a port
+  * of its own, one cycle more on a shared one. Full rate: one record per
+  * port per cycle.
   */
-class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: Int, fillId: Int) extends Module {
+class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: Int, fillId: Int, copies: Int = 1)
+    extends Module {
+  require(
+    copies >= 1 && copies <= (clients + 1) / 2,
+    s"NodeStore: copies must be 1 to ceil(clients / 2) = ${(clients + 1) / 2}, got $copies"
+  )
   private val B = p.beatBytes
   private val recBytes = port.recordBytes
   require(Integer.bitCount(recBytes) == 1, s"NodeStore: node records must be a power of two bytes, got $recBytes")
@@ -52,7 +59,6 @@ class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes:
     val aligned = if (recBits == 0) true.B else a(recBits - 1, 0) === baseReg(recBits - 1, 0)
     io.hit(c) := fill.io.ready && a >= baseReg && a < fill.io.limit && aligned
   }
-  private val copies = (clients + 1) / 2
   private val mems = Seq.fill(copies)(SyncReadMem(words, Vec(lanes, UInt((8 * B).W))))
   private val wEnable = fill.io.write.valid
   private val wLine = fill.io.write.bits.line
@@ -61,29 +67,18 @@ class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes:
     VecInit((0 until lanes).map(l => if (lanes == 1) true.B else wLine(log2Ceil(lanes) - 1, 0) === l.U))
   private val wData = VecInit(Seq.fill(lanes)(fill.io.write.bits.data))
 
-  for (c <- 0 until clients) {
-    val mem = mems(c / 2)
-    val outQ = Module(new Queue(new MemResponse(port), NodeStore.OutDepth))
-    val s0ValidReg = RegInit(false.B)
-    val s1ValidReg = RegInit(false.B)
-    // Credit: queued + registered + being read < depth, so every read has a place when it lands.
-    val credit = outQ.io.count +& s0ValidReg.asUInt +& s1ValidReg.asUInt < NodeStore.OutDepth.U
-    io.req(c).ready := credit
-    val fire = io.req(c).fire
+  for ((served, k) <- StorePort.assign(clients, copies).zipWithIndex) {
+    val mem = mems(k / 2)
     // The request's offset from the base is registered before the read: the subtraction and the block RAMs'
     // enables behind it were one path (docs/fmax.md).
-    s0ValidReg := fire
-    val s0RelReg = RegEnable(io.req(c).bits.addr - baseReg, fire)
-    val s0TagReg = RegEnable(io.req(c).bits.tag, fire)
-    val word = s0RelReg >> log2Ceil(wordBytes)
-    val read = s0ValidReg
-    val rdata = if (c % 2 == 0) mem.readWrite(Mux(wEnable, wWord, word), wData, wMask, wEnable || read, wEnable)
+    val sp = new StorePort(io, served, (a: UInt) => a - baseReg)
+    val word = sp.s0Fields >> log2Ceil(wordBytes)
+    val read = sp.s0Valid
+    val rdata = if (k % 2 == 0) mem.readWrite(Mux(wEnable, wWord, word), wData, wMask, wEnable || read, wEnable)
     else mem.read(word, read)
     // A hit is only accepted when loaded, and the fill writes only while not loaded.
     when(read && wEnable) { errorReg := true.B }
-    s1ValidReg := read
-    val s1TagReg = RegEnable(s0TagReg, read)
-    val s1SubReg = RegEnable(s0RelReg(log2Ceil(wordBytes) - 1, 0), read)
+    val s1SubReg = RegEnable(sp.s0Fields(log2Ceil(wordBytes) - 1, 0), read)
     // The read data goes straight into the output queue, with no register of
     // its own: Yosys 0.23 would merge such a register into the memory's read
     // port first and leave the port's address register outside, so the shared
@@ -91,12 +86,10 @@ class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes:
     // memory would be doubled to give the second client its read port
     // (measured: 456 instead of 228 BRAM36 for 1 MiB). The BRAM's output is
     // the read's register.
-    outQ.io.enq.valid := s1ValidReg
-    outQ.io.enq.bits.data := (if (recBytes >= B) rdata.asUInt
-                              else (rdata.asUInt >> (s1SubReg << 3))(8 * recBytes - 1, 0))
-    outQ.io.enq.bits.tag := s1TagReg
-    when(outQ.io.enq.valid && !outQ.io.enq.ready) { errorReg := true.B }
-    io.resp(c) <> outQ.io.deq
+    val full = sp.answer(
+      if (recBytes >= B) rdata.asUInt else (rdata.asUInt >> (s1SubReg << 3))(8 * recBytes - 1, 0)
+    )
+    when(full) { errorReg := true.B }
   }
 }
 
@@ -109,4 +102,8 @@ object NodeStore {
 
   /** Output queue per client: the read in the pipeline + 1 more than it takes to see a dequeue, so a client that always takes keeps one per cycle. */
   val OutDepth: Int = Latency + 1
+
+  /** Request to response offered on a port that several clients share (StorePort): the request's queue, then as
+    * [[Latency]]. */
+  val SharedLatency: Int = Latency + 1
 }

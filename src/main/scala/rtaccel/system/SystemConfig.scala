@@ -32,6 +32,10 @@ import rtaccel.axi.Axi4Params
   * @param hitPairSlots   HitDma's pair buffer, a power of two: hits waiting for their neighbour to share a 64-byte
   *                       line; a conflict (two waiting pairs p, p + slots k) writes a hit alone in its own line, so
   *                       the hit bytes per ray in docs/reports/performance.md (32 with no conflict) show their cost
+  * @param storeCopies    block-RAM copies of each on-chip store, 1 up to one per two cores: a copy is dual-ported,
+  *                       so with more than two cores per copy the cores share its ports round-robin (StorePort, one
+  *                       cycle more per read). One copy by default: a second copy of the 1.5 MiB node store and the
+  *                       triangle store is 399 BRAM36 more, which no third core leaves room for on the xc7z045
   */
 case class SystemConfig(
     core: AccelConfig = AccelConfig.zc706,
@@ -44,7 +48,8 @@ case class SystemConfig(
     raysPerBlock: Int = 4,
     rayBlockTags: Int = 16,
     hitQueue: Int = 4,
-    hitPairSlots: Int = 64
+    hitPairSlots: Int = 64,
+    storeCopies: Int = 1
 ) {
   require(cores >= 1, s"SystemConfig: cores must be >= 1, got $cores")
   require(
@@ -69,6 +74,14 @@ case class SystemConfig(
     hitPairSlots >= 1 && Integer.bitCount(hitPairSlots) == 1,
     s"SystemConfig: hitPairSlots must be a power of two, got $hitPairSlots"
   )
+  require(
+    storeCopies >= 1 && storeCopies <= (cores + 1) / 2,
+    s"SystemConfig: storeCopies must be 1 to ceil(cores / 2) = ${(cores + 1) / 2}, got $storeCopies"
+  )
+
+  /** The copies of a store with `clients` clients (one per core): [[storeCopies]], at most one per two clients. */
+  def storeCopiesFor(clients: Int): Int = storeCopies.min((clients + 1) / 2).max(1)
+
   val axi: Axi4Params = Axi4Params(addrBits = axiAddrBits, dataBits = axiDataBits, idBits = axiIdBits)
 
   val axiDataBytes: Int = axiDataBits / 8

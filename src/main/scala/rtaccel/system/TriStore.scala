@@ -17,18 +17,23 @@ import rtaccel.mem.{MemPortParams, MemResponse}
   * so the two lines a record touches, L and L+1, are always in different
   * banks: one read per bank per request (bank 0 at (L+1)/2, bank 1 at L/2),
   * then the pair is put in order and shifted down by the record's 16-byte
-  * offset in line L. Each copy of the two banks is true dual-port BRAM
-  * serving two clients (port A also takes the fill's writes, which only
-  * happen while no client can hit); `clients` > 2 gets ceil(clients / 2)
-  * copies.
+  * offset in line L. `copies` copies of the two banks, each true dual-port
+  * BRAM (port A also takes the fill's writes, which only happen while no
+  * client can hit); client c reads on port c mod (2 x copies), and clients
+  * on one port share it round-robin (StorePort), as in NodeStore.
   *
   * A request hits when the store is loaded, its address is 16-byte aligned
   * relative to `base` and the whole record lies below base + storedBytes.
   * Latency: request accepted in cycle t, response offered from t +
-  * `NodeStore.Latency` = 3 (the request register, the BRAM read, then the output queue). Full
-  * rate: one record per client per cycle.
+  * `NodeStore.Latency` = 3 (the request register, the BRAM read, then the output queue) on a port of its
+  * own, one cycle more on a shared one. Full rate: one record per port per cycle.
   */
-class TriStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: Int, fillId: Int) extends Module {
+class TriStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: Int, fillId: Int, copies: Int = 1)
+    extends Module {
+  require(
+    copies >= 1 && copies <= (clients + 1) / 2,
+    s"TriStore: copies must be 1 to ceil(clients / 2) = ${(clients + 1) / 2}, got $copies"
+  )
   private val B = p.beatBytes
   private val recBytes = port.recordBytes
   require(
@@ -71,50 +76,35 @@ class TriStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: 
     val aligned = a(grainBits - 1, 0) === baseReg(grainBits - 1, 0)
     io.hit(c) := fill.io.ready && settledReg && a >= baseReg && a < recLimitReg && aligned
   }
-  private val copies = (clients + 1) / 2
   private val banks = Seq.fill(copies)(Seq.fill(2)(SyncReadMem(words, UInt((8 * B).W))))
   private val wEnable = fill.io.write.valid
   private val wLine = fill.io.write.bits.line
   private val wIdx = (wLine >> 1)(idxBits - 1, 0)
 
-  for (c <- 0 until clients) {
-    val outQ = Module(new Queue(new MemResponse(port), NodeStore.OutDepth))
-    val s0ValidReg = RegInit(false.B)
-    val s1ValidReg = RegInit(false.B)
-    // Credit: queued + registered + being read < depth, so every read has a place when it lands.
-    val credit = outQ.io.count +& s0ValidReg.asUInt +& s1ValidReg.asUInt < NodeStore.OutDepth.U
-    io.req(c).ready := credit
-    val fire = io.req(c).fire
+  for ((served, k) <- StorePort.assign(clients, copies).zipWithIndex) {
     // The request's offsets are registered before the read, as in NodeStore. Bank 0 holds the even line of L,
     // L+1, bank 1 the odd one. (L + 1) / 2 is (addr - (base - B)) / 2B: one subtraction, not a subtraction and
     // an increment. (L+1)/2 past the last word (L the last line, odd) wraps to word 0, a power of two: that line
     // is then not part of the record (it lies below the stored end).
-    s0ValidReg := fire
-    val s0RelReg = RegEnable(io.req(c).bits.addr - baseReg, fire)
-    val s0AheadReg = RegEnable(io.req(c).bits.addr - baseLessLineReg, fire)
-    val s0TagReg = RegEnable(io.req(c).bits.tag, fire)
-    val line = s0RelReg >> lineBits
-    val idx = Seq((s0AheadReg >> (lineBits + 1))(idxBits - 1, 0), (line >> 1)(idxBits - 1, 0))
-    val read = s0ValidReg
-    val rdata = banks(c / 2).zipWithIndex.map { case (mem, b) =>
-      if (c % 2 == 0) {
+    val sp = new StorePort(io, served, (a: UInt) => VecInit(a - baseReg, a - baseLessLineReg))
+    val rel = sp.s0Fields(0)
+    val line = rel >> lineBits
+    val idx = Seq((sp.s0Fields(1) >> (lineBits + 1))(idxBits - 1, 0), (line >> 1)(idxBits - 1, 0))
+    val read = sp.s0Valid
+    val rdata = banks(k / 2).zipWithIndex.map { case (mem, b) =>
+      if (k % 2 == 0) {
         val w = wEnable && wLine(0) === b.U
         mem.readWrite(Mux(w, wIdx, idx(b)), fill.io.write.bits.data, w || read, w)
       } else mem.read(idx(b), read)
     }
     // A hit is only accepted when loaded, and the fill writes only while not loaded.
     when(read && wEnable) { errorReg := true.B }
-    s1ValidReg := read
-    val s1TagReg = RegEnable(s0TagReg, read)
     val s1OddReg = RegEnable(line(0), read)
-    val s1SubReg = RegEnable(s0RelReg(lineBits - 1, grainBits), read)
+    val s1SubReg = RegEnable(rel(lineBits - 1, grainBits), read)
     // As in NodeStore: no register on the read data (Yosys would double the memory); the BRAM's output is it.
     val pair = Mux(s1OddReg, Cat(rdata(0), rdata(1)), Cat(rdata(1), rdata(0))) // line L+1 above line L
-    outQ.io.enq.valid := s1ValidReg
-    outQ.io.enq.bits.data := (pair >> (s1SubReg << (grainBits + 3)))(8 * recBytes - 1, 0)
-    outQ.io.enq.bits.tag := s1TagReg
-    when(outQ.io.enq.valid && !outQ.io.enq.ready) { errorReg := true.B }
-    io.resp(c) <> outQ.io.deq
+    val full = sp.answer((pair >> (s1SubReg << (grainBits + 3)))(8 * recBytes - 1, 0))
+    when(full) { errorReg := true.B }
   }
 }
 

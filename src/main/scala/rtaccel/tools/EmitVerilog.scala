@@ -115,7 +115,7 @@ object EmitVerilog {
         def fits(n: Int, rows: Seq[FmaxEstimate.Row]) =
           SystemArea.coresThatFit(core, rows.map(_.area).foldLeft(Synth.zero)(_ + _), Zc706) >= n
         // Fewer cores than the core alone suggests may fit once the system's units are beside them, and those
-        // units grow with the cores (each store is one copy per two cores): each count is checked with the
+        // units grow with the cores (their clients, arbiters and queues): each count is checked with the
         // system built at that count, from `first` down, and the system is emitted again at the one that fits.
         @scala.annotation.tailrec
         def settle(n: Int, rows: Seq[FmaxEstimate.Row]): (Int, Seq[FmaxEstimate.Row]) =

@@ -109,15 +109,16 @@ object SystemArea {
       core: Synth.Area,
       device: Synth.Area,
       nodeStoreBytes: Int,
-      triStoreBytes: Int = rtaccel.system.SystemConfig().triStoreBytes
+      triStoreBytes: Int = rtaccel.system.SystemConfig().triStoreBytes,
+      storeCopies: Int = rtaccel.system.SystemConfig().storeCopies
   ): String = {
     val own = rows.map(_.area).foldLeft(Synth.zero)(_ + _)
     val coresArea = Seq.fill(cores)(core).foldLeft(Synth.zero)(_ + _)
     val total = own + coresArea
     def cells(a: Synth.Area) = f"${a.lutSites}%,d | ${a.ff}%,d | ${a.dsp}%,d | ${a.bram36}%.1f | ${a.lutMemory}%,d"
     def pct(x: Double, of: Double) = f"${100 * x / of}%.1f%%"
-    // At most `cores`: more cores would bring more of the system's units (the stores double at 3 and 4 cores),
-    // which this system, built with `cores`, does not hold.
+    // At most `cores`: more cores bring more of the system's units (their clients, arbiters and queues), which
+    // this system, built with `cores`, does not hold.
     val fit = coresThatFit(core, own, device).min(cores)
     val worst = rows.maxBy(_.ns)
     (Seq(
@@ -125,7 +126,9 @@ object SystemArea {
       "",
       s"Each unit synthesised alone from `rtaccel_system.sv` (the Fmax estimate's Yosys run, flattened first so that memories map to block RAM; MemoryFabric with the NodeStore and TriStore black-boxed, " +
         s"SystemCore with its units and cores black-boxed). Node store: ${nodeStoreBytes / 1024} KiB, " +
-        s"triangle store: ${triStoreBytes / 1024} KiB, each one copy per two clients (cores). ESTIMATE, as above.",
+        s"triangle store: ${triStoreBytes / 1024} KiB, each $storeCopies block-RAM ${if (storeCopies == 1) "copy"
+          else "copies"} " +
+        s"(dual-ported; ${if (cores > 2 * storeCopies) "the cores share its ports round-robin" else "a port per core"}). ESTIMATE, as above.",
       "",
       "| unit | LUT | FF | DSP48 | BRAM36 | LUT as memory | path cells | ns | MHz |",
       "| --- | ---: | ---: | ---: | ---: | ---: | --- | ---: | ---: |"

@@ -39,9 +39,9 @@ class DramTrafficSpec extends AnyFlatSpec {
 
   it should "count the cores' own block RAM beside the stores, the cache and the queues" in {
     def c(key: String) = Candidates.all.find(_.key == key).get
-    // Stores: 228 BRAM36 per MiB (1.5 MiB of nodes, 256 KiB of triangles: 342 + 57), one copy per two cores; a
+    // Stores: 228 BRAM36 per MiB (1.5 MiB of nodes, 256 KiB of triangles: 342 + 57), one copy whatever the cores; a
     // 1 MiB cache adds 228 + 9 of tags. Cores: 43.5 BRAM36 each, as make verilog measures the default core.
-    assert(Traffic.Cores.map(k => DramTrafficStudy.deviceBram(c("today"), k, 1024, 43.5)) == Seq(443, 486, 972))
+    assert(Traffic.Cores.map(k => DramTrafficStudy.deviceBram(c("today"), k, 1024, 43.5)) == Seq(443, 486, 573))
     assert(DramTrafficStudy.deviceBram(c("nodes1m"), 2, 1024, 43.5) == 228 + 57 + 87)
     assert(DramTrafficStudy.deviceBram(c("compact-cache"), 2, 1024, 43.5) == 285 + 237 + 87)
     assert(DramTrafficStudy.deviceBram(c("compact-cache"), 2, 1024, 43.5) > MemoryDesign.DeviceBram36)

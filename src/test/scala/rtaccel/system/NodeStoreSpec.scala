@@ -6,9 +6,10 @@ import rtaccel.sim.Backends
 import rtaccel.testutil.Seeded
 
 /** NodeStore alone (StoreDriver): filled from a SparseMemory of random bytes
-  * under random arready and R gaps, then read by three clients (two storage
-  * copies, one of them shared with the fill's port) with random valid and
-  * ready: every read answered once, in order per client, with the DRAM
+  * under random arready and R gaps, then read by three clients with random
+  * valid and ready, on one copy of the storage (two clients sharing a port,
+  * StorePort) and on two (the second copy's port A also the fill's): every
+  * read answered once, in order per client, with the DRAM
   * record and its tag; `hit` follows the rule (loaded, record-aligned
   * relative to base, below base + storedBytes) on random probes.
   */
@@ -18,11 +19,14 @@ class NodeStoreSpec extends AnyFlatSpec with ChiselScalatestTester {
   private def hits(rec: Int)(a: Long, base: Long, stored: Long): Boolean =
     a >= base && a < base + stored && (a - base) % rec == 0
 
-  for ((dataBits, rec) <- Seq((512, 32), (512, 128), (1024, 32))) {
-    it should s"serve every read of a loaded store once, with DRAM's record ($dataBits-bit beats, $rec-byte records)" in
-      Seeded(s"NodeStore.$dataBits.$rec") { rnd =>
+  for ((dataBits, rec, copies) <- Seq((512, 32, 1), (512, 128, 1), (1024, 32, 1), (512, 128, 2))) {
+    it should s"serve every read of a loaded store once, with DRAM's record ($dataBits-bit beats, $rec-byte records, " +
+      s"$copies ${if (copies == 1) "copy" else "copies"} for 3 clients)" in
+      Seeded(s"NodeStore.$dataBits.$rec.$copies") { rnd =>
         val StoreDriver.Bench(p, port, mem) = StoreDriver.bench(dataBits, rec, rnd)
-        test(new NodeStore(p, port, clients = 3, capacityBytes = 4096, fillId = 7)).withAnnotations(Backends.treadle) {
+        test(new NodeStore(p, port, clients = 3, capacityBytes = 4096, fillId = 7, copies = copies)).withAnnotations(
+          Backends.treadle
+        ) {
           dut =>
             val drv = new StoreDriver(dut.io, dut.clock, p, rec, 7, mem, rnd, hits(rec))
             for ((base, bytes) <- Seq((0x10040L, 1000L), (0x14000L, 100000L))) {
@@ -31,6 +35,13 @@ class NodeStoreSpec extends AnyFlatSpec with ChiselScalatestTester {
               assert(stored == (words * rec.max(p.beatBytes)).min(4096), s"stored $stored bytes of a $bytes-byte load")
               drv.serve(base, stored, 150)
             }
+            // Full rate: every port answers once per cycle, its clients in turn.
+            val got = drv.saturate(0x14000L, warm = 20, cycles = 200)
+            for (clients <- StorePort.assign(3, copies); c <- clients)
+              assert(
+                math.abs(got(c) - 200 / clients.size) <= 1,
+                s"client $c of a port shared by ${clients.size}: ${got(c)} answers in 200 saturated cycles"
+              )
         }
       }
   }

@@ -66,6 +66,31 @@ final class StoreDriver(
     io.load.storedBytes.peek().litValue.toLong
   }
 
+  /** Every client asks for the record at `addr` every cycle and takes every answer, for `warm` cycles and then
+    * `cycles` counted ones; returns the answers each client got in the counted cycles (each checked against the
+    * memory). The ports' full rate: one answer per port per cycle, split evenly among a shared port's clients.
+    */
+  def saturate(addr: Long, warm: Int, cycles: Int): Seq[Int] = {
+    val want = mem.readLE(addr, recordBytes)
+    val got = Array.fill(clients)(0)
+    for (c <- 0 until clients) {
+      io.req(c).valid.poke(true.B); io.req(c).bits.addr.poke(addr.U); io.req(c).bits.tag.poke(c.U)
+      io.resp(c).ready.poke(true.B)
+    }
+    for (cycle <- 0 until warm + cycles) {
+      for (c <- 0 until clients if io.resp(c).valid.peek().litToBoolean) {
+        io.resp(c).bits.data.expect(want.U, s"saturated cycle $cycle: client $c record")
+        io.resp(c).bits.tag.expect(c.U, s"saturated cycle $cycle: client $c tag")
+        if (cycle >= warm) got(c) += 1
+      }
+      clock.step()
+      io.error.expect(false.B, s"saturated cycle $cycle: error")
+    }
+    for (c <- 0 until clients) io.req(c).valid.poke(false.B)
+    clock.step(NodeStore.SharedLatency + NodeStore.OutDepth + 2) // drain
+    got.toSeq
+  }
+
   /** `n` random reads per client of addresses the store holds, with random valid and ready; every one answered
     * once, in order per client, with the memory's record and its tag. Also checks `hit` on random probes.
     */

@@ -3,7 +3,8 @@ package rtaccel.system
 import org.scalatest.flatspec.AnyFlatSpec
 
 /** The settings that make passes to every SystemConfig through the environment (AXI_DATA_BITS, NODE_STORE_KIB):
-  * their defaults, the values they take and the error for anything else. No hardware.
+  * their defaults, the values they take and the error for anything else; and the stores' copies and the ports
+  * their clients read on. No hardware.
   */
 class SystemConfigSpec extends AnyFlatSpec {
   behavior of "SystemConfig's environment settings"
@@ -26,5 +27,13 @@ class SystemConfigSpec extends AnyFlatSpec {
     }
     // Every layout's node word divides a whole KiB, so any setting builds (NodeStore's own requirement).
     assert(SystemConfig(nodeStoreBytes = SystemConfig.nodeStoreBytesOf(Some("1"))).nodeStoreBytes == 1024)
+  }
+
+  it should "build one copy of each store by default and refuse more copies than one per two cores by name" in {
+    assert(SystemConfig(cores = 4).storeCopies == 1 && SystemConfig(cores = 4).storeCopiesFor(4) == 1)
+    assert(SystemConfig(cores = 4, storeCopies = 2).storeCopiesFor(4) == 2)
+    assert(StorePort.assign(4, 1) == Seq(Seq(0, 2), Seq(1, 3)) && StorePort.assign(3, 2) == Seq(Seq(0), Seq(1), Seq(2)))
+    val bad = intercept[IllegalArgumentException](SystemConfig(cores = 3, storeCopies = 3))
+    assert(bad.getMessage.contains("storeCopies") && bad.getMessage.contains("got 3"), bad.getMessage)
   }
 }

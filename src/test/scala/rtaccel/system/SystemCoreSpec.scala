@@ -101,11 +101,12 @@ class SystemCoreSpec extends AnyFlatSpec with ChiselScalatestTester {
     b
   }
 
-  it should "run the driver sequence on a synthetic scene with 2 cores: registers, hits, counters, two batches, scene errors" in
+  it should "run the driver sequence on a synthetic scene with 3 cores (two sharing a store port): registers, hits, " +
+    "counters, two batches, scene errors" in
     Seeded("RtAccelSystem.field2") { rnd =>
       val (img, _) = ControlWorkload.treeOf(BvhLayout.Wide(4), rnd)
       val cfg = fieldCfg.copy(stackDepth = img.bvhDepth.toInt.max(1))
-      val sys = SystemConfig(core = cfg, cores = 2)
+      val sys = SystemConfig(core = cfg, cores = 3)
       val rays = ControlWorkload.makeRays(rnd, 160)
       val lay = SystemHarness.layout(img, rays.size, skew = 60) // ray and hit buffers cross 4 KB pages
       test(new SystemSimTop(sys, FieldDatapath)).withAnnotations(Backends.verilator) { dut =>
@@ -113,7 +114,7 @@ class SystemCoreSpec extends AnyFlatSpec with ChiselScalatestTester {
         h.put(lay.sceneBase, img.bytes)
         // Identity, configuration, access rules.
         assert(h.read("ID") == RegisterMap.Id && h.read("VERSION") == RegisterMap.Version)
-        assert(h.read("CONFIG_CORES") == 2 && h.read("CONFIG_LAYOUT") == 4 && h.read("CONFIG_RAY_IDS") == 8)
+        assert(h.read("CONFIG_CORES") == 3 && h.read("CONFIG_LAYOUT") == 4 && h.read("CONFIG_RAY_IDS") == 8)
         assert(h.read("CONFIG_STACK_DEPTH") == cfg.stackDepth && h.read("CONFIG_FLOAT") == (8 << 8 | 23) && h.read(
           "CONFIG_AXI_DATA_BITS"
         ) == sys.axiDataBits)
@@ -146,7 +147,7 @@ class SystemCoreSpec extends AnyFlatSpec with ChiselScalatestTester {
           rays,
           lay,
           i => if (i % 17 == 5) 1 << (1 + i % 31) else 0,
-          "synthetic, 2 cores"
+          "synthetic, 3 cores"
         )
         // A second batch from another ray buffer: per-batch counts start again.
         val lay2 = lay.copy(rayBase = lay.rayBase + 64 * 7)

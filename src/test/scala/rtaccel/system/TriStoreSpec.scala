@@ -7,7 +7,8 @@ import rtaccel.testutil.Seeded
 
 /** TriStore alone (StoreDriver): filled from a SparseMemory of random bytes
   * under random arready and R gaps, then read by three clients with random
-  * valid and ready at every 16-byte offset, records straddling two lines
+  * valid and ready (one copy of the banks, two clients sharing a port, and
+  * two copies) at every 16-byte offset, records straddling two lines
   * (banks) included: every read answered once, in order per client, with the
   * DRAM record and its tag; `hit` follows the rule (loaded, 16-byte aligned
   * relative to base, the whole record below base + storedBytes) on random
@@ -20,11 +21,14 @@ class TriStoreSpec extends AnyFlatSpec with ChiselScalatestTester {
   private def hits(a: Long, base: Long, stored: Long): Boolean =
     a >= base && a + rec <= base + stored && (a - base) % TriStore.Grain == 0
 
-  for (dataBits <- Seq(512, 1024)) {
-    it should s"serve every read of a loaded store once, with DRAM's triangle ($dataBits-bit beats)" in
-      Seeded(s"TriStore.$dataBits") { rnd =>
+  for ((dataBits, copies) <- Seq((512, 1), (1024, 1), (512, 2))) {
+    it should s"serve every read of a loaded store once, with DRAM's triangle ($dataBits-bit beats, $copies " +
+      s"${if (copies == 1) "copy" else "copies"} for 3 clients)" in
+      Seeded(s"TriStore.$dataBits.$copies") { rnd =>
         val StoreDriver.Bench(p, port, mem) = StoreDriver.bench(dataBits, rec, rnd)
-        test(new TriStore(p, port, clients = 3, capacityBytes = 4096, fillId = 3)).withAnnotations(Backends.treadle) {
+        test(new TriStore(p, port, clients = 3, capacityBytes = 4096, fillId = 3, copies = copies)).withAnnotations(
+          Backends.treadle
+        ) {
           dut =>
             val drv = new StoreDriver(dut.io, dut.clock, p, rec, 3, mem, rnd, hits)
             for ((base, bytes) <- Seq((0x10040L, 1000L), (0x14000L, 100000L))) {
@@ -33,6 +37,13 @@ class TriStoreSpec extends AnyFlatSpec with ChiselScalatestTester {
               assert(stored == (lines * p.beatBytes).min(4096), s"stored $stored bytes of a $bytes-byte load")
               drv.serve(base, stored, 150)
             }
+            // Full rate: every port answers once per cycle, its clients in turn.
+            val got = drv.saturate(0x14000L, warm = 20, cycles = 200)
+            for (clients <- StorePort.assign(3, copies); c <- clients)
+              assert(
+                math.abs(got(c) - 200 / clients.size) <= 1,
+                s"client $c of a port shared by ${clients.size}: ${got(c)} answers in 200 saturated cycles"
+              )
         }
       }
   }
