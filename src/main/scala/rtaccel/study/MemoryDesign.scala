@@ -89,7 +89,7 @@ object MemoryDesign {
 
   /** Store copies the system builds for `cores` cores: one (`SystemConfig.storeCopies`); beyond two cores the
     * cores share its two ports. */
-  def copies(cores: Int): Int = rtaccel.system.SystemConfig().storeCopies.min((cores + 1) / 2)
+  def copies(cores: Int): Int = rtaccel.system.SystemConfig().storeCopiesFor(cores)
 
   /** xc7z045 block RAM. */
   val DeviceBram36 = 545

@@ -75,9 +75,7 @@ class HitDma(sys: SystemConfig) extends Module {
   // Registered, a cycle late (the flush waits a cycle more; no hit of the batch comes after it): the two 32-bit
   // compares in front of the pair buffer's slot select and the hit queue's enqueue were one path, 6.66 ns with
   // 3 cores (docs/fmax.md). Cleared by START, so a new batch never sees the last one's.
-  private val allTakenReg = RegInit(false.B)
-  allTakenReg := !io.start && (takenReg === countReg || (io.stop && takenReg === io.issued))
-  private val allTaken = allTakenReg
+  private val allTaken = RegNext(!io.start && (takenReg === countReg || (io.stop && takenReg === io.issued)), false.B)
   // The flush's scan: one slot a cycle, from a register, so that no search for the first waiting slot (a 64-input
   // tree) lies between the pair buffer and its own clear (that path would be the unit's longest, 6.69 ns).
   private val scanReg = RegInit(0.U(log2Ceil(slots).max(1).W))
