@@ -1,10 +1,11 @@
-# Formal checks of the control path (docs/formal.md). `make formal` is part of
-# `make test`: about 3 minutes on an idle 2-core machine (emission about 40 s,
-# then n2 to depth 28 and n4 to depth 18); the mutants are not (they break the
-# design on purpose), nor are formal-deep (per-unit bounded response by BMC) and formal-induction (pdr).
+# Formal checks of the control path (docs/formal.md). `make formal` and
+# `make formal-deep` are part of `make test`: about 3 minutes on an idle 2-core
+# machine (emission about 40 s, then n2 to depth 28 and n4 to depth 18), and
+# about 40 s (PrepFetch alone to depth 16, LeafIntersect alone to depth 24);
+# the mutants are not (they break the design on purpose), nor is formal-induction (pdr).
 FORMAL_DIR := $(BUILD)/formal
 .PHONY: formal formal-emit formal-mutants formal-deep formal-induction
-test: formal
+test: formal formal-deep
 
 formal-emit: setup-sbt
 	$(SBT) "runMain rtaccel.formal.EmitFormal --out $(FORMAL_DIR)"
@@ -15,7 +16,7 @@ formal: setup formal-emit ## Bounded model check of the core's control path (par
 formal-mutants: formal ## Break the two-ID core on purpose; each break must be caught
 	scripts/formal-mutants.sh $(FORMAL_DIR) $(or $(FORMAL_MUTANT_DEPTH),28)
 
-formal-deep: setup formal-emit ## Not in make test: per-unit bounded response by BMC past its bound
+formal-deep: setup formal-emit ## Per-unit bounded response by BMC past its bound (part of make test)
 	scripts/formal.sh $(FORMAL_DIR) "$(FORMAL_DEPTH)" cases-deep.txt
 
 formal-induction: setup formal-emit ## Not in make test: unbounded proofs (pdr, k-induction), time-limited
@@ -34,4 +35,4 @@ formal-system-mutants: setup formal-system-emit ## Not in make test: break the s
 	scripts/formal-system-mutants.sh $(FORMAL_DIR) $(or $(FORMAL_MUTANT_DEPTH),44)
 
 formal-system-units: setup formal-system-emit ## Not in make test: RayDma, HitDma and ReadEngine proved alone
-	scripts/formal-system-units.sh $(FORMAL_DIR) $(or $(FORMAL_IND_SECS),120)
+	scripts/formal-system-units.sh $(FORMAL_DIR) $(or $(FORMAL_IND_SECS),120) $(or $(FORMAL_BMC_SECS),600)

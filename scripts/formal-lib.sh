@@ -34,11 +34,17 @@ formal_aig() {
       write_aiger -zinit -map ${out%.aig}.map $out" >/dev/null 2>&1
 }
 
-# bmc <aig> <depth> <log>: prints "pass" if no assertion fails in steps
-# 1..depth (step 1 is reset), else the step of the shortest failure.
+# bmc <aig> <depth> <log> [seconds]: prints "pass" if no assertion fails in steps
+# 1..depth (step 1 is reset), else the step of the shortest failure. With a time
+# limit (seconds > 0), a check the limit stops prints "limit:<n>": no assertion
+# fails in steps 1..n, and steps past n were not checked.
 formal_bmc() {
-  yosys-abc -c "read_aiger $1; fold; strash; bmc3 -F $2 -v" > "$3" 2>&1 || true
-  if grep -q "No output asserted in" "$3"; then echo pass
+  local limit=""; [ "${4:-0}" -gt 0 ] && limit=" -T $4"
+  yosys-abc -c "read_aiger $1; fold; strash; bmc3 -F $2$limit -v" > "$3" 2>&1 || true
+  # bmc3 ends every run with "Resource limit reached (...)"; only "(timeout" means the time limit cut it short.
+  if grep -q "No output asserted in" "$3" && grep -q "Resource limit reached (timeout" "$3"; then
+    echo "limit:$(grep -oE "No output asserted in [0-9]+" "$3" | grep -oE "[0-9]+$" | tail -1)"
+  elif grep -q "No output asserted in" "$3"; then echo pass
   else
     local f; f=$(grep -oE "was asserted in frame [0-9]+" "$3" | grep -oE "[0-9]+$" | head -1)
     [ -n "$f" ] && echo $((f + 1)) || echo error

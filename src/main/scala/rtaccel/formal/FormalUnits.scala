@@ -81,7 +81,8 @@ class FormalFetchTop(cfg: AccelConfig, env: FormalEnv, bound: Int, tag: String) 
   * L and S, exits always taken (Traversal's leafIn is always ready), the
   * tmax write refused at most one cycle in a row (the RayBuffer's
   * round-robin port, shared with entering rays), `clear` only for rays not
-  * inside.
+  * inside and never beside the ray's job, a ray's shadow bit fixed between
+  * clears.
   */
 class FormalLeafTop(cfg: AccelConfig, dp: FormalDatapath, env: FormalEnv, bound: Int, tag: String) extends Module {
   val io = IO(new Bundle {})
@@ -102,6 +103,22 @@ class FormalLeafTop(cfg: AccelConfig, dp: FormalDatapath, env: FormalEnv, bound:
   leaf.io.clear.valid := FormalAnySeq(Bool())
   leaf.io.clear.bits := FormalAnySeq(chiselTypeOf(leaf.io.clear.bits))
   assume(!(leaf.io.clear.valid && mon.insideReg(leaf.io.clear.bits)), "leaf_env_clear")
+  // LeafIntersect's contract (io.clear): a ray's clear comes in a cycle before its job, never beside it.
+  assume(
+    !(leaf.io.clear.valid && leaf.io.in.valid && leaf.io.clear.bits === leaf.io.in.bits.token.rayId),
+    "leaf_env_clear_before_job"
+  )
+  // A ray is a shadow ray or not for its whole life: every job of an ID between two clears carries the
+  // shadow bit of the first (LeafIntersect keeps a shadow ray's hit as occluded, `leaf_shadow_occluded`).
+  private val shadowKnownReg = RegInit(VecInit(Seq.fill(cfg.numRayIds)(false.B)))
+  private val shadowReg = Reg(Vec(cfg.numRayIds, Bool()))
+  private val jobId = leaf.io.in.bits.token.rayId
+  assume(
+    !(leaf.io.in.valid && shadowKnownReg(jobId)) || leaf.io.in.bits.token.shadow === shadowReg(jobId),
+    "leaf_env_shadow_fixed"
+  )
+  when(leaf.io.in.fire) { shadowKnownReg(jobId) := true.B; shadowReg(jobId) := leaf.io.in.bits.token.shadow }
+  when(leaf.io.clear.valid) { shadowKnownReg(leaf.io.clear.bits) := false.B }
   private val tmaxRefusedReg = RegInit(false.B)
   leaf.io.tmax.ready := FormalAnySeq(Bool()) || tmaxRefusedReg
   tmaxRefusedReg := leaf.io.tmax.valid && !leaf.io.tmax.ready

@@ -2,7 +2,7 @@ package rtaccel.leaf
 
 import chisel3._
 import rtaccel.traversal.TraversalToken
-import rtaccel.{AccelConfig, ErrorFlags}
+import rtaccel.AccelConfig
 
 class LeafJob(cfg: AccelConfig) extends Bundle {
   val token = new TraversalToken(cfg)
@@ -30,11 +30,4 @@ class BestHit(cfg: AccelConfig) extends Bundle {
   val u = UInt(cfg.triFloat.width.W)
   val v = UInt(cfg.triFloat.width.W)
   val prim = UInt(cfg.triIndexBits.W)
-}
-
-/** A job's table entries, read as it enters LeafIntersect's job queue and waiting beside it. */
-class JobFlags extends Bundle {
-  val occ = Bool()
-  val err = UInt(ErrorFlags.width.W)
-  val hit = Bool()
 }

@@ -29,9 +29,9 @@ object LeafIntersect {
   * Timing (docs/fmax.md): no 1-of-`numRayIds` table read is made in one
   * cycle. The reduce stage's entries (hit, occluded, errors, last
   * outstanding answer) are read over the answer pipe's two stages before it
-  * ([[GroupedRead]]) into registers, with those cycles' own writes forwarded,
-  * and its best hit a stage before it; a job's entries are read as it enters
-  * the job queue and wait beside it; the issuing ray keeps its entries in
+  * into registers, with those cycles' own writes forwarded, and its best hit
+  * a stage before it ([[LeafReadAhead]]); a job's entries are read as it
+  * enters the job queue and wait beside it ([[JobFlags.beside]]); the issuing ray keeps its entries in
   * registers beside `issueIdReg`. Cycle for cycle the unit behaves as if it read the tables
   * directly (assertions `leaf_done_view`, `leaf_issue_view` check it).
   *
@@ -81,7 +81,6 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   private val hasHitReg = RegInit(VecInit(Seq.fill(n)(false.B)))
   private val occludedReg = RegInit(VecInit(Seq.fill(n)(false.B)))
   private val leafErrorsReg = RegInit(VecInit(Seq.fill(n)(0.U(ErrorFlags.width.W))))
-  private val outstandingReg = RegInit(VecInit(Seq.fill(n)(0.U(cfg.leafCountBits.W))))
 
   // ---- Issue ----
   private val busyReg = RegInit(false.B)
@@ -96,7 +95,7 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   // the tables by its own answers. Checked against the tables below.
   private val issueOccReg = RegInit(false.B) // occludedReg(issueIdReg)
   private val issueErrReg = RegInit(0.U(ErrorFlags.width.W)) // leafErrorsReg(issueIdReg)
-  private val issueOutReg = RegInit(0.U(cfg.leafCountBits.W)) // outstandingReg(issueIdReg)
+  private val issueOutReg = RegInit(0.U(cfg.leafCountBits.W)) // counts.countsReg(issueIdReg)
   private val issueHitReg = RegInit(false.B) // hasHitReg(issueIdReg)
 
   private val stopEarly = busyReg && issueOccReg
@@ -172,19 +171,15 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   // One read port per consumer: every extra `read` replicates the memory.
   private val doneTok = parked.read(doneId)
   private val issueTok = parked.read(issueIdReg)
-  // The tables as they stand for `doneId` (read a cycle ahead, below).
-  private val doneHasHitReg = Reg(Bool()) // hasHitReg(doneId)
-  private val doneOldReg = Reg(new BestHit(cfg)) // best(doneId)
-  private val doneOccReg = Reg(Bool()) // occludedReg(doneId)
-  private val doneErrReg = Reg(UInt(ErrorFlags.width.W)) // leafErrorsReg(doneId)
-  private val doneLastReg = Reg(Bool()) // outstandingReg(doneId) === 1
-  private val old = doneOldReg
-  // The best distance's order key is registered beside it (doneOldKeyReg), so the closer-hit compare, whose
-  // result enables the best table's write, has no key mapping on that side (docs/fmax.md).
-  private val doneOldKeyReg = Reg(UInt(cfg.triFloat.width.W)) // FpOrder.key(best(doneId).t)
-  private val (tKey, oldKey) = (FpOrder.key(cfg.triFloat, ans.t), doneOldKeyReg)
-  private val closer = !doneHasHitReg || tKey < oldKey || (tKey === oldKey && primIdx < old.prim)
   private val reduce = prim.io.out.valid
+  private val counts = new OutstandingCounts(n, cfg.leafCountBits, io.mem.req.fire, issueIdReg, reduce, doneId)
+  private val tables = LeafTables(hasHitReg, occludedReg, leafErrorsReg, counts, best)
+  private val writes = Wire(new LeafWrites(cfg))
+  // The tables as they stand for `doneId`, read a cycle ahead.
+  private val done = new LeafReadAhead(cfg, tables, writes, pre2Id, preId)
+  private val old = done.oldReg
+  private val (tKey, oldKey) = (FpOrder.key(cfg.triFloat, ans.t), done.oldKeyReg)
+  private val closer = !done.hasHitReg || tKey < oldKey || (tKey === oldKey && primIdx < old.prim)
   // Any valid hit sets the ray's has-hit and occluded flags; only a closer one replaces its best. The two
   // differ only for a ray that has a hit already (`closer` holds when it has none), and then both flags are
   // set: a shadow ray's first hit sets both (asserted: leaf_shadow_occluded). So the flags, their forwards and
@@ -208,82 +203,21 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
     leafErrorsReg(doneId) := leafErrorsReg(doneId) | errNow
   }
 
-  // ---- Outstanding counts: +1 per request, -1 per reduced answer ----
-  // Beside each count, whether it is 0, 1, 2 or 3 (`outIsReg`, from the count's next value): the reduce
-  // stage's read-ahead (doneLastReg, below) reads the flag its case needs, where a select of the n counts and
-  // a compare after it was the unit's longest path, 12 cells of Yosys's mapping (docs/fmax.md).
-  private val nextOut = (0 until n).map { i =>
-    val inc = io.mem.req.fire && issueIdReg === i.U
-    val dec = reduce && doneId === i.U
-    outstandingReg(i) + inc.asUInt - dec.asUInt
-  }
-  outstandingReg := VecInit(nextOut)
-  // Bit k of an ID's entry: its count is k.
-  private val outIsReg = RegInit(VecInit(Seq.fill(n)(1.U(4.W)))) // every count is 0 at reset
-  private def outIs(count: UInt): UInt = VecInit((0 until 4).map(k => count === k.U)).asUInt
-  outIsReg := VecInit(nextOut.map(outIs))
-  assert(
-    outIsReg.asUInt === VecInit(outstandingReg.map(outIs)).asUInt,
-    "leaf_out_is: an outstanding count's flags disagree with it"
-  )
   private val issuing = busyReg || stoppingReg
   private val doneIssuing = reduce && doneId === issueIdReg
-  private val lastAnswer = reduce && doneLastReg && !(issuing && issueIdReg === doneId)
+  private val lastAnswer = reduce && done.lastReg && !(issuing && issueIdReg === doneId)
   private val issueDrained = issueOutReg === 0.U || (issueOutReg === 1.U && doneIssuing)
 
-  // ---- The reduce stage's reads, in two stages: the tables for `preId` as
-  // they will stand after the next cycle's writes. A 1-of-n read of a table
-  // in one stage maps to a chain of up to six LUT/MUXF7/MUXF8 levels (the
-  // unit's longest path, 6.2 to 9.3 ns by the netlist, docs/fmax.md). So at
-  // `pre2` each group of 16 IDs selects its entry for `pre2Id` into a
-  // register, and at `pre`, `preId` being the same ID a cycle later, the
-  // groups' entries are ORed (GroupedRead). Every write to the ID
-  // in either cycle is forwarded: the pre2 cycle's from registers beside the
-  // groups', the pre cycle's as it happens; a clear is applied last in each
-  // cycle, as in the tables (`when(io.clear.valid)` comes after the reduce's
-  // writes). When pre2 carries no answer, nothing reads the result. ----
-  private val toPre2 = doneId === pre2Id
-  private val clrPre2Reg = RegNext(io.clear.valid && io.clear.bits === pre2Id)
-  private val incPre2Reg = RegNext(io.mem.req.fire && issueIdReg === pre2Id)
-  private val decPre2Reg = RegNext(reduce && toPre2)
-  private val hitPre2Reg = RegNext(anyHit && toPre2)
-  private val occPre2Reg = RegNext(occludes && toPre2)
-  private val errPre2Reg = RegNext(Mux(reduce && toPre2, errNow, 0.U))
-  private val outIsPre = GroupedRead(outIsReg, pre2Id)
-  private val hasHitPre = !clrPre2Reg && (GroupedRead(hasHitReg.map(_.asUInt), pre2Id).asBool || hitPre2Reg)
-  private val occPre = !clrPre2Reg && (GroupedRead(occludedReg.map(_.asUInt), pre2Id).asBool || occPre2Reg)
-  private val errPre = Mux(clrPre2Reg, 0.U, GroupedRead(leafErrorsReg, pre2Id) | errPre2Reg)
-
-  private val toPre = doneId === preId
-  private val clrPre = io.clear.valid && io.clear.bits === preId
-  // outstanding + (inc - dec over both cycles) === 1: the flag of the count that needs, of the count as the
-  // pre2 cycle began (0 to 3, since the net change is -2 to 2), so no carry chain or compare follows the read.
-  private val incPre = io.mem.req.fire && issueIdReg === preId
-  private val decPre = reduce && toPre
-  private val net = incPre2Reg.asUInt +& incPre.asUInt
-  private val drop = decPre2Reg.asUInt +& decPre.asUInt
-  doneLastReg := MuxLookup(Cat(net, drop), false.B)(
-    Seq(
-      Cat(0.U(2.W), 0.U(2.W)) -> outIsPre(1),
-      Cat(1.U(2.W), 1.U(2.W)) -> outIsPre(1),
-      Cat(2.U(2.W), 2.U(2.W)) -> outIsPre(1),
-      Cat(1.U(2.W), 0.U(2.W)) -> outIsPre(0),
-      Cat(2.U(2.W), 1.U(2.W)) -> outIsPre(0),
-      Cat(0.U(2.W), 1.U(2.W)) -> outIsPre(2),
-      Cat(1.U(2.W), 2.U(2.W)) -> outIsPre(2),
-      Cat(0.U(2.W), 2.U(2.W)) -> outIsPre(3)
-    )
-  )
-  doneHasHitReg := !clrPre && (hasHitPre || (anyHit && toPre))
-  private val oldPre = Mux(update && toPre, b, best.read(preId))
-  doneOldReg := oldPre
-  doneOldKeyReg := FpOrder.key(cfg.triFloat, oldPre.t)
-  assert(
-    !reduce || doneOldKeyReg === FpOrder.key(cfg.triFloat, old.t),
-    "leaf_old_key: the best distance's key is stale"
-  )
-  doneOccReg := !clrPre && (occPre || (occludes && toPre))
-  doneErrReg := Mux(clrPre, 0.U, errPre | Mux(reduce && toPre, errNow, 0.U))
+  writes.inc := io.mem.req.fire
+  writes.incId := issueIdReg
+  writes.reduce := reduce
+  writes.doneId := doneId
+  writes.anyHit := anyHit
+  writes.occludes := occludes
+  writes.errors := errNow
+  writes.update := update
+  writes.best := b
+  writes.clear := io.clear
 
   // ---- The issuing ray's view (see issueOccReg): a job's ray has no request
   // outstanding (it left its last leaf drained, and is in one place), so no
@@ -295,52 +229,30 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   when(io.clear.valid && io.clear.bits === issueIdReg) {
     issueOccReg := false.B; issueErrReg := 0.U; issueHitReg := false.B
   }
-  // A job's table entries are read as it enters the job queue, in the same two stages, and wait beside it in
-  // `jobFlags` (enqueued a cycle after the job, passing straight through when that queue is empty, so a job
-  // is never held back): a job's ray has no request outstanding and no clear can come for it (a ray's clear
-  // comes before its first job, in an earlier cycle: see `clear`), so its entries stand still from its entry
-  // until it is taken (`leaf_job_flags`). Read when the job is taken, from the job
-  // queue's head, the select was the unit's longest path (6.07 ns, docs/fmax.md).
-  private val enteredId = jobs.io.enq.bits.token.rayId
-  private val enteredFlags = Wire(new JobFlags)
-  enteredFlags.occ := GroupedRead(occludedReg.map(_.asUInt), enteredId).asBool
-  enteredFlags.err := GroupedRead(leafErrorsReg, enteredId)
-  enteredFlags.hit := GroupedRead(hasHitReg.map(_.asUInt), enteredId).asBool
-  // As many entries as `jobs`, and never more in it than in `jobs`: it cannot overflow (checked all the same).
-  private val jobFlags = Module(new Queue(new JobFlags, n, flow = true))
-  jobFlags.io.enq.valid := RegNext(jobs.io.enq.fire, false.B)
-  jobFlags.io.enq.bits := enteredFlags
-  jobFlags.io.deq.ready := jobs.io.deq.fire
-  assert(!jobFlags.io.enq.valid || jobFlags.io.enq.ready, "no_overflow_leaf_flags: a job's flags found no room")
-  assert(!jobs.io.deq.valid || jobFlags.io.deq.valid, "leaf_flags_aligned: a job's flags are not beside it")
-  private val taken = jobFlags.io.deq.bits
+  private val taken = JobFlags.beside(cfg, jobs.io, tables)
   when(jobs.io.deq.fire) {
     issueOutReg := 0.U
     issueOccReg := taken.occ
     issueErrReg := taken.err
     issueHitReg := taken.hit
   }
-  private val takenId = jobs.io.deq.bits.token.rayId
-  private val takenSame =
-    taken.occ === occludedReg(takenId) && taken.err === leafErrorsReg(takenId) && taken.hit === hasHitReg(takenId)
-  assert(!jobs.io.deq.fire || takenSame, "leaf_job_flags: a job's table entries, read as it entered, have changed")
   assert(
-    !jobs.io.deq.fire || outstandingReg(jobs.io.deq.bits.token.rayId) === 0.U,
+    !jobs.io.deq.fire || counts.countsReg(jobs.io.deq.bits.token.rayId) === 0.U,
     "leaf_job_drained: a ray's job was taken while it still had triangle requests outstanding"
   )
   assert(
-    !issuing || (issueOutReg === outstandingReg(issueIdReg) && issueOccReg === occludedReg(issueIdReg) &&
+    !issuing || (issueOutReg === counts.countsReg(issueIdReg) && issueOccReg === occludedReg(issueIdReg) &&
       issueErrReg === leafErrorsReg(issueIdReg) && issueHitReg === hasHitReg(issueIdReg)),
     "leaf_issue_view: the issuing ray's registers differ from its table entries"
   )
   assert(
-    !reduce || (doneLastReg === (outstandingReg(doneId) === 1.U) && doneHasHitReg === hasHitReg(doneId) &&
-      doneOccReg === occludedReg(doneId) && doneErrReg === leafErrorsReg(doneId)),
+    !reduce || (done.lastReg === (counts.countsReg(doneId) === 1.U) && done.hasHitReg === hasHitReg(doneId) &&
+      done.occludedReg === occludedReg(doneId) && done.errorsReg === leafErrorsReg(doneId)),
     // (not `best`: a fourth read port would replicate the memory; the specs compare every hit)
     "leaf_done_view: the reduce stage's registers differ from the answered ray's table entries"
   )
   assert(
-    !(reduce && doneHasHitReg && doneTok.shadow) || doneOccReg,
+    !(reduce && done.hasHitReg && doneTok.shadow) || done.occludedReg,
     "leaf_shadow_occluded: a shadow ray with a hit is not marked occluded"
   )
 
@@ -360,7 +272,7 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   exits.io.enq.valid := lastAnswer || issueExit
   exits.io.enq.bits := Mux(
     lastAnswer,
-    exitOf(doneTok, doneErrReg, doneOccReg, doneHasHitReg, reduce),
+    exitOf(doneTok, done.errorsReg, done.occludedReg, done.hasHitReg, reduce),
     exitOf(issueTok, issueErrReg, issueOccReg, issueHitReg, doneIssuing)
   )
   when(issueExit && exits.io.enq.ready) { stoppingReg := false.B }
@@ -410,7 +322,7 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   // `exits`, or lost by the checked enqueue above): a 128-wide popcount into
   // `held` was the unit's longest path. The popcount stays as an assertion
   // (simulation and formal only), as RayIdFreeList checks its in-flight count.
-  private val working = (0 until n).map(i => outstandingReg(i) =/= 0.U || (issuing && issueIdReg === i.U))
+  private val working = (0 until n).map(i => counts.countsReg(i) =/= 0.U || (issuing && issueIdReg === i.U))
   private val betweenReg = RegInit(0.U(log2Ceil(n + 1).W))
   private val leaves = lastAnswer || (issueExit && exits.io.enq.ready)
   betweenReg := betweenReg + jobs.io.deq.fire.asUInt - leaves.asUInt

@@ -1,0 +1,102 @@
+package rtaccel.leaf
+
+import chisel3._
+import chisel3.util._
+import rtaccel.fp.FpOrder
+import rtaccel.{AccelConfig, ErrorFlags}
+
+/** LeafIntersect's per-ID tables, as the read-ahead reads them. */
+final case class LeafTables(
+    hasHit: Vec[Bool],
+    occluded: Vec[Bool],
+    errors: Vec[UInt],
+    counts: OutstandingCounts,
+    best: Mem[BestHit]
+)
+
+/** One cycle's writes to those tables (a Wire: the reduce stage's writes depend on the read-ahead's registers).
+  * A clear is applied after the others, as in the tables.
+  */
+class LeafWrites(cfg: AccelConfig) extends Bundle {
+
+  /** A triangle request for `incId`. */
+  val inc = Bool()
+  val incId = UInt(cfg.rayIdBits.W)
+
+  /** An answer for `doneId` is reduced: it sets the has-hit flag (`anyHit`), the occluded flag (`occludes`),
+    * adds `errors`, and replaces the best hit with `best` (`update`).
+    */
+  val reduce = Bool()
+  val doneId = UInt(cfg.rayIdBits.W)
+  val anyHit = Bool()
+  val occludes = Bool()
+  val errors = UInt(ErrorFlags.width.W)
+  val update = Bool()
+  val best = new BestHit(cfg)
+  val clear = Valid(UInt(cfg.rayIdBits.W))
+}
+
+/** The reduce stage's view of the answered ray's table entries, read a cycle
+  * ahead of it: each register holds the entry for the ID the reduce stage
+  * takes next, as it will stand after the writes of the cycles in between,
+  * so the reduce stage reads registers, never a 1-of-`numRayIds` table.
+  *
+  * A 1-of-n read of a table in one stage maps to a chain of up to six
+  * LUT/MUXF7/MUXF8 levels (the unit's longest path, 6.2 to 9.3 ns by the
+  * netlist, docs/fmax.md). So at `pre2` each group of 16 IDs selects its entry
+  * for `pre2Id` into a register, and at `pre`, `preId` being the same ID a
+  * cycle later, the groups' entries are ORed ([[GroupedRead]]). Every write to
+  * the ID in either cycle is forwarded: the pre2 cycle's from registers beside
+  * the groups', the pre cycle's as it happens; a clear is applied last in each
+  * cycle. The best hit is read at `pre` alone (it is a memory, not a table of
+  * registers). When pre2 carries no answer, nothing reads the result.
+  */
+class LeafReadAhead(cfg: AccelConfig, t: LeafTables, w: LeafWrites, pre2Id: UInt, preId: UInt) {
+  private val toPre2 = w.doneId === pre2Id
+  private val clrPre2Reg = RegNext(w.clear.valid && w.clear.bits === pre2Id)
+  private val incPre2Reg = RegNext(w.inc && w.incId === pre2Id)
+  private val decPre2Reg = RegNext(w.reduce && toPre2)
+  private val hitPre2Reg = RegNext(w.anyHit && toPre2)
+  private val occPre2Reg = RegNext(w.occludes && toPre2)
+  private val errPre2Reg = RegNext(Mux(w.reduce && toPre2, w.errors, 0.U))
+  private val outIsPre = GroupedRead(t.counts.isReg, pre2Id)
+  private val hasHitPre = !clrPre2Reg && (GroupedRead(t.hasHit.map(_.asUInt), pre2Id).asBool || hitPre2Reg)
+  private val occPre = !clrPre2Reg && (GroupedRead(t.occluded.map(_.asUInt), pre2Id).asBool || occPre2Reg)
+  private val errPre = Mux(clrPre2Reg, 0.U, GroupedRead(t.errors, pre2Id) | errPre2Reg)
+
+  private val toPre = w.doneId === preId
+  private val clrPre = w.clear.valid && w.clear.bits === preId
+
+  /** The answered ray's outstanding count is 1: this answer is its last. */
+  val lastReg: Bool = Reg(Bool())
+  // outstanding + (inc - dec over both cycles) === 1: the flag of the count that needs, of the count as the
+  // pre2 cycle began (0 to 3, since the net change is -2 to 2), so no carry chain or compare follows the read.
+  private val net = incPre2Reg.asUInt +& (w.inc && w.incId === preId).asUInt
+  private val drop = decPre2Reg.asUInt +& (w.reduce && toPre).asUInt
+  lastReg := MuxLookup(Cat(net, drop), false.B)(
+    Seq(
+      Cat(0.U(2.W), 0.U(2.W)) -> outIsPre(1),
+      Cat(1.U(2.W), 1.U(2.W)) -> outIsPre(1),
+      Cat(2.U(2.W), 2.U(2.W)) -> outIsPre(1),
+      Cat(1.U(2.W), 0.U(2.W)) -> outIsPre(0),
+      Cat(2.U(2.W), 1.U(2.W)) -> outIsPre(0),
+      Cat(0.U(2.W), 1.U(2.W)) -> outIsPre(2),
+      Cat(1.U(2.W), 2.U(2.W)) -> outIsPre(2),
+      Cat(0.U(2.W), 2.U(2.W)) -> outIsPre(3)
+    )
+  )
+  val hasHitReg: Bool = RegNext(!clrPre && (hasHitPre || (w.anyHit && toPre)))
+  private val oldPre = Mux(w.update && toPre, w.best, t.best.read(preId))
+  val oldReg: BestHit = RegNext(oldPre)
+
+  /** FpOrder.key(oldReg.t), registered beside it: the closer-hit compare, whose result enables the best
+    * table's write, has no key mapping on that side (docs/fmax.md).
+    */
+  val oldKeyReg: UInt = RegNext(FpOrder.key(cfg.triFloat, oldPre.t))
+  assert(
+    !w.reduce || oldKeyReg === FpOrder.key(cfg.triFloat, oldReg.t),
+    "leaf_old_key: the best distance's key is stale"
+  )
+  val occludedReg: Bool = RegNext(!clrPre && (occPre || (w.occludes && toPre)))
+  val errorsReg: UInt = RegNext(Mux(clrPre, 0.U, errPre | Mux(w.reduce && toPre, w.errors, 0.U)))
+}
