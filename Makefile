@@ -30,7 +30,7 @@ help: ## The main targets
 	  '' \
 	  'Start' \
 	  '  make demo                  The Cornell box through the RTL, checked against Embree, with images' \
-	  '  make test                  Every test: what CI runs (about 30 min on 2 cores)' \
+	  '  make test                  Every test: what CI runs (about 40 min on 2 cores)' \
 	  '  make setup                 Install what is missing; every target runs it first' \
 	  'Your scene' \
 	  '  make regress SCENE=<xml>   Trace a Nori scene in RTL; every ray checked against golden + Embree' \
@@ -78,7 +78,7 @@ setup-cargo: setup-apt ## Build nori-bridge (release) from crates.io
 
 # The HLS test benches run first: they write hls/build/vectors/*.out, which the
 # Chisel datapath specs compare against bit for bit.
-test: setup test-hls test-scala test-rust ## Every test: what CI runs (about 30 min on 2 cores)
+test: setup test-hls test-scala test-rust ## Every test: what CI runs (about 40 min on 2 cores)
 	@echo "make test: all test suites passed"
 
 test-scala: setup-sbt ## The Chisel specs (sbt test)

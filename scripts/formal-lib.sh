@@ -27,7 +27,9 @@ formal_aig() {
   local keep="" over=""
   [ -f "$dir/stub_$name.sv" ] && over="read_verilog -formal -sv -overwrite $dir/stub_$name.sv;"
   [ -n "$prop" ] && keep="chformal -assert -remove t:\$assert c:*$prop %d;"
-  sed 's/(\* anyseq \*) //' "$dir/FormalAnySeq.v" > "$dir/FormalAnySeq_aig.v"
+  # Written whole and renamed into place: two checks may run side by side (make test's formal-test), and a
+  # reader must never see the other's half-written copy (the content is the same).
+  sed 's/(\* anyseq \*) //' "$dir/FormalAnySeq.v" > "$dir/FormalAnySeq_aig.v.$$" && mv -f "$dir/FormalAnySeq_aig.v.$$" "$dir/FormalAnySeq_aig.v"
   yosys -q -l "${out%.aig}.yosys.log" -p "read_verilog -formal -sv $dir/FormalAnySeq_aig.v $sv $dir/wrap_$name.sv; $over
       prep -flatten -top formal_$name; $keep memory_map; opt -fast; async2sync;
       setundef -undriven -expose; opt_clean; techmap; opt -fast; dffunmap; abc -g AND -fast; opt_clean; dffunmap;
