@@ -172,9 +172,9 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   private val doneTok = parked.read(doneId)
   private val issueTok = parked.read(issueIdReg)
   private val reduce = prim.io.out.valid
-  private val counts = new OutstandingCounts(n, cfg.leafCountBits, io.mem.req.fire, issueIdReg, reduce, doneId)
-  private val tables = LeafTables(hasHitReg, occludedReg, leafErrorsReg, counts, best)
   private val writes = Wire(new LeafWrites(cfg))
+  private val counts = new OutstandingCounts(n, cfg.leafCountBits, writes)
+  private val tables = LeafTables(hasHitReg, occludedReg, leafErrorsReg, counts, best)
   // The tables as they stand for `doneId`, read a cycle ahead.
   private val done = new LeafReadAhead(cfg, tables, writes, pre2Id, preId)
   private val old = done.oldReg
