@@ -31,3 +31,9 @@ class BestHit(cfg: AccelConfig) extends Bundle {
   val v = UInt(cfg.triFloat.width.W)
   val prim = UInt(cfg.triIndexBits.W)
 }
+
+/** A write to the best-hit table: ray `id`'s new best hit. */
+class BestWrite(cfg: AccelConfig) extends Bundle {
+  val id = UInt(cfg.rayIdBits.W)
+  val hit = new BestHit(cfg)
+}

@@ -30,7 +30,8 @@ object LeafIntersect {
   * cycle. The reduce stage's entries (hit, occluded, errors, last
   * outstanding answer) are read over the answer pipe's two stages before it
   * into registers, with those cycles' own writes forwarded, and its best hit
-  * a stage before it ([[LeafReadAhead]]); a job's entries are read as it
+  * a stage before it ([[LeafReadAhead]]); the best hit's write lands a cycle
+  * after its answer, forwarded to every read until then; a job's entries are read as it
   * enters the job queue and wait beside it ([[JobFlags.beside]]); the issuing ray keeps its entries in
   * registers beside `issueIdReg`. Cycle for cycle the unit behaves as if it read the tables
   * directly (assertions `leaf_done_view`, `leaf_issue_view` check it).
@@ -174,12 +175,14 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   private val reduce = prim.io.out.valid
   private val writes = Wire(new LeafWrites(cfg))
   private val counts = new OutstandingCounts(n, cfg.leafCountBits, writes)
-  private val tables = LeafTables(hasHitReg, occludedReg, leafErrorsReg, counts, best)
+  // The best table's write, a cycle after its answer: the closer-hit compare ends in a register, not in the
+  // table's write enables (mapped at 5.9 to 6.7 ns in some netlists, docs/fmax.md). Until it lands, every
+  // read (the read-ahead, the exit's tmax, `result`) takes it from here (LeafTables.best).
+  private val bestWrite = Wire(Valid(new BestWrite(cfg)))
+  private val tables = LeafTables(hasHitReg, occludedReg, leafErrorsReg, counts, best, bestWrite)
   // The tables as they stand for `doneId`, read a cycle ahead.
   private val done = new LeafReadAhead(cfg, tables, writes, pre2Id, preId)
-  private val old = done.oldReg
-  private val (tKey, oldKey) = (FpOrder.key(cfg.triFloat, ans.t), done.oldKeyReg)
-  private val closer = !done.hasHitReg || tKey < oldKey || (tKey === oldKey && primIdx < old.prim)
+  private val closer = !done.hasHitReg || done.closer(FpOrder.key(cfg.triFloat, ans.t), primIdx)
   // Any valid hit sets the ray's has-hit and occluded flags; only a closer one replaces its best. The two
   // differ only for a ray that has a hit already (`closer` holds when it has none), and then both flags are
   // set: a shadow ray's first hit sets both (asserted: leaf_shadow_occluded). So the flags, their forwards and
@@ -194,7 +197,10 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   /** This cycle's error flags for `doneId`. */
   private val errNow = Mux(reduce && primTooWide, ErrorFlags.bit(ErrorFlags.IndexOverflow), 0.U) |
     Mux(reduce && carry.bits.bad, ErrorFlags.bit(ErrorFlags.BadSceneData), 0.U)
-  when(update) { best.write(doneId, b) }
+  bestWrite.valid := RegNext(update, false.B)
+  bestWrite.bits.id := RegNext(doneId)
+  bestWrite.bits.hit := RegNext(b)
+  when(bestWrite.valid) { best.write(bestWrite.bits.id, bestWrite.bits.hit) }
   when(anyHit) {
     hasHitReg(doneId) := true.B
     when(doneTok.shadow) { occludedReg(doneId) := true.B }
@@ -298,7 +304,7 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   private val written = !needWrite || io.tmax.ready
   io.tmax.valid := exitHead.valid && needWrite
   io.tmax.bits.rayId := headId
-  io.tmax.bits.tmax := best.read(headId).t
+  io.tmax.bits.tmax := tables.best(headId).t
   io.out.valid := exitHead.valid && written
   io.out.bits := exitHead.bits.exit
   assert(
@@ -315,7 +321,7 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
     leafErrorsReg(io.clear.bits) := 0.U
   }
   io.result.valid := hasHitReg(io.resultId)
-  io.result.bits := best.read(io.resultId)
+  io.result.bits := tables.best(io.resultId)
 
   // Waiting jobs, exits, and between them each ray issuing or owed answers.
   // The rays between are counted as they pass (taken from `jobs`; put into

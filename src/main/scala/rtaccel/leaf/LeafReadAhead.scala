@@ -11,8 +11,15 @@ final case class LeafTables(
     occluded: Vec[Bool],
     errors: Vec[UInt],
     counts: OutstandingCounts,
-    best: Mem[BestHit]
-)
+    bestMem: Mem[BestHit],
+
+    /** The best table's write in flight: it lands a cycle after its answer, at the end of this cycle. */
+    bestWrite: Valid[BestWrite]
+) {
+
+  /** The best hit of an ID as it stands, the write in flight forwarded. */
+  def best(id: UInt): BestHit = Mux(bestWrite.valid && bestWrite.bits.id === id, bestWrite.bits.hit, bestMem.read(id))
+}
 
 /** One cycle's writes to those tables (a Wire: the reduce stage's writes depend on the read-ahead's registers).
   * A clear is applied after the others, as in the tables.
@@ -49,7 +56,9 @@ class LeafWrites(cfg: AccelConfig) extends Bundle {
   * the ID in either cycle is forwarded: the pre2 cycle's from registers beside
   * the groups', the pre cycle's as it happens; a clear is applied last in each
   * cycle. The best hit is read at `pre` alone (it is a memory, not a table of
-  * registers). When pre2 carries no answer, nothing reads the result.
+  * registers), the write still in flight forwarded ([[LeafTables.best]]);
+  * this cycle's own write becomes the next cycle's write in flight, and is
+  * taken from it there. When pre2 carries no answer, nothing reads the result.
   */
 class LeafReadAhead(cfg: AccelConfig, t: LeafTables, w: LeafWrites, pre2Id: UInt, preId: UInt) {
   private val toPre2 = w.doneId === pre2Id
@@ -86,17 +95,36 @@ class LeafReadAhead(cfg: AccelConfig, t: LeafTables, w: LeafWrites, pre2Id: UInt
     )
   )
   val hasHitReg: Bool = RegNext(!clrPre && (hasHitPre || (w.anyHit && toPre)))
-  private val oldPre = Mux(w.update && toPre, w.best, t.best.read(preId))
-  val oldReg: BestHit = RegNext(oldPre)
-
-  /** FpOrder.key(oldReg.t), registered beside it: the closer-hit compare, whose result enables the best
-    * table's write, has no key mapping on that side (docs/fmax.md).
-    */
-  val oldKeyReg: UInt = RegNext(FpOrder.key(cfg.triFloat, oldPre.t))
+  // The best hit: read at `pre` with the write in flight forwarded, and registered with its order key. An
+  // answer in the pre cycle that replaces this ray's best becomes the next cycle's write in flight, and the
+  // reduce stage compares with that one instead. Both compares are made and the result selected by a
+  // register, so no select sits between the closer-hit compare and the registers it decides (a select of
+  // the keys there, by the compare's own result a cycle before, mapped to 5.6 to 6.5 ns). `toPre` for that
+  // select is compared a cycle ahead: the reduce stage's ID is the pre stage's a cycle before, and the pre
+  // stage's the pre2 stage's, whenever both carry answers (the only cycles that read the select).
+  private val base = t.best(preId)
+  private val baseReg = RegNext(base)
+  private val baseKeyReg = RegNext(FpOrder.key(cfg.triFloat, base.t))
+  private val toPreAheadReg = RegNext(preId === pre2Id)
+  private val fromWriteReg = RegNext(w.update && toPreAheadReg)
+  private val writeKeyReg = RegNext(FpOrder.key(cfg.triFloat, w.best.t))
   assert(
-    !w.reduce || oldKeyReg === FpOrder.key(cfg.triFloat, oldReg.t),
+    !w.reduce || fromWriteReg === (t.bestWrite.valid && t.bestWrite.bits.id === w.doneId),
+    "leaf_old_write: the reduce stage compares with the wrong best hit (the write in flight or the table's)"
+  )
+  assert(
+    !w.reduce || (baseKeyReg === FpOrder.key(cfg.triFloat, baseReg.t) &&
+      writeKeyReg === FpOrder.key(cfg.triFloat, t.bestWrite.bits.hit.t)),
     "leaf_old_key: the best distance's key is stale"
   )
+
+  /** An answer at distance key `tKey` (FpOrder.key) and triangle `prim` is closer than the answered ray's
+    * best hit before it: smaller t, ties to the smaller prim (a total order). The caller ORs in "no hit yet".
+    */
+  def closer(tKey: UInt, prim: UInt): Bool = {
+    def than(key: UInt, best: BestHit) = tKey < key || (tKey === key && prim < best.prim)
+    Mux(fromWriteReg, than(writeKeyReg, t.bestWrite.bits.hit), than(baseKeyReg, baseReg))
+  }
   val occludedReg: Bool = RegNext(!clrPre && (occPre || (w.occludes && toPre)))
   val errorsReg: UInt = RegNext(Mux(clrPre, 0.U, errPre | Mux(w.reduce && toPre, w.errors, 0.U)))
 }
