@@ -19,7 +19,7 @@ SBT_LAUNCH_JAR := $(HOME)/.m2/repository/org/scala-sbt/sbt-launch/$(SBT_LAUNCH_V
 # libeigen3-dev: the Nori drop-in builds against real Eigen in its test (nori-accel/stub/include/nori/common.h).
 APT_PACKAGES := verilator yosys libembree-dev maven pkg-config fonts-dejavu-core libeigen3-dev
 
-.PHONY: help help-all setup setup-apt setup-sbt setup-cargo test test-scala test-rust test-hls demo verilog regress clean
+.PHONY: help help-all setup setup-apt setup-sbt setup-cargo test test-scala test-slow test-rust test-hls demo verilog regress clean
 
 # `make help`: the main targets by task, one line each (kept by hand, 25 lines
 # at most); `make help-all`: every target's `## ` line, sorted. Each target's
@@ -81,8 +81,11 @@ setup-cargo: setup-apt ## Build nori-bridge (release) from crates.io
 test: setup test-hls test-scala test-rust ## Every test: what CI runs (about 40 min on 2 cores)
 	@echo "make test: all test suites passed"
 
-test-scala: setup-sbt ## The Chisel specs (sbt test)
-	$(SBT) scalafmtCheckAll Test/scalafmtCheckAll scalafmtSbtCheck test
+test-scala: setup-sbt ## The Chisel specs, less those tagged SlowTest
+	$(SBT) scalafmtCheckAll Test/scalafmtCheckAll scalafmtSbtCheck "testOnly -- -l rtaccel.SlowTest"
+
+test-slow: setup ## The Chisel specs tagged SlowTest (whole-core checks make test covers in part), not in make test
+	$(SBT) "testOnly -- -n rtaccel.SlowTest"
 
 test-rust: setup-cargo ## The nori-bridge tests (cargo test)
 	$(CARGO) test --release --manifest-path $(BRIDGE_MANIFEST)

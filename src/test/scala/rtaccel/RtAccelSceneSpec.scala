@@ -8,7 +8,7 @@ import rtaccel.fp.FloatFormat
 import rtaccel.golden.TraversalGolden
 import rtaccel.regress.Bridge
 import rtaccel.scene.{HitsCsv, ScenePackage}
-import rtaccel.testutil.{Seeded, Waves}
+import rtaccel.testutil.{Seeded, SlowTest, Waves}
 import rtaccel.bvh.BvhLayout
 import rtaccel.sim.{AccelHarness, Backends, Environment, SimTop}
 import rtaccel.sim.mem.{CacheParams, Latency, MemoryParams}
@@ -121,8 +121,12 @@ class RtAccelSceneSpec extends AnyFlatSpec with ChiselScalatestTester {
     )
   }
 
+  // A whole-core build each (about a minute), so `make test-slow`, not `make test`: in `make test` the 2-, 8- and
+  // 4q-wide layouts are covered by RtAccelControlSpec (every ray golden-exact under random back-pressure), the
+  // unit specs (BboxIntersect's quantized decode, Traversal's 4q walk) and the 4q cases below (split and grid
+  // box tests, against Embree); `make bench` runs layouts 2 and 8 on every scene against the golden model and Embree.
   for (layout <- Seq(BvhLayout.Wide(2), BvhLayout.Wide(8), BvhLayout.Wide(4, quantized = true)))
-    it should s"match the golden model and Embree in FP32 with ${layout.name}-wide nodes and conservative boxes on the Cornell box, sized to it" in {
+    it should s"match the golden model and Embree in FP32 with ${layout.name}-wide nodes and conservative boxes on the Cornell box, sized to it" taggedAs SlowTest in {
       val dp = FloatDatapath(FloatFormat.FP32, TriangleTest.Watertight, BoxRounding.Conservative)
       // Sized: the stack holds exactly the layout's bound (the header's bvhDepth), indices the node and triangle counts.
       val primary = compiled("scenes/cornell-box/cornell-box.xml", "primary", layout = layout)
