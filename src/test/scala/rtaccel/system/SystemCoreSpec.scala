@@ -7,7 +7,7 @@ import rtaccel.fp.FloatFormat
 import rtaccel.golden.{ArithGolden, RayRecord, TraversalGolden}
 import rtaccel.regress.Bridge
 import rtaccel.scene.{MemoryImage, ScenePackage}
-import rtaccel.testutil.Seeded
+import rtaccel.testutil.{Seeded, SlowTest}
 import rtaccel.{AccelConfig, Datapath, ErrorFlags}
 import rtaccel.bvh.BvhLayout
 import rtaccel.sim.{Backends, ControlWorkload, FieldDatapath, SystemHarness, SystemSimTop}
@@ -192,7 +192,10 @@ class SystemCoreSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   private val bridge = Paths.get("nori-bridge/target/release/nori-bridge")
 
-  it should "match the golden model in FP32 on the Cornell box (4-wide nodes, 1 core, DDR latency)" in Seeded(
+  // A whole-system build (about a minute), so `make test-slow`, not `make test`: there the same system top traces
+  // the Cornell box's camera rays with one core, every hit against the golden model, in `make cppsim-test` (the
+  // C++ AXI/DDR model) and `make test-cocotb` (cocotbext-axi's models, back-pressure on every channel).
+  it should "match the golden model in FP32 on the Cornell box (4-wide nodes, 1 core, DDR latency)" taggedAs SlowTest in Seeded(
     "RtAccelSystem.cornell"
   ) { rnd =>
     require(java.nio.file.Files.isExecutable(bridge), s"$bridge is missing: run `make setup` (it builds nori-bridge)")
