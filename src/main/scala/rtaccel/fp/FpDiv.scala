@@ -121,7 +121,20 @@ object FpDivCore {
     val last = WireInit(stage.bits.meta)
     last.raw.sig := stage.bits.quo
     last.raw.sticky := stage.bits.rem =/= 0.U
-    val stages = new FpStages(pipe, stage.valid)
+    roundQuotient(fmt, pipe, stage.valid, last, modesOf)(pack)
+  }
+
+  /** A quotient and its sticky bit (`last`, p + 2 bits) through the rounder's cuts, rounded in each of the modes
+    * `modesOf` gives, and the output cut: the back half the divider and the reciprocal ([[FpRecipCore]]) share.
+    */
+  def roundQuotient[T <: Data](
+      fmt: FloatFormat,
+      pipe: FpPipeline,
+      valid: Bool,
+      last: FpRawStage,
+      modesOf: Option[UInt] => Seq[UInt]
+  )(pack: Seq[UInt] => T): Valid[T] = {
+    val stages = new FpStages(pipe, valid)
     // A quotient's sign is the same in every mode (no exact zero depends on the mode).
     val modes = modesOf(last.rm).map(m => (m, last.raw.sign))
     // Rounded first: its cuts advance `stages.valid`.
@@ -140,34 +153,40 @@ class FpDiv(val fmt: FloatFormat, val rm: Option[RoundingMode], val latency: Int
   io.out := FpDivCore(fmt, rm, latency, io.in.valid, io.in.bits.a, io.in.bits.b, io.in.bits.rm)
 }
 
-/** Reciprocal `1 / a`: the divider with a constant dividend, which synthesis
-  * simplifies (the first partial remainder is a constant).
+/** Reciprocal `1 / a`, correctly rounded in every mode, on the DSP48s ([[FpRecipCore]]): bit for bit the
+  * divider's `1 / a`.
   */
 class FpRecip(val fmt: FloatFormat, val rm: Option[RoundingMode], val latency: Int) extends Module {
-  def this(fmt: FloatFormat, rm: Option[RoundingMode]) = this(fmt, rm, FpDivCore.defaultLatency(fmt))
+  def this(fmt: FloatFormat, rm: Option[RoundingMode]) = this(fmt, rm, FpRecipCore.defaultLatency(fmt))
   val io = IO(new FpUnitIO(new FpUnaryIn(fmt, rm.isEmpty), UInt(fmt.width.W)))
   override def desiredName: String = FpUnitIO.name("FpRecip", fmt, rm, latency)
-  io.out := FpDivCore(fmt, rm, latency, io.in.valid, fmt.one(false).U(fmt.width.W), io.in.bits.a, io.in.bits.rm)
+  io.out := FpRecipCore.inModes(
+    fmt,
+    latency,
+    io.in.valid,
+    io.in.bits.a,
+    io.in.bits.rm,
+    r =>
+      Seq(FpUnitIO.roundingMode(rm, r))
+  )(_.head)
 }
 
 /** Reciprocal `1 / a` rounded in two fixed modes, `lo` and `hi`, from one
-  * recurrence and one normaliser ([[FpDivCore.inModes]]): each result is bit
+  * estimate and one normaliser ([[FpRecipCore.inModes]]): each result is bit
   * for bit [[FpRecip]]'s in that mode; same cuts and latency.
   */
 class FpRecipPair(val fmt: FloatFormat, val lo: RoundingMode, val hi: RoundingMode, val latency: Int)
     extends Module {
   def this(fmt: FloatFormat, lo: RoundingMode, hi: RoundingMode) =
-    this(fmt, lo, hi, FpDivCore.defaultLatency(fmt))
+    this(fmt, lo, hi, FpRecipCore.defaultLatency(fmt))
   val io = IO(new FpUnitIO(new FpUnaryIn(fmt, false), new FpLoHi(fmt)))
   override def desiredName: String = s"FpRecipPair_${fmt.name}_${lo.name}_${hi.name}_l$latency"
   private val modes = Seq(lo, hi).map(_.code.U(RoundingMode.width.W))
-  io.out := FpDivCore.inModes(fmt, latency, io.in.valid, fmt.one(false).U(fmt.width.W), io.in.bits.a, None, _ => modes)(
-    FpLoHi(fmt, _)
-  )
+  io.out := FpRecipCore.inModes(fmt, latency, io.in.valid, io.in.bits.a, None, _ => modes)(FpLoHi(fmt, _))
 }
 
 /** Reciprocal `1 / a` rounded in each of `modes` (fixed, at least one) from
-  * one recurrence and one normaliser, as [[FpRecipPair]]: each result is bit
+  * one estimate and one normaliser, as [[FpRecipPair]]: each result is bit
   * for bit [[FpRecip]]'s in that mode; same cuts and latency. RayPrep takes
   * |1/d| toward zero, up and to nearest from one unit per axis: the box
   * lanes' two bounds and the watertight shear's 1/d[kz] (RNE is
@@ -175,11 +194,9 @@ class FpRecipPair(val fmt: FloatFormat, val lo: RoundingMode, val hi: RoundingMo
   */
 class FpRecipModes(val fmt: FloatFormat, val modes: Seq[RoundingMode], val latency: Int) extends Module {
   require(modes.nonEmpty && modes.distinct == modes, s"FpRecipModes: modes $modes must be distinct and not empty")
-  def this(fmt: FloatFormat, modes: Seq[RoundingMode]) = this(fmt, modes, FpDivCore.defaultLatency(fmt))
+  def this(fmt: FloatFormat, modes: Seq[RoundingMode]) = this(fmt, modes, FpRecipCore.defaultLatency(fmt))
   val io = IO(new FpUnitIO(new FpUnaryIn(fmt, false), Vec(modes.size, UInt(fmt.width.W))))
   override def desiredName: String = s"FpRecip_${fmt.name}_${modes.map(_.name).mkString("_")}_l$latency"
   private val codes = modes.map(_.code.U(RoundingMode.width.W))
-  io.out := FpDivCore.inModes(fmt, latency, io.in.valid, fmt.one(false).U(fmt.width.W), io.in.bits.a, None, _ => codes)(
-    VecInit(_)
-  )
+  io.out := FpRecipCore.inModes(fmt, latency, io.in.valid, io.in.bits.a, None, _ => codes)(VecInit(_))
 }

@@ -98,15 +98,17 @@ object DatapathReport {
     line("| seed HLS FP32 | BboxIntersect | | 14 | 5,854 | 6,035 | | 30 | |")
     line("| seed HLS FP32 | PrimIntersect (MT) | | 85 | 12,270 | 14,675 | | 129 | |")
     line("")
-    line("Box variants: `rne` rounds to nearest (bit-exact with hls/ in FP32), `cons` rounds each plane distance outward " +
-      "(no false misses in any format; the bound is in BoxKernel.scala and DatapathPropertySpec checks it against exact " +
-      "rational slab tests). The box does not depend on the triangle test, nor the triangle unit on the box rounding. " +
-      "RayPrep `wt_cons` is the most expensive prep: 3 three-mode reciprocals (FpRecipModes: |1/d| rounded toward zero, up " +
-      "and to nearest from one recurrence; the shear's 1/d[kz] is axis kz's nearest, negated for a negative d[kz]); " +
-      "`mt_rne` has 3 reciprocals. Ray prep runs once per ray, not per box or triangle. " +
-      "A unit's area is essentially the sum of its FP units (docs/reports/fp-area.md; the box is 6 subtractors, 6 multipliers and " +
-      "18 comparisons, built in place so that only the outputs read are kept), so LUT differences from the seed come from the FP units (full subnormal support, every rounding " +
-      "mode, LUT-based rounding), while the shorter pipelines cost fewer FFs.")
+    line(
+      "Box variants: `rne` rounds to nearest (bit-exact with hls/ in FP32), `cons` rounds each plane distance outward " +
+        "(no false misses in any format; the bound is in BoxKernel.scala and DatapathPropertySpec checks it against exact " +
+        "rational slab tests). The box does not depend on the triangle test, nor the triangle unit on the box rounding. " +
+        "RayPrep `wt_cons` is the most expensive prep: 3 three-mode reciprocals (FpRecipModes: |1/d| rounded toward zero, up " +
+        "and to nearest from one estimate; the shear's 1/d[kz] is axis kz's nearest, negated for a negative d[kz]); " +
+        "`mt_rne` has 3 reciprocals. Ray prep runs once per ray, not per box or triangle. " +
+        "A unit's area is essentially the sum of its FP units (docs/reports/fp-area.md; the box is 6 subtractors, 6 multipliers and " +
+        "18 comparisons, built in place so that only the outputs read are kept), so LUT differences from the seed come from the FP units (full subnormal support, every rounding " +
+        "mode, LUT-based rounding; the reciprocals' Newton steps are on DSP48s), while the shorter pipelines cost fewer FFs."
+    )
     line("")
     leaks(line)
     Files.writeString(Paths.get(args(1)), sb.toString)

@@ -27,7 +27,7 @@ object FpAreaReport {
       AreaUnit(fmt, "add (RNE)", FpAdd.defaultLatency, () => new FpAdd(fmt, rne)),
       AreaUnit(fmt, "mul (RNE)", FpMul.defaultLatency, () => new FpMul(fmt, rne)),
       AreaUnit(fmt, "div (RNE)", FpDivCore.defaultLatency(fmt), () => new FpDiv(fmt, rne)),
-      AreaUnit(fmt, "recip (RNE)", FpDivCore.defaultLatency(fmt), () => new FpRecip(fmt, rne)),
+      AreaUnit(fmt, "recip (RNE)", FpRecipCore.defaultLatency(fmt), () => new FpRecip(fmt, rne)),
       AreaUnit(fmt, "compare/min/max", FpCompare.defaultLatency, () => new FpCompare(fmt)),
       AreaUnit(fmt, "add (runtime rm)", FpAdd.defaultLatency, () => new FpAdd(fmt, None))
     )

@@ -18,7 +18,7 @@ object RecipArea {
     val f32 = FloatFormat.FP32
     val dp = FloatDatapath(f32, f32, TriangleTest.Watertight, BoxRounding.Conservative)
     val cfg = AccelConfig().withFloat(f32)
-    val lat = rtaccel.fp.FpDivCore.defaultLatency(f32)
+    val lat = rtaccel.fp.FpRecipCore.defaultLatency(f32)
     import RoundingMode.{RNE, RTZ, RUP}
     Seq(
       ("ray setup (FP32, watertight, conservative)", s"RayPrep_${dp.name}", Synth.emit(dp.rayPrep(cfg))),

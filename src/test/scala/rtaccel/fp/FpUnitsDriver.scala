@@ -44,7 +44,7 @@ object FpUnitsDriver {
       Port("sub", lat.add, d => v(d.io.sub), r => sub(fmt, r.rm, r.a, r.b)),
       Port("mul", lat.mul, d => v(d.io.mul), r => mul(fmt, r.rm, r.a, r.b)),
       Port("div", lat.div, d => v(d.io.div), r => div(fmt, r.rm, r.a, r.b)),
-      Port("recip", lat.div, d => v(d.io.recip), r => recip(fmt, r.rm, r.a)),
+      Port("recip", lat.recip, d => v(d.io.recip), r => recip(fmt, r.rm, r.a)),
       Port(
         "cmp",
         lat.cmp,

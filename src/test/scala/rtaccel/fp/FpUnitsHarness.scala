@@ -4,7 +4,7 @@ import chisel3._
 import chisel3.util._
 
 /** Latencies of the units in one [[FpUnitsHarness]]. */
-case class FpHarnessLatencies(add: Int, mul: Int, div: Int, cmp: Int, conv: Int)
+case class FpHarnessLatencies(add: Int, mul: Int, div: Int, recip: Int, cmp: Int, conv: Int)
 
 object FpHarnessLatencies {
   def defaults(fmt: FloatFormat): FpHarnessLatencies =
@@ -12,6 +12,7 @@ object FpHarnessLatencies {
       FpAdd.defaultLatency,
       FpMul.defaultLatency,
       FpDivCore.defaultLatency(fmt),
+      FpRecipCore.defaultLatency(fmt),
       FpCompare.defaultLatency,
       FpConvert.defaultLatency
     )
@@ -46,7 +47,7 @@ class FpUnitsHarness(val fmt: FloatFormat, val rm: Option[RoundingMode], val lat
   io.mul := binary(Module(new FpMul(fmt, rm, lat.mul)))
   io.div := binary(Module(new FpDiv(fmt, rm, lat.div)))
 
-  private val recip = Module(new FpRecip(fmt, rm, lat.div))
+  private val recip = Module(new FpRecip(fmt, rm, lat.recip))
   recip.io.in.valid := io.in.valid
   recip.io.in.bits.a := io.in.bits.a
   recip.io.in.bits.rm.foreach(_ := io.in.bits.rm.get)

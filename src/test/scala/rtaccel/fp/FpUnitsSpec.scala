@@ -60,7 +60,7 @@ class FpUnitsSpec extends AnyFlatSpec with ChiselScalatestTester {
     runHarness(
       F32,
       Some(RNE),
-      FpHarnessLatencies(add = 0, mul = 3, div = 1, cmp = 0, conv = 2),
+      FpHarnessLatencies(add = 0, mul = 3, div = 1, recip = 2, cmp = 0, conv = 2),
       _ => 20000,
       "FpUnits.e8m23.rne"
     )
@@ -78,5 +78,5 @@ class FpUnitsSpec extends AnyFlatSpec with ChiselScalatestTester {
     }
 
   "FP units (e6m9, fixed RDN, latency 1)" should "match the golden model with a directed mode fixed at elaboration" in
-    runHarness(FloatFormat(6, 9), Some(RDN), FpHarnessLatencies(1, 1, 1, 1, 1), _ => 20000, "FpUnits.e6m9.rdn")
+    runHarness(FloatFormat(6, 9), Some(RDN), FpHarnessLatencies(1, 1, 1, 1, 1, 1), _ => 20000, "FpUnits.e6m9.rdn")
 }
