@@ -156,9 +156,11 @@ object FpRecipCore {
     val c2 = next(stage.bits)
     val r = stage.bits.r
     val bS = stage.bits.b.zext
-    c2.under := r < 0.S
-    c2.over := r >= bS
-    c2.exact := Mux(r < 0.S, r === stage.bits.negB, Mux(r >= bS, r === bS, r === 0.S))
+    val under = r < 0.S
+    val over = r >= bS
+    c2.under := under
+    c2.over := over
+    c2.exact := Mux(under, r === stage.bits.negB, Mux(over, r === bS, r === 0.S))
     c2.qcDown := stage.bits.qc - 1.U
     c2.qcUp := stage.bits.qc + 1.U
     c2.r := DontCare
