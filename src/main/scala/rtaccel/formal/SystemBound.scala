@@ -21,16 +21,17 @@ object SystemBound {
       // Each block: its read; the block queue and unpack 1.
       ResponseBound.Term(s"ray blocks ($blocks)", blocks * (read + 1)),
       // Each ray, one after the other: hand-over 1, the core stub's two reads through one arbiter (+1), hit offer 1;
-      // HitDma's input slice 1, arbiter and queue 2, WriteEngine queues 1, WindowGuard's AW slice 1, AW and W refusals
-      // s + 1, the slave's B after at most bLatency refusals + 1.
-      ResponseBound.Term(s"rays ($rays)", rays * (1 + read + 1 + 1 + 1 + 2 + 1 + 1 + (s + 1) + e.bLatency + 1)),
+      // HitDma's input slice 1, decision stage 1, arbiter and queue 2, WriteEngine queues 1, WindowGuard's AW slice 1,
+      // AW and W refusals s + 1, the slave's B after at most bLatency refusals + 1.
+      ResponseBound.Term(s"rays ($rays)", rays * (1 + read + 1 + 1 + 1 + 1 + 2 + 1 + 1 + (s + 1) + e.bLatency + 1)),
       // A hit waiting in HitDma's pair buffer for its neighbour leaves with it (the neighbour's trip, above) or, once
-      // the batch's last hit is taken (HitDma's all-taken register 1), alone as the flush's scan (a slot a cycle)
-      // reaches it: one line per slot, each through the hit queue 1, WriteEngine queues 1,
-      // WindowGuard's AW slice 1, AW and W refusals s + 1 and the slave's B after at most bLatency refusals + 1.
+      // the batch's last hit is taken (HitDma's all-taken register 1, the flush's first read 1), alone as the
+      // flush's scan (a slot a cycle) reaches it: one line per slot, each through the flush's stage 1, the hit
+      // queue 1, WriteEngine queues 1, WindowGuard's AW slice 1, AW and W refusals s + 1 and the slave's B after at
+      // most bLatency refusals + 1.
       ResponseBound.Term(
-        s"pair buffer flush (${c.sys.hitPairSlots} slots)",
-        1 + c.sys.hitPairSlots * (3 + (s + 1) + e.bLatency + 1)
+        s"pair buffer flush (${c.sys.pairSlots} slots)",
+        2 + c.sys.pairSlots * (4 + (s + 1) + e.bLatency + 1)
       ),
       // writesDone reaches RAY_COUNT: WriteEngine's count register 1, SystemCore's records-written register 1,
       // finish 1, IRQ_STATUS 1, the interrupt register 1.

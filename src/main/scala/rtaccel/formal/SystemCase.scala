@@ -35,7 +35,7 @@ object SystemCase {
       raysPerBlock = 4,
       rayBlockTags = 2,
       hitQueue = 2,
-      hitPairSlots = 2
+      hitPairSlots = Some(2)
     )
   }
   val env: SystemEnv = SystemEnv(readLatency = 3, stall = 1, bLatency = 2, maxRays = 8, bursts = 4)
@@ -79,7 +79,7 @@ object SystemCase {
         hd + 8,
         deep = true,
         terms =
-          s"after the batch's last hit: (input slice ${HitDma.InSlice} + hit queue ${sys2.hitQueue} + pair slots ${sys2.hitPairSlots}) x (writer refusals ${SystemUnitBound.writeStall(e)} + 1) + 4"
+          s"after the batch's last hit: (input slice ${HitDma.InSlice} + decision stage 1 + hit queue ${sys2.hitQueue} + pair slots ${sys2.pairSlots}) x (writer refusals ${SystemUnitBound.writeStall(e)} + 1) + 6"
       ),
       // bmc3's frames on this harness double from frame 15 (frame 18: 130 s of CPU), so BMC stops at 18, short of
       // the bound (its bounded response is VACUOUS there, the log says so); the safety properties hold to 18.

@@ -13,8 +13,8 @@ import rtaccel.system.{HitDma, MemoryFabric, RayDma, SystemConfig, SystemCore, W
   *     == hit records written (the records of the W beats) + rays held, where held =
   *        RayDma (the rays of its queued blocks not yet handed out)
   *      + the core (rays taken at its port minus hits given at its port)
-  *      + HitDma (the hits in its input slice, its pair buffer's waiting hits, and the records of the lines in its
-  *        hit queue)
+  *      + HitDma (the hits in its input slice and its decision stage, its pair buffer's waiting hits, and the records
+  *        of the lines in its hit queue)
   *      + WriteEngine (the records of the beats in its W queue).
   *
   * A queue's records are counted at its ports (the records of the lines or beats it took, minus those it gave),
@@ -44,6 +44,7 @@ object SystemConservation {
     val hitQ = Peek[Queue[WriteRecord]](hitDma, "q")
     val hitInQ = Peek[Queue[HitOut]](hitDma, "inQ")
     val held = Peek[Vec[Bool]](hitDma, "heldRegs")
+    val s2Held = Peek[Bool](hitDma, "s2ValidReg")
     val wQ = Peek[Queue[Axi4W]](Peek[WriteEngine](Peek[MemoryFabric](dut, "fabric"), "writer"), "wQ")
     def b[A <: Data](x: A): A = Peek.bore(x)
     val reqFire = b(rayDma.io.mem.req.valid) && b(rayDma.io.mem.req.ready)
@@ -66,8 +67,9 @@ object SystemConservation {
     def beatRecords(strb: UInt): UInt = PopCount((0 until strb.getWidth / SystemConfig.HitBytes).map(g =>
       strb(SystemConfig.HitBytes * (g + 1) - 1, SystemConfig.HitBytes * g).orR
     ))
-    val inHitDma = PopCount(held.map(x => b(x))) +& records(hitInQ.io.enq, 1.U, hitInQ.io.deq, 1.U) +&
-      records(hitQ.io.enq, PopCount(b(hitQ.io.enq.bits.halves)), hitQ.io.deq, PopCount(b(hitQ.io.deq.bits.halves)))
+    val inHitDma =
+      PopCount(held.map(x => b(x))) +& b(s2Held).asUInt +& records(hitInQ.io.enq, 1.U, hitInQ.io.deq, 1.U) +&
+        records(hitQ.io.enq, PopCount(b(hitQ.io.enq.bits.halves)), hitQ.io.deq, PopCount(b(hitQ.io.deq.bits.halves)))
     val inWriter =
       records(wQ.io.enq, beatRecords(b(wQ.io.enq.bits.strb)), wQ.io.deq, beatRecords(b(wQ.io.deq.bits.strb)))
 

@@ -11,7 +11,7 @@ import rtaccel.{ErrorFlags, HitOut}
   * burst costs the DDR the same 64 bytes whether it carries one record or two
   * (docs/dram-traffic.md, `hits32`). Counts the batch's rays per error flag.
   *
-  * The pair buffer: `SystemConfig.hitPairSlots` slots, slot = p mod slots. A
+  * The pair buffer: `SystemConfig.pairSlots` slots, slot = p mod slots. A
   * hit whose partner waits in its slot leaves with it as one line; a hit whose
   * partner is not in the batch (the odd last ray) leaves alone; a hit whose
   * slot is empty waits there for its partner; a hit whose slot holds another
@@ -19,7 +19,7 @@ import rtaccel.{ErrorFlags, HitOut}
   * empty slot). Once every hit of the batch has been taken, a scan visits the
   * slots one a cycle, and what still waits there (a partner that had left
   * alone) leaves alone as the scan reaches it, so the batch's last record is
-  * written at most `hitPairSlots` + 1 cycles after its last hit (and the hit
+  * written at most `pairSlots` + 2 cycles after its last hit (and the hit
   * queue's refusals).
   * A stopped batch (ABORT, a fault: `stop`, `issued` rays handed out and no
   * more to come) flushes the same way once its `issued` hits are taken: a
@@ -50,7 +50,6 @@ class HitDma(sys: SystemConfig) extends Module {
   // arbiter's choice.
   private val inQ = Module(new Queue(new HitOut(sys.core), HitDma.InSlice))
   inQ.io.enq <> arb.io.out
-  private val in = inQ.io.deq
   private val baseReg = RegInit(0.U(sys.axiAddrBits.W))
   private val countReg = RegInit(0.U(32.W))
   private val takenReg = RegInit(0.U(32.W))
@@ -59,70 +58,126 @@ class HitDma(sys: SystemConfig) extends Module {
   when(io.start) { baseReg := io.hitBase; countReg := io.rayCount; takenReg := 0.U; errReg.foreach(_ := 0.U) }
 
   // ---- The pair buffer ----
-  private val slots = sys.hitPairSlots
+  // Two stages, each from registers, so that no slot read (a 256-deep LUTRAM or a 256-input mux of the held bits,
+  // with 3 or 4 cores) lies on one path with the decision it feeds (that path was 9.8 ns at 256 slots): S1 reads
+  // the head hit's slot into S2's registers; S2 decides from them. The flush has its own two stages (F1, F2).
+  private val slots = sys.pairSlots
+  private val slotBits = log2Ceil(slots)
   private val heldRegs = RegInit(VecInit(Seq.fill(slots)(false.B)))
-  private val numbers = Mem(slots, UInt(32.W))
-  private val records = Mem(slots, UInt((8 * SystemConfig.HitBytes).W))
+  // A slot holds the record's six used words (its number the lowest), not its two zero words.
+  private val records = Mem(slots, UInt(HitDma.UsedBits.W))
   // A held hit's line address, formed as it is stored, so that no adder follows the flush's slot read.
   private val lines = Mem(slots, UInt(sys.axiAddrBits.W))
-  private def slotOf(number: UInt): UInt = if (slots == 1) 0.U else (number >> 1)(log2Ceil(slots) - 1, 0)
+  private def slotOf(number: UInt): UInt = if (slots == 1) 0.U else (number >> 1)(slotBits - 1, 0)
+  private def line(number: UInt): UInt = baseReg + ((number >> 1) << log2Ceil(WriteRecord.Bytes))
 
-  private val h = in.bits
-  private val rec = HitDma.record(h)
-  private val inBatch = h.number < countReg
-  private val slot = slotOf(h.number)
   // Every hit of the batch taken (of a stopped batch: every ray handed out): what still waits has no partner to come.
   // Registered, a cycle late (the flush waits a cycle more; no hit of the batch comes after it): the two 32-bit
   // compares in front of the pair buffer's slot select and the hit queue's enqueue were one path, 6.66 ns with
   // 3 cores (docs/fmax.md). Cleared by START, so a new batch never sees the last one's.
   private val allTaken = RegNext(!io.start && (takenReg === countReg || (io.stop && takenReg === io.issued)), false.B)
-  // The flush's scan: one slot a cycle, from a register, so that no search for the first waiting slot (a 64-input
-  // tree) lies between the pair buffer and its own clear (that path would be the unit's longest, 6.69 ns).
-  private val scanReg = RegInit(0.U(log2Ceil(slots).max(1).W))
-  private val flushing = allTaken && heldRegs(scanReg)
-  private val idx = Mux(flushing, scanReg, slot)
-  private val heldNumber = numbers(idx)
-  private val heldRecord = records(idx)
-  private val heldLine = lines(idx)
-  private val partnered = heldRegs(slot) && heldNumber === (h.number ^ 1.U)
-  private val noPartner = (h.number ^ 1.U) >= countReg
-  private val store = !heldRegs(slot) && !noPartner
+
+  // S2: a hit, its line, and its slot as S1 read it (held, and the held record), forwarded from S2's own action in
+  // the cycle S1 read it.
+  private val s2ValidReg = RegInit(false.B)
+  private val s2HitReg = Reg(new HitOut(sys.core))
+  private val s2LineReg = Reg(UInt(sys.axiAddrBits.W))
+  private val s2HeldReg = Reg(Bool())
+  private val s2HeldRecReg = Reg(UInt(HitDma.UsedBits.W))
+  // The hit's two compares with RAY_COUNT, made in S1 (COUNT is set by START, before any hit of its batch): in S2
+  // they would lie in front of the held bits' write decode (7.6 ns at 128 slots).
+  private val s2InBatchReg = Reg(Bool())
+  private val s2NoPartnerReg = Reg(Bool())
+  // F2: the flush's next waiting slot, read by F1 (the scan, one slot a cycle) and held until its line leaves.
+  private val fValidReg = RegInit(false.B)
+  private val fSlotReg = Reg(UInt(slotBits.max(1).W))
+  private val fRecReg = Reg(UInt(HitDma.UsedBits.W))
+  private val fLineReg = Reg(UInt(sys.axiAddrBits.W))
+  private val scanReg = RegInit(0.U(slotBits.max(1).W))
+
+  // ---- S2: the decision ----
+  private val h = s2HitReg
+  private val rec = HitDma.used(h)
+  private val slot = slotOf(h.number)
+  private val inBatch = s2InBatchReg
+  private val heldNumber = s2HeldRecReg(31, 0)
+  // The held hit shares the slot's bits with this one's pair by construction: its partner differs in bit 0 only,
+  // so the compare reads the bits above the slot's and bit 0.
+  private val partnered = s2HeldReg && heldNumber(31, slotBits + 1) === h.number(31, slotBits + 1) &&
+    heldNumber(0) =/= h.number(0)
+  private val store = !s2HeldReg && !s2NoPartnerReg
+  private val flushing = fValidReg
 
   // Hit queue: a record is enqueued only when it has room (valid/ready); a stored hit enqueues nothing.
   private val q = Module(new Queue(new WriteRecord(sys), sys.hitQueue))
-  q.io.enq.valid := flushing || (in.valid && inBatch && !store)
+  q.io.enq.valid := flushing || (s2ValidReg && inBatch && !store)
   // While flushing every hit of the batch has been taken: anything offered is out of the batch, held until after.
-  in.ready := !flushing && (q.io.enq.ready || store || !inBatch)
-  private def line(number: UInt): UInt = baseReg + ((number >> 1) << log2Ceil(WriteRecord.Bytes))
+  private val s2Fire = s2ValidReg && !flushing && (q.io.enq.ready || store || !inBatch)
 
   /** A record alone: in both halves of the line, its own half's strobes only. */
-  private def alone(number: UInt, r: UInt): (UInt, UInt) = (Fill(2, r), UIntToOH(number(0), 2))
-  private val (flushData, flushHalves) = alone(heldNumber, heldRecord)
+  private def alone(number: UInt, r: UInt): (UInt, UInt) = (Fill(2, HitDma.pad(r)), UIntToOH(number(0), 2))
+  private val (flushData, flushHalves) = alone(fRecReg(31, 0), fRecReg)
   private val (aloneData, aloneHalves) = alone(h.number, rec)
   // The even number's record in the low half.
-  private val pairData = Mux(h.number(0), Cat(rec, heldRecord), Cat(heldRecord, rec))
-  private val data = Mux(flushing, flushData, Mux(partnered, pairData, aloneData))
-  private val halves = Mux(flushing, flushHalves, Mux(partnered, 3.U(2.W), aloneHalves))
-  q.io.enq.bits.addr := Mux(flushing, heldLine, line(h.number))
-  q.io.enq.bits.data := data
-  q.io.enq.bits.halves := halves
+  private val pairData =
+    Mux(h.number(0), Cat(HitDma.pad(rec), HitDma.pad(s2HeldRecReg)), Cat(HitDma.pad(s2HeldRecReg), HitDma.pad(rec)))
+  q.io.enq.bits.addr := Mux(flushing, fLineReg, s2LineReg)
+  q.io.enq.bits.data := Mux(flushing, flushData, Mux(partnered, pairData, aloneData))
+  q.io.enq.bits.halves := Mux(flushing, flushHalves, Mux(partnered, 3.U(2.W), aloneHalves))
 
-  when(flushing && q.io.enq.fire) { heldRegs(scanReg) := false.B }
-  // The scan moves on from an empty slot, or from a waiting one as it leaves.
-  if (slots > 1) when(allTaken && (!heldRegs(scanReg) || q.io.enq.fire)) { scanReg := scanReg + 1.U }
-  when(in.fire) {
+  private val s2Stores = s2Fire && inBatch && store
+  private val s2Clears = s2Fire && inBatch && partnered
+  when(s2Fire) {
     when(!inBatch) { brokenReg := true.B }
     assert(inBatch, "hit_in_batch: a hit whose number is not in the batch")
     when(inBatch) { takenReg := takenReg + 1.U }
     for (k <- 0 until ErrorFlags.width) when(inBatch && h.errors(k)) { errReg(k) := errReg(k) + 1.U }
-    when(inBatch && partnered) { heldRegs(slot) := false.B }
-    when(inBatch && store) {
-      heldRegs(slot) := true.B
-      numbers.write(slot, h.number)
-      records.write(slot, rec)
-      lines.write(slot, line(h.number))
-    }
   }
+  when(s2Clears) { heldRegs(slot) := false.B }
+  when(s2Stores) {
+    heldRegs(slot) := true.B
+    records.write(slot, rec)
+    lines.write(slot, s2LineReg)
+  }
+
+  // ---- S1: the head hit's slot read into S2 ----
+  // Moves when S2 is empty or leaves this cycle. S2's action this cycle is not yet in the slot S1 reads: forwarded
+  // when it is the same slot (S2 stored there, or took the waiting hit out).
+  private val in = inQ.io.deq
+  private val s1Slot = slotOf(in.bits.number)
+  in.ready := !s2ValidReg || s2Fire
+  // One read of the buffer a cycle, shared: the scan's slot once every hit of the batch is taken (S1 then holds no
+  // hit of the batch, and S2 drops what it reads), else the head hit's.
+  private val readSlot = Mux(allTaken, scanReg, s1Slot)
+  private val readHeld = heldRegs(readSlot)
+  private val readRec = records(readSlot)
+  private val readLine = lines(readSlot)
+  private val fwd = (s2Stores || s2Clears) && slot === s1Slot
+  when(in.fire) {
+    s2HitReg := in.bits
+    s2LineReg := line(in.bits.number)
+    s2InBatchReg := in.bits.number < countReg
+    s2NoPartnerReg := (in.bits.number ^ 1.U) >= countReg
+    s2HeldReg := Mux(fwd, s2Stores, readHeld)
+    s2HeldRecReg := Mux(fwd && s2Stores, rec, readRec)
+  }
+  when(in.fire) { s2ValidReg := true.B }.elsewhen(s2Fire) { s2ValidReg := false.B }
+
+  // ---- The flush: F1 scans a slot a cycle into F2, F2's line leaves ----
+  // The scan, from a register, so that no search for the first waiting slot (a 256-input tree) lies between the
+  // pair buffer and its own clear. No hit of the batch comes while all are taken, so only the flush clears a slot
+  // then; F1 reads another slot than F2's except with one slot, where F2's clear this cycle is forwarded.
+  private val fFire = flushing && q.io.enq.fire
+  when(fFire) { heldRegs(fSlotReg) := false.B }
+  private val fRoom = !fValidReg || fFire
+  private val scanHeld = readHeld && !(fFire && fSlotReg === scanReg)
+  when(allTaken && fRoom) {
+    fValidReg := scanHeld
+    fSlotReg := scanReg
+    fRecReg := readRec
+    fLineReg := readLine
+  }.elsewhen(fFire) { fValidReg := false.B }
+  if (slots > 1) when(allTaken && fRoom) { scanReg := scanReg + 1.U }
   io.write <> q.io.deq
   io.errCount := errReg
   io.broken := brokenReg
@@ -131,10 +186,17 @@ class HitDma(sys: SystemConfig) extends Module {
 object HitDma {
 
   /** The 32-byte record, little-endian: number, status (bit 0 hit, bits 8.. errors), t, u, v, prim, 0, 0. */
-  def record(h: HitOut): UInt = {
+  def record(h: HitOut): UInt = pad(used(h))
+
+  /** The record's six used words (number, status, t, u, v, prim), what the pair buffer holds. */
+  def used(h: HitOut): UInt = {
     val status = Cat(h.errors, 0.U(7.W), h.hit)
-    Cat(0.U(64.W), h.prim.pad(32), h.v, h.u, h.t, status.pad(32), h.number)
+    Cat(h.prim.pad(32), h.v, h.u, h.t, status.pad(32), h.number)
   }
+  val UsedBits = 6 * 32
+
+  /** The used words, then the two zero words: the whole record. */
+  def pad(used: UInt): UInt = Cat(0.U((8 * SystemConfig.HitBytes - UsedBits).W), used)
   val StatusErrorShift = 8
 
   /** Entries of the register slice after the cores' arbiter: two take a hit a cycle with a ready from its count. */

@@ -31,7 +31,8 @@ import rtaccel.axi.Axi4Params
   * @param hitQueue       hit lines (one or two records each) waiting for the write port
   * @param hitPairSlots   HitDma's pair buffer, a power of two: hits waiting for their neighbour to share a 64-byte
   *                       line; a conflict (two waiting pairs p, p + slots k) writes a hit alone in its own line, so
-  *                       the hit bytes per ray in docs/reports/performance.md (32 with no conflict) show their cost
+  *                       the hit bytes per ray in docs/reports/performance.md (32 with no conflict) show their cost.
+  *                       By default [[SystemConfig.pairSlotsFor]]: enough slots for the pairs of every ray in flight
   * @param storeCopies    block-RAM copies of each on-chip store, 1 up to one per two cores: a copy is dual-ported,
   *                       so with more than two cores per copy the cores share its ports round-robin (StorePort, one
   *                       cycle more per read). One copy by default: a second copy of the 1.5 MiB node store and the
@@ -48,7 +49,7 @@ case class SystemConfig(
     raysPerBlock: Int = 4,
     rayBlockTags: Int = 16,
     hitQueue: Int = 4,
-    hitPairSlots: Int = 64,
+    hitPairSlots: Option[Int] = None,
     storeCopies: Int = 1
 ) {
   require(cores >= 1, s"SystemConfig: cores must be >= 1, got $cores")
@@ -71,9 +72,12 @@ case class SystemConfig(
   )
   require(rayBlockTags >= 1 && hitQueue >= 1, s"SystemConfig: rayBlockTags and hitQueue must be >= 1")
   require(
-    hitPairSlots >= 1 && Integer.bitCount(hitPairSlots) == 1,
-    s"SystemConfig: hitPairSlots must be a power of two, got $hitPairSlots"
+    hitPairSlots.forall(n => n >= 1 && Integer.bitCount(n) == 1),
+    s"SystemConfig: hitPairSlots must be a power of two, got ${hitPairSlots.getOrElse(0)}"
   )
+
+  /** HitDma's pair buffer: `hitPairSlots`, else [[SystemConfig.pairSlotsFor]] the cores' ray IDs. */
+  val pairSlots: Int = hitPairSlots.getOrElse(SystemConfig.pairSlotsFor(cores * core.numRayIds))
   require(
     storeCopies >= 1 && storeCopies <= (cores + 1) / 2,
     s"SystemConfig: storeCopies must be 1 to ceil(cores / 2) = ${(cores + 1) / 2}, got $storeCopies"
@@ -90,6 +94,18 @@ case class SystemConfig(
 }
 
 object SystemConfig {
+
+  /** Pair-buffer slots for `inFlight` rays: the least power of two of pairs whose numbers span at least
+    * `inFlight` rays (64 slots for one core of 128 IDs, 128 for two, 256 for three or four). The rays in flight
+    * are about `inFlight` consecutive numbers (RayDma hands them out in order), so while the slowest ray of the
+    * window is no older than that, two waiting pairs never share a slot; only a straggler further behind can
+    * conflict, and a conflict costs a line, not a record. LUTRAM: a slot holds a 192-bit record and a line
+    * address (HitDma).
+    */
+  def pairSlotsFor(inFlight: Int): Int = {
+    require(inFlight >= 2, s"SystemConfig.pairSlotsFor: need at least 2 rays in flight, got $inFlight")
+    (1 << log2Ceil(inFlight)) / 2
+  }
 
   /** m_axi widths the system is built and tested for: the MIG's user interface (512) and twice it (1024). */
   val AxiDataBitsChoices: Seq[Int] = Seq(512, 1024)

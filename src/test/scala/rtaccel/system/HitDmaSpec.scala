@@ -139,7 +139,7 @@ class HitDmaSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   it should "write every hit once through a 2-slot pair buffer (conflicts, and the flush at the batch's end)" in
     Seeded("HitDma.smallBuffer") { rnd =>
-      val lines = batches(SystemConfig(cores = 2, hitPairSlots = 2), rnd, shuffle = true, twoBatches)
+      val lines = batches(SystemConfig(cores = 2, hitPairSlots = Some(2)), rnd, shuffle = true, twoBatches)
       println(s"HitDma, 2 pair slots, random order: lines per batch $lines for ${twoBatches.map(_._2)} hits")
       // More lines than pairs: hits left alone by a slot held for another pair (the path the flush ends).
       for (((_, n), l) <- twoBatches.zip(lines)) assert(l > (n + 1) / 2 && l <= n, s"batch of $n: $l lines")
@@ -147,7 +147,8 @@ class HitDmaSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   it should "flush the hits left waiting when a batch stops with a line's partner never handed out" in
     Seeded("HitDma.stopped") { rnd =>
-      val lines = batches(SystemConfig(cores = 2, hitPairSlots = 8), rnd, shuffle = true, twoBatches, stopped = true)
+      val lines =
+        batches(SystemConfig(cores = 2, hitPairSlots = Some(8)), rnd, shuffle = true, twoBatches, stopped = true)
       println(s"HitDma, stopped batches: lines per batch $lines")
     }
 }
