@@ -48,8 +48,8 @@ fi
 if [ "$which" != probes ]; then
   # With a mutant's name as the third argument, only that one runs.
   maybe_mutant done_early "SystemCore finishes one B response early: DONE before the last hit is written" \
-    "/^module SystemCore(/,/^endmodule/s/    \& (_raysDone_T == countReg | /    \& (_raysDone_T + 32'h1 == countReg | /" \
-    "    & (_raysDone_T == countReg | " batch_conservation_1
+    "/^module SystemCore(/,/^endmodule/s/    \& (raysDoneReg == countReg | /    \& (raysDoneReg + 32'h1 == countReg | /" \
+    "    & (raysDoneReg == countReg | " batch_conservation_1
   maybe_mutant slot_freed_twice "ReadEngine never pops client 0's completion queue: the same slot is picked and freed again" \
     "/^module ReadEngine(/,/^endmodule/s/\.io_deq_ready (_arb_io_in_0_ready \& credit),/.io_deq_ready (1'b0),/" \
     ".io_deq_ready (_arb_io_in_0_ready & credit)," read_slot_freed_once_1
@@ -78,8 +78,8 @@ if [ "$which" != probes ]; then
     "/^module RayDma(/,/^endmodule/s/wire \( *\)last = subReg == \(_GEN_[0-9]*\) | io_stop/wire \1last = subReg == 2'h2 | subReg == \2 | io_stop/" \
     "last = subReg == _GEN_" system_ray_conservation_1
   maybe_mutant hit_drop "HitDma takes ray 0's hit from the core but never queues its line (alone or paired): the hit is lost" \
-    "/^module HitDma(/,/^endmodule/s/= flushing | _inQ_io_deq_valid \& inBatch \& ~store;/= flushing | _inQ_io_deq_valid \& inBatch \& ~store \& (|_inQ_io_deq_bits_number);/" \
-    "= flushing | _inQ_io_deq_valid & inBatch & ~store;" system_ray_conservation_1
+    "/^module HitDma(/,/^endmodule/s/= fValidReg | s2ValidReg \& s2InBatchReg \& ~store;/= fValidReg | s2ValidReg \& s2InBatchReg \& ~store \& (|s2HitReg_number);/" \
+    "= fValidReg | s2ValidReg & s2InBatchReg & ~store;" system_ray_conservation_1
 fi
 # The DMA window (case w1: the host sets a free window first): the guard made to pass reads outside it.
 # (No hit write happens within w1's depth, so a guard passing writes outside is not caught there:
@@ -109,8 +109,8 @@ if [ "$which" != probes ]; then
     "/^module HitDma(/,/^endmodule/s/countReg <= io_rayCount;/countReg <= io_rayCount - 32'h1;/" \
     "countReg <= io_rayCount;" hit_in_batch_1
   maybe_mutant hit_drop_unit "HitDma takes ray 0's hit but never queues its line (alone or paired): the hit is lost" \
-    "/^module HitDma(/,/^endmodule/s/= flushing | _inQ_io_deq_valid \& inBatch \& ~store;/= flushing | _inQ_io_deq_valid \& inBatch \& ~store \& (|_inQ_io_deq_bits_number);/" \
-    "= flushing | _inQ_io_deq_valid & inBatch & ~store;" hitdma_bounded_response_1
+    "/^module HitDma(/,/^endmodule/s/= fValidReg | s2ValidReg \& s2InBatchReg \& ~store;/= fValidReg | s2ValidReg \& s2InBatchReg \& ~store \& (|s2HitReg_number);/" \
+    "= fValidReg | s2ValidReg & s2InBatchReg & ~store;" hitdma_bounded_response_1
   case_=readeng; cdepth=$(unit_depth readeng); formal_wrap "$dir" readeng
   maybe_mutant wrong_tag "ReadEngine answers every record with tag 0" \
     "/^module ReadEngine(/,/^endmodule/s/pickTagReg <= _meta_ext_R1_data\[[0-9]*:[0-9]*\];/pickTagReg <= 2'h0;/" \
