@@ -185,10 +185,8 @@ class HitDma(sys: SystemConfig) extends Module {
 
 object HitDma {
 
-  /** The 32-byte record, little-endian: number, status (bit 0 hit, bits 8.. errors), t, u, v, prim, 0, 0. */
-  def record(h: HitOut): UInt = pad(used(h))
-
-  /** The record's six used words (number, status, t, u, v, prim), what the pair buffer holds. */
+  /** The 32-byte record, little-endian: number, status (bit 0 hit, bits 8.. errors), t, u, v, prim, 0, 0. Its six
+    * used words, what the pair buffer holds; [[pad]] adds the two zero words. */
   def used(h: HitOut): UInt = {
     val status = Cat(h.errors, 0.U(7.W), h.hit)
     Cat(h.prim.pad(32), h.v, h.u, h.t, status.pad(32), h.number)
