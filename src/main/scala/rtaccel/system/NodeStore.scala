@@ -13,9 +13,10 @@ import rtaccel.mem.{MemPortParams, MemResponse}
   * Storage: words of max(record, beat) bytes, written a beat (one masked
   * lane) at a time by the fill. `copies` copies of the storage, each a true
   * dual-port BRAM (port A also takes the fill's writes, which only happen
-  * while no client can hit); client c reads on port c mod (2 x copies), and
-  * clients on one port share it round-robin (StorePort). More copies buy no
-  * waiting at the price of the whole store's block RAM again.
+  * while no client can hit). With at most two clients per copy each has a
+  * port of its own; with more, a copy's clients share both its ports, each
+  * port serving whichever is waiting (StorePort). More copies buy no waiting
+  * at the price of the whole store's block RAM again.
   *
   * Fill: StoreFill (bursts with AXI ID `fillId`, 4 KB split, the 1024-bit
   * realignment), one whole line written per beat.
@@ -67,29 +68,27 @@ class NodeStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes:
     VecInit((0 until lanes).map(l => if (lanes == 1) true.B else wLine(log2Ceil(lanes) - 1, 0) === l.U))
   private val wData = VecInit(Seq.fill(lanes)(fill.io.write.bits.data))
 
-  for ((served, k) <- StorePort.assign(clients, copies).zipWithIndex) {
-    val mem = mems(k / 2)
+  for (g <- StorePort.assign(clients, copies)) {
+    val mem = mems(g.copy)
     // The request's offset from the base is registered before the read: the subtraction and the block RAMs'
     // enables behind it were one path (docs/fmax.md).
-    val sp = new StorePort(io, served, (a: UInt) => a - baseReg)
-    val word = sp.s0Fields >> log2Ceil(wordBytes)
-    val read = sp.s0Valid
-    val rdata = if (k % 2 == 0) mem.readWrite(Mux(wEnable, wWord, word), wData, wMask, wEnable || read, wEnable)
-    else mem.read(word, read)
-    // A hit is only accepted when loaded, and the fill writes only while not loaded.
-    when(read && wEnable) { errorReg := true.B }
-    val s1SubReg = RegEnable(sp.s0Fields(log2Ceil(wordBytes) - 1, 0), read)
-    // The read data goes straight into the output queue, with no register of
-    // its own: Yosys 0.23 would merge such a register into the memory's read
-    // port first and leave the port's address register outside, so the shared
-    // read/write port would become a read port and a write port, and the
-    // memory would be doubled to give the second client its read port
-    // (measured: 456 instead of 228 BRAM36 for 1 MiB). The BRAM's output is
-    // the read's register.
-    val full = sp.answer(
+    val sp = new StorePort(io, g.clients, (a: UInt) => a - baseReg, g.ports.size)
+    val records = g.ports.zipWithIndex.map { case (port, i) =>
+      val word = sp.s0Fields(i) >> log2Ceil(wordBytes)
+      val read = sp.s0Valid(i)
+      val rdata = if (port == 0) mem.readWrite(Mux(wEnable, wWord, word), wData, wMask, wEnable || read, wEnable)
+      else mem.read(word, read)
+      // A hit is only accepted when loaded, and the fill writes only while not loaded.
+      when(read && wEnable) { errorReg := true.B }
+      val s1SubReg = RegEnable(sp.s0Fields(i)(log2Ceil(wordBytes) - 1, 0), read)
+      // The read data goes straight into the output queue (through the ports' select when clients share them),
+      // with no register of its own: Yosys 0.23 would merge such a register into the memory's read port first and
+      // leave the port's address register outside, so the shared read/write port would become a read port and a
+      // write port, and the memory would be doubled to give the second client its read port (measured: 456
+      // instead of 228 BRAM36 for 1 MiB). The BRAM's output is the read's register.
       if (recBytes >= B) rdata.asUInt else (rdata.asUInt >> (s1SubReg << 3))(8 * recBytes - 1, 0)
-    )
-    when(full) { errorReg := true.B }
+    }
+    when(sp.answer(records)) { errorReg := true.B }
   }
 }
 

@@ -3,25 +3,33 @@ package rtaccel.system
 import chisel3._
 import chisel3.util._
 
-/** One block-RAM read port of an on-chip store (NodeStore, TriStore), for
-  * `clients` (indices into the store's `io.req`/`io.resp`). The request is
-  * registered (s0), read in s0 (the BRAM's address register), and the read
-  * data put into the client's output queue in s1.
+/** The block-RAM read ports of an on-chip store (NodeStore, TriStore) that
+  * `clients` (indices into the store's `io.req`/`io.resp`) share: `ports`
+  * ports of one copy of the storage. Per port, the request is registered
+  * (s0), read in s0 (the BRAM's address register), and the read data put
+  * into the client's output queue in s1.
   *
   * `fields` is what the store registers from a request's address (an offset
   * from its base, computed before a register so that the subtraction and the
   * block RAM's enables are not one path).
   *
-  * - **One client**: the port is its own. Its request goes straight into s0:
-  *   response offered `NodeStore.Latency` cycles after the request, one per
-  *   cycle. A request is taken while the client's queued answers plus its
-  *   reads in s0 and s1 are fewer than `NodeStore.OutDepth`, so every read
-  *   has a place when it lands.
-  * - **Several clients** share it round-robin. Each request's fields go into
-  *   a two-entry queue of the client's whose head is a register (its ready is
+  * - **One client, one port**: the port is its own. Its request goes
+  *   straight into s0: response offered `NodeStore.Latency` cycles after the
+  *   request, one per cycle. A request is taken while the client's queued
+  *   answers plus its reads in s0 and s1 are fewer than `NodeStore.OutDepth`,
+  *   so every read has a place when it lands.
+  * - **Several clients** share the ports: each port serves whichever client
+  *   is waiting, not a fixed one, so the copy's two ports serve two reads a
+  *   cycle while any two of its clients ask (a client that does not ask
+  *   leaves its share to the others). Each request's fields go into a
+  *   two-entry queue of the client's whose head is a register (its ready is
   *   registered too, so MemoryFabric's hit test in front of it and the pick
-  *   are not one path); the pick, among heads whose clients have credit,
-  *   selects a register into s0: `NodeStore.SharedLatency` cycles, one more.
+  *   are not one path); round-robin from the client after the last one
+  *   picked, port 0 takes the first head whose client has credit and port 1
+  *   the second, and each selects a register into its s0: `NodeStore.SharedLatency` cycles, one more. No
+  *   client is picked by two ports in a cycle, so a client starts at most one
+  *   read a cycle and (both ports' latency being the same) at most one of its
+  *   reads lands a cycle, in the order they were asked.
   *   Credit is registered: a client may be picked in cycle t + 1 when in
   *   cycle t its queued answers plus its reads in s0 and s1 were at most
   *   `SharedOutDepth` - 2. Between the two cycles at most one read of it
@@ -29,13 +37,16 @@ import chisel3.util._
   *   places, so the read picked in t + 1 finds a place among
   *   `SharedOutDepth`. The check is one register deep, which keeps the pick
   *   short; the answer queue is one entry deeper than a port of one client's
-  *   so that a client alone on a shared port still gets one answer per cycle.
+  *   so that a client picked every cycle still gets one answer per cycle.
   *
-  * An enqueue that finds the answer queue full (never expected) is reported
-  * by [[answer]], the store's error.
+  * An enqueue that finds the answer queue full, or two reads of one client
+  * landing in one cycle (neither ever expected), is reported by [[answer]],
+  * the store's error.
   */
-class StorePort[F <: Data](io: StoreIO, clients: Seq[Int], fields: UInt => F) {
+class StorePort[F <: Data](io: StoreIO, clients: Seq[Int], fields: UInt => F, ports: Int = 1) {
   require(clients.nonEmpty, "StorePort: a port with no client")
+  require(ports >= 1 && ports <= clients.size, s"StorePort: ${clients.size} clients cannot use $ports ports")
+  require(ports == 1 || clients.size > 1, "StorePort: one client reads on one port")
   private val n = clients.size
   private val depth = if (n == 1) NodeStore.OutDepth else StorePort.SharedOutDepth
   private val outQs = clients.map(c => Module(new Queue(chiselTypeOf(io.resp(c).bits), depth)))
@@ -43,29 +54,27 @@ class StorePort[F <: Data](io: StoreIO, clients: Seq[Int], fields: UInt => F) {
   private val clientBits = log2Ceil(n).max(1)
   private val tagType = chiselTypeOf(io.req(clients.head).bits.tag)
 
-  /** A read in s0 (the BRAM reads this cycle). */
-  val s0Valid: Bool = RegInit(false.B)
-  private val s0ClientReg = RegInit(0.U(clientBits.W))
+  /** Per port: a read in s0 (the BRAM reads this cycle). */
+  val s0Valid: Seq[Bool] = Seq.fill(ports)(RegInit(false.B))
+  private val s0ClientRegs = Seq.fill(ports)(RegInit(0.U(clientBits.W)))
 
-  /** A read's data lands this cycle (s1). */
-  val s1Valid: Bool = RegInit(false.B)
-  private val s1ClientReg = RegEnable(s0ClientReg, s0Valid)
-  s1Valid := s0Valid
+  /** Per port: a read's data lands this cycle (s1). */
+  val s1Valid: Seq[Bool] = s0Valid.map(v => RegNext(v, false.B))
+  private val s1ClientRegs = (0 until ports).map(k => RegEnable(s0ClientRegs(k), s0Valid(k)))
 
+  private def mine(valid: Bool, client: UInt, j: Int): Bool = if (n == 1) valid else valid && client === j.U
   private def inFlight(j: Int): UInt =
-    if (n == 1) s0Valid.asUInt +& s1Valid.asUInt
-    else (s0Valid && s0ClientReg === j.U).asUInt +& (s1Valid && s1ClientReg === j.U).asUInt
+    (0 until ports).map(k =>
+      mine(s0Valid(k), s0ClientRegs(k), j).asUInt +& mine(s1Valid(k), s1ClientRegs(k), j).asUInt
+    ).reduce(_ +& _)
   private def held(j: Int): UInt = outQs(j).io.count +& inFlight(j)
 
-  private val fire = Wire(Bool())
-  private val chosen = Wire(UInt(clientBits.W))
-  private val (nextFields, nextTag) =
+  // Per port: a read starts (fire), for which client (chosen), with which fields and tag.
+  private val picks: Seq[(Bool, UInt, F, UInt)] =
     if (n == 1) {
       val r = io.req(clients.head)
       r.ready := held(0) < depth.U
-      fire := r.fire
-      chosen := 0.U
-      (fields(r.bits.addr), r.bits.tag)
+      Seq((r.fire, 0.U(clientBits.W), fields(r.bits.addr), r.bits.tag))
     } else {
       val heads = clients.map { c =>
         val f = fields(io.req(c).bits.addr)
@@ -76,38 +85,62 @@ class StorePort[F <: Data](io: StoreIO, clients: Seq[Int], fields: UInt => F) {
         io.req(c).ready := q.io.enq.ready
         q.io.deq
       }
-      val creditRegs = (0 until n).map(j => RegNext(held(j) <= (depth - 2).U, false.B))
-      val arb = Module(new RRArbiter(UInt(0.W), n))
+      // A client's answers queued plus its reads in s0 and s1, counted in a register: reads picked less answers
+      // taken. It equals `held` (a read picked in cycle t is in s0 at t + 1, in s1 at t + 2, queued from
+      // t + 3) without the answer queue's count and the sum of the ports' reads in front of the compare: as a
+      // sum it was the stores' longest path with two ports (6.00 ns).
+      val heldRegs = Seq.fill(n)(RegInit(0.U(log2Ceil(depth + 1).W)))
+      val creditRegs = heldRegs.map(h => RegNext(h <= (depth - 2).U, false.B))
+      // Round-robin: the waiting heads (with credit) in order from the client after the last one picked; port k
+      // takes the k-th. Both picks are one table of the waiting vector and the pointer, registers all (n <= 6:
+      // n + log2(n) inputs, a LUT level or two), not a chain of arbiters' compares.
+      val waiting = VecInit((0 until n).map(j => heads(j).valid && creditRegs(j))).asUInt
+      val nextReg = RegInit(0.U(clientBits.W))
+      val grants = StorePort.picks(n, ports).map(table => VecInit(table.map(_.U(n.W)))(Cat(nextReg, waiting)))
+      val fires = grants.map(_.orR)
       for (j <- 0 until n) {
-        arb.io.in(j).valid := heads(j).valid && creditRegs(j)
-        arb.io.in(j).bits := DontCare
-        heads(j).ready := arb.io.in(j).ready && creditRegs(j)
+        val picked = grants.map(_(j)).reduce(_ || _)
+        heads(j).ready := picked
+        heldRegs(j) := heldRegs(j) + picked.asUInt - io.resp(clients(j)).fire.asUInt
+        assert(heldRegs(j) === held(j), "store_port_credit: a client's count differs from its queued and read records")
       }
-      arb.io.out.ready := true.B
-      fire := arb.io.out.fire
-      chosen := arb.io.chosen
-      val head = VecInit(heads.map(_.bits))(chosen)
-      (head.fields, head.tag)
+      // The pointer moves past the last client picked this cycle.
+      val last = grants.reverse.map(g => (g.orR, OHToUInt(g))).reduce { (later, earlier) =>
+        (later._1 || earlier._1, Mux(later._1, later._2, earlier._2))
+      }
+      when(last._1) { nextReg := Mux(last._2 === (n - 1).U, 0.U, last._2 + 1.U) }
+      grants.zip(fires).map { case (g, fire) =>
+        val chosen = OHToUInt(g).pad(clientBits)
+        val head = VecInit(heads.map(_.bits))(chosen)
+        (fire, chosen, head.fields, head.tag)
+      }
     }
-  s0Valid := fire
-  when(fire) { s0ClientReg := chosen }
+  for (((fire, chosen, _, _), k) <- picks.zipWithIndex) {
+    s0Valid(k) := fire
+    when(fire) { s0ClientRegs(k) := chosen }
+  }
 
-  /** The chosen request's fields and tag, registered in s0. */
-  val s0Fields: F = RegEnable(nextFields, fire)
-  val s0Tag: UInt = RegEnable(nextTag, fire)
+  /** Per port: the chosen request's fields and tag, registered in s0. */
+  val s0Fields: Seq[F] = picks.map { case (fire, _, f, _) => RegEnable(f, fire) }
+  val s0Tag: Seq[UInt] = picks.map { case (fire, _, _, t) => RegEnable(t, fire) }
 
-  /** The s0 read's tag in s1. */
-  val s1Tag: UInt = RegEnable(s0Tag, s0Valid)
+  /** Per port: the s0 read's tag in s1. */
+  private val s1Tags = (0 until ports).map(k => RegEnable(s0Tag(k), s0Valid(k)))
 
-  /** Enqueue `data` (the record read in s0) for the s1 read's client; true if its queue was full (never expected). */
-  def answer(data: UInt): Bool = {
-    for (j <- 0 until n) {
+  /** Enqueue `data(k)` (the record port k read in s0) for its s1 read's client; true if a queue was full or two
+    * ports' reads of one client landed at once (neither ever expected).
+    */
+  def answer(data: Seq[UInt]): Bool = {
+    require(data.size == ports, s"StorePort.answer: ${data.size} ports' data for $ports ports")
+    val errors = for (j <- 0 until n) yield {
       val q = outQs(j)
-      q.io.enq.valid := s1Valid && (if (n == 1) true.B else s1ClientReg === j.U)
-      q.io.enq.bits.data := data
-      q.io.enq.bits.tag := s1Tag
+      val lands = (0 until ports).map(k => mine(s1Valid(k), s1ClientRegs(k), j))
+      q.io.enq.valid := lands.reduce(_ || _)
+      q.io.enq.bits.data := (if (ports == 1) data.head else Mux1H(lands, data))
+      q.io.enq.bits.tag := (if (ports == 1) s1Tags.head else Mux1H(lands, s1Tags))
+      (q.io.enq.valid && !q.io.enq.ready) || (if (ports == 1) false.B else PopCount(lands) > 1.U)
     }
-    outQs.map(q => q.io.enq.valid && !q.io.enq.ready).reduce(_ || _)
+    errors.reduce(_ || _)
   }
 }
 
@@ -122,12 +155,35 @@ object StorePort {
     val tag = t.cloneType
   }
 
-  /** The clients of each read port when `clients` share `copies` dual-ported copies: client c on port c mod ports
-    * (ports 2k and 2k + 1 are copy k's two ports; the even one also takes the fill's writes). */
-  def assign(clients: Int, copies: Int): Seq[Seq[Int]] = {
-    val ports = (2 * copies).min(clients)
-    (0 until ports).map(p => (p until clients by ports).toSeq)
+  /** The round-robin picks of `ports` ports among `n` clients, as tables indexed by (pointer, waiting): entry
+    * (p << n | w) of table k is the one-hot of the k-th client waiting in `w` counted from client p (0 if fewer
+    * than k + 1 wait, or p >= n).
+    */
+  def picks(n: Int, ports: Int): Seq[Seq[Int]] = {
+    require(
+      n >= 2 && n <= 6,
+      s"StorePort: $n clients on one copy of a store; at most 6 share its ports (raise SystemConfig.storeCopies)"
+    )
+    val pointers = 1 << log2Ceil(n)
+    (0 until ports).map { k =>
+      for (p <- 0 until pointers; w <- 0 until (1 << n))
+        yield
+          if (p >= n) 0
+          else (0 until n).map(i => (p + i) % n).filter(j => (w >> j & 1) == 1).lift(k).map(1 << _).getOrElse(0)
+    }
   }
+
+  /** Clients on a copy's read ports: `ports` of copy `copy` (0: port A, which also takes the fill's writes; 1:
+    * port B) serve `clients`.
+    */
+  final case class Group(copy: Int, ports: Seq[Int], clients: Seq[Int])
+
+  /** The groups when `clients` share `copies` dual-ported copies: with at most two clients per copy, client c has
+    * port c mod 2 of copy c / 2 to itself; with more, the clients c of copy c mod copies share both its ports.
+    */
+  def assign(clients: Int, copies: Int): Seq[Group] =
+    if (clients <= 2 * copies) (0 until clients).map(c => Group(c / 2, Seq(c % 2), Seq(c)))
+    else (0 until copies).map(k => Group(k, Seq(0, 1), (k until clients by copies).toSeq))
 }
 
 /** A two-entry queue whose head is a register (`deq.bits` is read from no

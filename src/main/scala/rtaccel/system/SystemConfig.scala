@@ -34,8 +34,8 @@ import rtaccel.axi.Axi4Params
   *                       the hit bytes per ray in docs/reports/performance.md (32 with no conflict) show their cost.
   *                       By default [[SystemConfig.pairSlotsFor]]: enough slots for the pairs of every ray in flight
   * @param storeCopies    block-RAM copies of each on-chip store, 1 up to one per two cores: a copy is dual-ported,
-  *                       so with more than two cores per copy the cores share its ports round-robin (StorePort, one
-  *                       cycle more per read). One copy by default: a second copy of the 1.5 MiB node store and the
+  *                       so with more than two cores per copy the cores share its two ports, each port serving
+  *                       whichever core waits (StorePort, one cycle more per read). One copy by default: a second copy of the 1.5 MiB node store and the
   *                       triangle store is 399 BRAM36 more, which no third core leaves room for on the xc7z045
   */
 case class SystemConfig(

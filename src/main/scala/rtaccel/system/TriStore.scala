@@ -19,8 +19,8 @@ import rtaccel.mem.{MemPortParams, MemResponse}
   * then the pair is put in order and shifted down by the record's 16-byte
   * offset in line L. `copies` copies of the two banks, each true dual-port
   * BRAM (port A also takes the fill's writes, which only happen while no
-  * client can hit); client c reads on port c mod (2 x copies), and clients
-  * on one port share it round-robin (StorePort), as in NodeStore.
+  * client can hit); clients have ports of their own or share a copy's two
+  * ports (StorePort), as in NodeStore.
   *
   * A request hits when the store is loaded, its address is 16-byte aligned
   * relative to `base` and the whole record lies below base + storedBytes.
@@ -81,30 +81,32 @@ class TriStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: 
   private val wLine = fill.io.write.bits.line
   private val wIdx = (wLine >> 1)(idxBits - 1, 0)
 
-  for ((served, k) <- StorePort.assign(clients, copies).zipWithIndex) {
+  for (g <- StorePort.assign(clients, copies)) {
     // The request's offsets are registered before the read, as in NodeStore. Bank 0 holds the even line of L,
     // L+1, bank 1 the odd one. (L + 1) / 2 is (addr - (base - B)) / 2B: one subtraction, not a subtraction and
     // an increment. (L+1)/2 past the last word (L the last line, odd) wraps to word 0, a power of two: that line
     // is then not part of the record (it lies below the stored end).
-    val sp = new StorePort(io, served, (a: UInt) => VecInit(a - baseReg, a - baseLessLineReg))
-    val rel = sp.s0Fields(0)
-    val line = rel >> lineBits
-    val idx = Seq((sp.s0Fields(1) >> (lineBits + 1))(idxBits - 1, 0), (line >> 1)(idxBits - 1, 0))
-    val read = sp.s0Valid
-    val rdata = banks(k / 2).zipWithIndex.map { case (mem, b) =>
-      if (k % 2 == 0) {
-        val w = wEnable && wLine(0) === b.U
-        mem.readWrite(Mux(w, wIdx, idx(b)), fill.io.write.bits.data, w || read, w)
-      } else mem.read(idx(b), read)
+    val sp = new StorePort(io, g.clients, (a: UInt) => VecInit(a - baseReg, a - baseLessLineReg), g.ports.size)
+    val records = g.ports.zipWithIndex.map { case (port, i) =>
+      val rel = sp.s0Fields(i)(0)
+      val line = rel >> lineBits
+      val idx = Seq((sp.s0Fields(i)(1) >> (lineBits + 1))(idxBits - 1, 0), (line >> 1)(idxBits - 1, 0))
+      val read = sp.s0Valid(i)
+      val rdata = banks(g.copy).zipWithIndex.map { case (mem, b) =>
+        if (port == 0) {
+          val w = wEnable && wLine(0) === b.U
+          mem.readWrite(Mux(w, wIdx, idx(b)), fill.io.write.bits.data, w || read, w)
+        } else mem.read(idx(b), read)
+      }
+      // A hit is only accepted when loaded, and the fill writes only while not loaded.
+      when(read && wEnable) { errorReg := true.B }
+      val s1OddReg = RegEnable(line(0), read)
+      val s1SubReg = RegEnable(rel(lineBits - 1, grainBits), read)
+      // As in NodeStore: no register on the read data (Yosys would double the memory); the BRAM's output is it.
+      val pair = Mux(s1OddReg, Cat(rdata(0), rdata(1)), Cat(rdata(1), rdata(0))) // line L+1 above line L
+      (pair >> (s1SubReg << (grainBits + 3)))(8 * recBytes - 1, 0)
     }
-    // A hit is only accepted when loaded, and the fill writes only while not loaded.
-    when(read && wEnable) { errorReg := true.B }
-    val s1OddReg = RegEnable(line(0), read)
-    val s1SubReg = RegEnable(rel(lineBits - 1, grainBits), read)
-    // As in NodeStore: no register on the read data (Yosys would double the memory); the BRAM's output is it.
-    val pair = Mux(s1OddReg, Cat(rdata(0), rdata(1)), Cat(rdata(1), rdata(0))) // line L+1 above line L
-    val full = sp.answer((pair >> (s1SubReg << (grainBits + 3)))(8 * recBytes - 1, 0))
-    when(full) { errorReg := true.B }
+    when(sp.answer(records)) { errorReg := true.B }
   }
 }
 

@@ -128,7 +128,7 @@ object SystemArea {
         s"SystemCore with its units and cores black-boxed). Node store: ${nodeStoreBytes / 1024} KiB, " +
         s"triangle store: ${triStoreBytes / 1024} KiB, each $storeCopies block-RAM ${if (storeCopies == 1) "copy"
           else "copies"} " +
-        s"(dual-ported; ${if (cores > 2 * storeCopies) "the cores share its ports round-robin" else "a port per core"}). ESTIMATE, as above.",
+        s"(dual-ported; ${if (cores > 2 * storeCopies) "the cores share its two ports" else "a port per core"}). ESTIMATE, as above.",
       "",
       "| unit | LUT | FF | DSP48 | BRAM36 | LUT as memory | path cells | ns | MHz |",
       "| --- | ---: | ---: | ---: | ---: | ---: | --- | ---: | ---: |"

@@ -68,13 +68,14 @@ final class StoreDriver(
 
   /** Every client asks for the record at `addr` every cycle and takes every answer, for `warm` cycles and then
     * `cycles` counted ones; returns the answers each client got in the counted cycles (each checked against the
-    * memory). The ports' full rate: one answer per port per cycle, split evenly among a shared port's clients.
+    * memory). The ports' full rate: one answer per port per cycle, split evenly among the clients sharing them.
+    * Only the clients in `asking` ask; the others get nothing.
     */
-  def saturate(addr: Long, warm: Int, cycles: Int): Seq[Int] = {
+  def saturate(addr: Long, warm: Int, cycles: Int, asking: Set[Int] = (0 until clients).toSet): Seq[Int] = {
     val want = mem.readLE(addr, recordBytes)
     val got = Array.fill(clients)(0)
     for (c <- 0 until clients) {
-      io.req(c).valid.poke(true.B); io.req(c).bits.addr.poke(addr.U); io.req(c).bits.tag.poke(c.U)
+      io.req(c).valid.poke(asking(c).B); io.req(c).bits.addr.poke(addr.U); io.req(c).bits.tag.poke(c.U)
       io.resp(c).ready.poke(true.B)
     }
     for (cycle <- 0 until warm + cycles) {
@@ -148,6 +149,30 @@ final class StoreDriver(
 }
 
 object StoreDriver {
+
+  /** Checks `saturate`'s answers against the ports' full rate: the clients sharing a copy's ports get one answer per
+    * port per cycle between them, each an even share (within `slack`: the two round-robin picks rotate unevenly
+    * for a few cycles); a client that does not ask leaves its share to the others.
+    */
+  def checkRate(groups: Seq[StorePort.Group], got: Seq[Int], cycles: Int, asking: Int => Boolean): Unit =
+    for (g <- groups) {
+      val askers = g.clients.filter(asking)
+      val total = askers.map(got).sum
+      val full = cycles * g.ports.size.min(askers.size)
+      assert(
+        math.abs(total - full) <= g.ports.size,
+        s"clients ${g.clients.mkString(", ")} on ${g.ports.size} port(s): $total answers in $cycles saturated " +
+          s"cycles, not $full"
+      )
+      for (c <- g.clients)
+        if (!asking(c)) assert(got(c) == 0, s"client $c did not ask but got ${got(c)} answers")
+        else
+          assert(
+            math.abs(got(c) - full / askers.size) <= 2,
+            s"client $c of ${askers.size} asking on ${g.ports.size} port(s): ${got(c)} answers in $cycles saturated " +
+              s"cycles, not about ${full / askers.size}"
+          )
+    }
 
   /** What NodeStoreSpec and TriStoreSpec drive a store with. */
   final case class Bench(p: Axi4Params, port: MemPortParams, mem: SparseMemory)

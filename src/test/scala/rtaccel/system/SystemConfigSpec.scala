@@ -32,7 +32,15 @@ class SystemConfigSpec extends AnyFlatSpec {
   it should "build one copy of each store by default and refuse more copies than one per two cores by name" in {
     assert(SystemConfig(cores = 4).storeCopies == 1 && SystemConfig(cores = 4).storeCopiesFor(4) == 1)
     assert(SystemConfig(cores = 4, storeCopies = 2).storeCopiesFor(4) == 2)
-    assert(StorePort.assign(4, 1) == Seq(Seq(0, 2), Seq(1, 3)) && StorePort.assign(3, 2) == Seq(Seq(0), Seq(1), Seq(2)))
+    // Two clients per copy or fewer: a port each; more: a copy's clients share both its ports.
+    assert(StorePort.assign(4, 1) == Seq(StorePort.Group(0, Seq(0, 1), Seq(0, 1, 2, 3))))
+    assert(StorePort.assign(3, 2) == Seq(0, 1, 2).map(c => StorePort.Group(c / 2, Seq(c % 2), Seq(c))))
+    assert(
+      StorePort.assign(5, 2) == Seq(
+        StorePort.Group(0, Seq(0, 1), Seq(0, 2, 4)),
+        StorePort.Group(1, Seq(0, 1), Seq(1, 3))
+      )
+    )
     val bad = intercept[IllegalArgumentException](SystemConfig(cores = 3, storeCopies = 3))
     assert(bad.getMessage.contains("storeCopies") && bad.getMessage.contains("got 3"), bad.getMessage)
   }

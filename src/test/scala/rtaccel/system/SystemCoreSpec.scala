@@ -101,7 +101,7 @@ class SystemCoreSpec extends AnyFlatSpec with ChiselScalatestTester {
     b
   }
 
-  it should "run the driver sequence on a synthetic scene with 3 cores (two sharing a store port): registers, hits, " +
+  it should "run the driver sequence on a synthetic scene with 3 cores (sharing the stores' two ports): registers, hits, " +
     "counters, two batches, scene errors" in
     Seeded("RtAccelSystem.field2") { rnd =>
       val (img, _) = ControlWorkload.treeOf(BvhLayout.Wide(4), rnd)
