@@ -104,15 +104,13 @@ class StorePort[F <: Data](io: StoreIO, clients: Seq[Int], fields: UInt => F, po
         heldRegs(j) := heldRegs(j) + picked.asUInt - io.resp(clients(j)).fire.asUInt
         assert(heldRegs(j) === held(j), "store_port_credit: a client's count differs from its queued and read records")
       }
-      // The pointer moves past the last client picked this cycle.
-      val last = grants.reverse.map(g => (g.orR, OHToUInt(g))).reduce { (later, earlier) =>
-        (later._1 || earlier._1, Mux(later._1, later._2, earlier._2))
-      }
-      when(last._1) { nextReg := Mux(last._2 === (n - 1).U, 0.U, last._2 + 1.U) }
-      grants.zip(fires).map { case (g, fire) =>
-        val chosen = OHToUInt(g).pad(clientBits)
-        val head = VecInit(heads.map(_.bits))(chosen)
-        (fire, chosen, head.fields, head.tag)
+      val chosens = grants.map(g => OHToUInt(g).pad(clientBits))
+      // The pointer moves past the last client picked this cycle (port k picks only if port k - 1 did).
+      val last = PriorityMux(fires.reverse, chosens.reverse)
+      when(fires.head) { nextReg := Mux(last === (n - 1).U, 0.U, last + 1.U) }
+      grants.indices.map { k =>
+        val head = VecInit(heads.map(_.bits))(chosens(k))
+        (fires(k), chosens(k), head.fields, head.tag)
       }
     }
   for (((fire, chosen, _, _), k) <- picks.zipWithIndex) {
