@@ -50,12 +50,12 @@ object SystemUnitBound {
   /** ReadEngine, a request taken -> its record taken by the client:
     *  AR register 1, AR refusals S (the slave never fills: one burst per record, records <= slots <= bursts);
     *  the burst overdue after L; then at most every beat of every record outstanding, one per cycle (slots x maxBeats);
-    *  R stage and completion queue 2; <= slots picks (ours and the records ahead), each waiting for its client's
-    *  credit at most H + 2 (the client takes a record within H + 1, the credit frees the cycle after);
+    *  R stage, completion queue and head queue 3; <= slots grants (ours and the records ahead), each waiting for
+    *  its client's credit at most H + 2 (the client takes a record within H + 1, the credit frees the cycle after);
     *  select and read registers 2; the output queue, <= OutDepth - 1 records ahead and its own, each H + 1;
     *  the monitor 1. */
   def readEngine(maxBeats: Int, slots: Int, e: UnitEnv): Int =
-    1 + e.stall + e.readLatency + slots * maxBeats + 2 + slots * (e.takeStall + 2) + 2 + ReadEngine.OutDepth * (e.takeStall + 1) + 1
+    1 + e.stall + e.readLatency + slots * maxBeats + 3 + slots * (e.takeStall + 2) + 2 + ReadEngine.OutDepth * (e.takeStall + 1) + 1
 }
 
 /** Picks the batch once (START at a cycle of the environment's choice) with SystemCore's rules: a 64-aligned

@@ -13,9 +13,9 @@ object SystemBound {
     // A record read: client arbiter 1, the fabric's request slice 1, ReadEngine slot register 1, AR register 1,
     // AR queue 1, WindowGuard's AR slice 1, slave refusals s + 1;
     // the burst is overdue after L cycles, then waits at most for every beat of the bursts the slave holds
-    // (3 beats each at most: a ray block); R stage 1, bank write 1, completion queue 1, select 1, read 1, output queue 1;
-    // the client refuses the answer at most s cycles.
-    val read = 6 + (s + 1) + e.readLatency + 3 * e.bursts + 6 + s
+    // (3 beats each at most: a ray block); R stage 1, bank write 1, completion queue 1, head queue 1, grant 1,
+    // read 1, output queue 1; the client refuses the answer at most s cycles.
+    val read = 6 + (s + 1) + e.readLatency + 3 * e.bursts + 7 + s
     Seq(
       ResponseBound.Term("start (CTRL write to the ray DMA's first request)", 2),
       // Each block: its read; the block queue and unpack 1.

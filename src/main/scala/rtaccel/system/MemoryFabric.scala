@@ -2,7 +2,7 @@ package rtaccel.system
 
 import chisel3._
 import chisel3.util._
-import rtaccel.PerfCounter
+import rtaccel.{PerfCounter, RoundRobinArbiter}
 import rtaccel.axi.{Axi4Addr, Axi4Master}
 import rtaccel.mem.{MemPort, MemPortParams}
 
@@ -72,7 +72,7 @@ class MemoryFabric(
 
   /** Records outstanding at once: every AXI ID but the fill's. */
   val readSlots: Int = fillId
-  require(readSlots >= 1, s"MemoryFabric: ${p.idBits} ID bits leave no read ID beside the store fill")
+  require(readSlots >= 2, s"MemoryFabric: ${p.idBits} ID bits leave fewer than two read IDs beside the store fill")
 
   private val ports = readers
   val io = IO(new Bundle {
@@ -121,7 +121,8 @@ class MemoryFabric(
   }
 
   // ---- Requests: store hits aside, the rest round-robin to the engine ----
-  private val arb = Module(new RRArbiter(new ReadReq(p.addrBits, log2Ceil(readers.size).max(1), tagBits), readers.size))
+  private val arb =
+    Module(new RoundRobinArbiter(new ReadReq(p.addrBits, log2Ceil(readers.size).max(1), tagBits), readers.size))
   private val toStore = Wire(Vec(readers.size, Bool()))
   for ((r, i) <- io.readers.zipWithIndex) {
     val hit = served(i).map { case (s, k) =>

@@ -2,6 +2,7 @@ package rtaccel.system
 
 import chisel3._
 import chisel3.util._
+import rtaccel.{RayIdFreeList, RoundRobinArbiter}
 import rtaccel.axi.{Axi4, Axi4Addr, Axi4Params, Axi4R, BurstMath, ByteRotate}
 
 /** A record read on its way to DRAM: `client` picks the response queue. */
@@ -30,9 +31,10 @@ class ReadResp(dataBits: Int, tagBits: Int) extends Bundle {
   * the rest chunk k - 1. Chunk c lives in bank c (one memory per chunk,
   * `slots` deep), so each beat writes at most one masked row into each of two
   * banks. When the last beat is written the slot joins its client's
-  * completion queue; a round-robin pick selects it (registered), the next
-  * cycle reads the banks, and the record lands in the client's output queue
-  * (`ReadEngine.OutDepth` entries) the cycle after.
+  * completion queue, whose head waits in registers; a round-robin grant over
+  * the heads takes it (registered), the next cycle reads the banks, the next
+  * lands the record in the client's output queue (`ReadEngine.OutDepth`
+  * entries) and frees the slot.
   *
   * Errors (sticky `error`): a non-OKAY rresp, an R beat whose ID names no
   * waiting record (dropped), or a wrong rlast.
@@ -42,7 +44,7 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
     recordBytes.nonEmpty && recordBytes.forall(b => b >= 1 && b <= 4096),
     s"ReadEngine: record sizes must be 1..4096 bytes, got $recordBytes"
   )
-  require(slots >= 1 && slots <= (1 << p.idBits), s"ReadEngine: $slots slots do not fit ${p.idBits} ID bits")
+  require(slots >= 2 && slots <= (1 << p.idBits), s"ReadEngine: $slots slots: 2 or more, in ${p.idBits} ID bits")
   private val n = recordBytes.size
   private val B = p.beatBytes
   private val beatBits = log2Ceil(B)
@@ -121,23 +123,22 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
     when(lastBurst) { pendValidReg := false.B }
   }
 
-  // The free slot the next request takes is found a cycle ahead and held in
-  // a register (index and one-hot), so no search over `slots` bits lies
-  // between `busyReg` and the request handshake (docs/fmax.md). The search
-  // skips the slot on offer: if that one is taken this cycle, the register
-  // loads another slot that is free now; only an allocation sets a busy bit,
-  // so it is still free next cycle. Slots freed meanwhile are found on a later
-  // search (the register is reloaded every cycle it is empty or taken).
+  // The free slots are a pool (the one the cores' ray IDs use: never-used slots from a counter, freed ones
+  // through a FIFO of `slots` entries, which cannot overflow), and the slot the next request takes is drawn a
+  // cycle ahead into registers (index and one-hot): no search over `slots` bits lies anywhere, and only
+  // registers reach the request handshake and the busy bits. A search for the first free bit, even a cycle
+  // ahead, was the fabric's longest path, mapped as up to 10 LUT and MUXF cells (docs/fmax.md).
+  private val pool = Module(new RayIdFreeList(slots))
   private val freeValidReg = RegInit(false.B)
   private val freeSlotReg = RegInit(0.U(slotBits.W))
   private val freeOHReg = RegInit(0.U(slots.W))
-  private val (otherFree, otherSlot) = FirstSet(~busyReg & ~Mux(freeValidReg, freeOHReg, 0.U))
   private val newSlot = freeSlotReg
   io.req.ready := freeValidReg && (!pendValidReg || (io.ar.fire && lastBurst))
-  when(io.req.fire || !freeValidReg) {
-    freeValidReg := otherFree
-    freeSlotReg := otherSlot
-    freeOHReg := UIntToOH(otherSlot, slots)
+  pool.io.alloc.ready := io.req.fire || !freeValidReg
+  when(pool.io.alloc.ready) {
+    freeValidReg := pool.io.alloc.valid
+    freeSlotReg := pool.io.alloc.bits
+    freeOHReg := UIntToOH(pool.io.alloc.bits, slots)
   }
   // The beats a record covers, BurstMath.beatsCovering of its offset in a beat and its client's size b: with
   // b - 1 = q * B + r, q + 1, or q + 2 when the offset is B - r or more (it then crosses one more beat
@@ -240,66 +241,75 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
     )
   }
 
-  // ---- Pick a finished record (select, then read), queue it for its client ----
-  // Two stages, each ending in registers: the select stage's round-robin pick
-  // of a client lands in `sel*Reg`; the read stage reads the banks and the
-  // slot's tag at `selSlotReg` and frees the slot; the record enters the
-  // output queue the cycle after. So neither the credit compare nor the
-  // arbiter drives the slot clear or the banks' read address (docs/fmax.md).
+  // ---- Pick a finished record (grant, select, then read), queue it for its client ----
+  // Each completion queue drains into a two-entry HeadQueue, whose head and `enq.ready` are registers, so the
+  // round-robin grant starts from registers (the head's valid, the client's credit) and the queue's pointers
+  // do not wait on the grant. The grant lands in `selOHReg` (one-hot) and the granted head's slot in that
+  // client's `takenSlotRegs`: no slot select follows the grant in its cycle. The select stage forms the slot
+  // (an AND-OR of `takenSlotRegs` by `selOHReg`) and reads the banks and the slot's tag; the read stage frees
+  // the slot; the record enters the output queue the cycle after. A binary choice and a slot select behind the
+  // pick, through a queue's pointer compare, were the fabric's longest paths (docs/fmax.md).
   private val outQs = recordBytes.map(b => Module(new Queue(new ReadResp(8 * b, tagBits), ReadEngine.OutDepth)))
+  private val heads = Seq.fill(n)(Module(new HeadQueue(UInt(slotBits.W))))
   private val selValidReg = RegInit(false.B)
-  private val selClientReg = Reg(UInt(clientBits.W))
-  private val selSlotReg = Reg(UInt(slotBits.W))
+  private val selOHReg = RegInit(0.U(n.W))
+  private val takenSlotRegs = Reg(Vec(n, UInt(slotBits.W)))
   private val pickValidReg = RegInit(false.B)
-  private val pickClientReg = Reg(UInt(clientBits.W))
+  private val pickOHReg = RegInit(0.U(n.W))
+  private val pickSlotReg = Reg(UInt(slotBits.W))
   private val pickTagReg = Reg(UInt(tagBits.W))
-  private val arb = Module(new RRArbiter(UInt(slotBits.W), n))
-  // Credit: queued + selected + being read < OutDepth, so every record picked
+  private val arb = Module(new RoundRobinArbiter(UInt(1.W), n)) // grants only: the slot is taken beside it
+  // Credit: queued + selected + being read < OutDepth, so every record granted
   // now has a place in its queue when it arrives two cycles later: the
   // queue only loses entries meanwhile, and both stages ahead of it count.
   // The sum is kept in a register per client (`heldReg`: +1 when the arbiter
-  // picks the client, -1 when the client takes a record), so the arbiter's
+  // grants the client, -1 when the client takes a record), so the arbiter's
   // request valids start from a 2-bit compare of a register, not from the
   // queue's count and the stages' adds (that chain through the arbiter into
   // the select registers was the fabric's longest path, docs/fmax.md).
   private val heldRegs = Seq.fill(n)(RegInit(0.U(log2Ceil(ReadEngine.OutDepth + 1).W)))
   for ((heldReg, c) <- heldRegs.zipWithIndex) {
-    val inSel = selValidReg && selClientReg === c.U
-    val inRead = pickValidReg && pickClientReg === c.U
+    val inSel = selValidReg && selOHReg(c)
+    val inRead = pickValidReg && pickOHReg(c)
     assert(
       heldReg === outQs(c).io.count +& inSel.asUInt +& inRead.asUInt,
       "read_out_credit: a client's credit count differs from its queued, selected and read records"
     )
     val credit = heldReg < ReadEngine.OutDepth.U
-    arb.io.in(c).valid := completions(c).io.deq.valid && credit
-    arb.io.in(c).bits := completions(c).io.deq.bits
-    completions(c).io.deq.ready := arb.io.in(c).ready && credit
-    heldReg := heldReg + arb.io.in(c).fire.asUInt - outQs(c).io.deq.fire.asUInt
+    heads(c).io.enq <> completions(c).io.deq
+    arb.io.in(c).valid := heads(c).io.deq.valid && credit
+    arb.io.in(c).bits := 0.U
+    val take = arb.io.in(c).fire
+    heads(c).io.deq.ready := take
+    when(take) { takenSlotRegs(c) := heads(c).io.deq.bits }
+    heldReg := heldReg + take.asUInt - outQs(c).io.deq.fire.asUInt
   }
   arb.io.out.ready := true.B
   selValidReg := arb.io.out.valid
-  when(arb.io.out.valid) {
-    selClientReg := arb.io.chosen
-    selSlotReg := arb.io.out.bits
-  }
-  private val record = Cat(banks.reverse.map(b => b.read(selSlotReg, selValidReg).asUInt))
+  selOHReg := VecInit(arb.io.in.map(_.fire)).asUInt
+  private val selSlot = Mux1H(selOHReg, takenSlotRegs)
+  private val record = Cat(banks.reverse.map(b => b.read(selSlot, selValidReg).asUInt))
   pickValidReg := selValidReg
   when(selValidReg) {
-    pickClientReg := selClientReg
-    pickTagReg := meta(selSlotReg).tag
+    pickOHReg := selOHReg
+    pickSlotReg := selSlot
+    pickTagReg := meta(selSlot).tag
   }
-  // The slot is free once its banks are being read: it is taken again at the
+  // The slot is free once its banks have been read: it is taken again at the
   // earliest next cycle, and its new record's beats come after a new AR.
-  private val freeOH = Mux(selValidReg, UIntToOH(selSlotReg, slots), 0.U)
+  private val freeOH = Mux(pickValidReg, UIntToOH(pickSlotReg, slots), 0.U)
+  pool.io.free.valid := pickValidReg
+  pool.io.free.bits := pickSlotReg
+  when(pool.io.doubleFree) { errorReg := true.B } // impossible (read_slot_freed_once); checked
   busyReg := (busyReg | allocOH) & ~freeOH
   // Each slot (AXI ID) holds one record per use: taken only when free, freed only when taken.
   assert((busyReg & allocOH) === 0.U, "read_slot_taken_once: a request took a slot that holds a record")
-  assert(!selValidReg || busyReg(selSlotReg), "read_slot_freed_once: a slot was freed that holds no record")
+  assert(!pickValidReg || busyReg(pickSlotReg), "read_slot_freed_once: a slot was freed that holds no record")
   doneReg := (doneReg | completeOH) & ~freeOH
 
   for (c <- 0 until n) {
     val q = outQs(c).io
-    q.enq.valid := pickValidReg && pickClientReg === c.U
+    q.enq.valid := pickValidReg && pickOHReg(c)
     q.enq.bits.data := record(8 * recordBytes(c) - 1, 0)
     q.enq.bits.tag := pickTagReg
     // Impossible by the credit above; checked all the same.

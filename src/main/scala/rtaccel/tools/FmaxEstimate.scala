@@ -11,8 +11,11 @@ import scala.sys.process._
   * datapath units black-boxed inside the control units), then `ltp` finds its
   * longest topological path with flip-flops cut out (`ltp -noff t:FD* %n`, as
   * plain `-noff` does not cut at FDRE) and the cells on it are counted and
-  * turned into ns by a [[DelayModel]]. The longest path by cell count is not
-  * always the slowest one, and placement is unknown: an ESTIMATE.
+  * turned into ns by a [[DelayModel]]. `ltp` ranks paths by cell count, so a
+  * carry chain of many fast CARRY4 cells can hide a slower path of LUTs and
+  * MUXFs with fewer cells: a second `ltp` cuts the CARRY4 cells too, and the
+  * slower of the two paths is the unit's. Even so the slowest path may mix
+  * both kinds and placement is unknown: an ESTIMATE.
   *
   * Also cut (treated as registers): DSP48E1, RAMB and LUTRAM/SRL cells (their
   * internal and read paths are not modelled), I/O buffers and black boxes. A
@@ -55,7 +58,7 @@ object FmaxEstimate {
     val rename = namedTypes.map(t => s"rename -enumerate -pattern c${t}_% t:$t; ").mkString
     val cut = (cutTypes ++ blackboxes.map(b => s"t:$b")).reduceLeft((a, b) => s"$a $b %u")
     s"read_verilog -sv $sv; ${bb}synth_xilinx -family xc7${if (flatten) " -flatten"
-      else ""} -top $top; flatten; stat; ${rename}ltp -noff $cut %n"
+      else ""} -top $top; flatten; stat; ${rename}ltp -noff $cut %n; ltp -noff $cut t:CARRY4 %u %n"
   }
 
   private val pathHead = """Longest topological path in \S+ \(length=(\d+)\):""".r
@@ -66,8 +69,20 @@ object FmaxEstimate {
   def parsePath(log: String, file: String): PathCells = {
     val at = log.lastIndexOf("Longest topological path in")
     require(at >= 0, s"$file: no 'Longest topological path' in the Yosys log")
-    val block = log.substring(at).linesIterator.drop(1).takeWhile(l => l.trim.matches("""\d+:.*""")).toSeq
-    val length = pathHead.findFirstMatchIn(log.substring(at)).map(_.group(1).toInt).get
+    parseBlock(log.substring(at), file)
+  }
+
+  /** Every path `ltp` printed in `log`, in order. */
+  def parsePaths(log: String, file: String): Seq[PathCells] = {
+    val marker = "Longest topological path in"
+    val starts = Iterator.iterate(log.indexOf(marker))(i => log.indexOf(marker, i + 1)).takeWhile(_ >= 0).toSeq
+    require(starts.nonEmpty, s"$file: no 'Longest topological path' in the Yosys log")
+    starts.map(i => parseBlock(log.substring(i), file))
+  }
+
+  private def parseBlock(from: String, file: String): PathCells = {
+    val block = from.linesIterator.drop(1).takeWhile(l => l.trim.matches("""\d+:.*""")).toSeq
+    val length = pathHead.findFirstMatchIn(from).map(_.group(1).toInt).get
     val cells = block.flatMap(l => via.findFirstMatchIn(l).map(_.group(1))).map {
       case typed(t) if namedTypes.contains(t) => t
       case _                                  => "other"
@@ -76,27 +91,31 @@ object FmaxEstimate {
     PathCells(cells)
   }
 
+  /** The slower by `model` of the paths both `ltp` runs found. */
+  def slowest(paths: Seq[PathCells], model: DelayModel): PathCells = paths.maxBy(p => model.pathNs(p.cells))
+
   private def hash(parts: String*): String = {
     val md = MessageDigest.getInstance("SHA-256")
     parts.foreach(p => md.update(p.getBytes("UTF-8")))
     md.digest().take(8).map(b => f"$b%02x").mkString
   }
 
-  /** One cached Yosys run: area and longest path of `top` in `text`. */
+  /** One cached Yosys run: area and slowest path (by `model`) of `top` in `text`. */
   def run(
       cacheDir: Path,
       label: String,
       text: String,
       top: String,
       bb: Seq[String],
-      flatten: Boolean = false
+      flatten: Boolean = false,
+      model: DelayModel = DelayModel.zynq7
   ): (Synth.Area, PathCells) = {
     Files.createDirectories(cacheDir)
     val key = hash(AccelArea.cacheVersion, text, top, bb.mkString(","), script(Path.of("x"), top, bb, flatten))
     val done = cacheDir.resolve(s"fmax-$label-$key.json")
     if (Files.exists(done)) {
       val j = ujson.read(Files.readString(done))
-      (AccelArea.fromJson(j("area")), PathCells(j("path").arr.map(_.str).toSeq))
+      (AccelArea.fromJson(j("area")), slowest(j("paths").arr.map(p => PathCells(p.arr.map(_.str).toSeq)).toSeq, model))
     } else {
       val stem = s"fmax-$label-$key.${ProcessHandle.current().pid()}"
       val sv = cacheDir.resolve(s"$stem.sv")
@@ -105,9 +124,12 @@ object FmaxEstimate {
       val rc = Seq("yosys", "-q", "-l", log.toString, "-p", script(sv, top, bb, flatten)).!(ProcessLogger(_ => ()))
       require(rc == 0, s"yosys failed on $top from $sv (exit $rc); see $log")
       val logText = Files.readString(log)
-      val area = Synth.parseTotal(logText.substring(0, logText.lastIndexOf("Longest topological path in").max(0)), log)
-      val path = parsePath(logText, log.toString)
-      val json = ujson.Obj("area" -> ujson.read(AccelArea.toJson(area)), "path" -> path.cells)
+      val area = Synth.parseTotal(logText.substring(0, logText.indexOf("Longest topological path in").max(0)), log)
+      val paths = parsePaths(logText, log.toString)
+      require(paths.size == 2, s"$log: ${paths.size} ltp paths, expected 2 (with and without carry chains)")
+      val path = slowest(paths, model)
+      val json =
+        ujson.Obj("area" -> ujson.read(AccelArea.toJson(area)), "paths" -> paths.map(p => ujson.Arr.from(p.cells)))
       val tmp = Files.createTempFile(cacheDir, label, ".tmp")
       Files.writeString(tmp, ujson.write(json))
       Files.move(
@@ -156,7 +178,7 @@ object FmaxEstimate {
         )
           .map(_.text).mkString
         label -> Future {
-          val (a, p) = run(cacheDir, m.takeWhile(_ != '_'), text, m, bb)
+          val (a, p) = run(cacheDir, m.takeWhile(_ != '_'), text, m, bb, model = model)
           println(f"fmax: $label: ${p.summary}, ${model.pathNs(p.cells)}%.2f ns")
           Row(label, m, a, p, model.pathNs(p.cells))
         }
@@ -183,7 +205,7 @@ object FmaxEstimate {
     (Seq(
       "## Fmax estimate per unit (ESTIMATE)",
       "",
-      f"Each unit synthesised alone (`synth_xilinx -family xc7`, then flattened; datapath units black-boxed in control units), longest register-to-register path by `ltp -noff t:FD* ... %%n`, cells on it turned into ns by the delay model *${model.name}* (docs/fmax.md) in $seconds%.0f s. Area here is per instance (the table above counts instances); the hierarchy is kept through mapping, so memories are distributed RAM, cut like registers, and LUT counts logic only. No placement or routing: an estimate, not a timing sign-off.",
+      f"Each unit synthesised alone (`synth_xilinx -family xc7`, then flattened; datapath units black-boxed in control units), the slower of two longest register-to-register paths by `ltp -noff t:FD* ... %%n` (by cell count, then with the carry chains cut too), cells on it turned into ns by the delay model *${model.name}* (docs/fmax.md) in $seconds%.0f s. Area here is per instance (the table above counts instances); the hierarchy is kept through mapping, so memories are distributed RAM, cut like registers, and LUT counts logic only. No placement or routing: an estimate, not a timing sign-off.",
       "",
       "| unit | LUT (logic) | FF | DSP48 | BRAM36 | path cells | ns | MHz |",
       "| --- | ---: | ---: | ---: | ---: | --- | ---: | ---: |"

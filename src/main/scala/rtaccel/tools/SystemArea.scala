@@ -61,7 +61,8 @@ object SystemArea {
             inside.map(_.text).mkString,
             m,
             bb.filter(b => inside.exists(_.name == b)),
-            flatten = true
+            flatten = true,
+            model = model
           )
           println(f"system: $u: $a, ${p.summary}, ${model.pathNs(p.cells)}%.2f ns")
           FmaxEstimate.Row(u, m, a, p, model.pathNs(p.cells))

@@ -17,7 +17,7 @@ object UnitArea {
       "| unit | module | LUT | FF | DSP48 | CARRY4 | longest path | ns | MHz |",
       "|---|---|---:|---:|---:|---:|---|---:|---:|"
     ) ++ rows.map { case (label, top, sv) =>
-      val (a, path) = FmaxEstimate.run(EmitVerilog.areaCache, tag, sv, top, Nil)
+      val (a, path) = FmaxEstimate.run(EmitVerilog.areaCache, tag, sv, top, Nil, model = model)
       val ns = model.pathNs(path.cells)
       println(f"$tag-area: $label: ${a.lut} LUT, ${a.ff} FF, ${a.dsp} DSP, ${path.summary}, $ns%.2f ns")
       f"| $label | `$top` | ${a.lut}%,d | ${a.ff}%,d | ${a.dsp}%,d | ${a.carry}%,d | ${path.summary} | $ns%.2f | ${model.mhz(ns)}%.0f |"

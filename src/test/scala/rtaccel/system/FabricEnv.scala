@@ -32,6 +32,10 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
   /** Triangle-client reads, and those the triangle store was loaded to serve. */
   var triRequests, triStoreRequests = 0L
 
+  /** The triangle store's `done` one and two cycles ago: it serves only once `done` has held two cycles (its
+    * limit registers settle), so a read in the first two cycles after the load goes to DRAM. */
+  private var triDoneAgo = (false, false)
+
   for (r <- dut.io.readers) { r.req.valid.poke(false.B); r.resp.ready.poke(false.B) }
   dut.io.write.valid.poke(false.B)
   dut.io.store.start.poke(false.B)
@@ -48,7 +52,9 @@ final class FabricEnv(dut: MemoryFabric, rnd: Random, params: AxiMemoryParams) {
   ): Unit = {
     val storeDone = dut.io.store.done.peek().litToBoolean
     val stored = dut.io.store.storedBytes.peek().litValue.toLong
-    val triDone = dut.io.triStore.done.peek().litToBoolean
+    val triDoneNow = dut.io.triStore.done.peek().litToBoolean
+    val triDone = triDoneNow && triDoneAgo._2
+    triDoneAgo = (triDoneNow, triDoneAgo._1)
     val triStored = dut.io.triStore.storedBytes.peek().litValue.toLong
     val offers = readers.indices.map(offer)
     for ((r, c) <- dut.io.readers.zipWithIndex) {

@@ -57,6 +57,19 @@ class FmaxEstimateSpec extends AnyFlatSpec {
     assert(e.getMessage.contains("empty.log"))
   }
 
+  it should "read both ltp runs and keep the slower path, not the one with more cells" in {
+    // The first run (carry chains kept) reports nine cells of a carry chain; the second (CARRY4 cut) five LUTs.
+    val chain = (Seq("    0: \\r [0]", "    1: $a.X (via cLUT2_1)") ++
+      (2 to 9).map(i => s"    $i: $$a.CO [$i] (via cCARRY4_$i)")).mkString("\n")
+    val luts = (Seq("    0: \\s [0]") ++ (1 to 5).map(i => s"    $i: $$b.f$i (via cLUT6_$i)")).mkString("\n")
+    val two =
+      s"Longest topological path in Top (length=9):\n$chain\n\nLongest topological path in Top (length=5):\n$luts\n\nEnd of script.\n"
+    val paths = FmaxEstimate.parsePaths(two, "two.log")
+    assert(paths.map(_.cells.size) == Seq(9, 5))
+    assert(m.pathNs(paths(1).cells) > m.pathNs(paths(0).cells), "the fixture's LUT path must be the slower")
+    assert(FmaxEstimate.slowest(paths, m) == paths(1))
+  }
+
   "FmaxEstimate.units" should "list FP and datapath units alone, other modules with the datapath black-boxed, and skip plumbing" in {
     def mod(name: String, insts: String*) =
       s"module $name(\n  input a\n);\n" + insts.map(i => s"  $i u_$i (\n    .a (a)\n  );\n").mkString + "endmodule\n\n"
