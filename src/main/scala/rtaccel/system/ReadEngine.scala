@@ -177,63 +177,73 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
     pendIdReg := newSlot
   }
 
-  // ---- R: check the beat against its slot, count it, stage it for the banks ----
+  // ---- R: read the beat's slot into registers, then count it, check it and write it to the banks ----
+  // Two stages. The first reads the slot's state (waiting or not, beats counted, last-beat flag, table entry)
+  // by the beat's ID into the `r1*` registers; the second updates that state, checks the beat and writes the
+  // banks, all from those registers. The 1-of-`slots` read and the update were one path (through the busy and
+  // done bits into the count and the flag, the fabric's longest: 5.83 ns, docs/fmax.md). A beat of the slot
+  // the second stage is updating this cycle reads that update, not the stale registers (forwarded), so beats
+  // of one ID may come back to back. The banks are written in the second stage, as a staged beat was before:
+  // a record completes as early as it did.
   private val rId = io.r.bits.id
   private val rSlot = rId(slotBits - 1, 0)
   private val rMeta = meta(rSlot)
-  private val rCount = countRegs(rSlot)
-  private val rKnown = rId < slots.U && busyReg(rSlot) && !doneReg(rSlot)
-  private val rFinal = finalRegs(rSlot)
-  assert(
-    !(io.r.valid && rKnown) || rFinal === (rCount === rMeta.beats - 1.U),
-    "read_final: a slot's last-beat flag is wrong"
-  )
+  private val r1ValidReg = RegNext(io.r.valid, false.B)
+  private val r1SlotReg = RegEnable(rSlot, io.r.valid)
+  private val r1KnownReg = Reg(Bool())
+  private val r1CountReg = Reg(UInt(countBits.W))
+  private val r1FinalReg = Reg(Bool())
+  private val r1MetaReg = RegEnable(rMeta, io.r.valid)
+  private val r1LastReg = RegEnable(io.r.bits.last, io.r.valid)
+  private val r1OkayReg = RegEnable(io.r.bits.resp === 0.U, io.r.valid)
+  private val r1DataReg = RegEnable(io.r.bits.data, io.r.valid)
   // A beat of a waiting record is kept even with an error, so the record
   // still completes (its client does not hang; `error` tells the host).
-  private val rGood = io.r.valid && rKnown
-  private val completeOH = Mux(rGood && rFinal, UIntToOH(rSlot, slots), 0.U)
-  when(rGood) {
-    countRegs(rSlot) := Mux(rFinal, 0.U, rCount + 1.U)
-    finalRegs(rSlot) := !rFinal && rCount === rMeta.penult
+  private val r1Good = r1ValidReg && r1KnownReg
+  private val nextCount = Mux(r1FinalReg, 0.U, r1CountReg + 1.U)
+  private val nextFinal = !r1FinalReg && r1CountReg === r1MetaReg.penult
+  when(r1Good) {
+    countRegs(r1SlotReg) := nextCount
+    finalRegs(r1SlotReg) := nextFinal
   }
-  // The beat's checks, a cycle later from registers: it ends a burst where its record ends or where the next
-  // beat would start a new 4 KB page, and its response is OKAY. `error` is sticky, so a cycle later is no loss.
-  private val chkValidReg = RegNext(io.r.valid, false.B)
-  private val chkKnownReg = RegNext(rKnown)
-  private val chkFinalReg = RegNext(rFinal)
-  private val chkLastReg = RegNext(io.r.bits.last)
-  private val chkOkayReg = RegNext(io.r.bits.resp === 0.U)
-  private val chkPageReg = RegNext(rMeta.page(pageBits - 1, beatBits))
-  private val chkCountReg = RegNext(rCount)
-  private val chkBeatInPage = chkPageReg +& chkCountReg + 1.U
+  private val completeOH = Mux(r1Good && r1FinalReg, UIntToOH(r1SlotReg, slots), 0.U)
+  assert(
+    !r1Good || r1FinalReg === (r1CountReg === r1MetaReg.beats - 1.U),
+    "read_final: a slot's last-beat flag is wrong"
+  )
+  // The slot's state as the second stage leaves it: its update forwarded to a beat of the same slot.
+  private val sameSlot = r1Good && r1SlotReg === rSlot
+  when(io.r.valid) {
+    // A record's last beat ends its wait (the done bit is set as the stage ends): a further beat is unknown.
+    r1KnownReg := rId < slots.U && Mux(sameSlot, !r1FinalReg, busyReg(rSlot) && !doneReg(rSlot))
+    r1CountReg := Mux(sameSlot, nextCount, countRegs(rSlot))
+    r1FinalReg := Mux(sameSlot, nextFinal, finalRegs(rSlot))
+  }
+  // The beat's checks, from the second stage's registers: it ends a burst where its record ends or where the next
+  // beat would start a new 4 KB page, and its response is OKAY.
+  private val chkBeatInPage = r1MetaReg.page(pageBits - 1, beatBits) +& r1CountReg + 1.U
   private val chkEndsPage = chkBeatInPage(pageBits - beatBits - 1, 0) === 0.U
-  private val chkLastOk = chkLastReg === (chkFinalReg || chkEndsPage)
-  when(chkValidReg && !(chkKnownReg && chkLastOk && chkOkayReg)) { errorReg := true.B }
+  private val chkLastOk = r1LastReg === (r1FinalReg || chkEndsPage)
+  when(r1ValidReg && !(r1KnownReg && chkLastOk && r1OkayReg)) { errorReg := true.B }
 
-  private val wValidReg = RegNext(rGood, false.B)
-  private val wSlotReg = RegEnable(rSlot, rGood)
-  private val wBeatReg = RegEnable(rCount, rGood)
-  private val wOffReg = RegEnable(rMeta.page(beatBits - 1, 0), rGood)
-  private val wDataReg = RegEnable(io.r.bits.data, rGood)
-  private val wFinalReg = RegEnable(rFinal, rGood)
-  private val wClientReg = RegEnable(rMeta.client, rGood)
+  private val r1Off = r1MetaReg.page(beatBits - 1, 0)
 
   private val banks = Seq.fill(chunks)(SyncReadMem(slots, Vec(B, UInt(8.W))))
-  private val rotated = ByteRotate.right(wDataReg, wOffReg).asTypeOf(Vec(B, UInt(8.W)))
+  private val rotated = ByteRotate.right(r1DataReg, r1Off).asTypeOf(Vec(B, UInt(8.W)))
   // Bytes j < B - o of the rotated beat belong to chunk k, the others to chunk k - 1.
-  private val lowMask = VecInit((0 until B).map(j => j.U < (B.U - wOffReg)))
+  private val lowMask = VecInit((0 until B).map(j => j.U < (B.U - r1Off)))
   private val highMask = VecInit(lowMask.map(!_))
   for ((bank, c) <- banks.zipWithIndex) {
-    val own = wBeatReg === c.U
-    val next = wBeatReg === (c + 1).U
-    when(wValidReg && (own || next)) { bank.write(wSlotReg, rotated, Mux(own, lowMask, highMask)) }
+    val own = r1CountReg === c.U
+    val next = r1CountReg === (c + 1).U
+    when(r1Good && (own || next)) { bank.write(r1SlotReg, rotated, Mux(own, lowMask, highMask)) }
   }
 
   // Each slot enters one completion queue once per use, so `slots` entries never overflow.
   private val completions = Seq.fill(n)(Module(new Queue(UInt(slotBits.W), slots)))
   for ((q, c) <- completions.zipWithIndex) {
-    q.io.enq.valid := wValidReg && wFinalReg && wClientReg === c.U
-    q.io.enq.bits := wSlotReg
+    q.io.enq.valid := r1Good && r1FinalReg && r1MetaReg.client === c.U
+    q.io.enq.bits := r1SlotReg
     when(q.io.enq.valid && !q.io.enq.ready) { errorReg := true.B } // impossible (above); checked
     assert(
       !(q.io.enq.valid && !q.io.enq.ready),
