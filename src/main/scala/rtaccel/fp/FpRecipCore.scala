@@ -26,7 +26,10 @@ class FpRecipState(fmt: FloatFormat, plan: FpRecipPlan, dynamicRm: Boolean) exte
   val qc = UInt((p + 2).W)
   val low = UInt((p + 3).W)
   val r = SInt((p + 3).W)
-  val negB = SInt((p + 3).W)
+
+  /** `R = -B` and `R = 0`, tested beside the chain that forms `R`. */
+  val rIsNegB = Bool()
+  val rIsZero = Bool()
 
   /** `R < 0`, `R >= B`, and whether the remainder after that correction is 0. */
   val under = Bool()
@@ -49,8 +52,9 @@ class FpRecipState(fmt: FloatFormat, plan: FpRecipPlan, dynamicRm: Boolean) exte
   * table; per Newton step four (the product `b y` on a DSP48, the error term
   * `2^(p-1+f) - b y` (one carry chain), the product `y E'` on a DSP48, the sum
   * `y + y E'` (one carry chain)); the estimate's product `Qc B` (DSP48), the
-  * remainder `-Qc B` (one chain), its tests and `Qc +- 1` (chains side by
-  * side), the corrected quotient (a select); the rounder's four; the output.
+  * remainder `-Qc B` (one chain, its equality tests with `-B` and 0 beside
+  * it), its other tests and `Qc +- 1` (chains side by side), the corrected
+  * quotient (a select); the rounder's four; the output.
   * FP32: 2 Newton steps, 20 cut points, against the recurrence's 33.
   */
 object FpRecipCore {
@@ -146,9 +150,12 @@ object FpRecipCore {
     c0.y := DontCare
     cut(stage.valid, c0)
 
+    // R = -low (mod 2^(p+3)); R = -B and R = 0 are tested here on `low`, beside the chain (low = B and
+    // low = 0), so the next stage selects registered tests (below).
     val c1 = next(stage.bits)
     c1.r := (0.U((p + 3).W) - stage.bits.low).asSInt
-    c1.negB := (0.U((p + 3).W) - stage.bits.b).asSInt
+    c1.rIsNegB := stage.bits.low === stage.bits.b
+    c1.rIsZero := stage.bits.low === 0.U
     c1.low := DontCare
     cut(stage.valid, c1)
 
@@ -160,11 +167,14 @@ object FpRecipCore {
     val over = r >= bS
     c2.under := under
     c2.over := over
-    c2.exact := Mux(under, r === stage.bits.negB, Mux(over, r === bS, r === 0.S))
+    // Only R = B is compared here: with all three compares behind the selects by `under` and `over`, this
+    // stage was the reciprocal's longest path, 9 cells (3 LUT, 6 MUXF), 5.00 ns.
+    c2.exact := Mux(under, stage.bits.rIsNegB, Mux(over, r === bS, stage.bits.rIsZero))
     c2.qcDown := stage.bits.qc - 1.U
     c2.qcUp := stage.bits.qc + 1.U
     c2.r := DontCare
-    c2.negB := DontCare
+    c2.rIsNegB := DontCare
+    c2.rIsZero := DontCare
     cut(stage.valid, c2)
 
     val c3 = next(stage.bits)
