@@ -54,7 +54,7 @@ object BenchSystemMarkdown {
       "every one checked bit for bit against the golden model.",
       "",
       s"From `make verilog` (`build/verilog/resources.md`, ${v.title}): **$fit cores fit** on the xc7z045, and the",
-      s"**Fmax estimate is ${f(v.fmaxMhz, 1)} MHz** (slowest unit ${v.slowestUnit}; Yosys path length and a delay model, `docs/fmax.md`).",
+      s"**Fmax estimate is ${f(v.fmaxMhz, 1)} MHz** (slowest unit ${v.slowestUnit}; the longest path by a delay model over Yosys's netlist, `docs/fmax.md`).",
       s"The estimate uses ${f(mhz, 0)} MHz (rounded down)."
     ) ++ redrawn(r) ++ Seq(
       "",

@@ -64,9 +64,10 @@ final case class DelayModel(
 
 object DelayModel {
 
-  /** Coarse kind of a Xilinx cell type on a path. */
+  /** Coarse kind of a Xilinx cell type on a path. A distributed RAM's read is a LUT's (its address into its data
+    * output, [[TimingGraph]]). */
   def kind(cell: String): String =
-    if (cell.matches("LUT[1-6]")) "LUT"
+    if (cell.matches("LUT[1-6]") || TimingGraph.isLutRam(cell)) "LUT"
     else if (cell == "MUXF7" || cell == "MUXF8" || cell == "CARRY4") cell
     else "other"
 

@@ -8,22 +8,20 @@ import scala.sys.process._
 
 /** Fmax estimate per unit (docs/fmax.md): each unit of an emitted design is
   * synthesised alone (Yosys 0.23 `synth_xilinx -family xc7`, flattened; the
-  * datapath units black-boxed inside the control units), then `ltp` finds its
-  * longest topological path with flip-flops cut out (`ltp -noff t:FD* %n`, as
-  * plain `-noff` does not cut at FDRE) and the cells on it are counted and
-  * turned into ns by a [[DelayModel]]. `ltp` ranks paths by cell count, so a
-  * carry chain of many fast CARRY4 cells can hide a slower path of LUTs and
-  * MUXFs with fewer cells: a second `ltp` cuts the CARRY4 cells too, and the
-  * slower of the two paths is the unit's. Even so the slowest path may mix
-  * both kinds and placement is unknown: an ESTIMATE.
+  * datapath units black-boxed inside the control units) and written as a JSON
+  * netlist, and [[TimingGraph]] finds its longest register-to-register path
+  * by a [[DelayModel]]'s delay. No placement or routing: an ESTIMATE.
   *
-  * Also cut (treated as registers): DSP48E1, RAMB and LUTRAM/SRL cells (their
-  * internal and read paths are not modelled), I/O buffers and black boxes. A
-  * unit's ports count as register boundaries: within the datapath every unit
-  * input comes from a register or another unit's registered output.
+  * Cut (treated as registers): DSP48E1, block RAM, SRLs, I/O buffers and black
+  * boxes; distributed RAM is read through a LUT arc. A unit's ports count as
+  * register boundaries: within the datapath every unit input comes from a
+  * register or another unit's registered output.
   */
 object FmaxEstimate {
-  final case class PathCells(cells: Seq[String]) {
+
+  /** A path's cell types in order (inverters included), its start and end, and its delay by the model it was found
+    * with. */
+  final case class PathCells(cells: Seq[String], ns: Double = Double.NaN, from: String = "", to: String = "") {
     private def n(p: String => Boolean) = cells.count(p)
     def luts: Int = n(c => DelayModel.kind(c) == "LUT")
     def muxf: Int = n(c => c == "MUXF7" || c == "MUXF8")
@@ -33,14 +31,15 @@ object FmaxEstimate {
     def summary: String =
       s"${cells.size} (${luts} LUT, ${muxf} MUXF, ${carry4} CARRY4${if (inv > 0) s", $inv INV" else ""}${if (other > 0) s", $other other"
         else ""})"
+
+    /** The summary and, when known, where the path starts and ends (as a markdown table cell). */
+    def described: String =
+      if (from.isEmpty && to.isEmpty) summary
+      else s"$summary: `${from.replace("|", "\\|")}` → `${to.replace("|", "\\|")}`"
   }
   final case class Row(unit: String, module: String, area: Synth.Area, path: PathCells, ns: Double) {
     def mhz: Double = 1000.0 / ns
   }
-
-  /** Cell types renamed into the cell names before `ltp`, so that the path it prints names its types. */
-  val namedTypes: Seq[String] = Seq("LUT1", "LUT2", "LUT3", "LUT4", "LUT5", "LUT6", "MUXF7", "MUXF8", "CARRY4", "INV")
-  private val cutTypes = Seq("t:FD*", "t:DSP48E1", "t:RAM*", "t:SRL*", "t:IBUF", "t:OBUF", "t:BUFG")
 
   /** With `flatten`, synth_xilinx flattens before it maps memories: firtool
     * emits each memory as a module with one clock input per port, and Yosys
@@ -51,48 +50,20 @@ object FmaxEstimate {
     * (Vivado infers it either way). The system's units use it
     * ([[SystemArea]]), and so does the core's area ([[AccelArea]]: its
     * control run). The core's Fmax rows keep the hierarchical run: there a
-    * memory is distributed RAM, whose cells cut paths as block RAM's do, and
-    * their area column counts LUTs as logic only. */
-  def script(sv: Path, top: String, blackboxes: Seq[String], flatten: Boolean = false): String = {
+    * memory is distributed RAM, read through its LUTs ([[TimingGraph]]), and
+    * their area column counts LUTs as logic only.
+    *
+    * The netlist is written with `json` on the top alone rather than
+    * `write_json`, which would add the 400-odd cell library modules
+    * synth_xilinx loads (ten times the unit's own netlist). */
+  def script(sv: Path, top: String, blackboxes: Seq[String], flatten: Boolean = false, json: Path): String = {
     val bb = if (blackboxes.isEmpty) "" else s"blackbox ${blackboxes.mkString(" ")}; "
-    val rename = namedTypes.map(t => s"rename -enumerate -pattern c${t}_% t:$t; ").mkString
-    val cut = (cutTypes ++ blackboxes.map(b => s"t:$b")).reduceLeft((a, b) => s"$a $b %u")
     s"read_verilog -sv $sv; ${bb}synth_xilinx -family xc7${if (flatten) " -flatten"
-      else ""} -top $top; flatten; stat; ${rename}ltp -noff $cut %n; ltp -noff $cut t:CARRY4 %u %n"
+      else ""} -top $top; flatten; stat; json -o $json $top"
   }
 
-  private val pathHead = """Longest topological path in \S+ \(length=(\d+)\):""".r
-  private val via = """\(via (\S+)\)""".r
-  private val typed = """^c([A-Z0-9]+)_\d+$""".r
-
-  /** The cells on the path `ltp` printed last in `log`, by type ("other" for unnamed cells). */
-  def parsePath(log: String, file: String): PathCells = {
-    val at = log.lastIndexOf("Longest topological path in")
-    require(at >= 0, s"$file: no 'Longest topological path' in the Yosys log")
-    parseBlock(log.substring(at), file)
-  }
-
-  /** Every path `ltp` printed in `log`, in order. */
-  def parsePaths(log: String, file: String): Seq[PathCells] = {
-    val marker = "Longest topological path in"
-    val starts = Iterator.iterate(log.indexOf(marker))(i => log.indexOf(marker, i + 1)).takeWhile(_ >= 0).toSeq
-    require(starts.nonEmpty, s"$file: no 'Longest topological path' in the Yosys log")
-    starts.map(i => parseBlock(log.substring(i), file))
-  }
-
-  private def parseBlock(from: String, file: String): PathCells = {
-    val block = from.linesIterator.drop(1).takeWhile(l => l.trim.matches("""\d+:.*""")).toSeq
-    val length = pathHead.findFirstMatchIn(from).map(_.group(1).toInt).get
-    val cells = block.flatMap(l => via.findFirstMatchIn(l).map(_.group(1))).map {
-      case typed(t) if namedTypes.contains(t) => t
-      case _                                  => "other"
-    }
-    require(cells.size == length, s"$file: ltp reported length $length but ${cells.size} cells were parsed")
-    PathCells(cells)
-  }
-
-  /** The slower by `model` of the paths both `ltp` runs found. */
-  def slowest(paths: Seq[PathCells], model: DelayModel): PathCells = paths.maxBy(p => model.pathNs(p.cells))
+  /** Bumped when the path search or the cached fields change, so that older cache entries are not read. */
+  val cacheVersion = "fmax-delay-v1"
 
   private def hash(parts: String*): String = {
     val md = MessageDigest.getInstance("SHA-256")
@@ -100,7 +71,19 @@ object FmaxEstimate {
     md.digest().take(8).map(b => f"$b%02x").mkString
   }
 
-  /** One cached Yosys run: area and slowest path (by `model`) of `top` in `text`. */
+  private def pathJson(p: PathCells): ujson.Value =
+    ujson.Obj("cells" -> ujson.Arr.from(p.cells), "ns" -> p.ns, "from" -> p.from, "to" -> p.to)
+  private def pathOf(j: ujson.Value): PathCells =
+    PathCells(j("cells").arr.map(_.str).toSeq, j("ns").num, j("from").str, j("to").str)
+
+  /** The longest path by `model` of `top` in the Yosys JSON netlist at `json`. */
+  def longestPath(json: Path, top: String, model: DelayModel): PathCells = {
+    val p = TimingGraph.longest(ujson.read(ujson.Readable.fromPath(json)), top, model)
+    PathCells(p.cells, p.ns, p.from, p.to)
+  }
+
+  /** One cached Yosys run: area and longest path by `model`'s delay of `top` in `text`. The model is part of the
+    * cache key: the path it picks depends on its figures. */
   def run(
       cacheDir: Path,
       label: String,
@@ -111,25 +94,31 @@ object FmaxEstimate {
       model: DelayModel = DelayModel.zynq7
   ): (Synth.Area, PathCells) = {
     Files.createDirectories(cacheDir)
-    val key = hash(AccelArea.cacheVersion, text, top, bb.mkString(","), script(Path.of("x"), top, bb, flatten))
+    val key = hash(
+      AccelArea.cacheVersion,
+      cacheVersion,
+      model.toString,
+      text,
+      top,
+      bb.mkString(","),
+      script(Path.of("x"), top, bb, flatten, Path.of("y"))
+    )
     val done = cacheDir.resolve(s"fmax-$label-$key.json")
     if (Files.exists(done)) {
       val j = ujson.read(Files.readString(done))
-      (AccelArea.fromJson(j("area")), slowest(j("paths").arr.map(p => PathCells(p.arr.map(_.str).toSeq)).toSeq, model))
+      (AccelArea.fromJson(j("area")), pathOf(j("path")))
     } else {
       val stem = s"fmax-$label-$key.${ProcessHandle.current().pid()}"
       val sv = cacheDir.resolve(s"$stem.sv")
       val log = cacheDir.resolve(s"$stem.yosys.log")
+      val netlist = cacheDir.resolve(s"$stem.netlist.json")
       Files.writeString(sv, text)
-      val rc = Seq("yosys", "-q", "-l", log.toString, "-p", script(sv, top, bb, flatten)).!(ProcessLogger(_ => ()))
+      val rc =
+        Seq("yosys", "-q", "-l", log.toString, "-p", script(sv, top, bb, flatten, netlist)).!(ProcessLogger(_ => ()))
       require(rc == 0, s"yosys failed on $top from $sv (exit $rc); see $log")
-      val logText = Files.readString(log)
-      val area = Synth.parseTotal(logText.substring(0, logText.indexOf("Longest topological path in").max(0)), log)
-      val paths = parsePaths(logText, log.toString)
-      require(paths.size == 2, s"$log: ${paths.size} ltp paths, expected 2 (with and without carry chains)")
-      val path = slowest(paths, model)
-      val json =
-        ujson.Obj("area" -> ujson.read(AccelArea.toJson(area)), "paths" -> paths.map(p => ujson.Arr.from(p.cells)))
+      val area = Synth.parseTotal(Files.readString(log), log)
+      val path = longestPath(netlist, top, model)
+      val json = ujson.Obj("area" -> ujson.read(AccelArea.toJson(area)), "path" -> pathJson(path))
       val tmp = Files.createTempFile(cacheDir, label, ".tmp")
       Files.writeString(tmp, ujson.write(json))
       Files.move(
@@ -139,6 +128,7 @@ object FmaxEstimate {
         java.nio.file.StandardCopyOption.ATOMIC_MOVE
       )
       Files.deleteIfExists(sv)
+      Files.deleteIfExists(netlist)
       (area, path)
     }
   }
@@ -179,8 +169,8 @@ object FmaxEstimate {
           .map(_.text).mkString
         label -> Future {
           val (a, p) = run(cacheDir, m.takeWhile(_ != '_'), text, m, bb, model = model)
-          println(f"fmax: $label: ${p.summary}, ${model.pathNs(p.cells)}%.2f ns")
-          Row(label, m, a, p, model.pathNs(p.cells))
+          println(f"fmax: $label: ${p.described}, ${p.ns}%.2f ns")
+          Row(label, m, a, p, p.ns)
         }
       }
       futures.map { case (_, f) => Await.result(f, Duration.Inf) }
@@ -201,13 +191,13 @@ object FmaxEstimate {
   def markdown(rows: Seq[Row], model: DelayModel, seconds: Double): String = {
     val worst = rows.maxBy(_.ns)
     def line(r: Row) =
-      f"| ${r.unit} | ${r.area.lut}%,d | ${r.area.ff}%,d | ${r.area.dsp}%,d | ${r.area.bram36}%.1f | ${r.path.summary} | ${r.ns}%.2f | ${r.mhz}%.0f |"
+      f"| ${r.unit} | ${r.area.lut}%,d | ${r.area.ff}%,d | ${r.area.dsp}%,d | ${r.area.bram36}%.1f | ${r.path.described} | ${r.ns}%.2f | ${r.mhz}%.0f |"
     (Seq(
       "## Fmax estimate per unit (ESTIMATE)",
       "",
-      f"Each unit synthesised alone (`synth_xilinx -family xc7`, then flattened; datapath units black-boxed in control units), the slower of two longest register-to-register paths by `ltp -noff t:FD* ... %%n` (by cell count, then with the carry chains cut too), cells on it turned into ns by the delay model *${model.name}* (docs/fmax.md) in $seconds%.0f s. Area here is per instance (the table above counts instances); the hierarchy is kept through mapping, so memories are distributed RAM, cut like registers, and LUT counts logic only. No placement or routing: an estimate, not a timing sign-off.",
+      f"Each unit synthesised alone (`synth_xilinx -family xc7`, then flattened; datapath units black-boxed in control units), the longest register-to-register path by the delay model *${model.name}* over its mapped netlist (docs/fmax.md) in $seconds%.0f s. Area here is per instance (the table above counts instances); the hierarchy is kept through mapping, so memories are distributed RAM (read through their LUTs) and LUT counts logic only. No placement or routing: an estimate, not a timing sign-off.",
       "",
-      "| unit | LUT (logic) | FF | DSP48 | BRAM36 | path cells | ns | MHz |",
+      "| unit | LUT (logic) | FF | DSP48 | BRAM36 | path cells: from → to | ns | MHz |",
       "| --- | ---: | ---: | ---: | ---: | --- | ---: | ---: |"
     ) ++
       rows.map(line) ++

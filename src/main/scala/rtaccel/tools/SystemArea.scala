@@ -64,8 +64,8 @@ object SystemArea {
             flatten = true,
             model = model
           )
-          println(f"system: $u: $a, ${p.summary}, ${model.pathNs(p.cells)}%.2f ns")
-          FmaxEstimate.Row(u, m, a, p, model.pathNs(p.cells))
+          println(f"system: $u: $a, ${p.described}, ${p.ns}%.2f ns")
+          FmaxEstimate.Row(u, m, a, p, p.ns)
         }
       }
       futures.map(Await.result(_, Duration.Inf))
@@ -83,7 +83,7 @@ object SystemArea {
     )
     rows.foreach(r =>
       println(
-        f"| ${r.unit} | ${r.area.lutSites}%,d | ${r.area.ff}%,d | ${r.area.dsp}%,d | ${r.area.bram36}%.1f | ${r.area.lutMemory}%,d | ${r.path.summary} | ${r.ns}%.2f | ${r.mhz}%.0f |"
+        f"| ${r.unit} | ${r.area.lutSites}%,d | ${r.area.ff}%,d | ${r.area.dsp}%,d | ${r.area.bram36}%.1f | ${r.area.lutMemory}%,d | ${r.path.described} | ${r.ns}%.2f | ${r.mhz}%.0f |"
       )
     )
   }
@@ -131,10 +131,10 @@ object SystemArea {
           else "copies"} " +
         s"(dual-ported; ${if (cores > 2 * storeCopies) "the cores share its two ports" else "a port per core"}). ESTIMATE, as above.",
       "",
-      "| unit | LUT | FF | DSP48 | BRAM36 | LUT as memory | path cells | ns | MHz |",
+      "| unit | LUT | FF | DSP48 | BRAM36 | LUT as memory | path cells: from → to | ns | MHz |",
       "| --- | ---: | ---: | ---: | ---: | ---: | --- | ---: | ---: |"
     ) ++
-      rows.map(r => f"| ${r.unit} | ${cells(r.area)} | ${r.path.summary} | ${r.ns}%.2f | ${r.mhz}%.0f |") ++
+      rows.map(r => f"| ${r.unit} | ${cells(r.area)} | ${r.path.described} | ${r.ns}%.2f | ${r.mhz}%.0f |") ++
       Seq(
         s"| **system units** | ${cells(own)} | | | |",
         s"| $cores x core (table above) | ${cells(coresArea)} | | | |",

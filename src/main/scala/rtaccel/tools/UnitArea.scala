@@ -3,9 +3,9 @@ package rtaccel.tools
 import java.nio.file.{Files, Path}
 
 /** A few units, each synthesised alone (Yosys 0.23 `synth_xilinx -family
-  * xc7` per top, flattened for `ltp -noff`; cached in build/area-cache), as a
-  * markdown table of area and longest register-to-register path under the
-  * delay model of docs/fmax.md. Used by the `make grid-area` and
+  * xc7` per top, flattened; cached in build/area-cache), as a markdown table
+  * of area and longest register-to-register path by the delay model of
+  * docs/fmax.md. Used by the `make grid-area` and
   * `make recip-area` pages.
   */
 object UnitArea {
@@ -18,8 +18,8 @@ object UnitArea {
       "|---|---|---:|---:|---:|---:|---|---:|---:|"
     ) ++ rows.map { case (label, top, sv) =>
       val (a, path) = FmaxEstimate.run(EmitVerilog.areaCache, tag, sv, top, Nil, model = model)
-      val ns = model.pathNs(path.cells)
-      println(f"$tag-area: $label: ${a.lut} LUT, ${a.ff} FF, ${a.dsp} DSP, ${path.summary}, $ns%.2f ns")
+      val ns = path.ns
+      println(f"$tag-area: $label: ${a.lut} LUT, ${a.ff} FF, ${a.dsp} DSP, ${path.described}, $ns%.2f ns")
       f"| $label | `$top` | ${a.lut}%,d | ${a.ff}%,d | ${a.dsp}%,d | ${a.carry}%,d | ${path.summary} | $ns%.2f | ${model.mhz(ns)}%.0f |"
     }
   }
@@ -29,7 +29,7 @@ object UnitArea {
     val t0 = System.nanoTime()
     val lines = table(tag, rows)
     val md = (Seq(s"# $title", "") ++ intro ++ Seq(
-      "Yosys 0.23 `synth_xilinx -family xc7` per top, flattened for `ltp -noff`; delay model:",
+      "Yosys 0.23 `synth_xilinx -family xc7` per top, flattened; longest path by the delay model:",
       f"${DelayModel.zynq7.name} (docs/fmax.md). ${(System.nanoTime() - t0) / 1e9}%.0f s.",
       ""
     ) ++ lines).mkString("\n") + "\n"

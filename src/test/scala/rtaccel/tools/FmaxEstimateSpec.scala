@@ -2,7 +2,7 @@ package rtaccel.tools
 
 import org.scalatest.flatspec.AnyFlatSpec
 
-/** The Fmax estimate's arithmetic and its reading of Yosys's `ltp` output (no Yosys run). */
+/** The Fmax estimate's delay model and its timing pass over hand-written Yosys JSON netlists (no Yosys run). */
 class FmaxEstimateSpec extends AnyFlatSpec {
   private val m = DelayModel.zynq7
 
@@ -29,45 +29,165 @@ class FmaxEstimateSpec extends AnyFlatSpec {
     assert(math.abs(m.pathNs(Seq("LUT6", "INV", "CARRY4")) - m.pathNs(Seq("LUT6", "CARRY4"))) < 1e-9)
   }
 
-  private val log =
-    """Longest topological path in Top (length=4):
-      |    0: \a [3]
-      |    1: $abc$1.f0 (via cLUT6_0)
-      |    2: $abc$2.f0 (via cMUXF7_12)
-      |    3: $auto$alu.CO [3] (via cCARRY4_7)
-      |    4: \b (via $flatten\x.$abc$9)
-      |
-      |End of script.
-      |""".stripMargin
+  // A hand-written Yosys JSON netlist: bit 1 is the clock, every other bit an int of the caller's; unconnected
+  // carry outputs take fresh bits from 1000 up. Nets are named n<bit>.
+  private type Pins = Seq[(String, Seq[Any])]
+  private var fresh = 1000
+  private def spare(n: Int) = (0 until n).map { _ => fresh += 1; fresh }
+  private def ff(name: String, d: Int, q: Int) =
+    ("FDRE", name, Seq("C" -> Seq(1), "D" -> Seq(d), "Q" -> Seq(q), "CE" -> Seq("1"), "R" -> Seq("0")))
+  private def lut(name: String, ins: Seq[Int], o: Int) =
+    (s"LUT${ins.size}", name, ins.zipWithIndex.map { case (b, i) => s"I$i" -> Seq[Any](b) } :+ ("O" -> Seq(o)))
+  private def carry(name: String, ci: Any, s: Seq[Any], o: Seq[Any] = spare(4), co: Seq[Any] = spare(4)) =
+    (
+      "CARRY4",
+      name,
+      Seq("CI" -> Seq(ci), "CYINIT" -> Seq("0"), "DI" -> Seq("0", "0", "0", "0"), "S" -> s, "O" -> o, "CO" -> co)
+    )
+  private def mux(t: String, name: String, i0: Int, i1: Int, sel: Int, o: Int) =
+    (t, name, Seq("I0" -> Seq(i0), "I1" -> Seq(i1), "S" -> Seq(sel), "O" -> Seq(o)))
+  // LUT -> MUXF7 -> MUXF8 from bit `in` to bit in + 3, the muxes selected by `sel`.
+  private def wideLevel(name: String, in: Int, sel: Int) = Seq(
+    lut(s"${name}_lut", Seq(in), in + 1),
+    mux("MUXF7", s"${name}_f7", in + 1, in + 1, sel, in + 2),
+    mux("MUXF8", s"${name}_f8", in + 2, in + 2, sel, in + 3)
+  )
+  private def isOut(t: String, p: String) =
+    Set("Q", "O", "CO", "SPO", "DPO", "P")(p) || (t.startsWith("RAM") && p.startsWith("DO"))
+  private def netlist(cells: (String, String, Pins)*): ujson.Value = {
+    def bits(v: Seq[Any]) = ujson.Arr.from(v.map {
+      case i: Int    => ujson.Num(i)
+      case s: String => ujson.Str(s)
+    })
+    val used = cells.flatMap(_._3.flatMap(_._2)).collect { case i: Int => i }.distinct
+    ujson.Obj("modules" -> ujson.Obj("top" -> ujson.Obj(
+      "ports" -> ujson.Obj("clock" -> ujson.Obj("direction" -> "input", "bits" -> ujson.Arr(1))),
+      "cells" -> ujson.Obj.from(cells.map { case (t, name, pins) =>
+        name -> ujson.Obj(
+          "type" -> t,
+          "port_directions" -> ujson.Obj.from(pins.map { case (p, _) =>
+            p -> ujson.Str(if (isOut(t, p)) "output" else "input")
+          }),
+          "connections" -> ujson.Obj.from(pins.map { case (p, v) => p -> bits(v) })
+        )
+      }),
+      "netnames" -> ujson.Obj.from(used.map(b => s"n$b" -> ujson.Obj("hide_name" -> 0, "bits" -> ujson.Arr(b))))
+    )))
+  }
+  private def longest(cells: (String, String, Pins)*) = TimingGraph.longest(netlist(cells: _*), "top", m)
 
-  "FmaxEstimate.parsePath" should "read the cell types ltp printed, in order, unnamed cells as other" in {
-    val p = FmaxEstimate.parsePath(log, "test.log")
-    assert(p.cells == Seq("LUT6", "MUXF7", "CARRY4", "other"))
-    assert((p.luts, p.muxf, p.carry4, p.other) == ((1, 1, 1, 1)))
+  "TimingGraph.longest" should "find a mixed LUT and carry path with fewer cells than the longest by count, with or without carry chains" in {
+    val chain = Seq(ff("a", 2, 10), lut("c0", Seq(10), 11)) ++ (0 until 10).map { i =>
+      carry(
+        s"k$i",
+        if (i == 0) "0" else 100 + i - 1,
+        Seq(if (i == 0) 11 else "1", "1", "1", "1"),
+        co = Seq(spare(3): _*) :+ (100 + i)
+      )
+    } ++ Seq(carry("k10", 109, Seq("1", "1", "1", "1"), o = 12 +: spare(3)), ff("b", 12, 13))
+    // Two LUT -> MUXF7 -> MUXF8 levels: six cells, fewer than the chain's; the longest path without carry chains.
+    val wide = (ff("c", 2, 20) +: wideLevel("w0", 20, 20)) ++ wideLevel("w1", 23, 20) :+ ff("d", 26, 27)
+    // LUT, carry, LUT, carry: four cells, slower than either.
+    val mixed = Seq(
+      ff("e", 2, 30),
+      lut("x0", Seq(30), 31),
+      carry("x1", "0", Seq(31, "1", "1", "1"), o = 32 +: spare(3)),
+      lut("x2", Seq(32), 33),
+      carry("x3", "0", Seq(33, "1", "1", "1"), o = 34 +: spare(3)),
+      ff("f", 34, 35)
+    )
+    val chainCells = "LUT1" +: Seq.fill(11)("CARRY4")
+    val wideCells = Seq("LUT1", "MUXF7", "MUXF8", "LUT1", "MUXF7", "MUXF8")
+    val byCountNs = m.pathNs(chainCells) max m.pathNs(wideCells)
+    val p = longest(chain ++ wide ++ mixed: _*)
+    assert(p.cells == Seq("LUT1", "CARRY4", "LUT1", "CARRY4"))
+    assert(p.cells.size < wideCells.size && wideCells.size < chainCells.size)
+    assert(math.abs(p.ns - m.pathNs(p.cells)) < 1e-9)
+    assert(p.ns > byCountNs + 0.3, s"${p.ns} against the paths by count's $byCountNs")
+    assert((p.from, p.to) == (("n30", "n35")))
   }
 
-  it should "refuse a log whose path length disagrees with the cells it lists" in {
-    val bad = log.replace("length=4", "length=5")
-    val e = intercept[IllegalArgumentException](FmaxEstimate.parsePath(bad, "bad.log"))
-    assert(e.getMessage.contains("bad.log"))
+  it should "price a chain as DelayModel.pathNs prices its cell list" in {
+    // LUT into S of the first slice, CO[3] into CI twice, out of the last slice's O[2].
+    val carryChain = longest(
+      ff("a", 2, 10),
+      lut("l", Seq(10, 10), 11),
+      carry("k0", "0", Seq("1", "1", "1", 11), co = spare(3) :+ 12),
+      carry("k1", 12, Seq("1", "1", "1", "1"), co = spare(3) :+ 13),
+      carry("k2", 13, Seq("1", "1", "1", "1"), o = Seq(spare(2)(0), spare(1)(0), 14, spare(1)(0))),
+      ff("b", 14, 15)
+    )
+    assert(carryChain.cells == Seq("LUT2", "CARRY4", "CARRY4", "CARRY4"))
+    assert(math.abs(carryChain.ns - m.pathNs(carryChain.cells)) < 1e-9)
+    val muxes = longest((ff("a", 2, 10) +: wideLevel("w", 10, 10)) ++ Seq(
+      lut("l1", Seq(13), 14),
+      ("INV", "i", Seq("I" -> Seq(14), "O" -> Seq(15))),
+      carry("k", "0", Seq(15, "1", "1", "1"), o = 16 +: spare(3)),
+      ff("b", 16, 17)
+    ): _*)
+    assert(muxes.cells == Seq("LUT1", "MUXF7", "MUXF8", "LUT1", "INV", "CARRY4"))
+    assert(math.abs(muxes.ns - m.pathNs(muxes.cells)) < 1e-9)
   }
 
-  it should "refuse a log without a path, naming the file" in {
-    val e = intercept[IllegalArgumentException](FmaxEstimate.parsePath("nothing", "empty.log"))
-    assert(e.getMessage.contains("empty.log"))
+  it should "route a MUXF7's select and a carry's CI from anything but the previous slice's CO[3]" in {
+    val sel = longest(ff("a", 2, 10), lut("l", Seq(10), 11), mux("MUXF7", "f7", 10, 10, 11, 12), ff("b", 12, 13))
+    assert(math.abs(sel.ns - (m.tcko + m.setup + 2 * m.net + m.lut + m.muxf7)) < 1e-9)
+    val ci = longest(
+      ff("a", 2, 10),
+      lut("l", Seq(10), 11),
+      carry("k0", "0", Seq(11, "1", "1", "1"), co = Seq(spare(1)(0), 12) ++ spare(2)),
+      carry("k1", 12, Seq("1", "1", "1", "1"), o = 14 +: spare(3)),
+      ff("b", 14, 15)
+    )
+    val routed = m.tcko + m.setup + 2 * m.net + m.lut + m.carryIn + m.carryBypass + m.carryOut
+    assert(math.abs(ci.ns - routed) < 1e-9, "CO[1] into CI leaves the slice")
   }
 
-  it should "read both ltp runs and keep the slower path, not the one with more cells" in {
-    // The first run (carry chains kept) reports nine cells of a carry chain; the second (CARRY4 cut) five LUTs.
-    val chain = (Seq("    0: \\r [0]", "    1: $a.X (via cLUT2_1)") ++
-      (2 to 9).map(i => s"    $i: $$a.CO [$i] (via cCARRY4_$i)")).mkString("\n")
-    val luts = (Seq("    0: \\s [0]") ++ (1 to 5).map(i => s"    $i: $$b.f$i (via cLUT6_$i)")).mkString("\n")
-    val two =
-      s"Longest topological path in Top (length=9):\n$chain\n\nLongest topological path in Top (length=5):\n$luts\n\nEnd of script.\n"
-    val paths = FmaxEstimate.parsePaths(two, "two.log")
-    assert(paths.map(_.cells.size) == Seq(9, 5))
-    assert(m.pathNs(paths(1).cells) > m.pathNs(paths(0).cells), "the fixture's LUT path must be the slower")
-    assert(FmaxEstimate.slowest(paths, m) == paths(1))
+  it should "read distributed RAM through its address as a LUT, and end paths at its write pins" in {
+    def ram(addr: Int, we: Int, di: Int, out: Int) = (
+      "RAM64M",
+      "mem",
+      Seq(
+        "WCLK" -> Seq(1),
+        "WE" -> Seq(we),
+        "ADDRA" -> Seq(addr, addr, addr, addr, addr, addr),
+        "ADDRD" -> Seq("0", "0", "0", "0", "0", "0"),
+        "DIA" -> Seq(di),
+        "DOA" -> Seq(out)
+      )
+    )
+    val read = longest(
+      ff("a", 2, 10),
+      lut("l0", Seq(10), 11),
+      ram(11, 10, 10, 12),
+      lut("l1", Seq(12), 13),
+      ff("b", 13, 14)
+    )
+    assert(read.cells == Seq("LUT1", "RAM64M", "LUT1"))
+    assert(math.abs(read.ns - (m.tcko + m.setup + 3 * (m.net + m.lut))) < 1e-9)
+    assert(FmaxEstimate.PathCells(read.cells).luts == 3, "a distributed RAM's read counts as a LUT")
+    // Only the write side: a LUT into the data input is a path that ends there.
+    val write = longest(ff("a", 2, 10), lut("l0", Seq(10), 11), ram(10, 10, 11, 12))
+    assert(math.abs(write.ns - (m.tcko + m.setup + m.net + m.lut)) < 1e-9)
+    assert(write.to == "n11 (RAM64M.DIA)")
+  }
+
+  it should "cut paths at a DSP48E1, starting and ending them there" in {
+    val dsp = ("DSP48E1", "mul", Seq("CLK" -> Seq(1), "A" -> Seq(11, 11), "P" -> Seq(12, 13)))
+    val p = longest(ff("a", 2, 10), lut("l0", Seq(10), 11), dsp, lut("l1", Seq(13), 14), ff("b", 14, 15))
+    assert(p.cells == Seq("LUT1"))
+    assert(Set(p.from, p.to).exists(_.contains("DSP48E1")))
+  }
+
+  it should "refuse a combinational loop, naming a cell on it" in {
+    val e = intercept[IllegalArgumentException](longest(
+      ff("a", 2, 10),
+      lut("ring0", Seq(10, 12), 11),
+      lut("ring1", Seq(11), 12),
+      ff("b", 12, 13)
+    ))
+    assert(e.getMessage.contains("combinational loop"), e.getMessage)
+    assert(e.getMessage.contains("ring0") || e.getMessage.contains("ring1"), e.getMessage)
   }
 
   "FmaxEstimate.units" should "list FP and datapath units alone, other modules with the datapath black-boxed, and skip plumbing" in {
@@ -84,7 +204,7 @@ class FmaxEstimateSpec extends AnyFlatSpec {
     ))
   }
 
-  "FmaxEstimate.units" should "synthesise the grid box unit whole and black-box it in the control, as it does the box lanes" in {
+  it should "synthesise the grid box unit whole and black-box it in the control, as it does the box lanes" in {
     def mod(name: String, insts: String*) =
       s"module $name(\n  input clock\n);\n" + insts.zipWithIndex.map { case (m, i) =>
         s"  $m u_$i (\n  );\n"
