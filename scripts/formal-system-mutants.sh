@@ -50,12 +50,12 @@ if [ "$which" != probes ]; then
   maybe_mutant done_early "SystemCore finishes one B response early: DONE before the last hit is written" \
     "/^module SystemCore(/,/^endmodule/s/    \& (raysDoneReg == countReg | /    \& (raysDoneReg + 32'h1 == countReg | /" \
     "    & (raysDoneReg == countReg | " batch_conservation_1
-  maybe_mutant slot_freed_twice "ReadEngine never pops client 0's completion queue: the same slot is picked and freed again" \
-    "/^module ReadEngine(/,/^endmodule/s/\.io_deq_ready (_arb_io_in_0_ready \& credit),/.io_deq_ready (1'b0),/" \
-    ".io_deq_ready (_arb_io_in_0_ready & credit)," read_slot_freed_once_1
-  maybe_mutant slot_taken_busy "ReadEngine's free-slot search ignores the busy slots: a request takes a slot in use" \
-    "/^module ReadEngine(/,/^endmodule/s/wire \[2:0\]   \(_GEN_[0-9]*\) = ~busyReg;/wire [2:0]   \1 = 3'h7;/" \
-    " = ~busyReg;" read_slot_taken_once_1
+  maybe_mutant slot_freed_twice "ReadEngine never pops the scene loader's head (client 2): the same slot is granted, picked and freed again" \
+    "/^module ReadEngine(/,/^endmodule/s/    \.io_deq_ready (take_2),/    .io_deq_ready (1'b0),/" \
+    "    .io_deq_ready (take_2)," read_slot_freed_once_1
+  maybe_mutant slot_taken_busy "ReadEngine keeps its drawn slot when a request takes it: the next request takes the same slot, still in use" \
+    "/^module ReadEngine(/,/^endmodule/s/_pool_io_alloc_ready_T_2 = meta_MPORT_en | ~freeValidReg;/_pool_io_alloc_ready_T_2 = ~freeValidReg;/" \
+    "_pool_io_alloc_ready_T_2 = meta_MPORT_en | ~freeValidReg;" read_slot_taken_once_1
   maybe_mutant tag_kept "RayDma never marks a block tag busy: a second block goes out with the tag in flight" \
     "/^module RayDma(/,/^endmodule/s/& ~(_taken_T ? 2'h1 << ~(freeReg\[0\]) : 2'h0);/;/" \
     "& ~(_taken_T ? 2'h1 << ~(freeReg[0]) : 2'h0);" ray_block_once_1
