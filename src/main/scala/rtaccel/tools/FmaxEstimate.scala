@@ -47,11 +47,11 @@ object FmaxEstimate {
     * clock differs from the write port's, so hierarchically every such
     * memory is read asynchronously and lands in LUTRAM whatever its size.
     * Flattened, the ports share the one clock and block RAM is inferred
-    * (Vivado infers it either way). The system's units use it
-    * ([[SystemArea]]), and so does the core's area ([[AccelArea]]: its
-    * control run). The core's Fmax rows keep the hierarchical run: there a
-    * memory is distributed RAM, read through its LUTs ([[TimingGraph]]), and
-    * their area column counts LUTs as logic only.
+    * (Vivado infers it either way). Every Fmax row uses it (the system's
+    * units, [[SystemArea]], and the core's, [[measure]]), and so does the
+    * core's area ([[AccelArea]]: its control run): a memory is timed as the
+    * kind Vivado builds, block RAM with its own clock-to-out or distributed
+    * RAM read through its LUTs ([[TimingGraph]]).
     *
     * The netlist is written with `json` on the top alone rather than
     * `write_json`, which would add the 400-odd cell library modules
@@ -168,7 +168,7 @@ object FmaxEstimate {
         )
           .map(_.text).mkString
         label -> Future {
-          val (a, p) = run(cacheDir, m.takeWhile(_ != '_'), text, m, bb, model = model)
+          val (a, p) = run(cacheDir, m.takeWhile(_ != '_'), text, m, bb, flatten = true, model = model)
           println(f"fmax: $label: ${p.described}, ${p.ns}%.2f ns")
           Row(label, m, a, p, p.ns)
         }
@@ -195,7 +195,7 @@ object FmaxEstimate {
     (Seq(
       "## Fmax estimate per unit (ESTIMATE)",
       "",
-      f"Each unit synthesised alone (`synth_xilinx -family xc7`, then flattened; datapath units black-boxed in control units), the longest register-to-register path by the delay model *${model.name}* over its mapped netlist (docs/fmax.md) in $seconds%.0f s. Area here is per instance (the table above counts instances); the hierarchy is kept through mapping, so memories are distributed RAM (read through their LUTs) and LUT counts logic only. No placement or routing: an estimate, not a timing sign-off.",
+      f"Each unit synthesised alone (`synth_xilinx -family xc7`, then flattened; datapath units black-boxed in control units), the longest register-to-register path by the delay model *${model.name}* over its mapped netlist (docs/fmax.md) in $seconds%.0f s. Area here is per instance (the table above counts instances); flattened before memory mapping, so memories are block RAM or distributed RAM as Vivado infers them, timed as such; the LUT column counts logic LUTs (the table above adds those that hold memory). No placement or routing: an estimate, not a timing sign-off.",
       "",
       "| unit | LUT (logic) | FF | DSP48 | BRAM36 | path cells: from → to | ns | MHz |",
       "| --- | ---: | ---: | ---: | ---: | --- | ---: | ---: |"

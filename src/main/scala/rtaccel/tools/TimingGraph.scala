@@ -31,7 +31,11 @@ import scala.collection.mutable
   *    address pin reaches its port's data output as a LUT arc (ADDRx to DOx,
   *    A* to SPO or O, DPRA* to DPO); its data outputs also start paths (the
   *    written contents, launched by the write clock at `tcko`), and every
-  *    input but the clock (data, write enable, write address) ends one.
+  *    input but the clock (data, write enable, write address) ends one;
+  *  - block RAM (`RAMB36E1`, `RAMB18E1`) cuts paths with its own figures: its
+  *    data outputs launch at `bramTcko`, or `bramTckoReg` on a port whose
+  *    output register is on (`DOA_REG`, `DOB_REG`), and its inputs capture
+  *    with `bramSetup`.
   */
 object TimingGraph {
 
@@ -42,13 +46,15 @@ object TimingGraph {
       val name: String,
       val typ: String,
       val conns: Map[String, Array[Int]],
-      val outputs: Set[String]
+      val outputs: Set[String],
+      val params: Map[String, BigInt]
   )
 
   private val lutType = "LUT[1-6]".r
 
   /** Distributed RAM: a LUT read by its address, written on the clock. */
   def isLutRam(typ: String): Boolean = typ.startsWith("RAM") && !typ.startsWith("RAMB")
+  private def isBram(typ: String): Boolean = typ.startsWith("RAMB")
   private def isFlop(typ: String): Boolean = typ.startsWith("FD")
   private def isComb(typ: String): Boolean =
     lutType.matches(typ) || typ == "MUXF7" || typ == "MUXF8" || typ == "CARRY4" || typ == "INV"
@@ -72,7 +78,12 @@ object TimingGraph {
         name,
         c("type").str,
         c("connections").obj.iterator.map { case (p, v) => p -> bits(v) }.toMap,
-        dirs.collect { case (p, d) if d.str == "output" => p }.toSet
+        dirs.collect { case (p, d) if d.str == "output" => p }.toSet,
+        // Yosys writes an integer parameter as a string of binary digits (or a number).
+        c.obj.get("parameters").fold(Map.empty[String, BigInt])(_.obj.iterator.collect {
+          case (k, ujson.Num(v))                            => k -> BigInt(v.toLong)
+          case (k, ujson.Str(v)) if v.matches("[01]{1,64}") => k -> BigInt(v, 2)
+        }.toMap)
       )
     }.toArray
     val ports = mod("ports").obj.iterator.map { case (p, v) => (p, v("direction").str, bits(v("bits"))) }.toSeq
@@ -164,6 +175,13 @@ object TimingGraph {
       val t = cells(drvCell(b)).typ
       !isComb(t) // flip-flops, distributed RAM's written contents, cutting cells
     })
+    // A block RAM output leaves its port's output register (`DOx_REG` = 1) or its array, slower than a flip-flop.
+    def launch(b: Int): Double = drvCell(b) match {
+      case d if d >= 0 && isBram(cells(d).typ) =>
+        val reg = if (drvPort(b).startsWith("DOPB") || drvPort(b).startsWith("DOB")) "DOB_REG" else "DOA_REG"
+        if (cells(d).params.get(reg).contains(BigInt(1))) model.bramTckoReg else model.bramTcko
+      case _ => model.tcko
+    }
     def inputsOf(b: Int): Array[(Int, Double)] =
       if (drvCell(b) < 0) Array.empty
       else {
@@ -200,7 +218,7 @@ object TimingGraph {
             else if (state(ib) == 1) loop(stackBits.toSeq, ib)
           } else {
             val b = stackBits(top)
-            var best = if (isStart(b)) model.tcko else Double.NegativeInfinity
+            var best = if (isStart(b)) launch(b) else Double.NegativeInfinity
             var from = -1
             for ((ib, d) <- ins) {
               val t = arrival(ib) + d
@@ -217,8 +235,8 @@ object TimingGraph {
     var worst = Double.NegativeInfinity
     var worstBit = -1
     var worstTo = ""
-    def end(b: Int, label: => String): Unit = if (b >= 0) {
-      val t = visit(b) + model.setup
+    def end(b: Int, label: => String, setup: Double = model.setup): Unit = if (b >= 0) {
+      val t = visit(b) + setup
       if (t > worst) { worst = t; worstBit = b; worstTo = label }
     }
     for ((p, dir, bs) <- ports if dir == "output"; (b, i) <- bs.zipWithIndex)
@@ -232,7 +250,7 @@ object TimingGraph {
         }
         else if (c.typ == "OBUF") name(bitAt(c, "O", 0)) // the output port
         else s"${name(bs(i))} (${c.typ}.$p)"
-      for ((b, i) <- bs.zipWithIndex) end(b, label(i))
+      for ((b, i) <- bs.zipWithIndex) end(b, label(i), if (isBram(c.typ)) model.bramSetup else model.setup)
     }
     require(worstBit >= 0, s"$top: no register-to-register path in the netlist")
 

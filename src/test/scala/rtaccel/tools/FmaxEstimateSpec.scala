@@ -172,6 +172,22 @@ class FmaxEstimateSpec extends AnyFlatSpec {
     assert(write.to == "n11 (RAM64M.DIA)")
   }
 
+  it should "launch a block RAM's outputs at its own clock-to-out (by its output register) and capture with its setup" in {
+    def bram(reg: Int) = {
+      val ram = ("RAMB36E1", "bram", Seq("CLKARDCLK" -> Seq(1), "ADDRARDADDR" -> Seq(11), "DOADO" -> Seq(12)))
+      val j = netlist(ff("a", 2, 10), lut("l0", Seq(10), 11), ram, lut("l1", Seq(12), 13), ff("b", 13, 14))
+      j("modules")("top")("cells")("bram")("parameters") = ujson.Obj("DOA_REG" -> ("0" * 31 + reg.toString))
+      TimingGraph.longest(j, "top", m)
+    }
+    val bare = bram(0)
+    assert(bare.cells == Seq("LUT1") && bare.from == "n12 (RAMB36E1.DOADO)", bare)
+    assert(math.abs(bare.ns - (m.bramTcko + m.setup + m.net + m.lut)) < 1e-9)
+    // With the output register on, the read launches nearly as a flip-flop does: the path into the address is longer.
+    val registered = bram(1)
+    assert(registered.to == "n11 (RAMB36E1.ADDRARDADDR)", registered)
+    assert(math.abs(registered.ns - (m.tcko + m.bramSetup + m.net + m.lut)) < 1e-9)
+  }
+
   it should "cut paths at a DSP48E1, starting and ending them there" in {
     val dsp = ("DSP48E1", "mul", Seq("CLK" -> Seq(1), "A" -> Seq(11, 11), "P" -> Seq(12, 13)))
     val p = longest(ff("a", 2, 10), lut("l0", Seq(10), 11), dsp, lut("l1", Seq(13), 14), ff("b", 14, 15))
