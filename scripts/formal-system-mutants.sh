@@ -48,8 +48,8 @@ fi
 if [ "$which" != probes ]; then
   # With a mutant's name as the third argument, only that one runs.
   maybe_mutant done_early "SystemCore finishes one B response early: DONE before the last hit is written" \
-    "/^module SystemCore(/,/^endmodule/s/    \& (raysDoneReg == countReg | /    \& (raysDoneReg + 32'h1 == countReg | /" \
-    "    & (raysDoneReg == countReg | " batch_conservation_1
+    "/^module SystemCore(/,/^endmodule/s/ \& raysDoneReg == countReg;/ \& raysDoneReg + 32'h1 == countReg;/" \
+    " & raysDoneReg == countReg;" batch_conservation_1
   maybe_mutant slot_freed_twice "ReadEngine never pops the scene loader's head (client 2): the same slot is granted, picked and freed again" \
     "/^module ReadEngine(/,/^endmodule/s/    \.io_deq_ready (take_2),/    .io_deq_ready (1'b0),/" \
     "    .io_deq_ready (take_2)," read_slot_freed_once_1
@@ -75,8 +75,8 @@ if [ "$which" != probes ]; then
     "/^module RayDma(/,/^endmodule/s/assign io_rays_valid = _q_io_deq_valid \& ~io_stop;/assign io_rays_valid = ~io_stop;/" \
     "assign io_rays_valid = _q_io_deq_valid & ~io_stop;" hit_after_fetch_1
   maybe_mutant ray_skip "RayDma ends a block after its third ray: the fourth ray of a full block is never handed out (lost)" \
-    "/^module RayDma(/,/^endmodule/s/wire \( *\)last = subReg == \(_GEN_[0-9]*\) | io_stop/wire \1last = subReg == 2'h2 | subReg == \2 | io_stop/" \
-    "last = subReg == _GEN_" system_ray_conservation_1
+    "/^module RayDma(/,/^endmodule/s/wire \( *\)last = subReg == _q_io_deq_bits_lastSub | io_stop/wire \1last = subReg == 2'h2 | subReg == _q_io_deq_bits_lastSub | io_stop/" \
+    "last = subReg == _q_io_deq_bits_lastSub | io_stop" system_ray_conservation_1
   maybe_mutant hit_drop "HitDma takes ray 0's hit from the core but never queues its line (alone or paired): the hit is lost" \
     "/^module HitDma(/,/^endmodule/s/= fValidReg | s2ValidReg \& s2InBatchReg \& ~store;/= fValidReg | s2ValidReg \& s2InBatchReg \& ~store \& (|s2HitReg_number);/" \
     "= fValidReg | s2ValidReg & s2InBatchReg & ~store;" system_ray_conservation_1
@@ -87,8 +87,8 @@ fi
 if [ "$which" != probes ]; then
   case_=w1; cdepth=$(awk '$1=="w1"{print $2}' "$dir/system-cases.txt"); formal_wrap "$dir" w1
   maybe_mutant window_read "WindowGuard forwards every read burst to m_axi, inside the window or not" \
-    "/^module WindowGuard(/,/^endmodule/s/\(io_out_ar_valid_0 = _ar_q_io_deq_valid\) \& arOk \& ~fakeRValidReg;/\1 \& ~fakeRValidReg;/" \
-    "io_out_ar_valid_0 = _ar_q_io_deq_valid & arOk & ~fakeRValidReg;" window_kept_1
+    "/^module WindowGuard(/,/^endmodule/s/\(assign io_out_ar_valid = _ar_q_io_deq_valid\) \& arOk \& ~fakeRValidReg;/\1 \& ~fakeRValidReg;/" \
+    "assign io_out_ar_valid = _ar_q_io_deq_valid & arOk & ~fakeRValidReg;" window_kept_1
 fi
 # The system's units alone (make formal-system-units; FormalSystemUnits.scala), each to its own depth
 # (system-units.txt): the four properties no system mutant reaches within the system depth are shown able to fail here.
@@ -102,8 +102,8 @@ if [ "$which" != probes ]; then
     "/^module RayDma(/,/^endmodule/s/blockOfTag_0 <= issuedReg;/blockOfTag_0 <= issuedReg + 32'h1;/" \
     "blockOfTag_0 <= issuedReg;" raydma_after_block_1 raydma_bounded_response_1
   maybe_mutant ray_skip_unit "RayDma ends a block after its third ray: the fourth ray of a full block is lost" \
-    "/^module RayDma(/,/^endmodule/s/wire \( *\)_last_T = subReg == \(_GEN_[0-9]*\);/wire \1_last_T = subReg == 2'h2 | subReg == \2;/" \
-    "_last_T = subReg == _GEN_" raydma_bounded_response_1
+    "/^module RayDma(/,/^endmodule/s/wire \( *\)_last_T = subReg == _q_io_deq_bits_lastSub;/wire \1_last_T = subReg == 2'h2 | subReg == _q_io_deq_bits_lastSub;/" \
+    "_last_T = subReg == _q_io_deq_bits_lastSub;" raydma_bounded_response_1
   case_=hitdma; cdepth=$(unit_depth hitdma); formal_wrap "$dir" hitdma
   maybe_mutant hit_count_short "HitDma latches RAY_COUNT - 1: the batch's last hit is out of its batch" \
     "/^module HitDma(/,/^endmodule/s/countReg <= io_rayCount;/countReg <= io_rayCount - 32'h1;/" \

@@ -39,9 +39,9 @@ object SystemUnitBound {
     * the hit queue's lines (FIFO, <= hitQueue - 1 ahead) and the pair buffer's flush, a scan of one slot a cycle,
     * each slot's line leaving within W + 1 (W: writeStall); the slice's register 1; the decision stage's 1; the
     * queue's register 1; the all-taken register 1 (the flush starts a cycle after the last hit is counted); the
-    * flush's stage 1; the monitor 1. */
+    * scan's read register 1; the flush's stage 1; the monitor 1. */
   def hitDma(sys: SystemConfig, e: UnitEnv): Int =
-    (HitDma.InSlice + 1 + sys.hitQueue + sys.pairSlots) * (writeStall(e) + 1) + 6
+    (HitDma.InSlice + 1 + sys.hitQueue + sys.pairSlots) * (writeStall(e) + 1) + 7
 
   /** HitDma takes a hit offered within W + 1 cycles (a full queue's head leaves by then, the input slice's head
     * into it the cycle after) + 1 (the slice's room shows the cycle after its head leaves) + 1 + 1. */

@@ -79,7 +79,7 @@ object SystemCase {
         hd + 8,
         deep = true,
         terms =
-          s"after the batch's last hit: (input slice ${HitDma.InSlice} + decision stage 1 + hit queue ${sys2.hitQueue} + pair slots ${sys2.pairSlots}) x (writer refusals ${SystemUnitBound.writeStall(e)} + 1) + 6"
+          s"after the batch's last hit: (input slice ${HitDma.InSlice} + decision stage 1 + hit queue ${sys2.hitQueue} + pair slots ${sys2.pairSlots}) x (writer refusals ${SystemUnitBound.writeStall(e)} + 1) + 7"
       ),
       // bmc3's frames on this harness double from frame 15 (frame 18: 130 s of CPU), so BMC stops at 18, short of
       // the bound (its bounded response is VACUOUS there, the log says so); the safety properties hold to 18.

@@ -19,7 +19,7 @@ import rtaccel.{ErrorFlags, HitOut}
   * empty slot). Once every hit of the batch has been taken, a scan visits the
   * slots one a cycle, and what still waits there (a partner that had left
   * alone) leaves alone as the scan reaches it, so the batch's last record is
-  * written at most `pairSlots` + 2 cycles after its last hit (and the hit
+  * written at most `pairSlots` + 3 cycles after its last hit (and the hit
   * queue's refusals).
   * A stopped batch (ABORT, a fault: `stop`, `issued` rays handed out and no
   * more to come) flushes the same way once its `issued` hits are taken: a
@@ -68,6 +68,9 @@ class HitDma(sys: SystemConfig) extends Module {
   private val records = Mem(slots, UInt(HitDma.UsedBits.W))
   // A held hit's line address, formed as it is stored, so that no adder follows the flush's slot read.
   private val lines = Mem(slots, UInt(sys.axiAddrBits.W))
+  // A held hit's number again, read by S1's slot alone for the partner compare: through the shared read's select
+  // (the flush's slot or S1's) the records' read and the compare were 5.24 ns at 256 slots.
+  private val numbers = Mem(slots, UInt(32.W))
   private def slotOf(number: UInt): UInt = if (slots == 1) 0.U else (number >> 1)(slotBits - 1, 0)
   private def line(number: UInt): UInt = baseReg + ((number >> 1) << log2Ceil(WriteRecord.Bytes))
 
@@ -77,18 +80,31 @@ class HitDma(sys: SystemConfig) extends Module {
   // 3 cores (docs/fmax.md). Cleared by START, so a new batch never sees the last one's.
   private val allTaken = RegNext(!io.start && (takenReg === countReg || (io.stop && takenReg === io.issued)), false.B)
 
-  // S2: a hit, its line, and its slot as S1 read it (held, and the held record), forwarded from S2's own action in
-  // the cycle S1 read it.
+  // S2: a hit, its line, and its slot as S1 read it (held, and the held record), with S2's own action in the cycle
+  // S1 read it beside them (`s2FwdReg`: S2 stored or took the hit of the same slot; `s2FwdStoreReg`: stored it),
+  // which S2 applies: S1 registers its reads raw, so that the held bits' multiplexer (256 inputs at 3 or 4 cores)
+  // ends in a register with no select behind it.
   private val s2ValidReg = RegInit(false.B)
   private val s2HitReg = Reg(new HitOut(sys.core))
   private val s2LineReg = Reg(UInt(sys.axiAddrBits.W))
-  private val s2HeldReg = Reg(Bool())
+  private val s2HeldRawReg = Reg(Bool())
+  private val s2FwdReg = Reg(Bool())
+  private val s2FwdStoreReg = Reg(Bool())
   private val s2HeldRecReg = Reg(UInt(HitDma.UsedBits.W))
+  // Whether the slot's record (as read, and S2's own hit forwarded) is this hit's partner, compared in S1 (in S2 the
+  // compare lay in front of the held bits' clear and the hit queue's fields, 4.94 ns at 128 slots).
+  private val s2PartnerReadReg = Reg(Bool())
+  private val s2PartnerFwdReg = Reg(Bool())
   // The hit's two compares with RAY_COUNT, made in S1 (COUNT is set by START, before any hit of its batch): in S2
   // they would lie in front of the held bits' write decode (7.6 ns at 128 slots).
   private val s2InBatchReg = Reg(Bool())
   private val s2NoPartnerReg = Reg(Bool())
-  // F2: the flush's next waiting slot, read by F1 (the scan, one slot a cycle) and held until its line leaves.
+  // F1: the scan's slot (one a cycle) and its held bit, read from the held bits by `scanReg` alone.
+  private val f1ValidReg = RegInit(false.B)
+  private val f1SlotReg = Reg(UInt(slotBits.max(1).W))
+  private val f1HeldReg = Reg(Bool())
+  private val f1ClearedReg = Reg(Bool()) // F2 cleared F1's slot in the cycle F1 read it
+  // F2: the flush's next waiting slot, from F1, with its record and line, held until its line leaves.
   private val fValidReg = RegInit(false.B)
   private val fSlotReg = Reg(UInt(slotBits.max(1).W))
   private val fRecReg = Reg(UInt(HitDma.UsedBits.W))
@@ -100,12 +116,9 @@ class HitDma(sys: SystemConfig) extends Module {
   private val rec = HitDma.used(h)
   private val slot = slotOf(h.number)
   private val inBatch = s2InBatchReg
-  private val heldNumber = s2HeldRecReg(31, 0)
-  // The held hit shares the slot's bits with this one's pair by construction: its partner differs in bit 0 only,
-  // so the compare reads the bits above the slot's and bit 0.
-  private val partnered = s2HeldReg && heldNumber(31, slotBits + 1) === h.number(31, slotBits + 1) &&
-    heldNumber(0) =/= h.number(0)
-  private val store = !s2HeldReg && !s2NoPartnerReg
+  private val s2Held = Mux(s2FwdReg, s2FwdStoreReg, s2HeldRawReg)
+  private val partnered = s2Held && Mux(s2FwdReg, s2PartnerFwdReg, s2PartnerReadReg)
+  private val store = !s2Held && !s2NoPartnerReg
   private val flushing = fValidReg
 
   // Hit queue: a record is enqueued only when it has room (valid/ready); a stored hit enqueues nothing.
@@ -137,6 +150,7 @@ class HitDma(sys: SystemConfig) extends Module {
   when(s2Stores) {
     heldRegs(slot) := true.B
     records.write(slot, rec)
+    numbers.write(slot, h.number)
     lines.write(slot, s2LineReg)
   }
 
@@ -146,10 +160,12 @@ class HitDma(sys: SystemConfig) extends Module {
   private val in = inQ.io.deq
   private val s1Slot = slotOf(in.bits.number)
   in.ready := !s2ValidReg || s2Fire
-  // One read of the buffer a cycle, shared: the scan's slot once every hit of the batch is taken (S1 then holds no
-  // hit of the batch, and S2 drops what it reads), else the head hit's.
-  private val readSlot = Mux(allTaken, scanReg, s1Slot)
-  private val readHeld = heldRegs(readSlot)
+  // One read of the record and line memories a cycle, shared: F1's slot once every hit of the batch is taken (S1
+  // then holds no hit of the batch, and S2 drops what it reads), else the head hit's. The held bits have a read of
+  // their own for each (S1's here, the scan's below): one shared read's select in front of the held bits'
+  // multiplexer was on the unit's longest path (docs/fmax.md).
+  private val readSlot = Mux(allTaken, f1SlotReg, s1Slot)
+  private val readHeld = heldRegs(s1Slot)
   private val readRec = records(readSlot)
   private val readLine = lines(readSlot)
   private val fwd = (s2Stores || s2Clears) && slot === s1Slot
@@ -158,26 +174,44 @@ class HitDma(sys: SystemConfig) extends Module {
     s2LineReg := line(in.bits.number)
     s2InBatchReg := in.bits.number < countReg
     s2NoPartnerReg := (in.bits.number ^ 1.U) >= countReg
-    s2HeldReg := Mux(fwd, s2Stores, readHeld)
+    s2HeldRawReg := readHeld
+    s2FwdReg := fwd
+    s2FwdStoreReg := s2Stores
     s2HeldRecReg := Mux(fwd && s2Stores, rec, readRec)
+    // The held hit shares the slot's bits with this one's pair by construction: its partner differs in bit 0 only,
+    // so the compare reads the bits above the slot's and bit 0. Both candidates (the slot as read, S2's own hit)
+    // are compared side by side; S2 picks one by the forward.
+    def partner(held: UInt): Bool =
+      held(31, slotBits + 1) === in.bits.number(31, slotBits + 1) && held(0) =/= in.bits.number(0)
+    s2PartnerReadReg := partner(numbers(s1Slot))
+    s2PartnerFwdReg := partner(rec)
   }
   when(in.fire) { s2ValidReg := true.B }.elsewhen(s2Fire) { s2ValidReg := false.B }
 
-  // ---- The flush: F1 scans a slot a cycle into F2, F2's line leaves ----
+  // ---- The flush: F1 scans a slot a cycle, F2 takes its record and line, F2's line leaves ----
   // The scan, from a register, so that no search for the first waiting slot (a 256-input tree) lies between the
-  // pair buffer and its own clear. No hit of the batch comes while all are taken, so only the flush clears a slot
-  // then; F1 reads another slot than F2's except with one slot, where F2's clear this cycle is forwarded.
+  // pair buffer and its own clear; its held bit is read into F1 and taken by F2 a cycle later, so the held bits'
+  // multiplexer ends in a register and F2's handshake does not follow it (in one cycle, 6.37 ns at 256 slots).
+  // No hit of the batch comes while all are taken, so only the flush clears a slot then, and only in a cycle in
+  // which F2's line leaves, which is also the only cycle in which a full F1 moves on: F2's clear in that cycle is
+  // forwarded to F1's read and to F2's load (the same slot with one or two slots), so neither keeps a stale bit.
   private val fFire = flushing && q.io.enq.fire
   when(fFire) { heldRegs(fSlotReg) := false.B }
   private val fRoom = !fValidReg || fFire
-  private val scanHeld = readHeld && !(fFire && fSlotReg === scanReg)
-  when(allTaken && fRoom) {
-    fValidReg := scanHeld
-    fSlotReg := scanReg
+  private val f1Room = !f1ValidReg || fRoom
+  when(allTaken && f1Room) {
+    f1ValidReg := true.B
+    f1SlotReg := scanReg
+    f1HeldReg := heldRegs(scanReg)
+    f1ClearedReg := fFire && fSlotReg === scanReg
+  }.elsewhen(!allTaken) { f1ValidReg := false.B }
+  if (slots > 1) when(allTaken && f1Room) { scanReg := scanReg + 1.U }
+  when(allTaken && f1ValidReg && fRoom) {
+    fValidReg := f1HeldReg && !f1ClearedReg && !(fFire && fSlotReg === f1SlotReg)
+    fSlotReg := f1SlotReg
     fRecReg := readRec
     fLineReg := readLine
   }.elsewhen(fFire) { fValidReg := false.B }
-  if (slots > 1) when(allTaken && fRoom) { scanReg := scanReg + 1.U }
   io.write <> q.io.deq
   io.errCount := errReg
   io.broken := brokenReg

@@ -121,8 +121,50 @@ class MemoryFabric(
   }
 
   // ---- Requests: store hits aside, the rest round-robin to the engine ----
-  private val arb =
-    Module(new RoundRobinArbiter(new ReadReq(p.addrBits, log2Ceil(readers.size).max(1), tagBits), readers.size))
+  private val clientBits = log2Ceil(readers.size).max(1)
+  // Each client's DRAM request (its store misses), into the clients' round-robin arbiter.
+  private val dramReqs = Wire(Vec(readers.size, Decoupled(new ReadReq(p.addrBits, clientBits, tagBits))))
+  private val granted: DecoupledIO[ReadReq] =
+    if (readers.size <= MemoryFabric.DirectGrantClients) {
+      val arb = Module(new RoundRobinArbiter(new ReadReq(p.addrBits, clientBits, tagBits), readers.size))
+      arb.io.in <> dramReqs
+      arb.io.out
+    } else {
+      // With more clients the grant lands in a register (one-hot, `grantOHReg`) and the granted client's request in
+      // that client's own register (`reqRegs`, loaded by its own grant bit): no select follows the grant in its
+      // cycle. The next cycle selects the granted request (an AND-OR of the request registers by the one-hot grant).
+      // The grant and the request fields' select in one cycle were the fabric's longest path with 6 and 8 clients,
+      // 5.24 and 5.53 ns (docs/fmax.md). A new grant is made only while the grant stage is empty or hands its
+      // request on in this cycle, so no granted request is overwritten: each is handed on once, when it is taken
+      // (valid/ready). The arbiter grants only: the granted request is taken into its client's register beside it.
+      val arb = Module(new RoundRobinArbiter(UInt(1.W), readers.size))
+      val out = Wire(Decoupled(new ReadReq(p.addrBits, clientBits, tagBits)))
+      val grantValidReg = RegInit(false.B)
+      val grantOHReg = RegInit(0.U(readers.size.W))
+      val reqRegs = Reg(Vec(readers.size, new ReadReq(p.addrBits, clientBits, tagBits)))
+      for ((q, i) <- dramReqs.zipWithIndex) {
+        arb.io.in(i).valid := q.valid
+        arb.io.in(i).bits := 0.U
+        q.ready := arb.io.in(i).ready
+        when(arb.io.in(i).fire) { reqRegs(i) := q.bits }
+      }
+      val grantRoom = !grantValidReg || out.ready
+      arb.io.out.ready := grantRoom
+      when(grantRoom) {
+        grantValidReg := arb.io.out.valid
+        grantOHReg := VecInit(arb.io.in.map(_.fire)).asUInt
+      }
+      out.valid := grantValidReg
+      out.bits.addr := Mux1H(grantOHReg, reqRegs.map(_.addr))
+      out.bits.tag := Mux1H(grantOHReg, reqRegs.map(_.tag))
+      out.bits.client := OHToUInt(grantOHReg)
+      out
+    }
+  // A two-entry slice (one request a cycle) between the clients' arbiter and the engine: the arbiter's choice,
+  // the request fields' select and the engine's beat count and ready were one path, the fabric's longest
+  // (docs/fmax.md). A read pays one cycle for it, and one more for the registered grant with more than
+  // `DirectGrantClients` clients (MemoryFabric.requestStages); a store hit passes neither.
+  engine.io.req <> Queue(granted, 2)
   private val toStore = Wire(Vec(readers.size, Bool()))
   for ((r, i) <- io.readers.zipWithIndex) {
     val hit = served(i).map { case (s, k) =>
@@ -133,11 +175,11 @@ class MemoryFabric(
       s.hit(k)
     }.getOrElse(false.B)
     toStore(i) := hit
-    arb.io.in(i).valid := r.req.valid && !hit
-    arb.io.in(i).bits.addr := r.req.bits.addr
-    arb.io.in(i).bits.client := i.U
-    arb.io.in(i).bits.tag := r.req.bits.tag
-    r.req.ready := Mux(hit, served(i).map { case (s, k) => s.req(k).ready }.getOrElse(false.B), arb.io.in(i).ready)
+    dramReqs(i).valid := r.req.valid && !hit
+    dramReqs(i).bits.addr := r.req.bits.addr
+    dramReqs(i).bits.client := i.U
+    dramReqs(i).bits.tag := r.req.bits.tag
+    r.req.ready := Mux(hit, served(i).map { case (s, k) => s.req(k).ready }.getOrElse(false.B), dramReqs(i).ready)
 
     // Responses: the engine's and the store's, round-robin.
     served(i) match {
@@ -156,10 +198,6 @@ class MemoryFabric(
         engine.io.resp(i).ready := r.resp.ready
     }
   }
-  // A two-entry slice (one request a cycle) between the clients' arbiter and the engine: the arbiter's choice,
-  // the request fields' select and the engine's beat count and ready were one path, the fabric's longest
-  // (docs/fmax.md). A read pays one cycle for it; a store hit does not pass here.
-  engine.io.req <> Queue(arb.io.out, 2)
 
   // ---- AR: the engine's bursts and the stores' fills, through a queue so the payload holds while arvalid waits ----
   private val fills = store.map(_.io.ar).toSeq ++ triStore.map(_.io.ar)
@@ -212,12 +250,15 @@ class MemoryFabric(
   io.stats.readBeats := PerfCounter(io.axi.r.fire.asUInt)
   io.stats.writeBeats := PerfCounter(io.axi.w.fire.asUInt)
   io.stats.arStallCycles := PerfCounter((io.axi.ar.valid && !io.axi.ar.ready).asUInt)
-  // The events are registered before they are counted: a request's handshake comes through the client
-  // arbiter from the read engine's ready, and that chain ending in the count's add was the fabric's longest
-  // path (docs/fmax.md). The counts run a cycle behind.
+  // The events are registered before they are counted, and their count is registered before it is added: a
+  // request's handshake comes through the clients' grant, and that chain ending in the events' count or the
+  // count's add was the fabric's longest path (docs/fmax.md). The counts run two cycles behind.
   private def counted(events: Seq[Bool]): UInt = {
-    val eventsReg = RegInit(0.U(log2Ceil(events.size + 1).W))
-    eventsReg := PopCount(events)
+    val fired = if (events.isEmpty) Seq(false.B) else events
+    val firedReg = RegInit(0.U(fired.size.W))
+    firedReg := VecInit(fired).asUInt
+    val eventsReg = RegInit(0.U(log2Ceil(fired.size + 1).W))
+    eventsReg := PopCount(firedReg)
     PerfCounter(eventsReg)
   }
   io.stats.nodeStoreHits := counted(nodeIdx.map(i => io.readers(i).req.fire && toStore(i)))
@@ -227,4 +268,16 @@ class MemoryFabric(
   when(strayFill) { strayReg := true.B }
   io.axiError := engine.io.error || writer.io.error || store.map(_.io.error).getOrElse(false.B) ||
     triStore.map(_.io.error).getOrElse(false.B) || strayReg
+}
+
+object MemoryFabric {
+
+  /** Clients up to which the clients' round-robin grant and the request's select into the slice are one cycle (four:
+    * one core's, as in the formal system); with more (two cores and up), the grant is registered first: at six
+    * clients the one cycle was 5.24 ns, at eight 5.53 ns (docs/fmax.md). */
+  val DirectGrantClients = 4
+
+  /** Cycles a DRAM read spends between the clients' arbiter and the read engine: the slice, and the grant register
+    * with more than [[DirectGrantClients]] clients. */
+  def requestStages(clients: Int): Int = if (clients > DirectGrantClients) 2 else 1
 }

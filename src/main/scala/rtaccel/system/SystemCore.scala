@@ -113,13 +113,23 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   // never early.
   private val raysDoneReg = RegInit(0.U(32.W))
   private val raysDone = raysDoneReg
+  // The two 32-bit equalities behind the finish, each compared from registers and registered (a cycle later
+  // again): compared in the finish's cycle, the done count's compare with RAY_COUNT ran through the finish into
+  // the batch's flags, 5.83 ns (docs/fmax.md). Both are false in the cycle after START (cleared by it), so a new
+  // batch never sees the last one's. Each holds late, never early: `allDoneReg` because the done count never
+  // passes RAY_COUNT; `issuedDoneReg` because it is taken only in a cycle that hands out no ray, so the
+  // issued count it compared is still this cycle's, and the done count never passes the issued one.
+  private val allDoneReg = RegInit(false.B)
+  private val issuedDoneReg = RegInit(false.B)
+  allDoneReg := !start && raysDoneReg === countReg
+  issuedDoneReg := !start && raysDoneReg === issuedReg && !rayDma.io.rays.fire
 
   /** The batch stops handing out rays: ABORT, or a fault that makes its hits untrustworthy. */
   private val stopping = stopReg || fabric.io.axiError || windowErrReg
   // Stopped: every ray handed out has its hit written (each ray handed out gives exactly one hit record).
-  private val stopped = stopping && rayDma.io.idle && raysDone === issuedReg
+  private val stopped = stopping && rayDma.io.idle && issuedDoneReg
   private val watchdogFired = Wire(Bool())
-  private val finish = activeReg && (raysDone === countReg || stopped || watchdogFired)
+  private val finish = activeReg && (allDoneReg || stopped || watchdogFired)
   raysDoneReg := Mux(start, 0.U, fabric.io.writesDone - writesBaseReg)
   when(start) {
     activeReg := true.B; doneReg := false.B; abortedReg := false.B; stopReg := false.B; issuedReg := 0.U
@@ -129,7 +139,7 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   when(rayDma.io.rays.fire) { issuedReg := issuedReg + 1.U }
   when(finish) {
     activeReg := false.B
-    doneReg := raysDone === countReg && !stopping && !watchdogFired
+    doneReg := allDoneReg && !stopping && !watchdogFired
     abortedReg := stopping && !watchdogFired
   }
   when(guard.io.refused =/= 0.U) {
@@ -150,7 +160,7 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   when(softResetReg) {
     activeReg := false.B; doneReg := false.B; brokenReg := false.B; stopReg := false.B; abortedReg := false.B
     timeoutReg := false.B; windowErrReg := false.B; refusedReg := 0.U; faultAddrReg := 0.U; writesBaseReg := 0.U
-    issuedReg := 0.U; watchReg := 0.U; raysDoneReg := 0.U
+    issuedReg := 0.U; watchReg := 0.U; raysDoneReg := 0.U; allDoneReg := false.B; issuedDoneReg := false.B
   }
 
   loader.io.start := load
@@ -228,7 +238,10 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   // since CLEAR_COUNTERS, a cycle later.
   private def sum(f: rtaccel.PerfCounters => UInt): UInt =
     RegNext(cores.map(c => f(c.io.perf)).reduce(_ + _), 0.U(64.W))
-  private def count(event: Bool): UInt = PerfCounter(event.asUInt)
+  // m_axi's events are registered before they are counted (a cycle behind, as the sums above): a W or AR handshake
+  // comes through WindowGuard's window compare, and that chain ending in the count's add was SystemCore's longest
+  // path, 5.24 ns (docs/fmax.md).
+  private def count(event: Bool): UInt = PerfCounter(RegNext(event, false.B).asUInt)
   private val a = io.axi
   private val cyclesReg = RegInit(0.U(64.W))
   when(start || softResetReg) { cyclesReg := 0.U }.elsewhen(activeReg) { cyclesReg := cyclesReg + 1.U }

@@ -79,10 +79,15 @@ class WindowGuard(p: Axi4Params) extends Module {
     h.a.addr >= io.base && (h.end <= io.limit || (io.limit === 0.U && h.end <= top.U))
   }
   // Outstanding real bursts: at most the fabric's read slots plus fill bursts; 16 bits never wrap.
-  private def outstanding(issue: Bool, retire: Bool): UInt = {
+  // None outstanding: the count and a burst issued in the cycle before, both registers. A burst is counted from
+  // registers, a cycle after it is issued (its response comes a cycle after at the earliest, so the count never
+  // goes below zero), its handshake and its window check each registered alone: counted in its own cycle, the
+  // window compare ran through the burst's valid into the count's add (4.94 ns in SystemCore's row, docs/fmax.md).
+  private def noneOutstanding(handshake: Bool, ok: Bool, retire: Bool): Bool = {
+    val issuedReg = RegNext(handshake, false.B) && RegNext(ok, false.B)
     val n = RegInit(0.U(16.W))
-    n := n + issue.asUInt - retire.asUInt
-    n
+    n := n + issuedReg.asUInt - retire.asUInt
+    n === 0.U && !issuedReg
   }
 
   // ---- reads ----
@@ -96,8 +101,10 @@ class WindowGuard(p: Axi4Params) extends Module {
   ar.ready := !fakeRValidReg && (io.out.ar.ready || !arOk)
   private val arRefused = ar.fire && !arOk
   when(arRefused) { fakeRValidReg := true.B; fakeRIdReg := ar.bits.a.id; fakeRLeftReg := ar.bits.a.len }
-  private val realReads = outstanding(io.out.ar.fire, io.out.r.fire && io.out.r.bits.last)
-  private val fakeR = fakeRValidReg && realReads === 0.U
+  // io.out.ar.fire, its handshake and its window check apart.
+  private val noRealReads =
+    noneOutstanding(ar.valid && !fakeRValidReg && io.out.ar.ready, arOk, io.out.r.fire && io.out.r.bits.last)
+  private val fakeR = fakeRValidReg && noRealReads
   io.in.r.valid := io.out.r.valid || fakeR
   io.in.r.bits := io.out.r.bits
   io.out.r.ready := io.in.r.ready && !fakeR
@@ -143,17 +150,22 @@ class WindowGuard(p: Axi4Params) extends Module {
   fates.io.enq.bits := awOk
   when(aw.fire && aheadReg) { aheadReg := false.B }.elsewhen(aheadNow && !aw.fire) { aheadReg := true.B }
   private val dropNow = wLast && !wOk
+  // A dropped W burst is counted from a register, a cycle after its last beat (its fake B can go from then on):
+  // counted in its own cycle, the window compare of the AW at the slice's head ran through the W side's fate into
+  // the count's add and the fake B, 5.53 ns in SystemCore's row (docs/fmax.md).
+  private val dropReg = RegNext(dropNow, false.B)
   private val awRefused = aw.fire && !awOk
   when(awRefused) { fakeBValidReg := true.B; fakeBIdReg := aw.bits.a.id }
-  private val realWrites = outstanding(io.out.aw.fire, io.out.b.fire)
-  private val fakeB = fakeBValidReg && realWrites === 0.U && (droppedReg =/= 0.U || dropNow)
+  // io.out.aw.fire, its handshake and its window check apart.
+  private val noRealWrites = noneOutstanding(aw.valid && awFree && io.out.aw.ready, awOk, io.out.b.fire)
+  private val fakeB = fakeBValidReg && noRealWrites && (droppedReg =/= 0.U || dropReg)
   io.in.b.valid := io.out.b.valid || fakeB
   io.in.b.bits := io.out.b.bits
   io.out.b.ready := io.in.b.ready && !fakeB
   when(fakeB) { io.in.b.bits.id := fakeBIdReg; io.in.b.bits.resp := Axi4.RespOkay.U }
   private val answered = fakeB && io.in.b.ready
   when(answered) { fakeBValidReg := false.B }
-  droppedReg := droppedReg + dropNow.asUInt - answered.asUInt
+  droppedReg := droppedReg + dropReg.asUInt - answered.asUInt
 
   io.refused := RegNext(arRefused.asUInt +& awRefused.asUInt, 0.U)
   io.refusedAddr := RegEnable(Mux(arRefused, ar.bits.a.addr, aw.bits.a.addr), arRefused || awRefused)
