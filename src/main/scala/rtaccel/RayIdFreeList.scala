@@ -43,33 +43,57 @@ class RayIdFreeList(numIds: Int) extends Module {
   // freshReg =/= numIds, kept beside freshReg: the allocation's valid, its ID mux and the in-use update read a
   // register, not a compare of one (docs/fmax.md).
   private val haveFreshReg = RegInit(true.B)
-  // The FIFO is not empty, also a register beside it: the FIFO's own valid, a compare of its pointers, ran
-  // through the allocation's handshake into the in-use bits (docs/fmax.md). Next cycle's count is
-  // count + enq - deq.
+  // The returned ID handed out next waits in a register (`headReg`), loaded from the FIFO or, when the FIFO is
+  // empty, straight from the freed ID's register: the allocation's ID, its one-hot and the in-use update start
+  // from registers, not from the FIFO's distributed-RAM read (docs/fmax.md). Loading the head from the freed ID
+  // when the FIFO is empty keeps the time from a free to its ID's reuse at two cycles, and the FIFO's order.
+  private val headValidReg = RegInit(false.B)
+  private val headReg = Reg(UInt(idBits.W))
+  // The FIFO is not empty (`returnedReg`), and its count (`queuedReg`): registers beside its pointers, kept from
+  // its own enqueues and dequeues, so that neither its pointer compare nor a subtraction of its pointers lies on
+  // the handshake's path (docs/fmax.md). The count's next value is a choice of three formed from it alone, and
+  // the flag's from the count's compare with 1.
   private val returnedReg = RegInit(false.B)
-  returnedReg := returned.io.enq.valid || returned.io.count > 1.U ||
-    (returned.io.count === 1.U && !returned.io.deq.ready)
-  io.alloc.valid := haveFreshReg || returnedReg
-  io.alloc.bits := Mux(haveFreshReg, freshReg(idBits - 1, 0), returned.io.deq.bits)
-  returned.io.deq.ready := io.alloc.ready && !haveFreshReg
+  private val queuedReg = RegInit(0.U(log2Ceil(numIds + 1).W))
+  io.alloc.valid := haveFreshReg || headValidReg
+  io.alloc.bits := Mux(haveFreshReg, freshReg(idBits - 1, 0), headReg)
+  // The head is free for the next ID when empty or handed out now (fresh IDs go first).
+  private val headFree = !headValidReg || (io.alloc.ready && !haveFreshReg)
 
-  // A legal free enters the FIFO a cycle later, from registers: the 1-of-numIds in-use read behind `freeLegal`
-  // then ends in a register, not in the FIFO's write enables (docs/fmax.md). The ID waits a cycle more before it
-  // can be handed out again. The FIFO and that register hold the IDs freed and not yet re-allocated, at most
-  // numIds - inFlight, so the FIFO always has room (`no_overflow_returned`).
+  // A legal free enters the FIFO (or the head) a cycle later, from registers: the 1-of-numIds in-use read behind
+  // `freeLegal` then ends in a register, not in the FIFO's write enables (docs/fmax.md). The FIFO, the head and
+  // that register hold the IDs freed and not yet re-allocated, at most numIds - inFlight, so the FIFO always has
+  // room (`no_overflow_returned`).
   io.free.ready := true.B
   private val freeLegal = inUseReg(io.free.bits)
   private val allocFire = io.alloc.fire
   private val freeFire = io.free.valid && freeLegal
-  returned.io.enq.valid := RegNext(freeFire, false.B)
-  returned.io.enq.bits := RegEnable(io.free.bits, freeFire)
+  private val freedValidReg = RegNext(freeFire, false.B)
+  private val freedReg = RegEnable(io.free.bits, freeFire)
+  private val toHead = headFree && !returnedReg
+  returned.io.enq.valid := freedValidReg && !toHead
+  returned.io.enq.bits := freedReg
+  returned.io.deq.ready := headFree && returnedReg
+  when(headFree) {
+    headValidReg := returnedReg || freedValidReg
+    headReg := Mux(returnedReg, returned.io.deq.bits, freedReg)
+  }
+  private val enqFire = freedValidReg && !toHead
+  private val deqFire = headFree && returnedReg
+  when(enqFire && !deqFire) {
+    queuedReg := queuedReg + 1.U
+    returnedReg := true.B
+  }.elsewhen(deqFire && !enqFire) {
+    queuedReg := queuedReg - 1.U
+    returnedReg := queuedReg =/= 1.U
+  }
   when(allocFire && haveFreshReg) {
     freshReg := freshReg + 1.U
     haveFreshReg := freshReg =/= (numIds - 1).U
   }
   // Were the same ID freed and re-allocated in one cycle, the allocation would
-  // win (its mask is applied last); it cannot be, because a freed ID enters the
-  // FIFO and leaves it a cycle later. Any free clears its bit, legal or not: an
+  // win (its mask is applied last); it cannot be, because a freed ID reaches
+  // the head two cycles after its free. Any free clears its bit, legal or not: an
   // illegal free names a clear bit, so the clear changes nothing, and the bits'
   // update does not wait on the 1-of-numIds read of `freeLegal` (docs/fmax.md).
   private val freeMask = Mux(io.free.valid, UIntToOH(io.free.bits, numIds), 0.U)
@@ -87,6 +111,7 @@ class RayIdFreeList(numIds: Int) extends Module {
   assert(haveFreshReg === (freshReg =/= numIds.U), "id_fresh: the fresh flag disagrees with the fresh counter")
   assert(!returned.io.enq.valid || returned.io.enq.ready, "no_overflow_returned: a freed ID found the FIFO full")
   assert(returnedReg === returned.io.deq.valid, "id_returned: the FIFO's flag disagrees with the FIFO")
+  assert(queuedReg === returned.io.count, "id_queued: the FIFO's count disagrees with the FIFO")
 
   io.inFlight := inFlight
   io.doubleFree := doubleFreeReg

@@ -40,8 +40,8 @@ object SystemCase {
   }
   val env: SystemEnv = SystemEnv(readLatency = 3, stall = 1, bLatency = 2, maxRays = 8, bursts = 4)
 
-  /** w1's depth: the two window writes, LOAD_SCENE, the header read, the fills, the batch's registers, START and
-    * the first ray block and core reads (docs/formal.md, "System level"). */
+  /** w1's depth: the two window writes, LOAD_SCENE, the header read and the fills; the batch's reads lie past it
+    * (docs/formal.md, "System level"). */
   val all: Seq[SystemCase] =
     Seq(SystemCase("s1", sys2, env, depth = 44), SystemCase("w1", sys2, env, depth = 30, window = true))
 

@@ -72,8 +72,13 @@ class StoreFill(p: Axi4Params, capacityBytes: Int, wordBytes: Int, fillId: Int) 
 
   private val baseReg = RegInit(0.U(p.addrBits.W))
   private val totalReg = RegInit(0.U(lineBits.W)) // lines to fill
-  private val issuedReg = RegInit(0.U(lineBits.W))
-  private val leftReg = RegInit(0.U(lineBits.W)) // lines not yet asked for: totalReg - issuedReg
+  private val leftReg = RegInit(0.U(lineBits.W)) // lines not yet asked for
+  // Beats asked for and not yet received, and whether there are any: registers, so a beat's check is not a
+  // compare of two line counts (with it, the beat's check into the bursts' count was the fill's longest path,
+  // docs/fmax.md). An AR asks for at least one beat, and a beat is taken only while one is outstanding, so
+  // after an AR some are; after a beat alone, some are unless it was the only one.
+  private val askedReg = RegInit(0.U(lineBits.W))
+  private val askedAnyReg = RegInit(false.B)
   private val receivedReg = RegInit(0.U(lineBits.W))
   private val burstsReg = RegInit(0.U(log2Ceil(StoreFill.FillBursts + 1).W))
   private val busyReg = RegInit(false.B)
@@ -85,11 +90,24 @@ class StoreFill(p: Axi4Params, capacityBytes: Int, wordBytes: Int, fillId: Int) 
   private val alignBits = log2Ceil(StoreFill.BaseAlign)
   private val offReg = Option.when(realign)(RegInit(0.U((beatBits - alignBits).W)))
   private val storedLinesReg = Option.when(realign)(RegInit(0.U(lineBits.W)))
-  // The fill is sized in the cycle after its start, from the registered byte count (`sizingReg`): no burst is
-  // prepared and the fill cannot end in that cycle. The count's compare, round-up and the registers it loads
-  // were one path from the load port (docs/fmax.md).
+  // The fill is sized in the two cycles after its start, from the registered byte count (`sizingReg`, then
+  // `sizedReg`): no burst is prepared and the fill cannot end in them. The count's compare, round-up and the
+  // registers it loads were one path from the load port, and then, from `bytesReg`, the round-up's carry chain
+  // and the clamp in front of the line counts' multiplexers (docs/fmax.md): the round-up and the clamp's compare
+  // are registered (`roundUpReg`, `overReg`) in the first cycle and the counts loaded from them in the second.
   private val bytesReg = RegInit(0.U(io.load.bytes.getWidth.W))
   private val sizingReg = RegInit(false.B)
+  private val sizedReg = RegInit(false.B)
+  // Whole words (a record never straddles the end), at most the capacity: ceil(bytes / wordBytes) is more than
+  // `words` exactly when bytes is more than the capacity, so the clamp compares `bytes` with a constant beside the
+  // round-up, whose add then needs only the bits of a count up to `words`. Both registers follow `bytesReg` every
+  // cycle, without an enable: it changes only at a start, two cycles before they are read.
+  private val wordBits = log2Ceil(wordBytes)
+  private val overReg = RegNext(bytesReg > capacityBytes.U, false.B)
+  private val roundUpReg = RegNext(
+    ((bytesReg >> wordBits)(lineBits - 1, 0) +& bytesReg(wordBits - 1, 0).orR.asUInt)(lineBits - 1, 0),
+    0.U
+  )
   when(startNow) {
     bytesReg := io.load.bytes
     sizingReg := true.B
@@ -97,25 +115,23 @@ class StoreFill(p: Axi4Params, capacityBytes: Int, wordBytes: Int, fillId: Int) 
     offReg.foreach(_ := io.load.base(beatBits - 1, alignBits))
     if (realign) when(io.load.base(alignBits - 1, 0) =/= 0.U) { errorReg := true.B }
     leftReg := 0.U
-    issuedReg := 0.U
+    askedReg := 0.U
+    askedAnyReg := false.B
     receivedReg := 0.U
     busyReg := true.B
     loadedReg := false.B
   }
   when(sizingReg) {
-    // Whole words (a record never straddles the end), at most the capacity: ceil(bytes / wordBytes) is more
-    // than `words` exactly when bytes is more than the capacity, so the clamp compares `bytes` with a constant
-    // beside the round-up, whose add then needs only the bits of a count up to `words`.
-    val over = bytesReg > capacityBytes.U
-    val wordBits = log2Ceil(wordBytes)
-    val whole = bytesReg >> wordBits
-    val roundUp = (whole(lineBits - 1, 0) +& bytesReg(wordBits - 1, 0).orR.asUInt)(lineBits - 1, 0)
-    val ws = Mux(over, words.U, roundUp)
+    sizingReg := false.B
+    sizedReg := true.B
+  }
+  when(sizedReg) {
+    val ws = Mux(overReg, words.U, roundUpReg)
     val total = offReg.fold(ws << log2Ceil(lanes))(o => (ws << log2Ceil(lanes)) +& (o =/= 0.U).asUInt)
     totalReg := total
     leftReg := total
     storedLinesReg.foreach(_ := ws << log2Ceil(lanes))
-    sizingReg := false.B
+    sizedReg := false.B
   }
   // The next burst is sized a cycle before it is offered and waits in arAddrReg/arBeatsReg. A burst is prepared
   // only while none waits, and counted in burstsReg when it leaves, so at most FillBursts are outstanding.
@@ -125,13 +141,13 @@ class StoreFill(p: Axi4Params, capacityBytes: Int, wordBytes: Int, fillId: Int) 
   private val burstBits = log2Ceil(StoreFill.FillBurstBeats + 1)
   private val arBeatsReg = Reg(UInt(burstBits.W))
   // Its size comes from registers: the beats not yet asked for (total - issued), and their minimum with a burst
-  // a cycle behind it; a burst is sized only once that minimum has caught up (`settledReg`: no start or AR in the
-  // cycle before).
+  // a cycle behind it; a burst is sized only once that minimum has caught up (`settledReg`: no start, sizing or AR
+  // in the cycle before).
   // The 4 KB room, capped at a burst, is a table of the address's beat-in-page bits (one LUT per bit). No
   // subtraction or carry-chain compare lies before the burst's size (docs/fmax.md).
   private val burstCap = StoreFill.FillBurstBeats.U(burstBits.W)
   private val leftCapReg = RegNext(Mux(leftReg > burstCap, burstCap, leftReg.pad(burstBits)(burstBits - 1, 0)), 0.U)
-  private val settledReg = RegNext(!(startNow || sizingReg || io.ar.fire), false.B)
+  private val settledReg = RegNext(!(startNow || sizingReg || sizedReg || io.ar.fire), false.B)
   private val pageBits = log2Ceil(Axi4.BoundaryBytes)
   private val pageBeats = Axi4.BoundaryBytes / B
   private val room =
@@ -148,7 +164,6 @@ class StoreFill(p: Axi4Params, capacityBytes: Int, wordBytes: Int, fillId: Int) 
   io.ar.bits := Axi4Addr.incr(p, fillId.U, arAddrReg, arBeatsReg)
   when(io.ar.fire) {
     arPendReg := false.B
-    issuedReg := issuedReg + arBeatsReg
     leftReg := leftReg - arBeatsReg
     fillAddrReg := fillAddrReg + (arBeatsReg << beatBits)
   }
@@ -159,12 +174,16 @@ class StoreFill(p: Axi4Params, capacityBytes: Int, wordBytes: Int, fillId: Int) 
   // A beat with a non-OKAY response is still counted and stored (its data is whatever the slave sent), so the
   // fill completes and the load ends at once; `error` (STATUS.AXI_ERROR) says the store is not to be trusted.
   // Left uncounted, the fill would wait for a beat that never comes, until the watchdog.
-  private val beatOk = busyReg && receivedReg =/= issuedReg
+  private val beatOk = busyReg && askedAnyReg
   when(io.r.valid && (!beatOk || io.r.bits.resp =/= 0.U)) { errorReg := true.B }
   private val fillWrite = io.r.valid && beatOk
   burstsReg := burstsReg + io.ar.fire.asUInt - (fillWrite && io.r.bits.last).asUInt
+  when(!startNow) {
+    askedReg := askedReg + Mux(io.ar.fire, arBeatsReg, 0.U) - fillWrite.asUInt
+    askedAnyReg := io.ar.fire || Mux(fillWrite, askedReg =/= 1.U, askedAnyReg)
+  }
   when(fillWrite) { receivedReg := receivedReg + 1.U }
-  when(busyReg && !sizingReg && receivedReg === totalReg) {
+  when(busyReg && !sizingReg && !sizedReg && receivedReg === totalReg) {
     busyReg := false.B
     loadedReg := true.B
   }

@@ -15,9 +15,9 @@ import chisel3.util._
   *
   * - **One client, one port**: the port is its own. Its request goes
   *   straight into s0: response offered `NodeStore.Latency` cycles after the
-  *   request, one per cycle. A request is taken while the client's queued
-  *   answers plus its reads in s0 and s1 are fewer than `NodeStore.OutDepth`,
-  *   so every read has a place when it lands.
+  *   request, one per cycle. A request is taken on registered credit, as a
+  *   sharing client is picked (below), so its ready is a register and the
+  *   answer queue's count is not in front of s0.
   * - **Several clients** share the ports: each port serves whichever client
   *   is waiting, not a fixed one, so the copy's two ports serve two reads a
   *   cycle while any two of its clients ask (a client that does not ask
@@ -36,8 +36,9 @@ import chisel3.util._
   *   starts (the pick of cycle t), none is lost and dequeues only free
   *   places, so the read picked in t + 1 finds a place among
   *   `SharedOutDepth`. The check is one register deep, which keeps the pick
-  *   short; the answer queue is one entry deeper than a port of one client's
-  *   so that a client picked every cycle still gets one answer per cycle.
+  *   short; the answer queue is one entry deeper than the latency needs
+  *   (`NodeStore.OutDepth`) so that a client picked every cycle still gets
+  *   one answer per cycle.
   *
   * An enqueue that finds the answer queue full, or two reads of one client
   * landing in one cycle (neither ever expected), is reported by [[answer]],
@@ -48,7 +49,7 @@ class StorePort[F <: Data](io: StoreIO, clients: Seq[Int], fields: UInt => F, po
   require(ports >= 1 && ports <= clients.size, s"StorePort: ${clients.size} clients cannot use $ports ports")
   require(ports == 1 || clients.size > 1, "StorePort: one client reads on one port")
   private val n = clients.size
-  private val depth = if (n == 1) NodeStore.OutDepth else StorePort.SharedOutDepth
+  private val depth = StorePort.SharedOutDepth
   private val outQs = clients.map(c => Module(new Queue(chiselTypeOf(io.resp(c).bits), depth)))
   for ((c, j) <- clients.zipWithIndex) io.resp(c) <> outQs(j).io.deq
   private val clientBits = log2Ceil(n).max(1)
@@ -73,7 +74,12 @@ class StorePort[F <: Data](io: StoreIO, clients: Seq[Int], fields: UInt => F, po
   private val picks: Seq[(Bool, UInt, F, UInt)] =
     if (n == 1) {
       val r = io.req(clients.head)
-      r.ready := held(0) < depth.U
+      // Credit as a sharing client's (below), counted in a register: the answer queue's count and the reads in
+      // flight, summed and compared, were the stores' longest path into s0 (docs/fmax.md).
+      val heldReg = RegInit(0.U(log2Ceil(depth + 1).W))
+      r.ready := RegNext(heldReg <= (depth - 2).U, false.B)
+      heldReg := heldReg + r.fire.asUInt - io.resp(clients.head).fire.asUInt
+      assert(heldReg === held(0), "store_port_credit: the client's count differs from its queued and read records")
       Seq((r.fire, 0.U(clientBits.W), fields(r.bits.addr), r.bits.tag))
     } else {
       val heads = clients.map { c =>
@@ -144,7 +150,7 @@ class StorePort[F <: Data](io: StoreIO, clients: Seq[Int], fields: UInt => F, po
 
 object StorePort {
 
-  /** A shared port's answer queue per client: [[NodeStore.OutDepth]] + 1, for the registered credit. */
+  /** A client's answer queue: [[NodeStore.OutDepth]] + 1, for the registered credit. */
   val SharedOutDepth: Int = NodeStore.OutDepth + 1
 
   /** A request waiting for a shared port: the store's fields of its address, and its tag. */

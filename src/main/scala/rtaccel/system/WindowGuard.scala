@@ -29,13 +29,26 @@ import rtaccel.axi.{Axi4, Axi4Addr, Axi4Master, Axi4Params}
   *
   * Timing: the check is three 32-bit carry chains (the burst's end, and the
   * two compares), too long for one cycle at the clock the datapath allows
-  * (docs/fmax.md). So AR and AW each pass a 2-entry register slice (full
-  * throughput, one cycle of latency per burst, no combinational path from
-  * m_axi's ready back to the fabric): the end `addr + (len + 1) * beatBytes`
-  * is formed as a burst enters its slice, and the two compares, side by side,
-  * at the slice's head, against the window registers as they are in that
-  * cycle. `refused` and `refusedAddr` are registered, a cycle after the
-  * refusal, so that SystemCore's refusal counter starts from a register.
+  * (docs/fmax.md). So AR and AW each pass two register stages (full
+  * throughput, two cycles of latency per burst, no combinational path from
+  * m_axi's ready back to the fabric): a 2-entry slice (HeadQueue), where the
+  * burst's last byte `addr + (len + 1) * beatBytes - 1` is formed as a burst
+  * enters (one add: the low bits of `len * beatBytes` are zero, so the
+  * `beatBytes - 1` is a concatenation, and `end <= limit` is
+  * `lastByte < limit`), and a
+  * decision register, where the two compares, side by side from the slice's
+  * registered head, leave their verdict. What follows the verdict (the
+  * handshake, the outstanding counts, the fake answers) then starts from a
+  * register, not from the compares' carry chains.
+  *
+  * The verdict is taken against the guard's own copy of the window, so that
+  * a verdict waiting in its register still holds when the burst leaves: when
+  * `base` or `limit` differ from the copy, no new burst is decided, and the
+  * copy takes them once neither decision register holds a burst (a few
+  * cycles after a window write; the window is set before DMA runs, and locked
+  * against later writes, docs/faults.md). `refused` and `refusedAddr` are
+  * registered, a cycle after the refusal, so that SystemCore's refusal
+  * counter starts from a register.
   *
   * W beats follow AW order (AXI4 has no write interleaving): the fate
   * (forward or drop) of each accepted AW is queued for its W beats; a W burst
@@ -56,55 +69,89 @@ class WindowGuard(p: Axi4Params) extends Module {
   })
   private val beatShift = log2Ceil(p.beatBytes)
 
-  /** A burst in its slice, with its end address (one past its last byte; addrBits + 1 bits, no wrap). */
+  /** A burst in its slice, with the address of its last byte (addrBits + 1 bits, no wrap). */
   class Held extends Bundle {
     val a = new Axi4Addr(p)
-    val end = UInt((p.addrBits + 1).W)
-  }
-  private def slice(in: DecoupledIO[Axi4Addr]): DecoupledIO[Held] = {
-    val held = Wire(Decoupled(new Held))
-    held.valid := in.valid
-    held.bits.a := in.bits
-    held.bits.end := in.bits.addr +& ((in.bits.len +& 1.U) << beatShift)
-    in.ready := held.ready
-    // Two entries, neither pipe nor flow: full throughput with registered outputs on both sides.
-    Queue(held, 2)
+    val lastByte = UInt((p.addrBits + 1).W)
   }
 
-  /** The burst's bytes lie in the window: `base <= addr` and `end <= limit`, a limit of 0 standing for 2^addrBits.
-    * The two compares run side by side; the limit-0 case is decided beside them, not in front of the chain.
+  /** A burst in its decision register, with its verdict. */
+  class Decided extends Bundle {
+    val a = new Axi4Addr(p)
+    val ok = Bool()
+  }
+
+  // The window the verdicts are taken against (above). Out of reset the copy counts as stale, so no burst is decided
+  // before it has taken the registers' values.
+  private val baseReg = RegInit(0.U(p.addrBits.W))
+  private val limitReg = RegInit(0.U(p.addrBits.W))
+  private val movedReg = RegInit(true.B)
+  movedReg := io.base =/= baseReg || io.limit =/= limitReg
+
+  /** The burst's bytes lie in the window: `base <= addr` and `end <= limit`, that is `lastByte < limit`, a limit
+    * of 0 standing for 2^addrBits. The two compares run side by side; the limit-0 case is decided beside them, not
+    * in front of the chain.
     */
   private def inside(h: Held): Bool = {
     val top = BigInt(1) << p.addrBits
-    h.a.addr >= io.base && (h.end <= io.limit || (io.limit === 0.U && h.end <= top.U))
+    h.a.addr >= baseReg && (h.lastByte < limitReg || (limitReg === 0.U && h.lastByte < top.U))
   }
-  // Outstanding real bursts: at most the fabric's read slots plus fill bursts; 16 bits never wrap.
-  // None outstanding: the count and a burst issued in the cycle before, both registers. A burst is counted from
-  // registers, a cycle after it is issued (its response comes a cycle after at the earliest, so the count never
-  // goes below zero), its handshake and its window check each registered alone: counted in its own cycle, the
-  // window compare ran through the burst's valid into the count's add (4.94 ns in SystemCore's row, docs/fmax.md).
-  private def noneOutstanding(handshake: Bool, ok: Bool, retire: Bool): Bool = {
-    val issuedReg = RegNext(handshake, false.B) && RegNext(ok, false.B)
-    val n = RegInit(0.U(16.W))
-    n := n + issuedReg.asUInt - retire.asUInt
-    n === 0.U && !issuedReg
+
+  /** The slice and the decision register of one direction. */
+  private def decide(in: DecoupledIO[Axi4Addr]): DecoupledIO[Decided] = {
+    val slice = Module(new HeadQueue(new Held))
+    slice.io.enq.valid := in.valid
+    slice.io.enq.bits.a := in.bits
+    // addr + (len + 1) * beatBytes - 1 = addr + (len * beatBytes | (beatBytes - 1)): one add, no increment of len
+    // in front of it.
+    slice.io.enq.bits.lastByte := in.bits.addr +& Cat(in.bits.len, ((1 << beatShift) - 1).U(beatShift.W))
+    in.ready := slice.io.enq.ready
+    val validReg = RegInit(false.B)
+    val heldReg = Reg(new Decided)
+    val out = Wire(Decoupled(new Decided))
+    out.valid := validReg
+    out.bits := heldReg
+    // Full throughput: the register takes the next burst in the cycle its own leaves.
+    slice.io.deq.ready := (!validReg || out.ready) && !movedReg
+    when(out.ready) { validReg := false.B }
+    when(slice.io.deq.fire) {
+      validReg := true.B
+      heldReg.a := slice.io.deq.bits.a
+      heldReg.ok := inside(slice.io.deq.bits)
+    }
+    out
+  }
+
+  /** Outstanding real bursts, and whether there are none, both registers. At most the fabric's read slots plus fill
+    * bursts: 16 bits never wrap. The count's next value is a choice of count + 1, count - 1 and count, each formed
+    * from the register alone, so the handshakes feed a multiplexer, not a carry chain.
+    */
+  private def outstanding(issue: Bool, retire: Bool): Bool = {
+    val countReg = RegInit(0.U(16.W))
+    val noneReg = RegInit(true.B)
+    when(issue && !retire) {
+      countReg := countReg + 1.U
+      noneReg := false.B
+    }.elsewhen(retire && !issue) {
+      countReg := countReg - 1.U
+      noneReg := countReg === 1.U
+    }
+    noneReg
   }
 
   // ---- reads ----
   private val fakeRValidReg = RegInit(false.B)
   private val fakeRIdReg = Reg(UInt(p.idBits.W))
   private val fakeRLeftReg = Reg(UInt(8.W))
-  private val ar = slice(io.in.ar)
-  private val arOk = inside(ar.bits)
+  private val ar = decide(io.in.ar)
+  private val arOk = ar.bits.ok
   io.out.ar.valid := ar.valid && arOk && !fakeRValidReg
   io.out.ar.bits := ar.bits.a
   ar.ready := !fakeRValidReg && (io.out.ar.ready || !arOk)
   private val arRefused = ar.fire && !arOk
   when(arRefused) { fakeRValidReg := true.B; fakeRIdReg := ar.bits.a.id; fakeRLeftReg := ar.bits.a.len }
-  // io.out.ar.fire, its handshake and its window check apart.
-  private val noRealReads =
-    noneOutstanding(ar.valid && !fakeRValidReg && io.out.ar.ready, arOk, io.out.r.fire && io.out.r.bits.last)
-  private val fakeR = fakeRValidReg && noRealReads
+  private val noReads = outstanding(io.out.ar.fire, io.out.r.fire && io.out.r.bits.last)
+  private val fakeR = fakeRValidReg && noReads
   io.in.r.valid := io.out.r.valid || fakeR
   io.in.r.bits := io.out.r.bits
   io.out.r.ready := io.in.r.ready && !fakeR
@@ -129,14 +176,14 @@ class WindowGuard(p: Axi4Params) extends Module {
   // if they did, AW would wait (checked, not lost).
   private val fates = Module(new Queue(Bool(), 4))
   private val aheadReg = RegInit(false.B) // a W burst went before its AW
-  private val aw = slice(io.in.aw)
-  private val awOk = inside(aw.bits)
+  private val aw = decide(io.in.aw)
+  private val awOk = aw.bits.ok
   private val awFree = !fakeBValidReg && (aheadReg || fates.io.enq.ready)
   io.out.aw.valid := aw.valid && awOk && awFree
   io.out.aw.bits := aw.bits.a
   aw.ready := awFree && (io.out.aw.ready || !awOk)
-  // The W head's fate: queued, or (running ahead) the AW at the slice's head's. The slice's head is the oldest
-  // AW without a fate, and W bursts come in AW order, so a W burst ahead of its AW finds it there or upstream.
+  // The W head's fate: queued, or (running ahead) the AW in the decision register's. That AW is the oldest without
+  // a fate, and W bursts come in AW order, so a W burst ahead of its AW finds it there or upstream (where it waits).
   private val wAhead = !fates.io.deq.valid && !aheadReg && aw.valid
   private val wKnown = fates.io.deq.valid || wAhead
   private val wOk = Mux(fates.io.deq.valid, fates.io.deq.bits, awOk)
@@ -150,23 +197,24 @@ class WindowGuard(p: Axi4Params) extends Module {
   fates.io.enq.bits := awOk
   when(aw.fire && aheadReg) { aheadReg := false.B }.elsewhen(aheadNow && !aw.fire) { aheadReg := true.B }
   private val dropNow = wLast && !wOk
-  // A dropped W burst is counted from a register, a cycle after its last beat (its fake B can go from then on):
-  // counted in its own cycle, the window compare of the AW at the slice's head ran through the W side's fate into
-  // the count's add and the fake B, 5.53 ns in SystemCore's row (docs/fmax.md).
-  private val dropReg = RegNext(dropNow, false.B)
   private val awRefused = aw.fire && !awOk
   when(awRefused) { fakeBValidReg := true.B; fakeBIdReg := aw.bits.a.id }
-  // io.out.aw.fire, its handshake and its window check apart.
-  private val noRealWrites = noneOutstanding(aw.valid && awFree && io.out.aw.ready, awOk, io.out.b.fire)
-  private val fakeB = fakeBValidReg && noRealWrites && (droppedReg =/= 0.U || dropReg)
+  private val noWrites = outstanding(io.out.aw.fire, io.out.b.fire)
+  private val fakeB = fakeBValidReg && noWrites && (droppedReg =/= 0.U || dropNow)
   io.in.b.valid := io.out.b.valid || fakeB
   io.in.b.bits := io.out.b.bits
   io.out.b.ready := io.in.b.ready && !fakeB
   when(fakeB) { io.in.b.bits.id := fakeBIdReg; io.in.b.bits.resp := Axi4.RespOkay.U }
   private val answered = fakeB && io.in.b.ready
   when(answered) { fakeBValidReg := false.B }
-  droppedReg := droppedReg + dropReg.asUInt - answered.asUInt
+  droppedReg := droppedReg + dropNow.asUInt - answered.asUInt
 
   io.refused := RegNext(arRefused.asUInt +& awRefused.asUInt, 0.U)
   io.refusedAddr := RegEnable(Mux(arRefused, ar.bits.a.addr, aw.bits.a.addr), arRefused || awRefused)
+
+  // The copy takes the window only while no verdict waits, and no burst is decided while it is stale.
+  when(movedReg && !ar.valid && !aw.valid) {
+    baseReg := io.base
+    limitReg := io.limit
+  }
 }

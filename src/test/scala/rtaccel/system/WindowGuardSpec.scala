@@ -6,11 +6,12 @@ import org.scalatest.flatspec.AnyFlatSpec
 import rtaccel.axi.Axi4Params
 import rtaccel.testutil.Seeded
 
-/** WindowGuard alone: a burst inside the window passes unchanged one cycle
-  * later (its register slice), one per cycle, none lost while m_axi stalls;
-  * one outside is not issued and is answered inside (zero-data R beats with
-  * its ID and rlast; one B for a write, its W beats dropped), and counted a
-  * cycle after its refusal.
+/** WindowGuard alone: a burst inside the window passes unchanged two cycles
+  * later (its register slice and decision register), one per cycle, none lost
+  * while m_axi stalls; one outside is not issued and is answered inside
+  * (zero-data R beats with its ID and rlast; one B for a write, its W beats
+  * dropped), and counted a cycle after its refusal; a burst that arrives as
+  * the window changes is judged against the new window.
   */
 class WindowGuardSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "WindowGuard"
@@ -32,14 +33,20 @@ class WindowGuardSpec extends AnyFlatSpec with ChiselScalatestTester {
     c.io.in.aw.bits.id.poke(id.U)
   }
 
-  it should "pass bursts inside the window a cycle later and answer refused ones itself" in {
+  /** Out of reset the guard takes the window into its own copy before it decides a burst: two cycles. */
+  private def settle(c: WindowGuard): Unit = c.clock.step(2)
+
+  it should "pass bursts inside the window two cycles later and answer refused ones itself" in {
     test(new WindowGuard(p)) { c =>
       idle(c)
-      // Inside, ending exactly at the limit: taken at once, offered on m_axi the next cycle.
+      settle(c)
+      // Inside, ending exactly at the limit: taken at once, decided the next cycle, offered on m_axi the one after.
       ar(c, 0x1fc0, 0, 3)
       c.io.in.ar.ready.expect(true.B); c.io.out.ar.valid.expect(false.B)
       c.clock.step()
       c.io.in.ar.valid.poke(false.B)
+      c.io.out.ar.valid.expect(false.B)
+      c.clock.step()
       c.io.out.ar.valid.expect(true.B); c.io.out.ar.bits.addr.expect(0x1fc0.U); c.io.out.ar.bits.id.expect(3.U)
       c.io.refused.expect(0.U)
       c.clock.step()
@@ -50,7 +57,10 @@ class WindowGuardSpec extends AnyFlatSpec with ChiselScalatestTester {
       c.io.in.r.valid.expect(true.B); c.io.in.r.bits.data.expect(7.U)
       c.clock.step()
       c.io.out.r.valid.poke(false.B); c.io.in.ar.valid.poke(false.B)
-      // At the slice's head: refused, not offered; counted the next cycle, with its address.
+      // At the slice's head, being decided.
+      c.io.out.ar.valid.expect(false.B); c.io.refused.expect(0.U)
+      c.clock.step()
+      // In the decision register: refused, not offered; counted the next cycle, with its address.
       c.io.out.ar.valid.expect(false.B); c.io.refused.expect(0.U)
       c.clock.step()
       c.io.refused.expect(1.U); c.io.refusedAddr.expect(0x1fc0.U)
@@ -65,9 +75,11 @@ class WindowGuardSpec extends AnyFlatSpec with ChiselScalatestTester {
       // A write below the base, its W beat offered with its AW: AW not issued, W dropped, one B.
       aw(c, 0xfc0, 0, 0)
       c.io.in.w.valid.poke(true.B); c.io.in.w.bits.last.poke(true.B)
-      c.io.in.aw.ready.expect(true.B); c.io.in.w.ready.expect(false.B, "W waits until its AW is at the slice's head")
+      c.io.in.aw.ready.expect(true.B); c.io.in.w.ready.expect(false.B, "W waits until its AW is decided")
       c.clock.step()
       c.io.in.aw.valid.poke(false.B)
+      c.io.out.aw.valid.expect(false.B); c.io.in.w.ready.expect(false.B, "W waits while its AW is decided")
+      c.clock.step()
       c.io.out.aw.valid.expect(false.B); c.io.out.w.valid.expect(false.B); c.io.in.w.ready.expect(true.B)
       c.clock.step()
       c.io.in.w.valid.poke(false.B)
@@ -76,22 +88,47 @@ class WindowGuardSpec extends AnyFlatSpec with ChiselScalatestTester {
       c.io.in.b.valid.expect(true.B, "the refused write's B")
       c.clock.step()
       c.io.in.b.valid.expect(false.B)
-      // Limit 0: the whole space, up to its last line.
+      // Limit 0: the whole space, up to its last line, once the guard has taken the new window.
       c.io.limit.poke(0.U); c.io.base.poke(0.U)
       ar(c, BigInt(0xffffffc0L), 0, 1)
       c.clock.step()
       c.io.in.ar.valid.poke(false.B)
+      var k = 0
+      while (!c.io.out.ar.valid.peek().litToBoolean && k < 6) { c.clock.step(); k += 1 }
       c.io.out.ar.valid.expect(true.B)
+      c.io.refused.expect(0.U)
+    }
+  }
+
+  it should "judge a burst that arrives as the window changes against the new window" in {
+    test(new WindowGuard(p)) { c =>
+      idle(c)
+      settle(c)
+      // Inside the old window [0x1000, 0x2000), outside the new [0x1000, 0x1800).
+      c.io.limit.poke(0x1800.U)
+      ar(c, 0x1c00, 0, 2)
+      c.clock.step()
+      c.io.in.ar.valid.poke(false.B)
+      var refused = 0
+      for (_ <- 0 until 8) {
+        c.io.out.ar.valid.expect(false.B, "a burst outside the new window offered")
+        refused += c.io.refused.peek().litValue.toInt
+        c.clock.step()
+      }
+      assert(refused == 1, s"refused $refused times")
     }
   }
 
   it should "refuse a read and a write in the same cycle and count both" in {
     test(new WindowGuard(p)) { c =>
       idle(c)
+      settle(c)
       ar(c, 0x2000, 0, 1); aw(c, 0x800, 0, 2)
       c.io.in.w.valid.poke(true.B); c.io.in.w.bits.last.poke(true.B)
       c.clock.step()
       c.io.in.ar.valid.poke(false.B); c.io.in.aw.valid.poke(false.B)
+      c.io.out.ar.valid.expect(false.B); c.io.out.aw.valid.expect(false.B)
+      c.clock.step()
       c.io.out.ar.valid.expect(false.B); c.io.out.aw.valid.expect(false.B)
       c.clock.step()
       c.io.in.w.valid.poke(false.B)
@@ -122,10 +159,10 @@ class WindowGuardSpec extends AnyFlatSpec with ChiselScalatestTester {
         // Full throughput: with m_axi always ready and a burst always on offer, one burst per cycle.
         c.io.out.ar.ready.poke(true.B)
         val m = 16
-        for (i <- 0 to m) {
+        for (i <- 0 to m + 1) {
           if (i < m) { ar(c, 0x1000 + 64 * i, 0, i); c.io.in.ar.ready.expect(true.B, s"burst $i waits") }
           else c.io.in.ar.valid.poke(false.B)
-          if (i > 0) { c.io.out.ar.valid.expect(true.B, s"cycle $i"); c.io.out.ar.bits.id.expect((i - 1).U) }
+          if (i > 1) { c.io.out.ar.valid.expect(true.B, s"cycle $i"); c.io.out.ar.bits.id.expect((i - 2).U) }
           c.clock.step()
         }
         c.io.out.ar.valid.expect(false.B)
