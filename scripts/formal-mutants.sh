@@ -21,7 +21,7 @@ mutant fresh_forever "the free list hands out fresh IDs forever, so an ID in fli
 # Only id_freed_once sees this break here: the host refuses a hit fewer times (the environment's bound) than a
 # freed ID takes to be handed out again, so the waiting hit leaves before a new ray can take its ID's entries.
 mutant free_unfired "an ID is freed while its hit still waits for the host, so the hit could be emitted twice" \
-  "s/(io_hits_ready & _doneQ_io_deq_valid)/(_doneQ_io_deq_valid)/" "(io_hits_ready & _doneQ_io_deq_valid)" \
+  "s/\(\.io_free_valid *\)(_io_perf_hitsOut_T),/\1(outValidReg),/" "(_io_perf_hitsOut_T)," \
   id_freed_once_1
 mutant init_queue_one "InitTraversal's queue holds one ray, not numRayIds: a prepared ray can find it full" \
   "/^module Queue2_PreparedEntry/,/^endmodule/{s/assign io_enq_ready = ~full;/assign io_enq_ready = empty;/;s/wire       do_enq = ~full \\& io_enq_valid;/wire       do_enq = empty \\& io_enq_valid;/}" \
@@ -59,8 +59,8 @@ case_=leaf2f; cdepth=$(awk '$1=="leaf2f"{print $2}' "$dir/cases-deep.txt"); form
 mutant leaf_stuck_stop "LeafIntersect drops the exit of a ray that stopped issuing (empty leaf, occluded shadow ray): the ray is lost" \
   "s/\(\.io_enq_valid *\)(lastAnswer | issueExit),/\1(lastAnswer),/" \
   "(lastAnswer | issueExit)," leaf_bounded_response_1
-# A probe: LeafIntersect's derived bound 16 cut to 9 must fail: a ray needs
-# 10 cycles here (cut to 10, BMC finds none), so the bound has 6 cycles of slack.
-mutant leaf_tight "(probe) LeafIntersect's derived bound 16 cut to 9: a ray needs 10" \
-  "s/~(~insideReg_0 | ~(ageReg_0\[4\]))/~(~insideReg_0 | ageReg_0 < 5'h9)/" "~(~insideReg_0 | ~(ageReg_0[4]))" leaf_bounded_response_1
+# A probe: LeafIntersect's derived bound 17 cut to 8 must fail: a ray needs
+# 9 cycles here (cut to 9, BMC finds none), so the bound has 8 cycles of slack.
+mutant leaf_tight "(probe) LeafIntersect's derived bound 17 cut to 8: a ray needs 9" \
+  "s/~(~insideReg_0 | ageReg_0 < 5'h11)/~(~insideReg_0 | ageReg_0 < 5'h8)/" "~(~insideReg_0 | ageReg_0 < 5'h11)" leaf_bounded_response_1
 exit $status

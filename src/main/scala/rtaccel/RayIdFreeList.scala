@@ -2,6 +2,7 @@ package rtaccel
 
 import chisel3._
 import chisel3.util._
+import rtaccel.leaf.GroupedRead
 
 /** A pool of ray IDs `0 until numIds`, handed out on `alloc` and returned on
   * `free`, both ready/valid.
@@ -14,8 +15,15 @@ import chisel3.util._
   * freeing an ID that is not allocated is dropped (so the ID cannot be handed
   * out twice) and raises the sticky `doubleFree` flag for the testbench and the
   * error counters.
+  *
+  * With `lateCheck` (the core's free list), a free's in-use bit is read in two
+  * stages ([[rtaccel.leaf.GroupedRead]]) and the free takes effect a cycle later:
+  * its bit is cleared, it is counted and it enters the FIFO from the read's
+  * registers. In one stage the 1-of-numIds read ran into the FIFO's enqueue, the
+  * error flag and the count (4 LUT and 3 MUXF, 4.94 ns, docs/fmax.md). The core
+  * counts a ray whose hit has just left as held for that cycle.
   */
-class RayIdFreeList(numIds: Int) extends Module {
+class RayIdFreeList(numIds: Int, lateCheck: Boolean = false) extends Module {
   require(numIds >= 2, s"RayIdFreeList: numIds must be >= 2, got $numIds")
   private val idBits = log2Ceil(numIds)
 
@@ -60,16 +68,48 @@ class RayIdFreeList(numIds: Int) extends Module {
   // The head is free for the next ID when empty or handed out now (fresh IDs go first).
   private val headFree = !headValidReg || (io.alloc.ready && !haveFreshReg)
 
-  // A legal free enters the FIFO (or the head) a cycle later, from registers: the 1-of-numIds in-use read behind
-  // `freeLegal` then ends in a register, not in the FIFO's write enables (docs/fmax.md). The FIFO, the head and
-  // that register hold the IDs freed and not yet re-allocated, at most numIds - inFlight, so the FIFO always has
-  // room (`no_overflow_returned`).
-  io.free.ready := true.B
-  private val freeLegal = inUseReg(io.free.bits)
   private val allocFire = io.alloc.fire
-  private val freeFire = io.free.valid && freeLegal
-  private val freedValidReg = RegNext(freeFire, false.B)
-  private val freedReg = RegEnable(io.free.bits, freeFire)
+
+  /** A legal free (in the cycle it takes effect: its bit cleared, counted) and its ID. */
+  private val (legalFree, legalId) = if (!lateCheck) {
+    // The 1-of-numIds in-use read behind `freeLegal` ends in the freed-ID register below, not in the FIFO's write
+    // enables (docs/fmax.md).
+    io.free.ready := true.B
+    val freeLegal = inUseReg(io.free.bits)
+    val freeFire = io.free.valid && freeLegal
+    // Were the same ID freed and re-allocated in one cycle, the allocation would
+    // win (its mask is applied last); it cannot be, because a freed ID reaches
+    // the head two cycles after its free. Any free clears its bit, legal or not: an
+    // illegal free names a clear bit, so the clear changes nothing, and the bits'
+    // update does not wait on the 1-of-numIds read of `freeLegal` (docs/fmax.md).
+    val freeMask = Mux(io.free.valid, UIntToOH(io.free.bits, numIds), 0.U)
+    val allocMask = Mux(allocFire, UIntToOH(io.alloc.bits, numIds), 0.U)
+    inUseReg := (inUseReg & ~freeMask) | allocMask
+    when(io.free.valid && !freeLegal) { doubleFreeReg := true.B }
+    (freeFire, io.free.bits)
+  } else {
+    // The free's bit as it stood in its cycle, from the groups' registers; the free itself, registered. A free of
+    // the ID freed the cycle before reads its bit before that free clears it, so it is illegal by the compare.
+    io.free.ready := true.B
+    val freeValidReg = RegNext(io.free.valid, false.B)
+    val freeIdReg = RegNext(io.free.bits)
+    val againReg = RegNext(io.free.valid && freeValidReg && io.free.bits === freeIdReg, false.B)
+    val wasInUse = GroupedRead(inUseReg.asBools.map(_.asUInt), io.free.bits).asBool
+    val freeFire = freeValidReg && wasInUse && !againReg
+    // A freed ID reaches the head three cycles after its free at the earliest, so no allocation meets its clear.
+    // Only a legal free clears its bit: an illegal one's ID may have been handed out since its read.
+    val freeMask = Mux(freeFire, UIntToOH(freeIdReg, numIds), 0.U)
+    val allocMask = Mux(allocFire, UIntToOH(io.alloc.bits, numIds), 0.U)
+    inUseReg := (inUseReg & ~freeMask) | allocMask
+    when(freeValidReg && !freeFire) { doubleFreeReg := true.B }
+    (freeFire, freeIdReg)
+  }
+
+  // A legal free enters the FIFO (or the head) a cycle later, from registers. The FIFO, the head and that
+  // register hold the IDs freed and not yet re-allocated, at most numIds - inFlight, so the FIFO always has room
+  // (`no_overflow_returned`).
+  private val freedValidReg = RegNext(legalFree, false.B)
+  private val freedReg = RegEnable(legalId, legalFree)
   private val toHead = headFree && !returnedReg
   returned.io.enq.valid := freedValidReg && !toHead
   returned.io.enq.bits := freedReg
@@ -91,18 +131,9 @@ class RayIdFreeList(numIds: Int) extends Module {
     freshReg := freshReg + 1.U
     haveFreshReg := freshReg =/= (numIds - 1).U
   }
-  // Were the same ID freed and re-allocated in one cycle, the allocation would
-  // win (its mask is applied last); it cannot be, because a freed ID reaches
-  // the head two cycles after its free. Any free clears its bit, legal or not: an
-  // illegal free names a clear bit, so the clear changes nothing, and the bits'
-  // update does not wait on the 1-of-numIds read of `freeLegal` (docs/fmax.md).
-  private val freeMask = Mux(io.free.valid, UIntToOH(io.free.bits, numIds), 0.U)
-  private val allocMask = Mux(allocFire, UIntToOH(io.alloc.bits, numIds), 0.U)
-  inUseReg := (inUseReg & ~freeMask) | allocMask
-  when(io.free.valid && !freeLegal) { doubleFreeReg := true.B }
   // Counted from registered handshakes (HeldCount): the count's add was the unit's longest path, behind the
   // allocation's ready and the 1-of-numIds in-use read of a free (docs/fmax.md). It reads exactly.
-  private val inFlight = HeldCount(Seq(allocFire), Seq(freeFire), log2Ceil(numIds + 1))
+  private val inFlight = HeldCount(Seq(allocFire), Seq(legalFree), log2Ceil(numIds + 1))
 
   // Checked in every simulation and proved by `make formal` (docs/formal.md);
   // they hold whatever `free` is driven with, since illegal frees are dropped.

@@ -5,6 +5,7 @@ import chisel3.util._
 import rtaccel.fetch.{FetchBVH, RayIn}
 import rtaccel.leaf.LeafIntersect
 import rtaccel.mem.{MemPort, TaggedPortArbiter}
+import rtaccel.system.HeadQueue
 import rtaccel.traversal.{InitTraversal, PrepFetch, RayBuffer, Traversal, TraversalState}
 
 /** The accelerator: rays in, one hit per ray out (docs/architecture.md).
@@ -53,6 +54,8 @@ class RtAccel[T <: Data](val cfg: AccelConfig, val dp: Datapath[T]) extends Modu
   rayBuf.io.update <> leaf.io.tmax
   rayBuf.io.read(0) <> trav.io.rayRead
   rayBuf.io.read(1) <> leaf.io.rayRead
+  leaf.io.peerRead.valid := trav.io.rayRead.en
+  leaf.io.peerRead.bits := trav.io.rayRead.rayId
   trav.io.entry <> init.io.out
   leaf.io.in <> trav.io.leafOut
   trav.io.leafIn <> leaf.io.out
@@ -65,27 +68,39 @@ class RtAccel[T <: Data](val cfg: AccelConfig, val dp: Datapath[T]) extends Modu
   // ---- Output: one hit per finished ray, then its ID goes back ----
   // A register stage between Traversal's done lanes and the hit: without it the lanes' arbiter, the result
   // tables' read by ID, the number's lookup and the hit port follow each other in one cycle, the core control's
-  // longest path (docs/fmax.md). Two entries keep one hit per cycle; a ray in it counts as held (below).
-  private val doneQ = Module(new Queue(chiselTypeOf(trav.io.done.bits), 2))
+  // longest path (docs/fmax.md). Two entries keep one hit per cycle; a ray in it counts as held (below). Its
+  // head is a register, so the reads below start from one.
+  private val doneQ = Module(new HeadQueue(chiselTypeOf(trav.io.done.bits)))
   doneQ.io.enq <> trav.io.done
   private val done = doneQ.io.deq
+  // The output stage: the head's has-hit flag, best hit and number are read by its ID into registers, and
+  // the hit is driven from them. Read into the hit's fields in one cycle, the 1-of-n has-hit read was the
+  // core control's longest path (docs/fmax.md). One cycle per hit; one hit per cycle. A ray here keeps its
+  // ID until its hit leaves, so its entries stand still while they are read.
+  private val outValidReg = RegInit(false.B)
+  private val load = !outValidReg || io.hits.ready
   private val id = done.bits.rayId
   leaf.io.resultId := id
+  leaf.io.resultLoad := load
   fetch.io.numberId := id
-  private val ok = done.bits.errors === 0.U
+  private val outIdReg = RegEnable(id, load)
+  private val outNumberReg = RegEnable(fetch.io.number, load)
+  private val outErrorsReg = RegEnable(done.bits.errors, load)
+  private val outOkReg = RegEnable(done.bits.errors === 0.U, load)
+  when(load) { outValidReg := done.valid }
+  done.ready := load
   private val best = leaf.io.result
   private val h = io.hits.bits
-  h.number := fetch.io.number
-  h.hit := ok && best.valid
+  h.number := outNumberReg
+  h.hit := outOkReg && best.valid
   h.t := Mux(h.hit, dp.toFloat32(cfg, best.bits.t), 0.U)
   h.u := Mux(h.hit, dp.toFloat32(cfg, best.bits.u), 0.U)
   h.v := Mux(h.hit, dp.toFloat32(cfg, best.bits.v), 0.U)
   h.prim := Mux(h.hit, best.bits.prim, 0.U)
-  h.errors := done.bits.errors
-  io.hits.valid := done.valid
-  done.ready := io.hits.ready
+  h.errors := outErrorsReg
+  io.hits.valid := outValidReg
   fetch.io.free.valid := io.hits.fire
-  fetch.io.free.bits := id
+  fetch.io.free.bits := outIdReg
   io.broken := trav.io.overflow || fetch.io.doubleFree || init.io.broken || leaf.io.broken
   // Checked in every simulation and proved by `make formal` (docs/formal.md).
   // Here, not in the units: their own specs drive these flags on purpose.
@@ -96,7 +111,13 @@ class RtAccel[T <: Data](val cfg: AccelConfig, val dp: Datapath[T]) extends Modu
   // Each ray in flight is in exactly one unit: the counts of what each holds
   // sum to the free list's in-flight count (docs/formal.md: the invariant
   // behind "no queue overflows", stated so that induction can use it).
-  private val held = fetch.io.held +& init.io.held +& trav.io.held +& leaf.io.held +& doneQ.io.count
+  // The rays in the done queue, counted as they pass (HeadQueue keeps no count).
+  private val doneCountReg = RegInit(0.U(2.W))
+  doneCountReg := doneCountReg + doneQ.io.enq.fire.asUInt - doneQ.io.deq.fire.asUInt
+  // A ray whose hit left last cycle: the free list counts its free a cycle later (RayIdFreeList's `lateCheck`).
+  private val freeingReg = RegNext(io.hits.fire, false.B)
+  private val held =
+    fetch.io.held +& init.io.held +& trav.io.held +& leaf.io.held +& doneCountReg +& outValidReg +& freeingReg
   assert(held === fetch.io.inFlight, "ray_conservation: the rays the units hold differ from the IDs in flight")
 
   // ---- Performance counters (64 bits, each exact every cycle: PerfCounter) ----

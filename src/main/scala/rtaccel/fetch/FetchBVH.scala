@@ -107,7 +107,8 @@ class FetchBVH[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   io.root.errors := BvhNode.errors(rootChecksReg)
 
   // ---- IDs and ray constants ----
-  private val ids = Module(new RayIdFreeList(cfg.numRayIds))
+  // A free takes effect a cycle later (RayIdFreeList's `lateCheck`): RtAccel counts the ray as held meanwhile.
+  private val ids = Module(new RayIdFreeList(cfg.numRayIds, lateCheck = true))
   ids.io.free <> io.free
   io.inFlight := ids.io.inFlight
   io.doubleFree := ids.io.doubleFree

@@ -19,19 +19,21 @@ object UnitBound {
     */
   def fetch(cfg: AccelConfig, env: FormalEnv): Int = cfg.numRayIds * (env.memStall + 1) + env.memLatency + 1
 
-  /** LeafIntersect: job in -> exit out. Job queue 1; at most n - 1 jobs
+  /** LeafIntersect: job in -> exit out. Job queue 1, its head register 1; at most n - 1 jobs
     * ahead, each holding the issuer for its m requests (<= S + 1 cycles
     * each) or, stopped early (an empty leaf, an occluded shadow ray), until
     * its answers are drained (<= L + q + 2) and its exit gets the exit port
     * (the answer side goes first: <= n more); then its own m requests, the
     * last answer (<= L), register 1, triangle q, the exit queue (1, and
-    * <= n - 1 exits ahead, each <= 2 cycles as the tmax write may lose one
-    * round to an entering ray), the tmax write (<= 2).
+    * <= n - 1 exits ahead, each <= 2 cycles: an exit with a hit leaves when
+    * the tmax queue has room, which drains a write at least every 2 cycles,
+    * a write losing at most one round to an entering ray), room in the tmax
+    * queue for its own write (<= 2).
     */
   def leaf(cfg: AccelConfig, dp: FormalDatapath, env: FormalEnv): Int = {
     val (n, m, s, l, q) = (cfg.numRayIds, cfg.maxLeafSize, env.memStall, env.memLatency, dp.primLatency)
     val issue = m * (s + 1)
-    1 + (n - 1) * issue.max(l + q + 2 + n) + issue + l + 1 + q + 1 + 2 * (n - 1) + 2
+    2 + (n - 1) * issue.max(l + q + 2 + n) + issue + l + 1 + q + 1 + 2 * (n - 1) + 2
   }
 }
 
@@ -94,6 +96,9 @@ class FormalLeafTop(cfg: AccelConfig, dp: FormalDatapath, env: FormalEnv, bound:
   leaf.io.rayRead.statics := FormalAnySeq(chiselTypeOf(leaf.io.rayRead.statics))
   leaf.io.rayRead.tmax := FormalAnySeq(chiselTypeOf(leaf.io.rayRead.tmax))
   leaf.io.resultId := FormalAnySeq(chiselTypeOf(leaf.io.resultId))
+  leaf.io.resultLoad := FormalAnySeq(Bool())
+  leaf.io.peerRead.valid := false.B // no other RayBuffer reader here
+  leaf.io.peerRead.bits := 0.U
   leaf.io.out.ready := true.B
   private val mon = new UnitMonitor(cfg.numRayIds, bound, "leaf")
   leaf.io.in.valid := FormalAnySeq(Bool())

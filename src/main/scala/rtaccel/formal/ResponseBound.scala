@@ -76,20 +76,20 @@ object ResponseBound {
         s"node fetches ($fetches)",
         fetches * (2 + (s + 1) + l + PrepFetch.latency(cfg) + 1 + b + control + others * (s + 2))
       ),
-      // control out -> Traversal leaf queue 1 -> LeafIntersect job queue 1 ->
+      // control out -> Traversal leaf queue 1 -> LeafIntersect job queue 1 and its head register 1 ->
       // m requests (each stalled <= S) -> last answer <= L -> register 1 ->
-      // triangle q -> exit queue 1 -> tmax write (<= 1 lost to a ray entering)
+      // triangle q -> exit queue 1 -> room for the tmax write (<= 1 lost to a ray entering)
       // -> leaf-return lane 1 -> its lane register. Others: <= n - 1 leaves ahead in the job queue,
       // each issuing m requests (<= S + 1 cycles each) or an empty leaf's
       // exit (1), <= n - 1 exits ahead (<= 2 cycles each), one merge cycle.
       Term(
         s"leaf visits ($leaves)",
-        leaves * (2 + m * (s + 1) + l + 1 + q + 1 + 1 + 1 + lane + others * ((m * (s + 1)).max(1) + 2 + 1))
+        leaves * (3 + m * (s + 1) + l + 1 + q + 1 + 1 + 1 + lane + others * ((m * (s + 1)).max(1) + 2 + 1))
       ),
       // control out -> Traversal done queue 1 -> RtAccel's done queue 1 ->
-      // hit, the host refusing <= H times. Others: <= n - 1 hits ahead (each
-      // <= H + 1), one merge cycle.
-      Term("exit", 2 + h + others * (h + 2)),
+      // output registers 1 -> hit, the host refusing <= H times. Others:
+      // <= n - 1 hits ahead (each <= H + 1), one merge cycle.
+      Term("exit", 3 + h + others * (h + 2)),
       // The monitor counts the accept cycle and the hit cycle.
       Term("monitor", 1)
     )

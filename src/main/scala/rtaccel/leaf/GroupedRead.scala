@@ -11,16 +11,22 @@ import chisel3.util._
 object GroupedRead {
 
   /** `table(id)` as it stood a cycle ago, `id` being last cycle's. */
-  def apply(table: Seq[UInt], id: UInt, groupSize: Int = 16): UInt = {
+  def apply(table: Seq[UInt], id: UInt, groupSize: Int = 16): UInt =
+    RegNext(VecInit(picks(table, id, groupSize))).reduce(_ | _)
+
+  /** `table(id)` as it stood in the last cycle with `load` set, `id` being that cycle's. */
+  def loaded(table: Seq[UInt], id: UInt, load: Bool, groupSize: Int = 16): UInt =
+    RegEnable(VecInit(picks(table, id, groupSize)), load).reduce(_ | _)
+
+  private def picks(table: Seq[UInt], id: UInt, groupSize: Int): Seq[UInt] = {
     val size = table.size.min(groupSize)
     val groups = (table.size + size - 1) / size
     val w = table.head.getWidth
     val low = id(log2Ceil(size).max(1) - 1, 0)
-    val picked = (0 until groups).map { g =>
+    (0 until groups).map { g =>
       val entries = (0 until size).map(j => table.lift(g * size + j).getOrElse(0.U(w.W)))
       val entry = if (size == 1) entries.head else VecInit(entries)(low)
       if (groups == 1) entry else Mux((id >> log2Ceil(size)) === g.U, entry, 0.U)
     }
-    RegNext(VecInit(picked)).reduce(_ | _)
   }
 }

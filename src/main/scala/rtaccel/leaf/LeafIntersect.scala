@@ -4,6 +4,7 @@ import chisel3._
 import chisel3.util._
 import rtaccel.fp.FpOrder
 import rtaccel.mem.{MemPort, MemPortParams}
+import rtaccel.system.HeadQueue
 import rtaccel.traversal.{RayBufferRead, TmaxUpdate, TraversalToken}
 import rtaccel.{AccelConfig, ErrorFlags}
 
@@ -23,8 +24,9 @@ object LeafIntersect {
   *    on the order memory answers in.
   *  - Exit: a ray leaves when every request it issued has been reduced, never
   *    earlier, so its ID is never reused while memory still owes it data. Its
-  *    new tmax is written to the RayBuffer before it leaves, so its next box
-  *    test sees it (the golden model relies on that).
+  *    new tmax is written to the RayBuffer as it leaves, through a two-entry
+  *    queue, and lands before the ray's next RayBuffer read, so its next box
+  *    test sees it (the golden model relies on that; `leaf_tmax_first`).
   *
   * Timing (docs/fmax.md): no 1-of-`numRayIds` table read is made in one
   * cycle. The reduce stage's entries (hit, occluded, errors, last
@@ -32,12 +34,15 @@ object LeafIntersect {
   * into registers, with those cycles' own writes forwarded, and its best hit
   * a stage before it ([[LeafReadAhead]]); the best hit's write lands a cycle
   * after its answer, forwarded to every read until then; a job's entries are read as it
-  * enters the job queue and wait beside it ([[JobFlags.beside]]); the issuing ray keeps its entries in
+  * enters the job queue and kept by its ray ID until it is taken ([[JobFlags.beside]]), from a head register
+  * after the queue; the issuing ray keeps its entries in
   * registers beside `issueIdReg`. Cycle for cycle the unit behaves as if it read the tables
   * directly (assertions `leaf_done_view`, `leaf_issue_view` check it).
   *
-  * Every queue holds up to `numRayIds` entries, and each ray is in one place,
-  * so none can overflow and the response channel is always ready. The one
+  * The job and exit queues hold up to `numRayIds` entries, and each ray is in
+  * one place, so neither can overflow and the response channel is always
+  * ready; the two-entry head queues (the job to take, the tmax writes) take an
+  * entry only when they have room. The one
   * enqueue that cannot wait (a ray's last answer, into `exits`) is checked:
   * `broken` latches if it ever found the queue full.
   */
@@ -57,8 +62,12 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
       */
     val clear = Flipped(Valid(UInt(cfg.rayIdBits.W)))
 
-    /** The best hit of a finished ray, read combinationally by the output stage. */
+    /** The best hit of a finished ray for RtAccel's output stage: `result` holds `resultId`'s has-hit flag and
+      * best hit as they stood in the last cycle with `resultLoad` set. The 1-of-`numRayIds` read ends in these
+      * registers: read into the hit output's fields in one cycle, it was the core control's longest path.
+      */
     val resultId = Input(UInt(cfg.rayIdBits.W))
+    val resultLoad = Input(Bool())
     val result = Output(Valid(new BestHit(cfg)))
 
     /** Triangle tests done (performance counter input). */
@@ -66,6 +75,9 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
 
     /** Sticky: an answer's exit found the exit queue full (a lost ray; cannot happen, see above). */
     val broken = Output(Bool())
+
+    /** The other RayBuffer reader's read (Traversal's), for the assertion `leaf_tmax_first` only. */
+    val peerRead = Input(Valid(UInt(cfg.rayIdBits.W)))
 
     /** Rays this unit holds now (RtAccel's ray_conservation assertion). */
     val held = Output(UInt(log2Ceil(3 * cfg.numRayIds + 1).W))
@@ -76,6 +88,12 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   private val jobs = Module(new Queue(new LeafJob(cfg), n))
   private val exits = Module(new Queue(new QueuedExit(cfg), n))
   jobs.io.enq <> io.in
+  // The job to take next waits in registers (HeadQueue: its valid and fields are registers), so taking it
+  // starts from registers: the job queue's valid, a compare of its pointers, ran through the take into the
+  // issue registers' next values (5.48 ns). A cycle per leaf visit; one job per cycle still.
+  private val jobHead = Module(new HeadQueue(new LeafJob(cfg)))
+  jobHead.io.enq <> jobs.io.deq
+  private val job = jobHead.io.deq
 
   private val parked = Mem(n, new TraversalToken(cfg))
   private val best = Mem(n, new BestHit(cfg))
@@ -112,9 +130,9 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   }
   // The next leaf starts in the cycle of this one's last request, so
   // back-to-back leaves issue one triangle every cycle (no bubble).
-  jobs.io.deq.ready := (!busyReg || lastIssue) && !stoppingReg
-  when(jobs.io.deq.fire) {
-    val j = jobs.io.deq.bits
+  job.ready := (!busyReg || lastIssue) && !stoppingReg
+  when(job.fire) {
+    val j = job.bits
     parked.write(j.token.rayId, j.token)
     issueIdReg := j.token.rayId
     nextTriReg := j.first
@@ -180,8 +198,17 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   // read (the read-ahead, the exit's tmax, `result`) takes it from here (LeafTables.best).
   private val bestWrite = Wire(Valid(new BestWrite(cfg)))
   private val tables = LeafTables(hasHitReg, occludedReg, leafErrorsReg, counts, best, bestWrite)
+  // Whether an ID at the pre stages is the issuing ray's, compared a cycle ahead: the pre stage's ID is the pre2
+  // stage's a cycle before (and the reduce stage's the pre stage's), and the issuing ID is the taken job's or
+  // stays. Both compares are registered and picked after the registers by whether a job was taken. Compared
+  // in their own cycle, issueIdReg's compares ran through the exit's valid into the exit queue's write enables
+  // (6.02 ns in the core's control) and through the read-ahead into `lastReg` (5.24 ns).
+  private val tookReg = RegNext(job.fire, false.B)
+  private def aheadIsIssuing(id: UInt): Bool =
+    Mux(tookReg, RegNext(id === job.bits.token.rayId), RegNext(id === issueIdReg))
+  private val incIsPre = aheadIsIssuing(pre2Id)
   // The tables as they stand for `doneId`, read a cycle ahead.
-  private val done = new LeafReadAhead(cfg, tables, writes, pre2Id, preId)
+  private val done = new LeafReadAhead(cfg, tables, writes, pre2Id, preId, incIsPre)
   private val closer = !done.hasHitReg || done.closer(FpOrder.key(cfg.triFloat, ans.t), primIdx)
   // Any valid hit sets the ray's has-hit and occluded flags; only a closer one replaces its best. The two
   // differ only for a ray that has a hit already (`closer` holds when it has none), and then both flags are
@@ -205,13 +232,20 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
     hasHitReg(doneId) := true.B
     when(doneTok.shadow) { occludedReg(doneId) := true.B }
   }
+  // The ray's flags as the read-ahead has them (equal to the table's entry, `leaf_done_view`), not a 1-of-n read
+  // of the table here: that read into the write mapped to 4 LUT and 3 MUXF in the core's control (4.94 ns).
   when(reduce && (primTooWide || carry.bits.bad)) {
-    leafErrorsReg(doneId) := leafErrorsReg(doneId) | errNow
+    leafErrorsReg(doneId) := done.errorsReg | errNow
   }
 
   private val issuing = busyReg || stoppingReg
-  private val doneIssuing = reduce && doneId === issueIdReg
-  private val lastAnswer = reduce && done.lastReg && !(issuing && issueIdReg === doneId)
+  private val isIssuing = aheadIsIssuing(preId)
+  assert(
+    !reduce || (isIssuing === (doneId === issueIdReg) && RegNext(incIsPre) === RegNext(issueIdReg === preId)),
+    "leaf_done_issue: a compare with the issuing ID, made a cycle ahead, is wrong"
+  )
+  private val doneIssuing = reduce && isIssuing
+  private val lastAnswer = reduce && done.lastReg && !(issuing && isIssuing)
   private val issueDrained = issueOutReg === 0.U || (issueOutReg === 1.U && doneIssuing)
 
   writes.inc := io.mem.req.fire
@@ -235,15 +269,15 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   when(io.clear.valid && io.clear.bits === issueIdReg) {
     issueOccReg := false.B; issueErrReg := 0.U; issueHitReg := false.B
   }
-  private val taken = JobFlags.beside(cfg, jobs.io, tables)
-  when(jobs.io.deq.fire) {
+  private val taken = JobFlags.beside(cfg, jobs.io.enq, job, tables)
+  when(job.fire) {
     issueOutReg := 0.U
     issueOccReg := taken.occ
     issueErrReg := taken.err
     issueHitReg := taken.hit
   }
   assert(
-    !jobs.io.deq.fire || counts.countsReg(jobs.io.deq.bits.token.rayId) === 0.U,
+    !job.fire || counts.countsReg(job.bits.token.rayId) === 0.U,
     "leaf_job_drained: a ray's job was taken while it still had triangle requests outstanding"
   )
   assert(
@@ -286,55 +320,76 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   when(lastAnswer && !exits.io.enq.ready) { brokenReg := true.B }
   io.broken := brokenReg
 
-  // A ray leaves no earlier than its tmax write (see the class comment): in
-  // the same cycle, or after it. The write lands at the clock edge, and the
-  // ray's next RayBuffer read is several cycles later (decision, fetch), so it
-  // sees the new tmax. tmax.valid never waits on a ready; out.valid waits on
-  // the RayBuffer arbiter's grant, whose ready does not depend on out. A ray
-  // with no hit yet keeps the tmax it entered with and writes nothing. Whether
-  // it has a hit travels in its queue entry: a ray in `exits` gets no more
-  // answers, and its ID is not cleared before it leaves, so the bit stays
-  // equal to hasHitReg (assertion `leaf_exit_hit`), and the handshake reads no
-  // 1-of-n table (read from hasHitReg, the bit would be on the core control's
-  // longest path, docs/fmax.md).
+  // A ray with a hit leaves with its tmax write: the write enters a two-entry queue whose head and `enq.ready`
+  // are registers (HeadQueue) as the exit leaves, and reaches the RayBuffer from there. Waiting for the write's
+  // grant instead, the exit's valid followed InitTraversal's queue through the RayBuffer's write arbiter into
+  // Traversal's control and stack (7.39 ns in the core's control, docs/fmax.md). An exit leaves only when the
+  // queue has room, so the enqueue never overflows. The write lands at most three cycles after the exit (the
+  // queue's other entry first; each loses at most one round of the RayBuffer's round-robin arbiter to an
+  // entering ray), and the ray's next RayBuffer read is further away (a traversal decision and its lane
+  // register, then a node fetch's or a triangle fetch's queue and answer): checked, `leaf_tmax_first`. A ray
+  // with no hit yet keeps the tmax it entered with and writes nothing. Whether it has a hit travels in its
+  // queue entry: a ray in `exits` gets no more answers, and its ID is not cleared before it leaves, so the bit
+  // stays equal to hasHitReg (assertion `leaf_exit_hit`), and the handshake reads no 1-of-n table (read from
+  // hasHitReg, the bit would be on the core control's longest path, docs/fmax.md).
   private val exitHead = exits.io.deq
   private val headId = exitHead.bits.exit.token.rayId
-  private val writtenReg = RegInit(false.B)
-  private val needWrite = exitHead.bits.hasHit && !writtenReg
-  private val written = !needWrite || io.tmax.ready
-  io.tmax.valid := exitHead.valid && needWrite
-  io.tmax.bits.rayId := headId
-  io.tmax.bits.tmax := tables.best(headId).t
-  io.out.valid := exitHead.valid && written
+  private val tmaxQ = Module(new HeadQueue(UInt(cfg.rayIdBits.W)))
+  private val room = !exitHead.bits.hasHit || tmaxQ.io.enq.ready
+  io.out.valid := exitHead.valid && room
   io.out.bits := exitHead.bits.exit
+  exitHead.ready := io.out.ready && room
+  tmaxQ.io.enq.valid := io.out.fire && exitHead.bits.hasHit
+  tmaxQ.io.enq.bits := headId
+  // The best t is read as the write leaves, by the queue's head (a register): read as the exit leaves, by the
+  // exit queue's head, the read's forward compare ran into the queue's registers (6.02 ns). The ray gets no
+  // answer until its write has landed (`leaf_tmax_first`), so its best stands still while it waits.
+  private val tmaxId = tmaxQ.io.deq.bits
+  io.tmax.valid := tmaxQ.io.deq.valid
+  io.tmax.bits.rayId := tmaxId
+  io.tmax.bits.tmax := tables.best(tmaxId).t
+  tmaxQ.io.deq.ready := io.tmax.ready
   assert(
     !exitHead.valid || exitHead.bits.hasHit === hasHitReg(headId),
     "leaf_exit_hit: an exit's hit bit differs from its ray's table entry"
   )
-  exitHead.ready := io.out.ready && written
-  when(io.tmax.fire && !io.out.fire) { writtenReg := true.B }
-  when(io.out.fire) { writtenReg := false.B }
+  // Assertion only (synthesis drops it): the rays whose tmax write has not landed yet.
+  private val owedReg = RegInit(VecInit(Seq.fill(n)(false.B)))
+  when(tmaxQ.io.enq.fire) { owedReg(headId) := true.B }
+  when(io.tmax.fire) { owedReg(io.tmax.bits.rayId) := false.B }
+  assert(
+    !(io.rayRead.en && owedReg(io.rayRead.rayId)) && !(io.peerRead.valid && owedReg(io.peerRead.bits)),
+    "leaf_tmax_first: a ray's RayBuffer read came before its tmax write landed"
+  )
 
   when(io.clear.valid) {
     hasHitReg(io.clear.bits) := false.B
     occludedReg(io.clear.bits) := false.B
     leafErrorsReg(io.clear.bits) := 0.U
   }
-  io.result.valid := hasHitReg(io.resultId)
-  io.result.bits := tables.best(io.resultId)
+  // A finished ray's entries stand still until its hit has left (its ID is neither cleared nor given answers),
+  // so RtAccel loads them with the ray's other output fields. The has-hit flag is a table of registers: its
+  // groups' picks are loaded ([[GroupedRead.loaded]]) and ORed after them; as one 1-of-n select into a register
+  // it mapped to 4 LUT and 3 MUXF (4.94 ns). The best hit is a memory read.
+  private val resultBestReg = RegEnable(tables.best(io.resultId), io.resultLoad)
+  io.result.valid := GroupedRead.loaded(hasHitReg.map(_.asUInt), io.resultId, io.resultLoad).asBool
+  io.result.bits := resultBestReg
 
   // Waiting jobs, exits, and between them each ray issuing or owed answers.
-  // The rays between are counted as they pass (taken from `jobs`; put into
+  // The rays between are counted as they pass (taken from `jobHead`; put into
   // `exits`, or lost by the checked enqueue above): a 128-wide popcount into
   // `held` was the unit's longest path. The popcount stays as an assertion
   // (simulation and formal only), as RayIdFreeList checks its in-flight count.
   private val working = (0 until n).map(i => counts.countsReg(i) =/= 0.U || (issuing && issueIdReg === i.U))
   private val betweenReg = RegInit(0.U(log2Ceil(n + 1).W))
   private val leaves = lastAnswer || (issueExit && exits.io.enq.ready)
-  betweenReg := betweenReg + jobs.io.deq.fire.asUInt - leaves.asUInt
+  betweenReg := betweenReg + job.fire.asUInt - leaves.asUInt
   assert(
     betweenReg === PopCount(working),
     "leaf_between_count: the rays counted between jobs and exits differ from the IDs issuing or owed answers"
   )
-  io.held := jobs.io.count +& betweenReg +& exits.io.count
+  // The jobs in jobHead, counted as they pass (HeadQueue keeps no count).
+  private val headCountReg = RegInit(0.U(2.W))
+  headCountReg := headCountReg + jobHead.io.enq.fire.asUInt - job.fire.asUInt
+  io.held := jobs.io.count +& headCountReg +& betweenReg +& exits.io.count
 }

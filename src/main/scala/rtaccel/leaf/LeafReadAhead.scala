@@ -60,7 +60,7 @@ class LeafWrites(cfg: AccelConfig) extends Bundle {
   * this cycle's own write becomes the next cycle's write in flight, and is
   * taken from it there. When pre2 carries no answer, nothing reads the result.
   */
-class LeafReadAhead(cfg: AccelConfig, t: LeafTables, w: LeafWrites, pre2Id: UInt, preId: UInt) {
+class LeafReadAhead(cfg: AccelConfig, t: LeafTables, w: LeafWrites, pre2Id: UInt, preId: UInt, incIsPre: Bool) {
   private val toPre2 = w.doneId === pre2Id
   private val clrPre2Reg = RegNext(w.clear.valid && w.clear.bits === pre2Id)
   private val incPre2Reg = RegNext(w.inc && w.incId === pre2Id)
@@ -80,7 +80,9 @@ class LeafReadAhead(cfg: AccelConfig, t: LeafTables, w: LeafWrites, pre2Id: UInt
   val lastReg: Bool = Reg(Bool())
   // outstanding + (inc - dec over both cycles) === 1: the flag of the count that needs, of the count as the
   // pre2 cycle began (0 to 3, since the net change is -2 to 2), so no carry chain or compare follows the read.
-  private val net = incPre2Reg.asUInt +& (w.inc && w.incId === preId).asUInt
+  // `incIsPre`: `w.incId === preId`, compared a cycle ahead by the caller (from the issuing ID's register
+  // through this compare into `lastReg` was 5.24 ns).
+  private val net = incPre2Reg.asUInt +& (w.inc && incIsPre).asUInt
   private val drop = decPre2Reg.asUInt +& (w.reduce && toPre).asUInt
   lastReg := MuxLookup(Cat(net, drop), false.B)(
     Seq(
@@ -106,10 +108,15 @@ class LeafReadAhead(cfg: AccelConfig, t: LeafTables, w: LeafWrites, pre2Id: UInt
   private val baseReg = RegNext(base)
   private val baseKeyReg = RegNext(FpOrder.key(cfg.triFloat, base.t))
   private val toPreAheadReg = RegNext(preId === pre2Id)
-  private val fromWriteReg = RegNext(w.update && toPreAheadReg)
+  // "The previous answer was this ray's and replaced its best" is the write in flight's valid (a register)
+  // and the same-ray compare, registered again, ANDed after their registers: so the closer-hit compare ends in
+  // the write's valid alone. Registered as one bit, the AND with the compare's result mapped to one LUT more
+  // after its carry chain (5.41 ns).
+  private val sameRayReg = RegNext(toPreAheadReg)
+  private val fromWrite = t.bestWrite.valid && sameRayReg
   private val writeKeyReg = RegNext(FpOrder.key(cfg.triFloat, w.best.t))
   assert(
-    !w.reduce || fromWriteReg === (t.bestWrite.valid && t.bestWrite.bits.id === w.doneId),
+    !w.reduce || fromWrite === (t.bestWrite.valid && t.bestWrite.bits.id === w.doneId),
     "leaf_old_write: the reduce stage compares with the wrong best hit (the write in flight or the table's)"
   )
   assert(
@@ -123,7 +130,7 @@ class LeafReadAhead(cfg: AccelConfig, t: LeafTables, w: LeafWrites, pre2Id: UInt
     */
   def closer(tKey: UInt, prim: UInt): Bool = {
     def than(key: UInt, best: BestHit) = tKey < key || (tKey === key && prim < best.prim)
-    Mux(fromWriteReg, than(writeKeyReg, t.bestWrite.bits.hit), than(baseKeyReg, baseReg))
+    Mux(fromWrite, than(writeKeyReg, t.bestWrite.bits.hit), than(baseKeyReg, baseReg))
   }
   val occludedReg: Bool = RegNext(!clrPre && (occPre || (w.occludes && toPre)))
   val errorsReg: UInt = RegNext(Mux(clrPre, 0.U, errPre | Mux(w.reduce && toPre, w.errors, 0.U)))

@@ -113,11 +113,19 @@ class LeafIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
           val lives = mutable.Map.empty[Int, Life] // rays in flight, by ID
           val waiting = mutable.Queue.empty[Int] // IDs with a job to send
           var readReq: Option[Int] = None
-          val tmaxWrites = mutable.Map.empty[Int, Long] // written, exit not yet seen
+          // Exits whose tmax write has not come yet: the best t it must carry (None: a shadow ray's first
+          // occluder, not compared). The write leaves after its exit; the ray's ID is not reused and its next
+          // job not offered until it has come (in RtAccel both are many cycles away: `leaf_tmax_first`).
+          val owed = mutable.Map.empty[Int, Option[Long]]
           var exitsSeen, shadowEarly, leavesDone, badExits = 0
+          // The result is registered: loaded in an exit's cycle, checked in the next.
+          dut.io.resultLoad.poke(true.B)
+          dut.io.peerRead.valid.poke(false.B)
+          var resultCheck: Option[() => Unit] = None
           for (cycle <- 0 until cycles) {
+            resultCheck.foreach(_()); resultCheck = None
             // Start new rays on free IDs.
-            val freeIds = (0 until cfg.numRayIds).filterNot(lives.contains)
+            val freeIds = (0 until cfg.numRayIds).filterNot(id => lives.contains(id) || owed.contains(id))
             val start = freeIds.nonEmpty && rnd.nextInt(3) == 0
             dut.io.clear.valid.poke(start.B)
             var startedId = -1
@@ -135,7 +143,7 @@ class LeafIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
             }
             // Offer the next job; a ray started (cleared) this cycle waits a cycle, as in RtAccel, where the clear
             // comes long before a ray's first job.
-            val job = waiting.headOption.filterNot(_ == startedId)
+            val job = waiting.headOption.filterNot(id => id == startedId || owed.contains(id))
             dut.io.in.valid.poke(job.isDefined.B)
             job.foreach { id =>
               val l = lives(id)
@@ -153,8 +161,9 @@ class LeafIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
             dut.io.out.ready.poke(outReady.B); dut.io.tmax.ready.poke(tmaxReady.B)
             if (dut.io.tmax.valid.peek().litToBoolean && tmaxReady) {
               val id = dut.io.tmax.bits.rayId.peek().litValue.toInt
-              assert(!tmaxWrites.contains(id), s"cycle $cycle: ray $id wrote its tmax twice for one leaf")
-              tmaxWrites(id) = dut.io.tmax.bits.tmax.peek().litValue.toLong
+              val t = dut.io.tmax.bits.tmax.peek().litValue.toLong
+              val expected = owed.remove(id).getOrElse(fail(s"cycle $cycle: ray $id wrote a tmax no exit owed"))
+              expected.foreach(e => assert(t == e, s"cycle $cycle ray $id: tmax written $t, best $e"))
             }
             if (dut.io.out.valid.peek().litToBoolean && outReady) {
               val id = dut.io.out.bits.token.rayId.peek().litValue.toInt
@@ -164,13 +173,13 @@ class LeafIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
               val (first, count) = l.leaf
               val hits = (first until first + count).map(tris).filter(t => t._1 && t._2 <= l.tmax)
               if (l.shadow) {
-                // A shadow ray's tmax write (if it hit) carries the first occluder found; not compared.
-                tmaxWrites.remove(id)
+                // A shadow ray's tmax write (if it hit: then it is occluded) carries the first occluder found;
+                // not compared.
                 assert(l.issued <= count, s"ray $id issued ${l.issued} requests for a $count-triangle leaf")
                 if (l.issued < count) shadowEarly += 1
                 val issuedHits = (first until first + l.issued).map(tris).exists(t => t._1 && t._2 <= l.tmax)
                 dut.io.out.bits.occluded.expect(issuedHits.B, s"cycle $cycle ray $id occluded")
-                if (issuedHits) l.occluded = true
+                if (issuedHits) { l.occluded = true; owed(id) = None }
                 if (!issuedHits) assert(l.issued == count, s"unoccluded shadow ray $id issued ${l.issued}/$count")
               } else {
                 assert(
@@ -192,17 +201,16 @@ class LeafIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
               if (l.bad) badExits += 1
               dut.io.resultId.poke(id.U)
               if (!l.shadow) {
-                dut.io.result.valid.expect(l.best.isDefined.B, s"cycle $cycle ray $id has a hit")
-                l.best.foreach { case (t, u, v, p) =>
-                  dut.io.result.bits.t.expect(t.U, s"ray $id t"); dut.io.result.bits.u.expect(u.U, s"ray $id u")
-                  dut.io.result.bits.v.expect(v.U, s"ray $id v"); dut.io.result.bits.prim.expect(p.U, s"ray $id prim")
+                val expected = l.best
+                resultCheck = Some { () =>
+                  dut.io.result.valid.expect(expected.isDefined.B, s"cycle $cycle ray $id has a hit")
+                  expected.foreach { case (t, u, v, p) =>
+                    dut.io.result.bits.t.expect(t.U, s"ray $id t"); dut.io.result.bits.u.expect(u.U, s"ray $id u")
+                    dut.io.result.bits.v.expect(v.U, s"ray $id v"); dut.io.result.bits.prim.expect(p.U, s"ray $id prim")
+                  }
                 }
-                // The tmax write must have happened before the exit, with the best t.
-                assert(
-                  tmaxWrites.remove(id) == l.best.map(_._1),
-                  s"cycle $cycle ray $id: tmax written ${tmaxWrites.get(id)}, best ${l.best}"
-                )
-                l.best.foreach(b => l.tmax = b._1)
+                // A ray with a hit writes its best t as tmax, after its exit.
+                l.best.foreach { b => owed(id) = Some(b._1); l.tmax = b._1 }
               }
               exitsSeen += 1; leavesDone += 1
               l.leavesLeft -= 1; l.issued = -1
