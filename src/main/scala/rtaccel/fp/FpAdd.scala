@@ -117,21 +117,25 @@ object FpAdd {
     val f0 = Wire(new FpAddFront(fmt, dynamicRm))
     f0 := DontCare
     f0.rm.foreach(_ := in.rm.get)
-    def field(bits: UInt): UInt = {
-      val e = bits(fmt.width - 2, fmt.manBits)
-      Mux(e === 0.U, 1.U(fmt.expBits.W), e)
-    }
-    val fa = field(in.a)
-    val fb = field(in.b)
     // |a| >= |b|, compared as the magnitudes' bit patterns (IEEE magnitudes order as integers, subnormals
-    // included), so the exponents are in order (fa >= fb) and, when they are equal, the significands too: a
+    // included), so the exponents are in order and, when they are equal, the significands too: a
     // difference is never negative, and the add stage needs no second chain for its negation nor a select
     // behind its carry chain (docs/fmax.md). NaNs compare arbitrarily; they leave as the canonical NaN.
     val aBig = in.a(fmt.width - 2, 0) >= in.b(fmt.width - 2, 0)
     val big = Mux(aBig, ua, ub)
     f0.big := big
     f0.smallSig := Mux(aBig, ub.sig, ua.sig)
-    f0.dist := Mux(aBig, fa -& fb, fb -& fa) // = big.exp - small.exp >= 0
+    // dist = big.exp - small.exp >= 0, from the raw fields: a subnormal's field 0 stands for 1, so when only
+    // the smaller operand is subnormal the field difference is one too big. Both candidates are chains on
+    // the raw fields, picked after them (with the subnormal fix in front of each chain, 5.05 ns).
+    val (ea, eb) = (in.a(fmt.width - 2, fmt.manBits), in.b(fmt.width - 2, fmt.manBits))
+    val (eaZero, ebZero) = (ea === 0.U, eb === 0.U)
+    def less1(x: UInt, y: UInt): UInt = (x +& ~y)(fmt.expBits - 1, 0) // x - y - 1 when x > y
+    f0.dist := Mux(
+      aBig,
+      Mux(ebZero && !eaZero, less1(ea, eb), ea -& eb),
+      Mux(eaZero && !ebZero, less1(eb, ea), eb -& ea)
+    )
     f0.effSub := ua.sign =/= ub.sign
     f0.isNaN := ua.isNaN || ub.isNaN || (ua.isInf && ub.isInf && f0.effSub)
     f0.isInf := ua.isInf || ub.isInf

@@ -45,12 +45,15 @@ object FpCompare {
     val ua = FpUnpack(fmt, a)
     val ub = FpUnpack(fmt, b)
 
-    /* Maps sign-magnitude to an unsigned order in which -0 sits just below +0. */
-    def key(x: UInt): UInt = {
-      val s = x(fmt.width - 1)
-      Mux(s, ~x, x | (BigInt(1) << (fmt.width - 1)).U)
-    }
-    val aBelowOrSame = key(a) <= key(b)
+    // The order of sign-magnitude patterns in which -0 sits just below +0 (the unsigned order of `s ? ~x :
+    // x | msb`), from the magnitudes' two compares and the signs: different signs order by sign, two negative
+    // values by reversed magnitude. The compares read the registers directly (with that key mux in front of
+    // one compare, and the min's select behind it, a box lane's fold of mins was 5.67 ns).
+    val (sa, sb) = (a(fmt.width - 1), b(fmt.width - 1))
+    val aMagLe = a(fmt.width - 2, 0) <= b(fmt.width - 2, 0)
+    val bMagLe = b(fmt.width - 2, 0) <= a(fmt.width - 2, 0)
+    val aBelowOrSame = Mux(sa =/= sb, sa, Mux(sa, bMagLe, aMagLe))
+    val aBelow = Mux(sa =/= sb, sa, Mux(sa, !aMagLe, !bMagLe))
     val bothZero = ua.isZero && ub.isZero
     val unordered = ua.isNaN || ub.isNaN
     val nan = fmt.canonicalNaN.U(fmt.width.W)
@@ -58,7 +61,7 @@ object FpCompare {
     val res = Wire(new FpCompareOut(fmt))
     res.unordered := unordered
     res.eq := !unordered && (a === b || bothZero)
-    res.lt := !unordered && key(a) < key(b) && !bothZero
+    res.lt := !unordered && aBelow && !bothZero
     res.min := MuxCase(Mux(aBelowOrSame, a, b), Seq((ua.isNaN && ub.isNaN) -> nan, ua.isNaN -> b, ub.isNaN -> a))
     res.max := MuxCase(Mux(aBelowOrSame, b, a), Seq((ua.isNaN && ub.isNaN) -> nan, ua.isNaN -> b, ub.isNaN -> a))
     res

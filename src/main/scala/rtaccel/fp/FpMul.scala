@@ -5,9 +5,10 @@ import chisel3.util._
 
 /** Floating-point multiplier: the exact `precision x precision` significand
   * product, rounded once by [[FpRound]] (which also normalises subnormal
-  * operands' products). Cut points ([[FpPipeline]]): after the multiply (the
-  * DSP48 output register), the rounder's, the output; the default latency
-  * puts one register on each.
+  * operands' products). Cut points ([[FpPipeline]]): after the unpacked
+  * operands (the DSP48s' input registers), the product's ([[DspMul]]: one per
+  * DSP48 and one after the last sum), the rounder's, the output; the default
+  * latency puts one register on each.
   */
 class FpMul(val fmt: FloatFormat, val rm: Option[RoundingMode], val latency: Int = FpMul.defaultLatency)
     extends Module {
@@ -16,7 +17,7 @@ class FpMul(val fmt: FloatFormat, val rm: Option[RoundingMode], val latency: Int
 
   private val pipe = new FpPipeline(latency, FpMul.cuts(fmt))
   private val stages = new FpStages(pipe, io.in.valid)
-  private val mid = stages(FpMul.front(fmt, io.in.bits))
+  private val mid = FpMul.front(fmt, io.in.bits, stages)
   // Rounded first: its cuts advance `stages.valid`.
   private val rounded = FpRound(fmt, mid.raw, FpUnitIO.roundingMode(rm, mid.rm), stages = Some(stages))
   io.out := pipe.cut(stages.valid, rounded)
@@ -33,35 +34,60 @@ class FpMulDnUp(val fmt: FloatFormat, val latency: Int = FpMul.defaultLatency) e
 
   private val pipe = new FpPipeline(latency, FpMul.cuts(fmt))
   private val stages = new FpStages(pipe, io.in.valid)
-  private val mid = stages(FpMul.front(fmt, io.in.bits))
+  private val mid = FpMul.front(fmt, io.in.bits, stages)
   private val rounded = FpRound.inModes(fmt, mid.raw, FpDnUp.modes(mid.raw.sign), None, Some(stages))
   io.out := pipe.cut(stages.valid, FpDnUp(fmt, rounded))
   pipe.done()
 }
 
+/** What the multiplier carries through the product's cuts: the unrounded result but its significand, the
+  * operands' significands and the product's partials. */
+class FpMulState(fmt: FloatFormat, dynamicRm: Boolean) extends Bundle {
+  private val p = fmt.precision
+  val meta = new FpRawStage(2 * p, FpUnpack.expWidth(fmt) + 1, dynamicRm)
+  val a = UInt(p.W)
+  val b = UInt(p.W)
+  val dsp = new DspPartials(p + 1, p + 1)
+}
+
 object FpMul {
 
-  /** The exact product, unrounded (the rounding mode passed on when it is a runtime input). */
-  def front(fmt: FloatFormat, in: FpBinaryIn): FpRawStage = {
+  /** The exact product, unrounded (the rounding mode passed on when it is a runtime input), after the cut of
+    * the unpacked operands and the product's cuts. */
+  def front(fmt: FloatFormat, in: FpBinaryIn, stages: FpStages): FpRawStage = {
     val p = fmt.precision
     val ua = FpUnpack(fmt, in.a)
     val ub = FpUnpack(fmt, in.b)
-    val front = Wire(new FpRawStage(2 * p, FpUnpack.expWidth(fmt) + 1, in.rm.isDefined))
-    val raw = front.raw
-    front.rm.foreach(_ := in.rm.get)
+    val s0 = Wire(new FpMulState(fmt, in.rm.isDefined))
+    s0 := DontCare
+    val raw = s0.meta.raw
+    s0.meta.rm.foreach(_ := in.rm.get)
     raw.isNaN := ua.isNaN || ub.isNaN || (ua.isInf && ub.isZero) || (ub.isInf && ua.isZero)
     raw.isInf := ua.isInf || ub.isInf
     raw.isZero := ua.isZero || ub.isZero
     raw.sign := ua.sign ^ ub.sign
-    raw.sig := ua.sig * ub.sig
     raw.exp := ua.exp +& ub.exp
     raw.sticky := false.B
-    front
+    s0.a := ua.sig
+    s0.b := ub.sig
+    // The operands in registers, then one stage per product cut.
+    val last = (1 to DspMul.cuts(p + 1)).foldLeft(stages(s0)) { (prev, s) =>
+      val n = Wire(new FpMulState(fmt, in.rm.isDefined))
+      n := prev
+      n.dsp := DspMul.step(s, prev.a.zext, prev.b.zext, prev.dsp)
+      stages(n)
+    }
+    val out = Wire(new FpRawStage(2 * p, FpUnpack.expWidth(fmt) + 1, in.rm.isDefined))
+    out := last.meta
+    out.raw.sig := DspMul.result(last.a.zext, last.b.zext, last.dsp).asUInt(2 * p - 1, 0)
+    out
   }
 
-  /** The multiply, the rounder's cut points, the output. */
-  def cuts(fmt: FloatFormat): Int = 1 + FpRound.cuts(fmt, 2 * fmt.precision) + 1
+  /** The unpacked operands, the product ([[DspMul]]), the rounder's cut points, the output. */
+  def cuts(fmt: FloatFormat): Int =
+    1 + DspMul.cuts(fmt.precision + 1) + FpRound.cuts(fmt, 2 * fmt.precision) + 1
 
-  /** One register per cut point (the same for every format: the product always takes the full rounder). */
+  /** One register per cut point at FP32, whose product takes two DSP48s; a narrower format's single DSP48
+    * takes a cut less, and its spare register sits at the output. */
   def defaultLatency: Int = cuts(FloatFormat.FP32)
 }

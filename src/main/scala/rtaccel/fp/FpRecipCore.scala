@@ -17,18 +17,26 @@ class FpRecipState(fmt: FloatFormat, plan: FpRecipPlan, dynamicRm: Boolean) exte
   val b = UInt(p.W)
   val y = UInt(yWidth.W)
 
-  /** `b y` of the current step, then its error term `E'`, then `y E'`. */
-  val prod = UInt((p + yWidth).W)
-  val e = SInt(eWidth.W)
-  val z = SInt((yWidth + 1 + eWidth).W)
+  /** The partials of the product being formed (DspMul), for the widest of `b y`, `y E'` and `Qc B`. */
+  val dsp = new DspPartials(
+    p + 1,
+    (plan.steps.flatMap(st => Seq(st.fIn + 2, st.eWidth + 1)) :+ (p + 3)).max
+  )
 
-  /** The estimate `Qc` (within one of the quotient), its product's low bits, the remainder `R`. */
+  /** The current step's error term `E'`, plus 2^(eWidth-1), and `y 2^(fOut-fIn+shift) - y 2^(eWidth-1)`. */
+  val e = UInt(eWidth.W)
+  val w = SInt((1 +: plan.steps.map(st => st.fOut + 3 + st.productShift(p))).max.W)
+
+  /** The estimate `Qc` (within one of the quotient) and the remainder `R`. */
   val qc = UInt((p + 2).W)
-  val low = UInt((p + 3).W)
   val r = SInt((p + 3).W)
 
-  /** `R = -B` and `R = 0`, tested beside the chain that forms `R`. */
+  /** `-B` modulo 2^(p+3), formed once `B` is normalised. */
+  val negB = UInt((p + 3).W)
+
+  /** `R = -B`, `R = B` and `R = 0`, tested beside the chain that forms `R`. */
   val rIsNegB = Bool()
+  val rIsB = Bool()
   val rIsZero = Bool()
 
   /** `R < 0`, `R >= B`, and whether the remainder after that correction is 0. */
@@ -49,19 +57,24 @@ class FpRecipState(fmt: FloatFormat, plan: FpRecipPlan, dynamicRm: Boolean) exte
   * NaNs included.
   *
   * Cut points, in order: the leading-zero count, the normalising shift, the
-  * table; per Newton step four (the product `b y` on a DSP48, the error term
-  * `2^(p-1+f) - b y` (one carry chain), the product `y E'` on a DSP48, the sum
-  * `y + y E'` (one carry chain)); the estimate's product `Qc B` (DSP48), the
-  * remainder `-Qc B` (one chain, its equality tests with `-B` and 0 beside
-  * it), its other tests and `Qc +- 1` (chains side by side), the corrected
-  * quotient (a select); the rounder's four; the output.
-  * FP32: 2 Newton steps, 20 cut points, against the recurrence's 33.
+  * table; per Newton step the product `b y` on DSP48s ([[DspMul]]: a cut per
+  * DSP48 and one after the last sum), the error term `2^(p-1+f) - b y` (one
+  * carry chain), the product `y E'` on DSP48s, the sum `y + y E'` (one carry
+  * chain); the estimate's product `Qc B` (DSP48s), the remainder `-Qc B` (one
+  * chain, its equality tests with `-B` and 0 beside it), its other tests and
+  * `Qc +- 1` (chains side by side), the corrected quotient (a select); the
+  * rounder's four; the output. Each product's operands are registers (the
+  * DSP48s' input registers).
+  * FP32: 2 Newton steps, 27 cut points, against the recurrence's 33.
   */
 object FpRecipCore {
   def plan(fmt: FloatFormat): FpRecipPlan = FpRecipPlan(fmt.precision)
 
-  def cuts(fmt: FloatFormat): Int =
-    3 + 4 * plan(fmt).steps.size + 4 + FpRound.cuts(fmt, fmt.precision + 2) + 1
+  def cuts(fmt: FloatFormat): Int = {
+    val p = fmt.precision
+    val steps = plan(fmt).steps.map(st => DspMul.cuts(st.fIn + 2) + 1 + DspMul.cuts(st.eWidth + 1) + 1).sum
+    3 + steps + DspMul.cuts(p + 3) + 3 + FpRound.cuts(fmt, p + 2) + 1
+  }
 
   /** One register per cut point. */
   def defaultLatency(fmt: FloatFormat): Int = cuts(fmt)
@@ -84,6 +97,15 @@ object FpRecipCore {
     def next(s: FpRecipState): FpRecipState = { val n = Wire(new FpRecipState(fmt, pl, dynamicRm)); n := s; n }
     var stage: Valid[FpRecipState] = null
     def cut(v: Bool, s: FpRecipState): Unit = stage = pipe.cut(v, s)
+    // The product `a b` of the stage's registers (which the product's stages carry unchanged), after its cuts.
+    def product(a: FpRecipState => SInt, b: FpRecipState => SInt): SInt = {
+      for (s <- 1 to DspMul.cuts(b(stage.bits).getWidth)) {
+        val n = next(stage.bits)
+        n.dsp := DspMul.step(s, a(stage.bits), b(stage.bits), stage.bits.dsp)
+        cut(stage.valid, n)
+      }
+      DspMul.result(a(stage.bits), b(stage.bits), stage.bits.dsp)
+    }
 
     // Unpack and count: the dividend is 1 (significand 2^(p-1), LSB exponent 1 - p).
     val ub = FpUnpack(fmt, a)
@@ -96,7 +118,12 @@ object FpRecipCore {
     raw.isZero := ub.isInf
     raw.sign := ub.sign
     // Q has weight 2^-(p+1) relative to 1/b; the normalised exponent is ub.exp - lz, added in the table stage.
-    raw.exp := (1 - p).S -& ub.exp -& (p + 1).S
+    // (1 - p) - ub.exp - (p + 1) is one constant minus the LSB's exponent field, one carry chain (formed from
+    // ub.exp, two chains, 5.06 ns).
+    val expField = a(fmt.width - 2, fmt.manBits)
+    val lsbField = Mux(expField === 0.U, 1.U, expField).zext
+    val ew = raw.exp.getWidth
+    raw.exp := (fmt.bias + fmt.manBits - 2 * p).S(ew.W) - lsbField.pad(ew)
     raw.sig := DontCare
     raw.sticky := DontCare
     s0.b := ub.sig
@@ -114,49 +141,53 @@ object FpRecipCore {
     s2.lz := DontCare
     val rom = VecInit(pl.table.map(_.U((pl.tableBits + 1).W)))
     s2.y := rom(stage.bits.b(p - 2, p - 1 - pl.indexBits))
+    s2.negB := 0.U((p + 3).W) - stage.bits.b
     cut(stage.valid, s2)
 
     for (st <- pl.steps) {
-      val a0 = next(stage.bits)
-      a0.prod := stage.bits.b * stage.bits.y(st.fIn, 0)
-      cut(stage.valid, a0)
+      val by = product(_.b.zext, _.y(st.fIn, 0).zext).asUInt
 
-      // E = 2^(p-1+f) - b y, floored by `drop` bits; FpRecipPlan bounds it to eWidth signed bits.
+      // E = 2^(p-1+f) - b y, floored by `drop` bits; FpRecipPlan bounds it to eWidth signed bits. It is kept
+      // offset by 2^(eWidth-1), unsigned (the MSB flipped), so that `y E'` is an unsigned product: firtool
+      // writes a signed one as an unsigned multiply of sign-extended operands, which Yosys splits over
+      // DSP48s without registers. The offset's product `y 2^(eWidth-1)` is taken off `w` beside the chain.
       val a1 = next(stage.bits)
-      val eFull = ((BigInt(1) << (p - 1 + st.fIn)).S((p + st.fIn + 3).W) - stage.bits.prod(p + st.fIn, 0).zext) >>
-        st.drop
-      a1.e := eFull(st.eWidth - 1, 0).asSInt
-      a1.prod := DontCare
+      val eFull = ((BigInt(1) << (p - 1 + st.fIn)).S((p + st.fIn + 3).W) - by(p + st.fIn, 0).zext) >> st.drop
+      a1.e := eFull(st.eWidth - 1, 0) ^ (BigInt(1) << (st.eWidth - 1)).U
+      val shift = st.productShift(p)
+      val y = stage.bits.y(st.fIn, 0).zext
+      a1.w := (y << (st.fOut - st.fIn + shift)) - (y << (st.eWidth - 1))
+      a1.dsp := DontCare
       cut(stage.valid, a1)
 
-      val a2 = next(stage.bits)
-      a2.z := stage.bits.y(st.fIn, 0).zext * stage.bits.e(st.eWidth - 1, 0).asSInt
-      a2.e := DontCare
-      cut(stage.valid, a2)
+      val z = product(_.y(st.fIn, 0).zext, _.e(st.eWidth - 1, 0).zext).asUInt
 
-      // y' = y 2^(fOut-fIn) + floor(y E' / 2^shift), in [0, 2^(fOut+1)) (FpRecipPlan).
+      // y' = y 2^(fOut-fIn) + floor(y E' / 2^shift) = floor((w + y (E' + 2^(eWidth-1))) / 2^shift), as w is
+      // y 2^(fOut-fIn) 2^shift - y 2^(eWidth-1); in [0, 2^(fOut+1)) (FpRecipPlan).
       val a3 = next(stage.bits)
-      val sum = Cat(stage.bits.y(st.fIn, 0), 0.U((st.fOut - st.fIn).W)).zext + (stage.bits.z >> st.productShift(p))
+      val sum = (stage.bits.w +& z.zext) >> shift
       a3.y := sum(st.fOut, 0)
-      a3.z := DontCare
+      a3.e := DontCare
+      a3.w := DontCare
+      a3.dsp := DontCare
       cut(stage.valid, a3)
     }
 
-    // Qc = floor(y 2^(p+1)) and the low p + 3 bits of Qc B (the remainder 2^(2p) - Qc B is 0 - Qc B there).
-    val c0 = next(stage.bits)
-    val qc = stage.bits.y(pl.fLast, pl.quotientShift)
-    c0.qc := qc
-    c0.low := (qc * stage.bits.b)(p + 2, 0)
-    c0.y := DontCare
-    cut(stage.valid, c0)
+    // Qc = floor(y 2^(p+1)), a slice of the estimate's register, and the low p + 3 bits of Qc B (the
+    // remainder 2^(2p) - Qc B is 0 - Qc B there).
+    def qcOf(s: FpRecipState): UInt = s.y(pl.fLast, pl.quotientShift)
+    val low = product(_.b.zext, qcOf(_).zext).asUInt(p + 2, 0)
 
-    // R = -low (mod 2^(p+3)); R = -B and R = 0 are tested here on `low`, beside the chain (low = B and
-    // low = 0), so the next stage selects registered tests (below).
+    // R = -low (mod 2^(p+3)); R = -B, R = B and R = 0 are tested here on `low`, beside the chain (low = B,
+    // low = -B mod 2^(p+3) and low = 0), so the next stage selects registered tests (below).
     val c1 = next(stage.bits)
-    c1.r := (0.U((p + 3).W) - stage.bits.low).asSInt
-    c1.rIsNegB := stage.bits.low === stage.bits.b
-    c1.rIsZero := stage.bits.low === 0.U
-    c1.low := DontCare
+    c1.qc := qcOf(stage.bits)
+    c1.r := (0.U((p + 3).W) - low).asSInt
+    c1.rIsNegB := low === stage.bits.b
+    c1.rIsB := low === stage.bits.negB
+    c1.rIsZero := low === 0.U
+    c1.y := DontCare
+    c1.dsp := DontCare
     cut(stage.valid, c1)
 
     // |R| < 2B: one correction either way. Each test and Qc +- 1 is its own carry chain or compare.
@@ -167,13 +198,15 @@ object FpRecipCore {
     val over = r >= bS
     c2.under := under
     c2.over := over
-    // Only R = B is compared here: with all three compares behind the selects by `under` and `over`, this
-    // stage was the reciprocal's longest path, 9 cells (3 LUT, 6 MUXF), 5.00 ns.
-    c2.exact := Mux(under, stage.bits.rIsNegB, Mux(over, r === bS, stage.bits.rIsZero))
+    // The equality tests come registered: with them behind the selects by `under` and `over`, this stage was
+    // the reciprocal's longest path (R = B alone there: `over`'s chain and the compare into the select,
+    // 5.67 ns in PrimIntersect).
+    c2.exact := Mux(under, stage.bits.rIsNegB, Mux(over, stage.bits.rIsB, stage.bits.rIsZero))
     c2.qcDown := stage.bits.qc - 1.U
     c2.qcUp := stage.bits.qc + 1.U
     c2.r := DontCare
     c2.rIsNegB := DontCare
+    c2.rIsB := DontCare
     c2.rIsZero := DontCare
     cut(stage.valid, c2)
 

@@ -13,15 +13,24 @@ import scala.sys.process._
   * by a [[DelayModel]]'s delay. No placement or routing: an ESTIMATE.
   *
   * Cut (treated as registers): DSP48E1, block RAM, SRLs, I/O buffers and black
-  * boxes; distributed RAM is read through a LUT arc. A unit's ports count as
+  * boxes; distributed RAM is read through a LUT arc. A DSP48E1 without its
+  * registers ([[TimingGraph]]) makes its unit's row say that its multiplies
+  * are not timed. A unit's ports count as
   * register boundaries: within the datapath every unit input comes from a
   * register or another unit's registered output.
   */
 object FmaxEstimate {
 
   /** A path's cell types in order (inverters included), its start and end, and its delay by the model it was found
-    * with. */
-  final case class PathCells(cells: Seq[String], ns: Double = Double.NaN, from: String = "", to: String = "") {
+    * with; `unregisteredDsp` lists the unit's DSP48E1s that cut paths without their registers
+    * ([[TimingGraph]]), whose multiplies the estimate does not time. */
+  final case class PathCells(
+      cells: Seq[String],
+      ns: Double = Double.NaN,
+      from: String = "",
+      to: String = "",
+      unregisteredDsp: Seq[String] = Nil
+  ) {
     private def n(p: String => Boolean) = cells.count(p)
     def luts: Int = n(c => DelayModel.kind(c) == "LUT")
     def muxf: Int = n(c => c == "MUXF7" || c == "MUXF8")
@@ -32,10 +41,15 @@ object FmaxEstimate {
       s"${cells.size} (${luts} LUT, ${muxf} MUXF, ${carry4} CARRY4${if (inv > 0) s", $inv INV" else ""}${if (other > 0) s", $other other"
         else ""})"
 
-    /** The summary and, when known, where the path starts and ends (as a markdown table cell). */
-    def described: String =
-      if (from.isEmpty && to.isEmpty) summary
-      else s"$summary: `${from.replace("|", "\\|")}` → `${to.replace("|", "\\|")}`"
+    /** The summary and, when known, where the path starts and ends (as a markdown table cell); a unit with
+      * unregistered DSP48E1s says so, since its figure leaves their multiplies out. */
+    def described: String = {
+      val path =
+        if (from.isEmpty && to.isEmpty) summary
+        else s"$summary: `${from.replace("|", "\\|")}` → `${to.replace("|", "\\|")}`"
+      if (unregisteredDsp.isEmpty) path
+      else s"$path; **${unregisteredDsp.size} DSP48E1 without their registers, not timed**"
+    }
   }
   final case class Row(unit: String, module: String, area: Synth.Area, path: PathCells, ns: Double) {
     def mhz: Double = 1000.0 / ns
@@ -71,15 +85,30 @@ object FmaxEstimate {
     md.digest().take(8).map(b => f"$b%02x").mkString
   }
 
-  private def pathJson(p: PathCells): ujson.Value =
-    ujson.Obj("cells" -> ujson.Arr.from(p.cells), "ns" -> p.ns, "from" -> p.from, "to" -> p.to)
-  private def pathOf(j: ujson.Value): PathCells =
-    PathCells(j("cells").arr.map(_.str).toSeq, j("ns").num, j("from").str, j("to").str)
+  private def pathJson(p: PathCells): ujson.Value = ujson.Obj(
+    "cells" -> ujson.Arr.from(p.cells),
+    "ns" -> p.ns,
+    "from" -> p.from,
+    "to" -> p.to,
+    "unregisteredDsp" -> ujson.Arr.from(p.unregisteredDsp)
+  )
+  private def pathOf(j: ujson.Value): PathCells = PathCells(
+    j("cells").arr.map(_.str).toSeq,
+    j("ns").num,
+    j("from").str,
+    j("to").str,
+    j.obj.get("unregisteredDsp").fold(Seq.empty[String])(_.arr.map(_.str).toSeq)
+  )
+
+  /** A cache entry without an `unregisteredDsp` field (from a pass that did not check DSP48s) is still right for a unit
+    * without DSP48s (most control units, whose runs are the longest), and is run again otherwise. */
+  private def current(j: ujson.Value): Boolean =
+    j("path").obj.contains("unregisteredDsp") || AccelArea.fromJson(j("area")).dsp == 0
 
   /** The longest path by `model` of `top` in the Yosys JSON netlist at `json`. */
   def longestPath(json: Path, top: String, model: DelayModel): PathCells = {
     val p = TimingGraph.longest(ujson.read(ujson.Readable.fromPath(json)), top, model)
-    PathCells(p.cells, p.ns, p.from, p.to)
+    PathCells(p.cells, p.ns, p.from, p.to, p.unregisteredDsp)
   }
 
   /** One cached Yosys run: area and longest path by `model`'s delay of `top` in `text`. The model is part of the
@@ -104,10 +133,8 @@ object FmaxEstimate {
       script(Path.of("x"), top, bb, flatten, Path.of("y"))
     )
     val done = cacheDir.resolve(s"fmax-$label-$key.json")
-    if (Files.exists(done)) {
-      val j = ujson.read(Files.readString(done))
-      (AccelArea.fromJson(j("area")), pathOf(j("path")))
-    } else {
+    val cached = Option.when(Files.exists(done))(ujson.read(Files.readString(done))).filter(current)
+    cached.fold {
       val stem = s"fmax-$label-$key.${ProcessHandle.current().pid()}"
       val sv = cacheDir.resolve(s"$stem.sv")
       val log = cacheDir.resolve(s"$stem.yosys.log")
@@ -130,7 +157,7 @@ object FmaxEstimate {
       Files.deleteIfExists(sv)
       Files.deleteIfExists(netlist)
       (area, path)
-    }
+    }(j => (AccelArea.fromJson(j("area")), pathOf(j("path"))))
   }
 
   /** Memories, queues and arbiters firtool and chisel3.util emit: part of their parent's row. */
@@ -170,6 +197,7 @@ object FmaxEstimate {
         label -> Future {
           val (a, p) = run(cacheDir, m.takeWhile(_ != '_'), text, m, bb, flatten = true, model = model)
           println(f"fmax: $label: ${p.described}, ${p.ns}%.2f ns")
+          p.unregisteredDsp.foreach(d => println(s"fmax: WARNING: $label: DSP48E1 not timed: $d"))
           Row(label, m, a, p, p.ns)
         }
       }
@@ -203,8 +231,15 @@ object FmaxEstimate {
       rows.map(line) ++
       Seq(
         "",
-        f"Estimated system Fmax (slowest unit, **${worst.unit}**): **${worst.mhz}%.0f MHz** (${worst.ns}%.2f ns).",
-        ""
-      )).mkString("\n")
+        f"Estimated system Fmax (slowest unit, **${worst.unit}**): **${worst.mhz}%.0f MHz** (${worst.ns}%.2f ns)."
+      ) ++ {
+        val untimed = rows.filter(_.path.unregisteredDsp.nonEmpty)
+        if (untimed.isEmpty) Nil
+        else
+          Seq(
+            "",
+            s"**Not timed**: DSP48E1s without their registers in ${untimed.map(_.unit).mkString(", ")} (their multiplies are in the same cycle as fabric logic, which the estimate prices at 0 ns; docs/fmax.md)."
+          )
+      } :+ "").mkString("\n")
   }
 }

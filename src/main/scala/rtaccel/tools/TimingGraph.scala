@@ -36,19 +36,29 @@ import scala.collection.mutable
   *    data outputs launch at `bramTcko`, or `bramTckoReg` on a port whose
   *    output register is on (`DOA_REG`, `DOB_REG`), and its inputs capture
   *    with `bramSetup`.
+  *
+  * A DSP48E1 cuts paths whatever its registers, which is honest only for a
+  * registered one, so the pass also lists each DSP48E1 that is not
+  * ([[unregisteredDsp]]): one whose output is neither its P register (PREG)
+  * nor its M register into flip-flops alone, or whose A, B, C or D input is
+  * driven through logic with that input's register off.
   */
 object TimingGraph {
 
   /** The path's cell types from start to end (inverters included), its start and end, and its delay. */
-  final case class Path(cells: Seq[String], from: String, to: String, ns: Double)
+  final case class Path(cells: Seq[String], from: String, to: String, ns: Double, unregisteredDsp: Seq[String] = Nil)
 
   private final class Cell(
       val name: String,
       val typ: String,
       val conns: Map[String, Array[Int]],
       val outputs: Set[String],
-      val params: Map[String, BigInt]
+      val params: Map[String, String]
   )
+
+  /** A parameter's value as Yosys's JSON writes it: a string of binary digits (or a number) for an integer. */
+  private def paramInt(v: String): Option[Int] =
+    if (v.nonEmpty && v.forall(c => c == '0' || c == '1')) Some(BigInt(v, 2).toInt) else v.toIntOption
 
   private val lutType = "LUT[1-6]".r
 
@@ -79,10 +89,9 @@ object TimingGraph {
         c("type").str,
         c("connections").obj.iterator.map { case (p, v) => p -> bits(v) }.toMap,
         dirs.collect { case (p, d) if d.str == "output" => p }.toSet,
-        // Yosys writes an integer parameter as a string of binary digits (or a number).
-        c.obj.get("parameters").fold(Map.empty[String, BigInt])(_.obj.iterator.collect {
-          case (k, ujson.Num(v))                            => k -> BigInt(v.toLong)
-          case (k, ujson.Str(v)) if v.matches("[01]{1,64}") => k -> BigInt(v, 2)
+        c.obj.get("parameters").fold(Map.empty[String, String])(_.obj.iterator.map {
+          case (k, ujson.Num(x)) => k -> x.toLong.toString
+          case (k, x)            => k -> x.str
         }.toMap)
       )
     }.toArray
@@ -179,7 +188,7 @@ object TimingGraph {
     def launch(b: Int): Double = drvCell(b) match {
       case d if d >= 0 && isBram(cells(d).typ) =>
         val reg = if (drvPort(b).startsWith("DOPB") || drvPort(b).startsWith("DOB")) "DOB_REG" else "DOA_REG"
-        if (cells(d).params.get(reg).contains(BigInt(1))) model.bramTckoReg else model.bramTcko
+        if (cells(d).params.get(reg).flatMap(paramInt).contains(1)) model.bramTckoReg else model.bramTcko
       case _ => model.tcko
     }
     def inputsOf(b: Int): Array[(Int, Double)] =
@@ -254,6 +263,39 @@ object TimingGraph {
     }
     require(worstBit >= 0, s"$top: no register-to-register path in the netlist")
 
+    // Each DSP48E1 that the pass cuts without its registers (a multiply in the same cycle as fabric logic).
+    val users = new Array[List[(Int, String)]](n)
+    for ((c, ci) <- cells.zipWithIndex; (p, bs) <- c.conns if !c.outputs.contains(p); b <- bs if b >= 0)
+      users(b) = (ci, p) :: Option(users(b)).getOrElse(Nil)
+    val outBits = ports.collect { case (_, "output", bs) => bs.toSeq }.flatten.toSet
+    def isLogic(b: Int): Boolean = {
+      val d = throughInv(b)
+      d >= 0 && drvCell(d) >= 0 && {
+        val t = cells(drvCell(d)).typ
+        isComb(t) || isLutRam(t)
+      }
+    }
+    val unregisteredDsp = cells.toSeq.filter(_.typ == "DSP48E1").flatMap { c =>
+      def reg(p: String) = c.params.get(p).flatMap(paramInt).getOrElse(0)
+      def driven(p: String) = c.conns.get(p).toSeq.flatMap(_.toSeq).filter(_ >= 0)
+      val outs = driven("P").toSet.flatMap((b: Int) => Option(users(b)).getOrElse(Nil))
+      val pcout = driven("PCOUT").exists(b => Option(users(b)).exists(_.nonEmpty))
+      val intoLogic = pcout || driven("P").exists(outBits) || outs.exists { case (ci, p) =>
+        !(isFlop(cells(ci).typ) && p == "D")
+      }
+      val why = Seq(
+        Option.when(reg("PREG") == 0 && reg("MREG") == 0)("no M or P register"),
+        Option.when(reg("PREG") == 0 && reg("MREG") != 0 && intoLogic)("no P register, P into logic"),
+        Seq(("A", "AREG"), ("B", "BREG"), ("C", "CREG"), ("D", "DREG")).collectFirst {
+          case (pin, r) if reg(r) == 0 && driven(pin).exists(isLogic) => s"$pin through logic without $r"
+        }
+      ).flatten
+      Option.when(why.nonEmpty) {
+        val regs = Seq("AREG", "BREG", "MREG", "PREG").map(r => s"$r=${reg(r)}").mkString(" ")
+        s"${c.name} ($regs: ${why.mkString(", ")})"
+      }
+    }
+
     val chain = Iterator.iterate(worstBit)(pred(_)).takeWhile(_ >= 0).toSeq.reverse
     val start = chain.head
     val from = drvCell(start) match {
@@ -261,6 +303,6 @@ object TimingGraph {
       case c if c >= 0 && !isFlop(cells(c).typ)  => s"${name(start)} (${cells(c).typ}.${drvPort(start)})"
       case _                                     => name(start)
     }
-    Path(chain.drop(1).map(b => cells(drvCell(b)).typ), from, worstTo, worst)
+    Path(chain.drop(1).map(b => cells(drvCell(b)).typ), from, worstTo, worst, unregisteredDsp)
   }
 }

@@ -53,7 +53,7 @@ class FmaxEstimateSpec extends AnyFlatSpec {
     mux("MUXF8", s"${name}_f8", in + 2, in + 2, sel, in + 3)
   )
   private def isOut(t: String, p: String) =
-    Set("Q", "O", "CO", "SPO", "DPO", "P")(p) || (t.startsWith("RAM") && p.startsWith("DO"))
+    Set("Q", "O", "CO", "SPO", "DPO", "P", "PCOUT")(p) || (t.startsWith("RAM") && p.startsWith("DO"))
   private def netlist(cells: (String, String, Pins)*): ujson.Value = {
     def bits(v: Seq[Any]) = ujson.Arr.from(v.map {
       case i: Int    => ujson.Num(i)
@@ -193,6 +193,36 @@ class FmaxEstimateSpec extends AnyFlatSpec {
     val p = longest(ff("a", 2, 10), lut("l0", Seq(10), 11), dsp, lut("l1", Seq(13), 14), ff("b", 14, 15))
     assert(p.cells == Seq("LUT1"))
     assert(Set(p.from, p.to).exists(_.contains("DSP48E1")))
+  }
+
+  it should "list each DSP48E1 that cuts paths without its registers, and no registered one" in {
+    // Cells as `netlist` builds them, with the DSP48E1's register parameters as Yosys writes them.
+    def withParams(j: ujson.Value, cell: String, regs: (String, Int)*): ujson.Value = {
+      j("modules")("top")("cells")(cell)("parameters") =
+        ujson.Obj.from(regs.map { case (r, v) => r -> ujson.Str(v.toBinaryString.reverse.padTo(32, '0').reverse) })
+      j
+    }
+    def dsp(a: Int, p: Int, pcout: Option[Int] = None) =
+      ("DSP48E1", "mul", Seq("CLK" -> Seq(1), "A" -> Seq(a), "P" -> Seq(p)) ++ pcout.map(b => "PCOUT" -> Seq(b)))
+    def flagged(regs: Seq[(String, Int)], cells: (String, String, Pins)*) =
+      TimingGraph.longest(withParams(netlist(cells: _*), "mul", regs: _*), "top", m).unregisteredDsp
+    val all = Seq("AREG" -> 1, "BREG" -> 1, "MREG" -> 1, "PREG" -> 1)
+    // Fed from a register, P into logic: registered at both ends, nothing to say.
+    val fromReg = Seq(ff("a", 2, 10), dsp(10, 12), lut("l1", Seq(12), 13), ff("b", 13, 14))
+    assert(flagged(all, fromReg: _*).isEmpty)
+    // No M or P register: the multiply is in the cycle of the logic after it.
+    val none = flagged(Seq("AREG" -> 1, "BREG" -> 1, "MREG" -> 0, "PREG" -> 0), fromReg: _*)
+    assert(none.size == 1 && none.head.contains("no M or P register"), none)
+    // M register alone is fine into flip-flops, not into logic (or over the cascade).
+    val mOnly = Seq("AREG" -> 1, "BREG" -> 1, "MREG" -> 1, "PREG" -> 0)
+    assert(flagged(mOnly, ff("a", 2, 10), dsp(10, 12), ff("b", 12, 14)).isEmpty)
+    assert(flagged(mOnly, fromReg: _*).head.contains("P into logic"))
+    assert(flagged(mOnly, ff("a", 2, 10), dsp(10, 12, Some(15)), ff("b", 12, 14), lut("l", Seq(15), 16)).nonEmpty)
+    // A input through a LUT with AREG off.
+    val viaLut =
+      flagged(all.updated(0, "AREG" -> 0), ff("a", 2, 10), lut("l0", Seq(10), 11), dsp(11, 12), ff("b", 12, 14))
+    assert(viaLut.size == 1 && viaLut.head.contains("A through logic without AREG"), viaLut)
+    assert(FmaxEstimate.PathCells(Seq("LUT1"), unregisteredDsp = viaLut).described.contains("not timed"))
   }
 
   it should "refuse a combinational loop, naming a cell on it" in {
