@@ -38,7 +38,7 @@ formal-system: setup formal-system-emit ## Not in make test: bounded model check
 	scripts/formal.sh $(FORMAL_DIR) "$(FORMAL_DEPTH)" system-cases.txt
 
 formal-system-mutants: setup formal-system-emit ## Not in make test: break the system top on purpose, each caught
-	scripts/formal-system-mutants.sh $(FORMAL_DIR) $(or $(FORMAL_MUTANT_DEPTH),48)
+	scripts/formal-system-mutants.sh $(FORMAL_DIR) $(or $(FORMAL_MUTANT_DEPTH),56)
 
 formal-system-units: setup formal-system-emit ## Not in make test: RayDma, HitDma and ReadEngine proved alone
 	scripts/formal-system-units.sh $(FORMAL_DIR) $(or $(FORMAL_IND_SECS),120) $(or $(FORMAL_BMC_SECS),600)
