@@ -87,8 +87,8 @@ fi
 if [ "$which" != probes ]; then
   case_=w1; cdepth=$(awk '$1=="w1"{print $2}' "$dir/system-cases.txt"); formal_wrap "$dir" w1
   maybe_mutant window_read "WindowGuard forwards every read burst to m_axi, inside the window or not" \
-    "/^module WindowGuard(/,/^endmodule/s/\(assign io_out_ar_valid = _ar_q_io_deq_valid\) \& arOk \& ~fakeRValidReg;/\1 \& ~fakeRValidReg;/" \
-    "assign io_out_ar_valid = _ar_q_io_deq_valid & arOk & ~fakeRValidReg;" window_kept_1
+    "/^module WindowGuard(/,/^endmodule/s/\(io_out_ar_valid_0 = ar_validReg\) \& ar_heldReg_ok \& ~fakeRValidReg;/\1 \& ~fakeRValidReg;/" \
+    "io_out_ar_valid_0 = ar_validReg & ar_heldReg_ok & ~fakeRValidReg;" window_kept_1
 fi
 # The system's units alone (make formal-system-units; FormalSystemUnits.scala), each to its own depth
 # (system-units.txt): the four properties no system mutant reaches within the system depth are shown able to fail here.
