@@ -103,6 +103,11 @@ verilog: setup ## SystemVerilog for the ZC706, lint, area and Fmax estimate
 	$(if $(SCENE),$(BRIDGE) compile $(SCENE) --out $(BUILD)/verilog/scene --rays $(or $(RAYS),primary) --bvh $(or $(BVH),4))
 	$(SBT) "runMain rtaccel.tools.EmitVerilog --out $(BUILD)/verilog --bvh $(or $(BVH),4) --float $(or $(FLOAT),e8m23)$(if $(BOX_FLOAT), --box-float $(BOX_FLOAT))$(if $(TRI_FLOAT), --tri-float $(TRI_FLOAT)) --triangle $(or $(TRIANGLE),watertight) --rounding $(or $(ROUNDING),conservative)$(if $(BOX_TEST), --box-test $(BOX_TEST))$(if $(IDS), --ids $(IDS)) --synth $(or $(SYNTH),1) --system $(or $(SYSTEM),1)$(if $(CORES), --cores $(CORES))$(if $(VERILOG_PACKAGE), --package $(VERILOG_PACKAGE))"
 
+# The longest path of one unit of the emitted design, net by net (docs/fmax.md).
+fmax-path: setup-sbt ## One unit's longest path, every net with its arrival: UNIT=<module> [SV=build/verilog/rtaccel_system.sv]
+	@test -n "$(UNIT)" || { echo "fmax-path: set UNIT=<module name from build/verilog/resources.md>"; exit 2; }
+	$(SBT) "runMain rtaccel.tools.FmaxPath $(or $(SV),$(BUILD)/verilog/rtaccel_system.sv) $(UNIT)"
+
 regress: setup ## Trace a scene's rays in RTL, each checked: SCENE=<scene.xml>
 	@scripts/regress.sh
 

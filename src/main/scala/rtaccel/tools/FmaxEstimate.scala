@@ -183,6 +183,12 @@ object FmaxEstimate {
     }
   }
 
+  /** Module `m`'s source with everything inside its black boxes `bb` left out. */
+  def unitText(mods: Seq[AccelArea.Module], m: String, bb: Seq[String]): String =
+    AccelArea.subtree(mods, m).filterNot(x =>
+      bb.exists(b => x.name != b && AccelArea.subtree(mods, b).exists(_.name == x.name))
+    ).map(_.text).mkString
+
   def measure(sv: String, top: String, cacheDir: Path, jobs: Int, model: DelayModel): Seq[Row] = {
     val mods = AccelArea.modules(sv)
     val pool = java.util.concurrent.Executors.newFixedThreadPool(jobs)
@@ -190,10 +196,7 @@ object FmaxEstimate {
     try {
       val us = units(sv, top)
       val futures = us.map { case (label, m, bb) =>
-        val text = AccelArea.subtree(mods, m).filterNot(x =>
-          bb.exists(b => x.name != b && AccelArea.subtree(mods, b).exists(_.name == x.name))
-        )
-          .map(_.text).mkString
+        val text = unitText(mods, m, bb)
         label -> Future {
           val (a, p) = run(cacheDir, m.takeWhile(_ != '_'), text, m, bb, flatten = true, model = model)
           println(f"fmax: $label: ${p.described}, ${p.ns}%.2f ns")

@@ -45,8 +45,19 @@ import scala.collection.mutable
   */
 object TimingGraph {
 
-  /** The path's cell types from start to end (inverters included), its start and end, and its delay. */
-  final case class Path(cells: Seq[String], from: String, to: String, ns: Double, unregisteredDsp: Seq[String] = Nil)
+  /** One net bit along a path: its name, the cell type and pin that drive it, and its arrival time (ns). */
+  final case class Step(net: String, driver: String, ns: Double)
+
+  /** The path's cell types from start to end (inverters included), its start and end, its delay, and every net
+    * bit along it (`steps`, start first: what [[FmaxPath]] prints). */
+  final case class Path(
+      cells: Seq[String],
+      from: String,
+      to: String,
+      ns: Double,
+      unregisteredDsp: Seq[String] = Nil,
+      steps: Seq[Step] = Nil
+  )
 
   private final class Cell(
       val name: String,
@@ -303,6 +314,13 @@ object TimingGraph {
       case c if c >= 0 && !isFlop(cells(c).typ)  => s"${name(start)} (${cells(c).typ}.${drvPort(start)})"
       case _                                     => name(start)
     }
-    Path(chain.drop(1).map(b => cells(drvCell(b)).typ), from, worstTo, worst, unregisteredDsp)
+    val steps = chain.map { b =>
+      val driver = drvCell(b) match {
+        case c if c >= 0 => s"${cells(c).typ}.${drvPort(b)}"
+        case _           => "input"
+      }
+      Step(name(b), driver, arrival(b))
+    }
+    Path(chain.drop(1).map(b => cells(drvCell(b)).typ), from, worstTo, worst, unregisteredDsp, steps)
   }
 }

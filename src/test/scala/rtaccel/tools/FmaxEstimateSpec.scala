@@ -119,6 +119,10 @@ class FmaxEstimateSpec extends AnyFlatSpec {
     )
     assert(carryChain.cells == Seq("LUT2", "CARRY4", "CARRY4", "CARRY4"))
     assert(math.abs(carryChain.ns - m.pathNs(carryChain.cells)) < 1e-9)
+    // Its steps (what FmaxPath prints): one per net bit from the launch on, arrivals rising, the last plus setup the total.
+    assert(carryChain.steps.map(_.driver) == Seq("FDRE.Q", "LUT2.O", "CARRY4.CO", "CARRY4.CO", "CARRY4.O"))
+    assert(carryChain.steps.map(_.ns).sliding(2).forall(w => w(1) > w(0)))
+    assert(math.abs(carryChain.steps.last.ns + m.setup - carryChain.ns) < 1e-9)
     val muxes = longest((ff("a", 2, 10) +: wideLevel("w", 10, 10)) ++ Seq(
       lut("l1", Seq(13), 14),
       ("INV", "i", Seq("I" -> Seq(14), "O" -> Seq(15))),
