@@ -18,14 +18,16 @@ object FmaxPath {
     require(Files.exists(svFile), s"$svFile: no such file (run make verilog first)")
     val sv = Files.readString(svFile)
     val top = Synth.modules(sv).last
-    val us = FmaxEstimate.units(sv, top)
-    val (label, m, bb) = us.find(_._2 == args(1)).orElse(us.find(_._1.startsWith(args(1)))).getOrElse(
+    val mods = AccelArea.modules(sv)
+    // The system's units as their rows are synthesised (SystemArea), then the core's (FmaxEstimate.units).
+    val plans = SystemArea.plan(mods).map { case (_, m, text, bb) => (m, m, text, bb) } ++
+      FmaxEstimate.units(sv, top).map { case (l, m, bb) => (l, m, FmaxEstimate.unitText(mods, m, bb), bb) }
+    val (label, m, text, bb) = plans.find(_._2 == args(1)).orElse(plans.find(_._1.startsWith(args(1)))).getOrElse(
       throw new IllegalArgumentException(
-        s"$svFile: no unit '${args(1)}'; units: ${us.map(_._2).mkString(", ")}"
+        s"$svFile: no unit '${args(1)}'; units: ${plans.map(_._2).distinct.mkString(", ")}"
       )
     )
     val dir = Files.createDirectories(Path.of("build", "fmax-path"))
-    val text = FmaxEstimate.unitText(AccelArea.modules(sv), m, bb)
     val unitSv = dir.resolve(s"$m.sv")
     val log = dir.resolve(s"$m.yosys.log")
     val netlist = dir.resolve(s"$m.netlist.json")

@@ -37,33 +37,32 @@ object SystemArea {
     mods.filter(m => seen.contains(m.name))
   }
 
-  /** One row per unit present in `sv` (a system without a node store has no NodeStore row). */
-  def measure(sv: String, cacheDir: Path, jobs: Int, model: DelayModel): Seq[FmaxEstimate.Row] = {
-    val mods = AccelArea.modules(sv)
+  /** Each unit present in `mods` (a system without a node store has no NodeStore row): its name, module, the
+    * source synthesised for it, and the modules black-boxed in it (their own text stays: `blackbox` keeps their
+    * ports). */
+  def plan(mods: Seq[AccelArea.Module]): Seq[(String, String, String, Seq[String])] = {
     val names = mods.map(_.name)
     val present = units.flatMap(u => named(names, u).map(u -> _))
     val core = named(names, corePrefix).toSeq
+    present.map { case (u, m) =>
+      val bb = u match {
+        case "MemoryFabric" => present.collect { case (s, n) if s == "NodeStore" || s == "TriStore" => n }
+        case "SystemCore"   => present.collect { case (o, n) if o != u => n } ++ core
+        case _              => Nil
+      }
+      val inside = subtreeStopping(mods, m, bb.toSet)
+      (u, m, inside.map(_.text).mkString, bb.filter(b => inside.exists(_.name == b)))
+    }
+  }
+
+  /** One row per unit present in `sv` ([[plan]]). */
+  def measure(sv: String, cacheDir: Path, jobs: Int, model: DelayModel): Seq[FmaxEstimate.Row] = {
     val pool = java.util.concurrent.Executors.newFixedThreadPool(jobs)
     implicit val ec: ExecutionContext = ExecutionContext.fromExecutor(pool)
     try {
-      val futures = present.map { case (u, m) =>
-        val bb = u match {
-          case "MemoryFabric" => present.collect { case (s, n) if s == "NodeStore" || s == "TriStore" => n }
-          case "SystemCore"   => present.collect { case (o, n) if o != u => n } ++ core
-          case _              => Nil
-        }
-        val inside = subtreeStopping(mods, m, bb.toSet)
-        // The black boxes' own text stays: `blackbox` keeps their ports.
+      val futures = plan(AccelArea.modules(sv)).map { case (u, m, text, bb) =>
         Future {
-          val (a, p) = FmaxEstimate.run(
-            cacheDir,
-            u,
-            inside.map(_.text).mkString,
-            m,
-            bb.filter(b => inside.exists(_.name == b)),
-            flatten = true,
-            model = model
-          )
+          val (a, p) = FmaxEstimate.run(cacheDir, u, text, m, bb, flatten = true, model = model)
           println(f"system: $u: $a, ${p.described}, ${p.ns}%.2f ns")
           FmaxEstimate.Row(u, m, a, p, p.ns)
         }
