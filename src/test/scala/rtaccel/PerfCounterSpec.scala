@@ -20,7 +20,7 @@ class PerfCounterTop(width: Int, incBits: Int) extends Module {
 class PerfCounterSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "PerfCounter"
 
-  for ((width, incBits) <- Seq((8, 1), (12, 3), (16, 6))) {
+  for ((width, incBits) <- Seq((3, 1), (8, 1), (12, 3), (16, 6))) {
     it should s"count exactly across its three parts ($width bits, increments below 2^$incBits)" in
       Seeded(s"PerfCounter.w$width.i$incBits") { rnd =>
         test(new PerfCounterTop(width, incBits)).withAnnotations(Backends.treadle) { dut =>

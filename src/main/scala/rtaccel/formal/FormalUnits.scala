@@ -13,18 +13,20 @@ import rtaccel.traversal.{PrepFetch, TraversalToken}
   */
 object UnitBound {
 
-  /** PrepFetch: token in -> node out. The queue is FIFO with at most n - 1
-    * tokens ahead, each taking <= S + 1 cycles to be taken by memory; then
-    * the answer (<= L) and the output register (1).
+  /** PrepFetch: token in -> node out. The queue (a RamQueue: its head two
+    * cycles after the token entered) is FIFO with at most n - 1 tokens ahead,
+    * each taking <= S + 1 cycles to be taken by memory; then the answer
+    * (<= L) and the output register (1).
     */
-  def fetch(cfg: AccelConfig, env: FormalEnv): Int = cfg.numRayIds * (env.memStall + 1) + env.memLatency + 1
+  def fetch(cfg: AccelConfig, env: FormalEnv): Int = cfg.numRayIds * (env.memStall + 1) + env.memLatency + 2
 
-  /** LeafIntersect: job in -> exit out. Job queue 1, its head register 1; at most n - 1 jobs
+  /** LeafIntersect: job in -> exit out. Job queue 2 (a RamQueue's head); at most n - 1 jobs
     * ahead, each holding the issuer for its m requests (<= S + 1 cycles
     * each) or, stopped early (an empty leaf, an occluded shadow ray), until
     * its answers are drained (<= L + q + 2) and its exit gets the exit port
     * (the answer side goes first: <= n more); then its own m requests, the
-    * last answer (<= L), register 1, triangle q, the exit queue (1, and
+    * last answer (<= L), register 1, triangle q, the exit register 1, the
+    * exit queue (2, a RamQueue's head, and
     * <= n - 1 exits ahead, each <= 2 cycles: an exit with a hit leaves when
     * the tmax queue has room, which drains a write at least every 2 cycles,
     * a write losing at most one round to an entering ray), room in the tmax
@@ -33,7 +35,7 @@ object UnitBound {
   def leaf(cfg: AccelConfig, dp: FormalDatapath, env: FormalEnv): Int = {
     val (n, m, s, l, q) = (cfg.numRayIds, cfg.maxLeafSize, env.memStall, env.memLatency, dp.primLatency)
     val issue = m * (s + 1)
-    2 + (n - 1) * issue.max(l + q + 2 + n) + issue + l + 1 + q + 1 + 2 * (n - 1) + 2
+    2 + (n - 1) * issue.max(l + q + 2 + n) + issue + l + 1 + q + 1 + 2 + 2 * (n - 1) + 2
   }
 }
 

@@ -60,36 +60,36 @@ object ResponseBound {
     val lane = 1
     val control = 2 + lane
     Seq(
-      // accept -> RayPrep p -> InitTraversal queue 1 -> RayBuffer write 1 ->
+      // accept -> RayPrep p -> InitTraversal queue 2 (a RamQueue's head) -> RayBuffer write 1 ->
       // hand-over (box stage pick) -> atNode 1 -> box b -> control.
       // Others: each ahead in InitTraversal (<= n - 1) takes a cycle, the
       // RayBuffer write port may go to a leaf's tmax first (round-robin: once
       // per write), and node answers take the box stage first (each other
       // ray makes at most `fetches` of them).
-      Term("entry", p + 3 + b + control + others * (1 + 1 + fetches) + 1),
-      // control out -> Traversal fetch queue 1 -> PrepFetch queue 1 -> node
+      Term("entry", p + 4 + b + control + others * (1 + 1 + fetches) + 1),
+      // control out -> Traversal fetch queue 2 -> PrepFetch queue 2 (RamQueues) -> node
       // request (stalled <= S) -> answer <= L -> PrepFetch's registers (1, or 2
       // with the quantized decode stage) -> atNode 1 -> box b -> control.
       // Others: <= n - 1 requests ahead in PrepFetch's queue, each <= S + 1
       // cycles; the two-lane merge costs one cycle per other ray.
       Term(
         s"node fetches ($fetches)",
-        fetches * (2 + (s + 1) + l + PrepFetch.latency(cfg) + 1 + b + control + others * (s + 2))
+        fetches * (4 + (s + 1) + l + PrepFetch.latency(cfg) + 1 + b + control + others * (s + 2))
       ),
-      // control out -> Traversal leaf queue 1 -> LeafIntersect job queue 1 and its head register 1 ->
+      // control out -> Traversal leaf queue 2 -> LeafIntersect job queue 2 (RamQueues) ->
       // m requests (each stalled <= S) -> last answer <= L -> register 1 ->
-      // triangle q -> exit queue 1 -> room for the tmax write (<= 1 lost to a ray entering)
+      // triangle q -> exit register 1 -> exit queue 2 -> room for the tmax write (<= 1 lost to a ray entering)
       // -> leaf-return lane 1 -> its lane register. Others: <= n - 1 leaves ahead in the job queue,
       // each issuing m requests (<= S + 1 cycles each) or an empty leaf's
       // exit (1), <= n - 1 exits ahead (<= 2 cycles each), one merge cycle.
       Term(
         s"leaf visits ($leaves)",
-        leaves * (3 + m * (s + 1) + l + 1 + q + 1 + 1 + 1 + lane + others * ((m * (s + 1)).max(1) + 2 + 1))
+        leaves * (4 + m * (s + 1) + l + 1 + q + 3 + 1 + 1 + lane + others * ((m * (s + 1)).max(1) + 2 + 1))
       ),
-      // control out -> Traversal done queue 1 -> RtAccel's done queue 1 ->
+      // control out -> Traversal done queue 2 (a RamQueue) -> RtAccel's done queue 1 ->
       // output registers 1 -> hit, the host refusing <= H times. Others:
       // <= n - 1 hits ahead (each <= H + 1), one merge cycle.
-      Term("exit", 3 + h + others * (h + 2)),
+      Term("exit", 4 + h + others * (h + 2)),
       // The monitor counts the accept cycle and the hit cycle.
       Term("monitor", 1)
     )

@@ -4,9 +4,9 @@ import chisel3._
 import chisel3.util._
 import rtaccel.fp.FpOrder
 import rtaccel.mem.{MemPort, MemPortParams}
-import rtaccel.system.HeadQueue
+import rtaccel.system.{HeadQueue, RamQueue}
 import rtaccel.traversal.{RayBufferRead, TmaxUpdate, TraversalToken}
-import rtaccel.{AccelConfig, ErrorFlags}
+import rtaccel.{AccelConfig, ErrorFlags, HeldCount}
 
 object LeafIntersect {
 
@@ -34,17 +34,16 @@ object LeafIntersect {
   * into registers, with those cycles' own writes forwarded, and its best hit
   * a stage before it ([[LeafReadAhead]]); the best hit's write lands a cycle
   * after its answer, forwarded to every read until then; a job's entries are read as it
-  * enters the job queue and kept by its ray ID until it is taken ([[JobFlags.beside]]), from a head register
-  * after the queue; the issuing ray keeps its entries in
+  * enters the job queue and kept by its ray ID until it is taken ([[JobFlags.beside]]), from the queue's head register
+  * ([[rtaccel.system.RamQueue]]); the issuing ray keeps its entries in
   * registers beside `issueIdReg`. Cycle for cycle the unit behaves as if it read the tables
   * directly (assertions `leaf_done_view`, `leaf_issue_view` check it).
   *
   * The job and exit queues hold up to `numRayIds` entries, and each ray is in
   * one place, so neither can overflow and the response channel is always
-  * ready; the two-entry head queues (the job to take, the tmax writes) take an
-  * entry only when they have room. The one
-  * enqueue that cannot wait (a ray's last answer, into `exits`) is checked:
-  * `broken` latches if it ever found the queue full.
+  * ready; the two-entry tmax queue takes an entry only when it has room. The
+  * exits enter `exits` through a register and cannot wait there: checked,
+  * `broken` latches if one ever found the queue full.
   */
 class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimIntersect[T]) extends Module {
   val port: MemPortParams = LeafIntersect.port(cfg)
@@ -73,7 +72,7 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
     /** Triangle tests done (performance counter input). */
     val tested = Output(Bool())
 
-    /** Sticky: an answer's exit found the exit queue full (a lost ray; cannot happen, see above). */
+    /** Sticky: an exit found the exit queue full (a lost ray; cannot happen, see above). */
     val broken = Output(Bool())
 
     /** The other RayBuffer reader's read (Traversal's), for the assertion `leaf_tmax_first` only. */
@@ -85,15 +84,16 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   override def desiredName = s"LeafIntersect_n${cfg.numRayIds}"
 
   private val n = cfg.numRayIds
-  private val jobs = Module(new Queue(new LeafJob(cfg), n))
-  private val exits = Module(new Queue(new QueuedExit(cfg), n))
+  // Both queues are RamQueues: their heads (`deq.valid`, `deq.bits`) are registers, so taking a job starts from
+  // registers and an exit's handshake (`room`, from its hit bit) reaches no further than them. chisel3.util's Queue
+  // in block RAM ran the reader's handshake into its read address: the job queue's valid through the take into
+  // the issue registers (5.48 ns), the exit's hit bit through `room` into the exit queue's read-during-write
+  // compare (6.88 ns alone, 7.18 ns in the core's control; docs/fmax.md). A job or an exit reaches its head two
+  // cycles after it entered; one per cycle still.
+  private val jobs = Module(new RamQueue(new LeafJob(cfg), n))
+  private val exits = Module(new RamQueue(new QueuedExit(cfg), n))
   jobs.io.enq <> io.in
-  // The job to take next waits in registers (HeadQueue: its valid and fields are registers), so taking it
-  // starts from registers: the job queue's valid, a compare of its pointers, ran through the take into the
-  // issue registers' next values (5.48 ns). A cycle per leaf visit; one job per cycle still.
-  private val jobHead = Module(new HeadQueue(new LeafJob(cfg)))
-  jobHead.io.enq <> jobs.io.deq
-  private val job = jobHead.io.deq
+  private val job = jobs.io.deq
 
   private val parked = Mem(n, new TraversalToken(cfg))
   private val best = Mem(n, new BestHit(cfg))
@@ -188,7 +188,11 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   private val primIdx = carry.bits.prim(cfg.triIndexBits - 1, 0)
   private val primTooWide = if (cfg.triIndexBits >= 32) false.B else carry.bits.prim(31, cfg.triIndexBits).orR
   // One read port per consumer: every extra `read` replicates the memory.
-  private val doneTok = parked.read(doneId)
+  // The answered ray's token is read at the pre2 stage and registered twice, so it reaches the reduce stage from a
+  // register: block RAM's first register is its own, and read at `doneId` its clock-to-out ran into the occluded
+  // table's write enables (5.16 ns, docs/fmax.md). It stands still over those cycles: a ray with an answer in
+  // flight has a request outstanding, so no job of its is taken and its entry is not written (`leaf_job_drained`).
+  private val doneTok = RegNext(RegNext(parked.read(pre2Id)))
   private val issueTok = parked.read(issueIdReg)
   private val reduce = prim.io.out.valid
   private val writes = Wire(new LeafWrites(cfg))
@@ -218,6 +222,7 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   private val anyHit = reduce && ans.hit && !primTooWide
   private val update = anyHit && closer
   private val occludes = anyHit && doneTok.shadow
+  assert(!reduce || doneTok.rayId === doneId, "leaf_done_token: the reduce stage's token is another ray's")
   private val b = Wire(new BestHit(cfg))
   b.t := ans.t; b.u := ans.u; b.v := ans.v; b.prim := primIdx
 
@@ -300,24 +305,47 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   // A ray's exit in the cycle of its last answer also carries that answer's
   // error flags (its table entry takes them only at the clock edge).
   // So does its hit: `anyHit` is that answer's has-hit write.
-  private def exitOf(tok: TraversalToken, errors: UInt, occluded: Bool, hit: Bool, answered: Bool): QueuedExit = {
-    val e = Wire(new QueuedExit(cfg))
-    e.exit.token := tok
-    e.exit.token.errors := tok.errors | errors | Mux(answered, errNow, 0.U)
-    e.exit.occluded := occluded || (answered && ans.hit && tok.shadow)
-    e.hasHit := hit || (answered && anyHit)
-    e
+  // Either exit is registered before the exit queue, as its parts: the token (a block RAM read, the parked
+  // table) and the flags to combine with it after the register. Combined before it, the token's read ran through
+  // the flags' ORs and the select of the two exits into the queue's write data (6.00 ns, docs/fmax.md). A cycle
+  // per exit. The registered exit always enters the queue, which holds `numRayIds` or more (each ray is in one
+  // place): checked, `broken` latches if one ever found the queue full.
+  class ExitParts extends Bundle {
+    val token = new TraversalToken(cfg)
+    val errors = UInt(ErrorFlags.width.W)
+    val occluded = Bool()
+    val answeredHit = Bool() // the last answer hit: the exit is occluded if the ray is a shadow ray
+    val hit = Bool()
+  }
+  private def partsOf(tok: TraversalToken, errors: UInt, occluded: Bool, hit: Bool, answered: Bool): ExitParts = {
+    val p = Wire(new ExitParts)
+    p.token := tok
+    p.errors := errors | Mux(answered, errNow, 0.U)
+    p.occluded := occluded
+    p.answeredHit := answered && ans.hit
+    p.hit := hit || (answered && anyHit)
+    p
   }
   private val issueExit = stoppingReg && issueDrained && !lastAnswer
-  exits.io.enq.valid := lastAnswer || issueExit
-  exits.io.enq.bits := Mux(
-    lastAnswer,
-    exitOf(doneTok, done.errorsReg, done.occludedReg, done.hasHitReg, reduce),
-    exitOf(issueTok, issueErrReg, issueOccReg, issueHitReg, doneIssuing)
+  private val exitIn = Pipe(
+    lastAnswer || issueExit,
+    Mux(
+      lastAnswer,
+      partsOf(doneTok, done.errorsReg, done.occludedReg, done.hasHitReg, reduce),
+      partsOf(issueTok, issueErrReg, issueOccReg, issueHitReg, doneIssuing)
+    ),
+    1
   )
-  when(issueExit && exits.io.enq.ready) { stoppingReg := false.B }
+  private val queued = Wire(new QueuedExit(cfg))
+  queued.exit.token := exitIn.bits.token
+  queued.exit.token.errors := exitIn.bits.token.errors | exitIn.bits.errors
+  queued.exit.occluded := exitIn.bits.occluded || (exitIn.bits.answeredHit && exitIn.bits.token.shadow)
+  queued.hasHit := exitIn.bits.hit
+  exits.io.enq.valid := exitIn.valid
+  exits.io.enq.bits := queued
+  when(issueExit) { stoppingReg := false.B }
   private val brokenReg = RegInit(false.B)
-  when(lastAnswer && !exits.io.enq.ready) { brokenReg := true.B }
+  when(exitIn.valid && !exits.io.enq.ready) { brokenReg := true.B }
   io.broken := brokenReg
 
   // A ray with a hit leaves with its tmax write: the write enters a two-entry queue whose head and `enq.ready`
@@ -341,14 +369,28 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   exitHead.ready := io.out.ready && room
   tmaxQ.io.enq.valid := io.out.fire && exitHead.bits.hasHit
   tmaxQ.io.enq.bits := headId
-  // The best t is read as the write leaves, by the queue's head (a register): read as the exit leaves, by the
-  // exit queue's head, the read's forward compare ran into the queue's registers (6.02 ns). The ray gets no
-  // answer until its write has landed (`leaf_tmax_first`), so its best stands still while it waits.
-  private val tmaxId = tmaxQ.io.deq.bits
-  io.tmax.valid := tmaxQ.io.deq.valid
-  io.tmax.bits.rayId := tmaxId
-  io.tmax.bits.tmax := tables.best(tmaxId).t
-  tmaxQ.io.deq.ready := io.tmax.ready
+  // The best t is read by the queue's head (a register) into a second two-entry queue, whose head (registers) is
+  // the write. Read as the exit leaves, by the exit queue's head, the read's address ran into the best table's
+  // read-during-write compare (6.59 ns); read by the first queue's head straight into the write, the block RAM's
+  // clock-to-out ran through the RayBuffer's write arbiter into its tmax memory (5.16 ns in the core's control,
+  // docs/fmax.md). The ray gets no answer until its write has landed (`leaf_tmax_first`), so its best stands
+  // still while it waits.
+  private val tmaxOut = Module(new HeadQueue(new TmaxUpdate(cfg)))
+  tmaxOut.io.enq.valid := tmaxQ.io.deq.valid
+  tmaxOut.io.enq.bits.rayId := tmaxQ.io.deq.bits
+  // From the table itself, with no forward of the best's write in flight: the exit left two cycles or more after
+  // its last answer (its exit register and the exit queue), and that answer's write lands the cycle after it.
+  tmaxOut.io.enq.bits.tmax := best.read(tmaxQ.io.deq.bits).t
+  assert(
+    !(tmaxQ.io.deq.valid && bestWrite.valid && bestWrite.bits.id === tmaxQ.io.deq.bits),
+    "leaf_tmax_landed: a tmax is read while its ray's best hit is still being written"
+  )
+  tmaxQ.io.deq.ready := tmaxOut.io.enq.ready
+  io.tmax <> tmaxOut.io.deq
+  assert(
+    !io.tmax.valid || io.tmax.bits.tmax === tables.best(io.tmax.bits.rayId).t,
+    "leaf_tmax_stands: a queued tmax write differs from its ray's best hit"
+  )
   assert(
     !exitHead.valid || exitHead.bits.hasHit === hasHitReg(headId),
     "leaf_exit_hit: an exit's hit bit differs from its ray's table entry"
@@ -376,20 +418,24 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   io.result.bits := resultBestReg
 
   // Waiting jobs, exits, and between them each ray issuing or owed answers.
-  // The rays between are counted as they pass (taken from `jobHead`; put into
+  // The rays between are counted as they pass (taken from `jobs`; put into
   // `exits`, or lost by the checked enqueue above): a 128-wide popcount into
   // `held` was the unit's longest path. The popcount stays as an assertion
   // (simulation and formal only), as RayIdFreeList checks its in-flight count.
   private val working = (0 until n).map(i => counts.countsReg(i) =/= 0.U || (issuing && issueIdReg === i.U))
   private val betweenReg = RegInit(0.U(log2Ceil(n + 1).W))
-  private val leaves = lastAnswer || (issueExit && exits.io.enq.ready)
+  private val leaves = lastAnswer || issueExit
   betweenReg := betweenReg + job.fire.asUInt - leaves.asUInt
   assert(
     betweenReg === PopCount(working),
     "leaf_between_count: the rays counted between jobs and exits differ from the IDs issuing or owed answers"
   )
-  // The jobs in jobHead, counted as they pass (HeadQueue keeps no count).
-  private val headCountReg = RegInit(0.U(2.W))
-  headCountReg := headCountReg + jobHead.io.enq.fire.asUInt - job.fire.asUInt
-  io.held := jobs.io.count +& headCountReg +& betweenReg +& exits.io.count
+  // The unit's rays, counted as they enter and leave (HeldCount): the sum of the parts' counts into `held` was the
+  // unit's longest path (5.82 ns). The sum stays as an assertion.
+  private val heldCount = HeldCount(Seq(io.in.fire), Seq(io.out.fire), io.held.getWidth)
+  assert(
+    heldCount === jobs.io.count +& betweenReg +& exitIn.valid.asUInt +& exits.io.count,
+    "leaf_held_count: the rays counted into and out of LeafIntersect differ from the sum of its parts"
+  )
+  io.held := heldCount
 }

@@ -106,7 +106,15 @@ class LeafReadAhead(cfg: AccelConfig, t: LeafTables, w: LeafWrites, pre2Id: UInt
   // stage's the pre2 stage's, whenever both carry answers (the only cycles that read the select).
   private val base = t.best(preId)
   private val baseReg = RegNext(base)
-  private val baseKeyReg = RegNext(FpOrder.key(cfg.triFloat, base.t))
+  // A best hit's order key: its distance's key (FpOrder.key) with its triangle below it, so "smaller t, ties to
+  // the smaller prim" is one unsigned compare, one carry chain. As a compare of the keys and one of the prims
+  // combined after their chains, it mapped to four LUTs after the prims' chain (5.55 ns, docs/fmax.md).
+  private def orderKey(tKey: UInt, prim: UInt): UInt = Cat(tKey, prim)
+  private def keyOf(b: BestHit): UInt = orderKey(FpOrder.key(cfg.triFloat, b.t), b.prim)
+  // The table's entry is registered as read and its key formed after the register: the read is block RAM, and
+  // its clock-to-out through the forward's select and the key's sign flips into a key register was the core
+  // control's longest path (5.22 ns, docs/fmax.md). After the register the flips sit in the compare's first LUTs.
+  private val baseKey = keyOf(baseReg)
   private val toPreAheadReg = RegNext(preId === pre2Id)
   // "The previous answer was this ray's and replaced its best" is the write in flight's valid (a register)
   // and the same-ray compare, registered again, ANDed after their registers: so the closer-hit compare ends in
@@ -114,14 +122,13 @@ class LeafReadAhead(cfg: AccelConfig, t: LeafTables, w: LeafWrites, pre2Id: UInt
   // after its carry chain (5.41 ns).
   private val sameRayReg = RegNext(toPreAheadReg)
   private val fromWrite = t.bestWrite.valid && sameRayReg
-  private val writeKeyReg = RegNext(FpOrder.key(cfg.triFloat, w.best.t))
+  private val writeKeyReg = RegNext(keyOf(w.best))
   assert(
     !w.reduce || fromWrite === (t.bestWrite.valid && t.bestWrite.bits.id === w.doneId),
     "leaf_old_write: the reduce stage compares with the wrong best hit (the write in flight or the table's)"
   )
   assert(
-    !w.reduce || (baseKeyReg === FpOrder.key(cfg.triFloat, baseReg.t) &&
-      writeKeyReg === FpOrder.key(cfg.triFloat, t.bestWrite.bits.hit.t)),
+    !w.reduce || writeKeyReg === keyOf(t.bestWrite.bits.hit),
     "leaf_old_key: the best distance's key is stale"
   )
 
@@ -129,8 +136,8 @@ class LeafReadAhead(cfg: AccelConfig, t: LeafTables, w: LeafWrites, pre2Id: UInt
     * best hit before it: smaller t, ties to the smaller prim (a total order). The caller ORs in "no hit yet".
     */
   def closer(tKey: UInt, prim: UInt): Bool = {
-    def than(key: UInt, best: BestHit) = tKey < key || (tKey === key && prim < best.prim)
-    Mux(fromWrite, than(writeKeyReg, t.bestWrite.bits.hit), than(baseKeyReg, baseReg))
+    val key = orderKey(tKey, prim)
+    Mux(fromWrite, key < writeKeyReg, key < baseKey)
   }
   val occludedReg: Bool = RegNext(!clrPre && (occPre || (w.occludes && toPre)))
   val errorsReg: UInt = RegNext(Mux(clrPre, 0.U, errPre | Mux(w.reduce && toPre, w.errors, 0.U)))

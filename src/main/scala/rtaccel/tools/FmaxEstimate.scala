@@ -162,7 +162,8 @@ object FmaxEstimate {
 
   /** Memories, queues and arbiters firtool and chisel3.util emit: part of their parent's row. */
   private def isPlumbing(m: String): Boolean =
-    m.matches(""".*_\d+x\d+""") || m.startsWith("Queue") || m.startsWith("HeadQueue") || m.startsWith("RRArbiter")
+    m.matches(""".*_\d+x\d+(_\d+)?""") || m.startsWith("Queue") || m.startsWith("HeadQueue") ||
+      m.startsWith("RamQueue") || m.startsWith("RRArbiter")
 
   /** The units of `top` in `sv`, in file order: each FP unit, each datapath
     * unit (whole), and every other non-plumbing module with the datapath

@@ -3,6 +3,7 @@ package rtaccel.traversal
 import chisel3._
 import chisel3.util._
 import rtaccel.mem.{MemPort, MemPortParams}
+import rtaccel.system.RamQueue
 import rtaccel.{AccelConfig, HeldCount}
 import rtaccel.bvh.{BvhNode, NodeRecord, NodeWords}
 
@@ -30,15 +31,18 @@ class PrepFetch(cfg: AccelConfig) extends Module {
   })
   override def desiredName = s"PrepFetch_k${cfg.boxLanes}_n${cfg.numRayIds}"
 
-  private val queue = Module(new Queue(new TraversalToken(cfg), cfg.numRayIds))
+  private val queue = Module(new RamQueue(new TraversalToken(cfg), cfg.numRayIds))
   queue.io.enq <> io.in
 
+  // The queue's head is a register (RamQueue), so the node address's add starts from a register: from a
+  // chisel3.util Queue's block RAM it ran into the request's address (5.78 ns, docs/fmax.md).
+  private val next = queue.io.deq
   private val parked = Mem(cfg.numRayIds, new TraversalToken(cfg))
-  io.mem.req.valid := queue.io.deq.valid
-  io.mem.req.bits.addr := io.nodeBase + PrepFetch.nodeOffset(cfg, queue.io.deq.bits.nodeIdx)
-  io.mem.req.bits.tag := queue.io.deq.bits.rayId
-  queue.io.deq.ready := io.mem.req.ready
-  when(io.mem.req.fire) { parked.write(queue.io.deq.bits.rayId, queue.io.deq.bits) }
+  io.mem.req.valid := next.valid
+  io.mem.req.bits.addr := io.nodeBase + PrepFetch.nodeOffset(cfg, next.bits.nodeIdx)
+  io.mem.req.bits.tag := next.bits.rayId
+  next.ready := io.mem.req.ready
+  when(io.mem.req.fire) { parked.write(next.bits.rayId, next.bits) }
 
   io.mem.resp.ready := true.B
   private val fetched = Wire(new FetchedNode(cfg))
@@ -49,6 +53,15 @@ class PrepFetch(cfg: AccelConfig) extends Module {
   private val answer = Wire(Valid(new Answer(new NodeRecord(cfg))))
   answer.valid := io.mem.resp.valid
   answer.bits.token := parked.read(io.mem.resp.bits.tag)
+  // The ray ID is the answer's tag, taken from there rather than from the parked entry (equal: asserted). The
+  // output register after the parked table is the block RAM's own output stage (Yosys, like Vivado, folds it in),
+  // and the ID read from it ran through the box stage's pick into the RayBuffer's read address (5.16 ns in the
+  // core's control, docs/fmax.md); from the tag it starts at a plain register.
+  answer.bits.token.rayId := io.mem.resp.bits.tag
+  assert(
+    !io.mem.resp.valid || parked.read(io.mem.resp.bits.tag).rayId === io.mem.resp.bits.tag,
+    "prep_fetch_tag: a node answer's tag differs from its parked ray's ID"
+  )
   answer.bits.body := BvhNode.record(cfg, io.mem.resp.bits.data)
   // Quantized layouts: the record with its slots' counts, then its words (the child-index adders), are each
   // registered before the checks, two cycles more per node fetch (BvhNode.staged). The stages are valid pipes,
@@ -73,7 +86,14 @@ class PrepFetch(cfg: AccelConfig) extends Module {
   private val inMemory = HeldCount(Seq(io.mem.req.fire), Seq(io.mem.resp.fire), log2Ceil(cfg.numRayIds + 1))
   // A ray in a decode stage waits too (RtAccel's ray_conservation counts it here).
   private val decoding = if (BvhNode.staged(cfg)) recorded.valid +& decoded.valid else 0.U
-  io.waiting := queue.io.count +& inMemory +& decoding
+  // The rays waiting, counted as they enter and leave for the output register (HeldCount): the sum of the parts'
+  // counts into `waiting` was the unit's longest path (5.71 ns). The sum stays as an assertion.
+  private val waiting = HeldCount(Seq(io.in.fire), Seq(decoded.valid), io.waiting.getWidth)
+  assert(
+    waiting === queue.io.count +& inMemory +& decoding,
+    "prep_fetch_waiting: the rays counted into and out of PrepFetch differ from the sum of its parts"
+  )
+  io.waiting := waiting
 }
 
 object PrepFetch {

@@ -39,11 +39,16 @@ class RayStack(cfg: AccelConfig) extends Module {
     /** The entry read by a pop in the previous cycle. */
     val popVal = Output(new ChildRef(cfg))
 
+    /** The same read, every bank's output ([[StackRead.value]] is `popVal`): a consumer that registers it first
+      * combines the banks after its register, not after the block RAM's output. */
+    val popRead = Output(new StackRead(cfg))
+
     /** Port B: pop slot `spB - 1` of ray `rayIdB`; the value the next cycle. */
     val rayIdB = Input(UInt(cfg.rayIdBits.W))
     val spB = Input(UInt(cfg.stackPtrBits.W))
     val popB = Input(Bool())
     val popValB = Output(new ChildRef(cfg))
+    val popReadB = Output(new StackRead(cfg))
   })
   override def desiredName = s"RayStack_n${cfg.numRayIds}_d${cfg.stackDepth}_b${cfg.stackBanks}"
 
@@ -60,7 +65,6 @@ class RayStack(cfg: AccelConfig) extends Module {
     if (cfg.stackRows == 1) rayId
     else if (isPow2(cfg.stackRows)) Cat(rayId, (slot >> bankBits)(log2Ceil(cfg.stackRows) - 1, 0))
     else rayId * cfg.stackRows.U + (slot >> bankBits)
-  private def bankOf(slot: UInt): UInt = if (banks == 1) 0.U else slot(bankBits - 1, 0)
 
   // Push port p writes slot sp + p; bank b takes the port whose slot lands on it.
   // Slot sp + p lands on bank b exactly when sp's bank bits are (b - p) mod B: a compare of sp's low bits with
@@ -82,19 +86,57 @@ class RayStack(cfg: AccelConfig) extends Module {
   )
   private def landsOn(sp: UInt, offset: Int, b: Int): Bool =
     if (banks == 1) true.B else sp(bankBits - 1, 0) === Math.floorMod(b - offset, banks).U
+  // Bank b's row for the push that lands on it: the slot is sp + ((b - sp) mod B), so its row is sp's row, or the
+  // next when sp's bank bits are above b. Both rows are registered with the push, so a bank's write address is
+  // one select of registers by a compare of sp's low bits with a constant. Formed from the registered sp (an add
+  // per push and a select of the slots), the address ran into the block RAM's read-during-write compare
+  // (5.30 ns, docs/fmax.md).
+  // (With one row the address is the ray ID; with a row count not a power of two, the slot's add stays.)
+  private val rowsSplit = cfg.stackRows > 1 && isPow2(cfg.stackRows)
+  private val pushRow: Int => UInt = if (!rowsSplit) (_ => 0.U)
+  else {
+    val rowBits = log2Ceil(cfg.stackRows)
+    val row = (io.sp >> bankBits)(rowBits - 1, 0)
+    val wRowReg = RegNext(row)
+    val wNextRowReg = RegNext(row + 1.U)
+    b => if (banks == 1) wRowReg else Mux(wSpReg(bankBits - 1, 0) > b.U, wNextRowReg, wRowReg)
+  }
   for (((mem, memB), b) <- mems.zip(memsB).zipWithIndex) {
     val hits = (0 until pushes).map(p => p.U < wCountReg && landsOn(wSpReg, p, b))
     when(hits.reduce(_ || _)) {
-      val (addr, value) = (rowAddr(Mux1H(hits, slots), wRayIdReg), Mux1H(hits, wValsReg))
+      val addr =
+        if (rowsSplit) Cat(wRayIdReg, pushRow(b))
+        else rowAddr(Mux1H(hits, slots), wRayIdReg)
+      assert(addr === rowAddr(Mux1H(hits, slots), wRayIdReg), "stack_push_row: a push's row is not its slot's")
+      val value = Mux1H(hits, wValsReg)
       mem.write(addr, value)
       memB.write(addr, value)
     }
   }
-  private def popPort(ms: Seq[SyncReadMem[ChildRef]], rayId: UInt, sp: UInt, pop: Bool): ChildRef = {
+  private def popPort(ms: Seq[SyncReadMem[ChildRef]], rayId: UInt, sp: UInt, pop: Bool): StackRead = {
     val slot = sp.pad(slotBits) - 1.U
-    val reads = ms.zipWithIndex.map { case (mem, b) => mem.read(rowAddr(slot, rayId), pop && landsOn(sp, -1, b)) }
-    if (banks == 1) reads.head else VecInit(reads)(RegEnable(bankOf(slot), pop))
+    val r = Wire(new StackRead(cfg))
+    // Each bank's output is kept only by the bank that holds the entry (its read enable, registered), so the
+    // entry is the OR of the banks. The AND is one LUT after the block RAM, before any register a consumer puts
+    // there: with none, Yosys takes that register for the RAM's own output stage, and the RAM's clock-to-out then
+    // runs into everything after it (6.34 ns in Traversal, docs/fmax.md).
+    r.banks := VecInit(ms.zipWithIndex.map { case (mem, b) =>
+      val en = pop && landsOn(sp, -1, b)
+      val data = mem.read(rowAddr(slot, rayId), en)
+      if (banks == 1) data else Mux(RegEnable(en, false.B, pop), data, 0.U.asTypeOf(data))
+    })
+    r
   }
-  io.popVal := popPort(mems, io.rayId, io.sp, io.pop)
-  io.popValB := popPort(memsB, io.rayIdB, io.spB, io.popB)
+  io.popRead := popPort(mems, io.rayId, io.sp, io.pop)
+  io.popReadB := popPort(memsB, io.rayIdB, io.spB, io.popB)
+  io.popVal := io.popRead.value
+  io.popValB := io.popReadB.value
+}
+
+/** A pop's read: each bank's output, all zero but the one bank that holds the popped entry. */
+class StackRead(cfg: AccelConfig) extends Bundle {
+  val banks = Vec(cfg.stackBanks, new ChildRef(cfg))
+
+  /** The popped entry. */
+  def value: ChildRef = banks.map(_.asUInt).reduce(_ | _).asTypeOf(new ChildRef(cfg))
 }

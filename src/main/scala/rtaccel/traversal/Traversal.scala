@@ -4,6 +4,7 @@ import chisel3._
 import chisel3.util._
 import rtaccel.leaf.{LeafExit, LeafJob}
 import rtaccel.mem.MemPort
+import rtaccel.system.RamQueue
 import rtaccel.{AccelConfig, Datapath, HeldCount}
 import rtaccel.datapath.RayConsts
 import rtaccel.bvh.BvhNode
@@ -46,7 +47,7 @@ class Traversal[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
     val fetchWaiting = Output(UInt(log2Ceil(cfg.numRayIds + 1).W))
 
     /** Rays this unit holds now (RtAccel's ray_conservation assertion). */
-    val held = Output(UInt(log2Ceil(9 * cfg.numRayIds + 8).W))
+    val held = Output(UInt(log2Ceil(9 * cfg.numRayIds + 32).W))
   })
   override def desiredName = s"Traversal_k${cfg.boxLanes}_n${cfg.numRayIds}_${dp.name}"
 
@@ -153,11 +154,11 @@ class Traversal[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
   private def isFetch(o: Valid[ControlOut]) =
     o.valid && (o.bits.state === TraversalState.Traverse || o.bits.state === TraversalState.GoBack)
   private val fetchQs = lanes.map { o =>
-    val q = Module(new Queue(new TraversalToken(cfg), cfg.numRayIds))
+    val q = Module(new RamQueue(new TraversalToken(cfg), cfg.numRayIds))
     q.io.enq.valid := isFetch(o); q.io.enq.bits := o.bits.token; q
   }
   private val leafQs = lanes.map { o =>
-    val q = Module(new Queue(new LeafJob(cfg), cfg.numRayIds))
+    val q = Module(new RamQueue(new LeafJob(cfg), cfg.numRayIds))
     q.io.enq.valid := o.valid && o.bits.state === TraversalState.Leaf
     q.io.enq.bits.token := o.bits.token
     q.io.enq.bits.first := o.bits.leafFirst
@@ -165,10 +166,13 @@ class Traversal[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module {
     q
   }
   private val doneQs = lanes.map { o =>
-    val q = Module(new Queue(new TraversalToken(cfg), cfg.numRayIds))
+    val q = Module(new RamQueue(new TraversalToken(cfg), cfg.numRayIds))
     q.io.enq.valid := o.valid && o.bits.state === TraversalState.Done; q.io.enq.bits := o.bits.token; q
   }
-  private def merge[D <: Data](qs: Seq[Queue[D]], sink: DecoupledIO[D]): Unit = {
+  // The queues are RamQueues, whose heads are registers: the round-robin grant and the sink's ready end in them.
+  // Merged from chisel3.util Queues in block RAM, a queue's read pointer ran through the empty compare, the
+  // arbiter's grant and its own increment into the RAM's read address (6.37 ns, docs/fmax.md).
+  private def merge[D <: Data](qs: Seq[RamQueue[D]], sink: DecoupledIO[D]): Unit = {
     val arb = Module(new RRArbiter(chiselTypeOf(sink.bits), qs.size))
     for ((q, i) <- qs.zipWithIndex) arb.io.in(i) <> q.io.deq
     sink <> arb.io.out

@@ -228,7 +228,7 @@ class TraversalControl(cfg: AccelConfig) extends Module {
   next.leafFirst := chosen.index(cfg.triIndexBits - 1, 0)
   next.leafCount := chosen.count
 
-  io.out := decided(valid, next, stack.io.popVal)
+  io.out := decided(valid, next, stack.io.popRead)
 
   // ---- Leaf-return lane: pop, or DONE (an error, an occluder, an empty stack) ----
   private val r = io.ret.bits
@@ -241,7 +241,7 @@ class TraversalControl(cfg: AccelConfig) extends Module {
   retNext.state := Mux(retDone, TraversalState.Done, TraversalState.GoBack)
   retNext.token := r.token
   retNext.token.sp := Mux(retDone, r.token.sp, r.token.sp - 1.U)
-  io.retOut := decided(io.ret.valid, retNext, stack.io.popValB)
+  io.retOut := decided(io.ret.valid, retNext, stack.io.popReadB)
   // The nori layout has no rank register: its input is not held here.
   private val ranked = if (cfg.layout == BvhLayout.Nori) false.B else valid
   io.held := ranked +& io.out.valid +& io.retOut.valid
@@ -250,7 +250,7 @@ class TraversalControl(cfg: AccelConfig) extends Module {
     * read), not yet combined ([[TraversalControl.resolve]]): the consumer registers both first, so that the
     * stack's read is not one path with the combination and what follows it (docs/fmax.md).
     */
-  private def decided(valid: Bool, next: ControlOut, popped: ChildRef): Valid[Decided] = {
+  private def decided(valid: Bool, next: ControlOut, popped: StackRead): Valid[Decided] = {
     val o = Wire(Valid(new Decided(cfg)))
     o.valid := RegNext(valid, false.B)
     o.bits.next := RegEnable(next, valid)
@@ -259,10 +259,13 @@ class TraversalControl(cfg: AccelConfig) extends Module {
   }
 }
 
-/** A lane's decision and the stack entry it popped (meaningful for GOBACK), before [[TraversalControl.resolve]]. */
+/** A lane's decision and the stack read it popped (meaningful for GOBACK), before [[TraversalControl.resolve]]:
+  * every bank's output, so that the bank select too comes after the consumer's register (selected before it, the
+  * block RAM's output ran through the select into the register, 5.16 ns, docs/fmax.md).
+  */
 class Decided(cfg: AccelConfig) extends Bundle {
   val next = new ControlOut(cfg)
-  val popped = new ChildRef(cfg)
+  val popped = new StackRead(cfg)
 }
 
 object TraversalControl {
@@ -270,13 +273,14 @@ object TraversalControl {
   /** The lane's output: a popped entry is an inner node to fetch (GOBACK) or a leaf to test (LEAF). */
   def resolve(cfg: AccelConfig, d: Decided): ControlOut = {
     val o = WireInit(d.next)
+    val popped = d.popped.value
     when(d.next.state === TraversalState.GoBack) {
-      when(d.popped.isLeaf) {
+      when(popped.isLeaf) {
         o.state := TraversalState.Leaf
-        o.leafFirst := d.popped.index(cfg.triIndexBits - 1, 0)
-        o.leafCount := d.popped.count
+        o.leafFirst := popped.index(cfg.triIndexBits - 1, 0)
+        o.leafCount := popped.count
       }.otherwise {
-        o.token.nodeIdx := d.popped.index(cfg.nodeIndexBits - 1, 0)
+        o.token.nodeIdx := popped.index(cfg.nodeIndexBits - 1, 0)
       }
     }
     o

@@ -9,7 +9,7 @@ import rtaccel.testutil.Seeded
 import scala.collection.mutable
 
 /** HeadQueue (StorePort's request queue) alone: under random valid and ready every entry leaves once, in order;
-  * with both sides always willing it passes one entry a cycle; `enq.ready` only falls while two entries wait.
+  * with both sides always willing it passes one entry a cycle; `enq.ready` only falls while two entries wait; `count` is the entries held.
   */
 class HeadQueueSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "HeadQueue"
@@ -28,6 +28,7 @@ class HeadQueueSpec extends AnyFlatSpec with ChiselScalatestTester {
         dut.io.enq.valid.poke(offer.B); dut.io.enq.bits.poke(next.U)
         dut.io.deq.ready.poke(take.B)
         val ready = dut.io.enq.ready.peek().litToBoolean
+        dut.io.count.expect(held.U, s"cycle $cycle: count")
         assert(ready || held == 2, s"cycle $cycle: enq.ready low with $held entries")
         if (take && dut.io.deq.valid.peek().litToBoolean) {
           dut.io.deq.bits.expect(sent.dequeue().U, s"cycle $cycle: order")

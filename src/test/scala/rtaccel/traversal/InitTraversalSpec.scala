@@ -2,6 +2,7 @@ package rtaccel.traversal
 
 import chisel3._
 import chiseltest._
+import rtaccel.system.RamQueue
 import org.scalatest.flatspec.AnyFlatSpec
 import rtaccel.testutil.Seeded
 import rtaccel.AccelConfig
@@ -87,12 +88,14 @@ class InitTraversalSpec extends AnyFlatSpec with ChiselScalatestTester {
   it should "flag a prepared ray that finds its queue full (more rays than IDs: a broken ID pool)" in {
     test(new InitTraversal(cfg, FieldDatapath.gen)).withAnnotations(Backends.treadle) { dut =>
       dut.io.enter.ready.poke(false.B); dut.io.out.ready.poke(false.B)
-      for (id <- 0 to cfg.numRayIds) {
+      // The queue (a RamQueue of numRayIds) holds a few more than numRayIds; one more than it holds is flagged.
+      val holds = RamQueue.capacity(cfg.numRayIds)
+      for (id <- 0 to holds) {
         dut.io.broken.expect(false.B, s"after $id rays")
         pokeIn(dut, valid = true, id % cfg.numRayIds)
         dut.clock.step()
       }
-      dut.io.broken.expect(true.B, s"${cfg.numRayIds + 1} rays in a ${cfg.numRayIds}-entry queue")
+      dut.io.broken.expect(true.B, s"${holds + 1} rays in a queue that holds $holds")
     }
   }
 }
