@@ -54,8 +54,8 @@ if [ "$which" != probes ]; then
     "/^module ReadEngine(/,/^endmodule/s/    \.io_deq_ready (take_2),/    .io_deq_ready (1'b0),/" \
     "    .io_deq_ready (take_2)," read_slot_freed_once_1
   maybe_mutant slot_taken_busy "ReadEngine keeps its drawn slot when a request takes it: the next request takes the same slot, still in use" \
-    "/^module ReadEngine(/,/^endmodule/s/_pool_io_alloc_ready_T_2 = meta_MPORT_en | ~freeValidReg;/_pool_io_alloc_ready_T_2 = ~freeValidReg;/" \
-    "_pool_io_alloc_ready_T_2 = meta_MPORT_en | ~freeValidReg;" read_slot_taken_once_1
+    "/^module ReadEngine(/,/^endmodule/s/    \.io_deq_ready     (meta_MPORT_en),/    .io_deq_ready     (1'b0),/" \
+    "    .io_deq_ready     (meta_MPORT_en)," read_slot_taken_once_1
   maybe_mutant tag_kept "RayDma never marks a block tag busy: a second block goes out with the tag in flight" \
     "/^module RayDma(/,/^endmodule/s/& ~(_taken_T ? 2'h1 << ~(freeReg\[0\]) : 2'h0);/;/" \
     "& ~(_taken_T ? 2'h1 << ~(freeReg[0]) : 2'h0);" ray_block_once_1

@@ -4,7 +4,7 @@ import chisel3._
 import chisel3.util._
 import rtaccel.{HitOut, RtAccel}
 import rtaccel.axi.Axi4W
-import rtaccel.system.{HitDma, MemoryFabric, RayDma, SystemConfig, SystemCore, WriteEngine, WriteRecord}
+import rtaccel.system.{HeadQueue, HitDma, MemoryFabric, RayDma, SystemConfig, SystemCore, WriteEngine, WriteRecord}
 
 /** The system's ray conservation (docs/formal.md, "System level"), the
   * system's counterpart of the core's `ray_conservation`: in every cycle
@@ -42,7 +42,7 @@ object SystemConservation {
     require(cores.size == 1, "SystemConservation: one core")
     val hitDma = Peek[HitDma](dut, "hitDma")
     val hitQ = Peek[Queue[WriteRecord]](hitDma, "q")
-    val hitInQ = Peek[Queue[HitOut]](hitDma, "inQ")
+    val hitInQ = Peek[HeadQueue[HitOut]](hitDma, "inQ")
     val held = Peek[Vec[Bool]](hitDma, "heldRegs")
     val s2Held = Peek[Bool](hitDma, "s2ValidReg")
     val wQ = Peek[Queue[Axi4W]](Peek[WriteEngine](Peek[MemoryFabric](dut, "fabric"), "writer"), "wQ")

@@ -45,10 +45,12 @@ class HitDma(sys: SystemConfig) extends Module {
   })
   private val arb = Module(new RRArbiter(new HitOut(sys.core), sys.cores))
   arb.io.in <> io.hits
-  // A register slice after the arbiter (two entries: a hit a cycle, its ready from its own count): the batch's
-  // compares and the pair buffer's slot read start from a register, not from the cores' valids through the
-  // arbiter's choice.
-  private val inQ = Module(new Queue(new HitOut(sys.core), HitDma.InSlice))
+  // A register slice after the arbiter (two entries: a hit a cycle, its ready a register): the batch's compares
+  // and the pair buffer's slot read start from a register, not from the cores' valids through the arbiter's
+  // choice. Its head is a register too (HeadQueue, cycle for cycle a two-entry Queue): from a memory-held
+  // Queue's distributed-RAM read, the held bits' multiplexer into `s2HeldRawReg` was 5.78 ns, and the `numbers`
+  // read and the partner compare into its register 5.72 ns (docs/fmax.md).
+  private val inQ = Module(new HeadQueue(new HitOut(sys.core)))
   inQ.io.enq <> arb.io.out
   private val baseReg = RegInit(0.U(sys.axiAddrBits.W))
   private val countReg = RegInit(0.U(32.W))
@@ -68,8 +70,10 @@ class HitDma(sys: SystemConfig) extends Module {
   private val records = Mem(slots, UInt(HitDma.UsedBits.W))
   // A held hit's line address, formed as it is stored, so that no adder follows the flush's slot read.
   private val lines = Mem(slots, UInt(sys.axiAddrBits.W))
-  // A held hit's number again, read by S1's slot alone for the partner compare: through the shared read's select
-  // (the flush's slot or S1's) the records' read and the compare were 5.24 ns at 256 slots.
+  // A held hit's number again, for the partner compare: a memory of its own, read by the records' select (below).
+  // Read by S1's slot alone, the input slice's head register would be its read address register, and Yosys makes
+  // it a block RAM (2.46 ns clock-to-out: with the compare behind it, 6.00 ns); through the select it stays a
+  // distributed-RAM read, and the compare is split into two registers.
   private val numbers = Mem(slots, UInt(32.W))
   private def slotOf(number: UInt): UInt = if (slots == 1) 0.U else (number >> 1)(slotBits - 1, 0)
   private def line(number: UInt): UInt = baseReg + ((number >> 1) << log2Ceil(WriteRecord.Bytes))
@@ -92,8 +96,11 @@ class HitDma(sys: SystemConfig) extends Module {
   private val s2FwdStoreReg = Reg(Bool())
   private val s2HeldRecReg = Reg(UInt(HitDma.UsedBits.W))
   // Whether the slot's record (as read, and S2's own hit forwarded) is this hit's partner, compared in S1 (in S2 the
-  // compare lay in front of the held bits' clear and the hit queue's fields, 4.94 ns at 128 slots).
-  private val s2PartnerReadReg = Reg(Bool())
+  // compare lay in front of the held bits' clear and the hit queue's fields, 4.94 ns at 128 slots). The compare
+  // with the slot as read lands in two registers, one per half of the bits compared, and S2 ANDs them beside its
+  // other terms: behind the `numbers` read, one 25-bit equality was four LUTs into one register (5.72 ns with
+  // the input slice's distributed-RAM read in front, docs/fmax.md).
+  private val s2PartnerReadRegs = Reg(Vec(2, Bool()))
   private val s2PartnerFwdReg = Reg(Bool())
   // The hit's two compares with RAY_COUNT, made in S1 (COUNT is set by START, before any hit of its batch): in S2
   // they would lie in front of the held bits' write decode (7.6 ns at 128 slots).
@@ -117,7 +124,7 @@ class HitDma(sys: SystemConfig) extends Module {
   private val slot = slotOf(h.number)
   private val inBatch = s2InBatchReg
   private val s2Held = Mux(s2FwdReg, s2FwdStoreReg, s2HeldRawReg)
-  private val partnered = s2Held && Mux(s2FwdReg, s2PartnerFwdReg, s2PartnerReadReg)
+  private val partnered = s2Held && Mux(s2FwdReg, s2PartnerFwdReg, s2PartnerReadRegs.asUInt.andR)
   private val store = !s2Held && !s2NoPartnerReg
   private val flushing = fValidReg
 
@@ -160,10 +167,10 @@ class HitDma(sys: SystemConfig) extends Module {
   private val in = inQ.io.deq
   private val s1Slot = slotOf(in.bits.number)
   in.ready := !s2ValidReg || s2Fire
-  // One read of the record and line memories a cycle, shared: F1's slot once every hit of the batch is taken (S1
-  // then holds no hit of the batch, and S2 drops what it reads), else the head hit's. The held bits have a read of
-  // their own for each (S1's here, the scan's below): one shared read's select in front of the held bits'
-  // multiplexer was on the unit's longest path (docs/fmax.md).
+  // One read of the record, line and number memories a cycle, shared: F1's slot once every hit of the batch is
+  // taken (S1 then holds no hit of the batch, and S2 drops what it reads), else the head hit's. The held bits have
+  // a read of their own for each (S1's here, the scan's below): one shared read's select in front of the held
+  // bits' multiplexer was on the unit's longest path (docs/fmax.md).
   private val readSlot = Mux(allTaken, f1SlotReg, s1Slot)
   private val readHeld = heldRegs(s1Slot)
   private val readRec = records(readSlot)
@@ -180,11 +187,16 @@ class HitDma(sys: SystemConfig) extends Module {
     s2HeldRecReg := Mux(fwd && s2Stores, rec, readRec)
     // The held hit shares the slot's bits with this one's pair by construction: its partner differs in bit 0 only,
     // so the compare reads the bits above the slot's and bit 0. Both candidates (the slot as read, S2's own hit)
-    // are compared side by side; S2 picks one by the forward.
-    def partner(held: UInt): Bool =
-      held(31, slotBits + 1) === in.bits.number(31, slotBits + 1) && held(0) =/= in.bits.number(0)
-    s2PartnerReadReg := partner(numbers(s1Slot))
-    s2PartnerFwdReg := partner(rec)
+    // are compared side by side; S2 picks one by the forward. The slot as read is compared in two parts: the
+    // upper half of the bits above the slot's, and the lower half with bit 0.
+    val cut = slotBits + 1 + (31 - slotBits) / 2
+    def upper(held: UInt): Bool = held(31, cut) === in.bits.number(31, cut)
+    def lower(held: UInt): Bool =
+      (if (cut > slotBits + 1) held(cut - 1, slotBits + 1) === in.bits.number(cut - 1, slotBits + 1) else true.B) &&
+        held(0) =/= in.bits.number(0)
+    val number = numbers(readSlot)
+    s2PartnerReadRegs := VecInit(upper(number), lower(number))
+    s2PartnerFwdReg := upper(rec) && lower(rec)
   }
   when(in.fire) { s2ValidReg := true.B }.elsewhen(s2Fire) { s2ValidReg := false.B }
 
@@ -231,6 +243,7 @@ object HitDma {
   def pad(used: UInt): UInt = Cat(0.U((8 * SystemConfig.HitBytes - UsedBits).W), used)
   val StatusErrorShift = 8
 
-  /** Entries of the register slice after the cores' arbiter: two take a hit a cycle with a ready from its count. */
+  /** Entries of the register slice after the cores' arbiter (a HeadQueue): two take a hit a cycle with a
+    * registered ready. */
   val InSlice = 2
 }

@@ -81,6 +81,12 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
     /** beats - 2 (mod 2^countBits): the count before which the next beat is the last. */
     val penult = UInt(countBits.W)
   }
+
+  /** A slot drawn from the pool for a request to come: its index and one-hot. */
+  private class DrawnSlot extends Bundle {
+    val slot = UInt(slotBits.W)
+    val oh = UInt(slots.W)
+  }
   // Slot table: written when a slot is taken, read by R beats and the pick.
   private val meta = Mem(slots, new Meta)
   private val busyReg = RegInit(0.U(slots.W))
@@ -124,22 +130,22 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
   }
 
   // The free slots are a pool (the one the cores' ray IDs use: never-used slots from a counter, freed ones
-  // through a FIFO of `slots` entries, which cannot overflow), and the slot the next request takes is drawn a
-  // cycle ahead into registers (index and one-hot): no search over `slots` bits lies anywhere, and only
-  // registers reach the request handshake and the busy bits. A search for the first free bit, even a cycle
-  // ahead, was the fabric's longest path, mapped as up to 10 LUT and MUXF cells (docs/fmax.md).
+  // through a FIFO of `slots` entries, which cannot overflow), and the slot the next request takes is drawn ahead
+  // into registers (index and one-hot): no search over `slots` bits lies anywhere, and only registers reach the
+  // request handshake and the busy bits. A search for the first free bit, even a cycle ahead, was the fabric's
+  // longest path, mapped as up to 10 LUT and MUXF cells (docs/fmax.md). The drawn slots wait in a HeadQueue (two
+  // entries, its head and `enq.ready` registers), so the pool's draw does not wait on the request's handshake:
+  // drawn as the request took the last one, the handshake ran through the pool's head into its FIFO's count,
+  // 5.23 ns (docs/fmax.md). Slots are still taken in the pool's order, each a cycle after the pool offers it.
   private val pool = Module(new RayIdFreeList(slots))
-  private val freeValidReg = RegInit(false.B)
-  private val freeSlotReg = RegInit(0.U(slotBits.W))
-  private val freeOHReg = RegInit(0.U(slots.W))
-  private val newSlot = freeSlotReg
-  io.req.ready := freeValidReg && (!pendValidReg || (io.ar.fire && lastBurst))
-  pool.io.alloc.ready := io.req.fire || !freeValidReg
-  when(pool.io.alloc.ready) {
-    freeValidReg := pool.io.alloc.valid
-    freeSlotReg := pool.io.alloc.bits
-    freeOHReg := UIntToOH(pool.io.alloc.bits, slots)
-  }
+  private val drawn = Module(new HeadQueue(new DrawnSlot))
+  drawn.io.enq.valid := pool.io.alloc.valid
+  drawn.io.enq.bits.slot := pool.io.alloc.bits
+  drawn.io.enq.bits.oh := UIntToOH(pool.io.alloc.bits, slots)
+  pool.io.alloc.ready := drawn.io.enq.ready
+  private val newSlot = drawn.io.deq.bits.slot
+  io.req.ready := drawn.io.deq.valid && (!pendValidReg || (io.ar.fire && lastBurst))
+  drawn.io.deq.ready := io.req.fire
   // The beats a record covers, BurstMath.beatsCovering of its offset in a beat and its client's size b: with
   // b - 1 = q * B + r, q + 1, or q + 2 when the offset is B - r or more (it then crosses one more beat
   // boundary). A compare of the offset with a constant per client, then a select by the client: no adder
@@ -159,7 +165,7 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
       ),
     "read_beats: a record's beat count differs from the beats its bytes cover"
   )
-  private val allocOH = Mux(io.req.fire, freeOHReg, 0.U)
+  private val allocOH = Mux(io.req.fire, drawn.io.deq.bits.oh, 0.U)
   when(io.req.fire) {
     val m = Wire(new Meta)
     m.client := io.req.bits.client
@@ -220,9 +226,18 @@ class ReadEngine(p: Axi4Params, recordBytes: Seq[Int], tagBits: Int, val slots: 
     r1FinalReg := Mux(sameSlot, nextFinal, finalRegs(rSlot))
   }
   // The beat's checks, from the second stage's registers: it ends a burst where its record ends or where the next
-  // beat would start a new 4 KB page, and its response is OKAY.
-  private val chkBeatInPage = r1MetaReg.page(pageBits - 1, beatBits) +& r1CountReg + 1.U
-  private val chkEndsPage = chkBeatInPage(pageBits - beatBits - 1, 0) === 0.U
+  // beat would start a new 4 KB page, and its response is OKAY. The next beat starts a page when the record's
+  // first beat in its page, plus the count, plus one is 0 modulo the beats of a page: when the count is the first
+  // beat's complement (-x - 1 = ~x), one equality of registers. As that sum and a compare with 0 into the error
+  // flag it was the fabric's longest path, 5.23 ns (docs/fmax.md).
+  private val pageBeatBits = pageBits - beatBits
+  private val chkEndsPage =
+    r1CountReg.pad(pageBeatBits)(pageBeatBits - 1, 0) === ~r1MetaReg.page(pageBits - 1, beatBits)
+  assert(
+    !r1ValidReg || chkEndsPage ===
+      ((r1MetaReg.page(pageBits - 1, beatBits) +& r1CountReg + 1.U)(pageBeatBits - 1, 0) === 0.U),
+    "read_page_end: the beat's page-end test differs from its beat in the page"
+  )
   private val chkLastOk = r1LastReg === (r1FinalReg || chkEndsPage)
   when(r1ValidReg && !(r1KnownReg && chkLastOk && r1OkayReg)) { errorReg := true.B }
 

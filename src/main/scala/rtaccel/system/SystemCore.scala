@@ -149,18 +149,29 @@ class SystemCore[T <: Data](val sys: SystemConfig, val dp: Datapath[T]) extends 
   }
 
   // ---- watchdog: cycles of a batch or scene load without a ray handed out, a hit written or a scene beat ----
-  private val watchReg = RegInit(0.U(32.W))
+  // The count is kept one ahead (`watchNextReg` = the count + 1: the count it will be unless progress clears it),
+  // so that whether it has reached WATCHDOG_CYCLES is compared a cycle early, from registers, into `watchOverReg`:
+  // compared in the cycle it fires, the 32-bit compare ran through the batch's finish into `activeReg`, 5.42 ns
+  // (docs/fmax.md). The watchdog fires at the same count as before; WATCHDOG_CYCLES is taken a cycle later.
+  private val watchNextReg = RegInit(1.U(32.W))
+  private val watchOverReg = RegInit(false.B) // the count >= WATCHDOG_CYCLES as of the cycle before
+  private val limitSetReg = RegInit(false.B) // WATCHDOG_CYCLES =/= 0 as of the cycle before
   private val progress = rayDma.io.rays.fire || io.axi.b.fire || (loader.io.busy && io.axi.r.fire)
   private val limit = value("WATCHDOG_CYCLES")
-  when(!busy || progress || timeoutReg) { watchReg := 0.U }.otherwise { watchReg := watchReg + 1.U }
-  watchdogFired := busy && limit =/= 0.U && watchReg >= limit && !timeoutReg
+  private val watchClear = !busy || progress || timeoutReg
+  when(watchClear) { watchNextReg := 1.U }.otherwise { watchNextReg := watchNextReg + 1.U }
+  // Next cycle's count is 0 when cleared (0 >= limit: limit is 0), else watchNextReg.
+  watchOverReg := Mux(watchClear, limit === 0.U, watchNextReg >= limit)
+  limitSetReg := limit =/= 0.U
+  watchdogFired := busy && limitSetReg && watchOverReg && !timeoutReg
   when(watchdogFired) { timeoutReg := true.B }
   rayDma.io.stop := stopping || timeoutReg
 
   when(softResetReg) {
     activeReg := false.B; doneReg := false.B; brokenReg := false.B; stopReg := false.B; abortedReg := false.B
     timeoutReg := false.B; windowErrReg := false.B; refusedReg := 0.U; faultAddrReg := 0.U; writesBaseReg := 0.U
-    issuedReg := 0.U; watchReg := 0.U; raysDoneReg := 0.U; allDoneReg := false.B; issuedDoneReg := false.B
+    issuedReg := 0.U; watchNextReg := 1.U; watchOverReg := limit === 0.U; raysDoneReg := 0.U; allDoneReg := false.B;
+    issuedDoneReg := false.B
   }
 
   loader.io.start := load
