@@ -20,7 +20,7 @@ formal: setup formal-emit ## Bounded model check of the core's control path (par
 	scripts/formal.sh $(FORMAL_DIR) $(FORMAL_DEPTH)
 
 formal-mutants: formal ## Break the two-ID core on purpose; each break must be caught
-	scripts/formal-mutants.sh $(FORMAL_DIR) $(or $(FORMAL_MUTANT_DEPTH),28)
+	scripts/formal-mutants.sh $(FORMAL_DIR) $(or $(FORMAL_MUTANT_DEPTH),36)
 
 formal-deep: setup formal-emit ## Per-unit bounded response by BMC past its bound (part of make test)
 	scripts/formal.sh $(FORMAL_DIR) "$(FORMAL_DEPTH)" cases-deep.txt

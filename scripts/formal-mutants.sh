@@ -24,10 +24,10 @@ mutant free_unfired "an ID is freed while its hit still waits for the host, so t
   "s/\(\.io_free_valid *\)(_io_perf_hitsOut_T),/\1(outValidReg),/" "(_io_perf_hitsOut_T)," \
   id_freed_once_1
 mutant init_queue_one "InitTraversal's queue holds one ray, not numRayIds: a prepared ray can find it full" \
-  "/^module Queue2_PreparedEntry/,/^endmodule/{s/assign io_enq_ready = ~full;/assign io_enq_ready = empty;/;s/wire       do_enq = ~full \\& io_enq_valid;/wire       do_enq = empty \\& io_enq_valid;/}" \
-  "module Queue2_PreparedEntry" no_overflow_init_1
+  "/^module RamQueue_2(/,/^endmodule/{s/assign io_enq_ready = ~fullReg;/assign io_enq_ready = io_count == 3'h0;/;s/wire \\( *\\)write = ~fullReg \\& io_enq_valid;/wire \\1write = io_count == 3'h0 \\& io_enq_valid;/}" \
+  "module RamQueue_2(" no_overflow_init_1
 mutant lose_ray "a ray that ends on the leaf-return lane is never queued for its hit: lost, no ID freed twice, no number twice" \
-  "/Queue2_TraversalToken doneQs_1 (/,/io_enq_valid/s/(_q_io_enq_valid_T_15)/(1'b0)/" "Queue2_TraversalToken doneQs_1 (" \
+  "/RamQueue_2_1 doneQs_1 (/,/io_enq_valid/s/(_q_io_enq_valid_T_15)/(1'b0)/" "RamQueue_2_1 doneQs_1 (" \
   traversal_held_count_1
 # Not a break: an assertion that no ray ever comes back from a leaf. Its
 # shortest counterexample is the first step at which a leaf round trip (box
@@ -37,7 +37,7 @@ mutant reach_leaf_exit "(probe) no ray ever returns from a leaf: fails at the fi
   "s/^      if (~reset \& _init_io_broken) begin/      if (~reset \& _leaf_io_out_valid) begin reach_leaf_exit_1: assert(1'b0); end\n&/" \
   "      if (~reset & _init_io_broken) begin" reach_leaf_exit_1
 # Not a break either: the core's bounded_response with its derived bound
-# (cases.txt, 149 cycles for n2) cut to 16. It must fail (a ray with a leaf
+# (cases.txt) cut to 16. It must fail (a ray with a leaf
 # visit or a node fetch lives longer): the monitor catches a ray that
 # overstays its bound, though the derived bound itself lies past the depth.
 n2bound=$(awk '$1=="n2"{print $3}' "$dir/cases.txt")
@@ -51,16 +51,16 @@ case_=fetch2; cdepth=$(awk '$1=="fetch2"{print $2}' "$dir/cases-deep.txt"); form
 mutant fetch_lost_answer "PrepFetch drops ray 1's node answers: the ray is lost, which only bounded response sees" \
   "s/io_out_pipe_v <= io_mem_resp_valid;/io_out_pipe_v <= io_mem_resp_valid \& ~io_mem_resp_bits_tag;/" \
   "io_out_pipe_v <= io_mem_resp_valid;" fetch_bounded_response_2
-# A probe: with the derived bound (8) cut to 6 the monitor must fail: a ray
-# needs 7 cycles here (cut to 7, BMC finds none), so the bound has 1 cycle of slack.
-mutant fetch_tight "(probe) PrepFetch's derived bound 8 cut to 6: a ray needs 7" \
-  "s/~(~insideReg_0 | ~(ageReg_0\[3\]))/~(~insideReg_0 | ageReg_0 < 4'h6)/" "~(~insideReg_0 | ~(ageReg_0[3]))" fetch_bounded_response_1
+# A probe: with the derived bound (9) cut to 8 the monitor must fail: a ray
+# needs 9 cycles here (make formal-deep passes at 9), so the bound is exact.
+mutant fetch_tight "(probe) PrepFetch's derived bound 9 cut to 8: a ray needs 9" \
+  "s/~(~insideReg_0 | ageReg_0 < 4'h9)/~(~insideReg_0 | ageReg_0 < 4'h8)/" "~(~insideReg_0 | ageReg_0 < 4'h9)" fetch_bounded_response_1
 case_=leaf2f; cdepth=$(awk '$1=="leaf2f"{print $2}' "$dir/cases-deep.txt"); formal_wrap "$dir" leaf2f
 mutant leaf_stuck_stop "LeafIntersect drops the exit of a ray that stopped issuing (empty leaf, occluded shadow ray): the ray is lost" \
-  "s/\(\.io_enq_valid *\)(lastAnswer | issueExit),/\1(lastAnswer),/" \
-  "(lastAnswer | issueExit)," leaf_bounded_response_1
-# A probe: LeafIntersect's derived bound 17 cut to 8 must fail: a ray needs
-# 9 cycles here (cut to 9, BMC finds none), so the bound has 8 cycles of slack.
-mutant leaf_tight "(probe) LeafIntersect's derived bound 17 cut to 8: a ray needs 9" \
-  "s/~(~insideReg_0 | ageReg_0 < 5'h11)/~(~insideReg_0 | ageReg_0 < 5'h8)/" "~(~insideReg_0 | ageReg_0 < 5'h11)" leaf_bounded_response_1
+  "s/exitIn_pipe_v <= leaves;/exitIn_pipe_v <= lastAnswer;/" \
+  "exitIn_pipe_v <= leaves;" leaf_bounded_response_1
+# A probe: LeafIntersect's derived bound 19 cut to 11 must fail: a ray needs
+# 12 cycles here (cut to 12, BMC finds none), so the bound has 7 cycles of slack.
+mutant leaf_tight "(probe) LeafIntersect's derived bound 19 cut to 11: a ray needs 12" \
+  "s/~(~insideReg_0 | ageReg_0 < 5'h13)/~(~insideReg_0 | ageReg_0 < 5'hB)/" "~(~insideReg_0 | ageReg_0 < 5'h13)" leaf_bounded_response_1
 exit $status

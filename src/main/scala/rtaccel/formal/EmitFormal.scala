@@ -50,7 +50,7 @@ object FormalCase {
   private val tiny = small(2).copy(maxLeafSize = 1)
 
   val all: Seq[FormalCase] = Seq(
-    FormalCase("n2", small(2), dp, env, depth = 28),
+    FormalCase("n2", small(2), dp, env, depth = 36),
     FormalCase("n4", small(4), dp, env, depth = 18)
   )
 
