@@ -37,3 +37,12 @@ class BestWrite(cfg: AccelConfig) extends Bundle {
   val id = UInt(cfg.rayIdBits.W)
   val hit = new BestHit(cfg)
 }
+
+/** What travels beside an answer through the triangle test: its ray, its triangle's index word, and whether a
+  * vertex word is NaN or infinite (the scene in memory is bad).
+  */
+class AnswerCarry(cfg: AccelConfig) extends Bundle {
+  val rayId = UInt(cfg.rayIdBits.W)
+  val prim = UInt(32.W)
+  val bad = Bool()
+}

@@ -155,14 +155,7 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   prim.io.in.bits.tmax := io.rayRead.tmax
   prim.io.in.bits.triangle := respReg.data
 
-  class Carry extends Bundle {
-    val rayId = UInt(cfg.rayIdBits.W)
-    val prim = UInt(32.W)
-
-    /** A vertex word is NaN or infinite: the scene in memory is bad. */
-    val bad = Bool()
-  }
-  private val carryIn = Wire(new Carry)
+  private val carryIn = Wire(new AnswerCarry(cfg))
   carryIn.rayId := respReg.tag
   carryIn.prim := TriangleRecord.prim(respReg.data)
   carryIn.bad := (for (v <- 0 until 3; a <- 0 until 3)
@@ -305,20 +298,11 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   // A ray's exit in the cycle of its last answer also carries that answer's
   // error flags (its table entry takes them only at the clock edge).
   // So does its hit: `anyHit` is that answer's has-hit write.
-  // Either exit is registered before the exit queue, as its parts: the token (a block RAM read, the parked
-  // table) and the flags to combine with it after the register. Combined before it, the token's read ran through
-  // the flags' ORs and the select of the two exits into the queue's write data (6.00 ns, docs/fmax.md). A cycle
-  // per exit. The registered exit always enters the queue, which holds `numRayIds` or more (each ray is in one
-  // place): checked, `broken` latches if one ever found the queue full.
-  class ExitParts extends Bundle {
-    val token = new TraversalToken(cfg)
-    val errors = UInt(ErrorFlags.width.W)
-    val occluded = Bool()
-    val answeredHit = Bool() // the last answer hit: the exit is occluded if the ray is a shadow ray
-    val hit = Bool()
-  }
+  // Either exit is registered before the exit queue, as its parts (ExitParts), a cycle per exit. The registered
+  // exit always enters the queue, which holds `numRayIds` or more (each ray is in one place): checked, `broken`
+  // latches if one ever found the queue full.
   private def partsOf(tok: TraversalToken, errors: UInt, occluded: Bool, hit: Bool, answered: Bool): ExitParts = {
-    val p = Wire(new ExitParts)
+    val p = Wire(new ExitParts(cfg))
     p.token := tok
     p.errors := errors | Mux(answered, errNow, 0.U)
     p.occluded := occluded
@@ -336,13 +320,8 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
     ),
     1
   )
-  private val queued = Wire(new QueuedExit(cfg))
-  queued.exit.token := exitIn.bits.token
-  queued.exit.token.errors := exitIn.bits.token.errors | exitIn.bits.errors
-  queued.exit.occluded := exitIn.bits.occluded || (exitIn.bits.answeredHit && exitIn.bits.token.shadow)
-  queued.hasHit := exitIn.bits.hit
   exits.io.enq.valid := exitIn.valid
-  exits.io.enq.bits := queued
+  exits.io.enq.bits := exitIn.bits.queued
   when(issueExit) { stoppingReg := false.B }
   private val brokenReg = RegInit(false.B)
   when(exitIn.valid && !exits.io.enq.ready) { brokenReg := true.B }
@@ -352,8 +331,8 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   // are registers (HeadQueue) as the exit leaves, and reaches the RayBuffer from there. Waiting for the write's
   // grant instead, the exit's valid followed InitTraversal's queue through the RayBuffer's write arbiter into
   // Traversal's control and stack (7.39 ns in the core's control, docs/fmax.md). An exit leaves only when the
-  // queue has room, so the enqueue never overflows. The write lands at most three cycles after the exit (the
-  // queue's other entry first; each loses at most one round of the RayBuffer's round-robin arbiter to an
+  // queue has room, so the enqueue never overflows. The write lands a few cycles after the exit (through this
+  // queue and TmaxRead's, each write losing at most one round of the RayBuffer's round-robin arbiter to an
   // entering ray), and the ray's next RayBuffer read is further away (a traversal decision and its lane
   // register, then a node fetch's or a triangle fetch's queue and answer): checked, `leaf_tmax_first`. A ray
   // with no hit yet keeps the tmax it entered with and writes nothing. Whether it has a hit travels in its
@@ -369,39 +348,19 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   exitHead.ready := io.out.ready && room
   tmaxQ.io.enq.valid := io.out.fire && exitHead.bits.hasHit
   tmaxQ.io.enq.bits := headId
-  // The best t is read by the queue's head (a register) into a second two-entry queue, whose head (registers) is
-  // the write. Read as the exit leaves, by the exit queue's head, the read's address ran into the best table's
-  // read-during-write compare (6.59 ns); read by the first queue's head straight into the write, the block RAM's
-  // clock-to-out ran through the RayBuffer's write arbiter into its tmax memory (5.16 ns in the core's control,
-  // docs/fmax.md). The ray gets no answer until its write has landed (`leaf_tmax_first`), so its best stands
-  // still while it waits.
-  private val tmaxOut = Module(new HeadQueue(new TmaxUpdate(cfg)))
-  tmaxOut.io.enq.valid := tmaxQ.io.deq.valid
-  tmaxOut.io.enq.bits.rayId := tmaxQ.io.deq.bits
-  // From the table itself, with no forward of the best's write in flight: the exit left two cycles or more after
-  // its last answer (its exit register and the exit queue), and that answer's write lands the cycle after it.
-  tmaxOut.io.enq.bits.tmax := best.read(tmaxQ.io.deq.bits).t
-  assert(
-    !(tmaxQ.io.deq.valid && bestWrite.valid && bestWrite.bits.id === tmaxQ.io.deq.bits),
-    "leaf_tmax_landed: a tmax is read while its ray's best hit is still being written"
-  )
-  tmaxQ.io.deq.ready := tmaxOut.io.enq.ready
-  io.tmax <> tmaxOut.io.deq
-  assert(
-    !io.tmax.valid || io.tmax.bits.tmax === tables.best(io.tmax.bits.rayId).t,
-    "leaf_tmax_stands: a queued tmax write differs from its ray's best hit"
-  )
+  io.tmax <> TmaxRead(cfg, tmaxQ.io.deq, best, bestWrite, tables.best(_).t)
   assert(
     !exitHead.valid || exitHead.bits.hasHit === hasHitReg(headId),
     "leaf_exit_hit: an exit's hit bit differs from its ray's table entry"
   )
-  // Assertion only (synthesis drops it): the rays whose tmax write has not landed yet.
-  private val owedReg = RegInit(VecInit(Seq.fill(n)(false.B)))
-  when(tmaxQ.io.enq.fire) { owedReg(headId) := true.B }
-  when(io.tmax.fire) { owedReg(io.tmax.bits.rayId) := false.B }
-  assert(
-    !(io.rayRead.en && owedReg(io.rayRead.rayId)) && !(io.peerRead.valid && owedReg(io.peerRead.bits)),
-    "leaf_tmax_first: a ray's RayBuffer read came before its tmax write landed"
+  TmaxRead.checkFirst(
+    n,
+    tmaxQ.io.enq.fire -> headId,
+    io.tmax.fire -> io.tmax.bits.rayId,
+    Seq(
+      io.rayRead.en -> io.rayRead.rayId,
+      io.peerRead.valid -> io.peerRead.bits
+    )
   )
 
   when(io.clear.valid) {

@@ -111,6 +111,25 @@ object FmaxEstimate {
     PathCells(p.cells, p.ns, p.from, p.to, p.unregisteredDsp)
   }
 
+  /** Writes `text` to `<dir>/<stem>.sv` and runs [[script]] on it: (the source, Yosys's log, the JSON netlist). */
+  def synthesise(
+      dir: Path,
+      stem: String,
+      text: String,
+      top: String,
+      bb: Seq[String],
+      flatten: Boolean
+  ): (Path, Path, Path) = {
+    val sv = dir.resolve(s"$stem.sv")
+    val log = dir.resolve(s"$stem.yosys.log")
+    val netlist = dir.resolve(s"$stem.netlist.json")
+    Files.writeString(sv, text)
+    val rc =
+      Seq("yosys", "-q", "-l", log.toString, "-p", script(sv, top, bb, flatten, netlist)).!(ProcessLogger(_ => ()))
+    require(rc == 0, s"yosys failed on $top from $sv (exit $rc); see $log")
+    (sv, log, netlist)
+  }
+
   /** One cached Yosys run: area and longest path by `model`'s delay of `top` in `text`. The model is part of the
     * cache key: the path it picks depends on its figures. */
   def run(
@@ -135,14 +154,8 @@ object FmaxEstimate {
     val done = cacheDir.resolve(s"fmax-$label-$key.json")
     val cached = Option.when(Files.exists(done))(ujson.read(Files.readString(done))).filter(current)
     cached.fold {
-      val stem = s"fmax-$label-$key.${ProcessHandle.current().pid()}"
-      val sv = cacheDir.resolve(s"$stem.sv")
-      val log = cacheDir.resolve(s"$stem.yosys.log")
-      val netlist = cacheDir.resolve(s"$stem.netlist.json")
-      Files.writeString(sv, text)
-      val rc =
-        Seq("yosys", "-q", "-l", log.toString, "-p", script(sv, top, bb, flatten, netlist)).!(ProcessLogger(_ => ()))
-      require(rc == 0, s"yosys failed on $top from $sv (exit $rc); see $log")
+      val (sv, log, netlist) =
+        synthesise(cacheDir, s"fmax-$label-$key.${ProcessHandle.current().pid()}", text, top, bb, flatten)
       val area = Synth.parseTotal(Files.readString(log), log)
       val path = longestPath(netlist, top, model)
       val json = ujson.Obj("area" -> ujson.read(AccelArea.toJson(area)), "path" -> pathJson(path))

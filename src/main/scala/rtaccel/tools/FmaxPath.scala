@@ -1,7 +1,6 @@
 package rtaccel.tools
 
 import java.nio.file.{Files, Path}
-import scala.sys.process._
 
 /** The longest path of one unit, net by net: `make fmax-path UNIT=<module> [SV=<design.sv>]`.
   *
@@ -28,13 +27,7 @@ object FmaxPath {
       )
     )
     val dir = Files.createDirectories(Path.of("build", "fmax-path"))
-    val unitSv = dir.resolve(s"$m.sv")
-    val log = dir.resolve(s"$m.yosys.log")
-    val netlist = dir.resolve(s"$m.netlist.json")
-    Files.writeString(unitSv, text)
-    val script = FmaxEstimate.script(unitSv, m, bb, flatten = true, netlist)
-    val rc = Seq("yosys", "-q", "-l", log.toString, "-p", script).!(ProcessLogger(_ => ()))
-    require(rc == 0, s"yosys failed on $m from $unitSv (exit $rc); see $log")
+    val (_, _, netlist) = FmaxEstimate.synthesise(dir, m, text, m, bb, flatten = true)
     val model = DelayModel.zynq7
     val p = TimingGraph.longest(ujson.read(ujson.Readable.fromPath(netlist)), m, model)
     println(f"$label: ${p.ns}%.2f ns (${1000 / p.ns}%.0f MHz, an ESTIMATE by ${model.name})")
