@@ -24,7 +24,7 @@ mutant free_unfired "an ID is freed while its hit still waits for the host, so t
   "s/\(\.io_free_valid *\)(_io_perf_hitsOut_T),/\1(outValidReg),/" "(_io_perf_hitsOut_T)," \
   id_freed_once_1
 mutant init_queue_one "InitTraversal's queue holds one ray, not numRayIds: a prepared ray can find it full" \
-  "/^module RamQueue_2(/,/^endmodule/{s/assign io_enq_ready = ~fullReg;/assign io_enq_ready = io_count == 3'h0;/;s/wire \\( *\\)write = ~fullReg \\& io_enq_valid;/wire \\1write = io_count == 3'h0 \\& io_enq_valid;/}" \
+  "/^module RamQueue_2(/,/^endmodule/{s/assign io_enq_ready = ~storedIs2Reg;/assign io_enq_ready = io_count == 3'h0;/;s/wire \\( *\\)write = ~storedIs2Reg \\& io_enq_valid;/wire \\1write = io_count == 3'h0 \\& io_enq_valid;/}" \
   "module RamQueue_2(" no_overflow_init_1
 mutant lose_ray "a ray that ends on the leaf-return lane is never queued for its hit: lost, no ID freed twice, no number twice" \
   "/RamQueue_2_1 doneQs_1 (/,/io_enq_valid/s/(_q_io_enq_valid_T_15)/(1'b0)/" "RamQueue_2_1 doneQs_1 (" \

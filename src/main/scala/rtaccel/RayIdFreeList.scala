@@ -57,12 +57,11 @@ class RayIdFreeList(numIds: Int, lateCheck: Boolean = false) extends Module {
   // when the FIFO is empty keeps the time from a free to its ID's reuse at two cycles, and the FIFO's order.
   private val headValidReg = RegInit(false.B)
   private val headReg = Reg(UInt(idBits.W))
-  // The FIFO is not empty (`returnedReg`), and its count (`queuedReg`): registers beside its pointers, kept from
-  // its own enqueues and dequeues, so that neither its pointer compare nor a subtraction of its pointers lies on
-  // the handshake's path (docs/fmax.md). The count's next value is a choice of three formed from it alone, and
-  // the flag's from the count's compare with 1.
-  private val returnedReg = RegInit(false.B)
-  private val queuedReg = RegInit(0.U(log2Ceil(numIds + 1).W))
+  // The FIFO's count (`queuedReg`) and whether it is empty (`queuedIs0Reg`): registers beside its pointers, kept
+  // from its own enqueues and dequeues (StepCount), so that neither its pointer compare nor a subtraction of its
+  // pointers lies on the handshake's path (docs/fmax.md).
+  private val queued = new StepCount("queued", log2Ceil(numIds + 1), Seq(0))
+  private val returnedAny = !queued.is(0)
   io.alloc.valid := haveFreshReg || headValidReg
   io.alloc.bits := Mux(haveFreshReg, freshReg(idBits - 1, 0), headReg)
   // The head is free for the next ID when empty or handed out now (fresh IDs go first).
@@ -110,23 +109,17 @@ class RayIdFreeList(numIds: Int, lateCheck: Boolean = false) extends Module {
   // (`no_overflow_returned`).
   private val freedValidReg = RegNext(legalFree, false.B)
   private val freedReg = RegEnable(legalId, legalFree)
-  private val toHead = headFree && !returnedReg
+  private val toHead = headFree && !returnedAny
   returned.io.enq.valid := freedValidReg && !toHead
   returned.io.enq.bits := freedReg
-  returned.io.deq.ready := headFree && returnedReg
+  returned.io.deq.ready := headFree && returnedAny
   when(headFree) {
-    headValidReg := returnedReg || freedValidReg
-    headReg := Mux(returnedReg, returned.io.deq.bits, freedReg)
+    headValidReg := returnedAny || freedValidReg
+    headReg := Mux(returnedAny, returned.io.deq.bits, freedReg)
   }
   private val enqFire = freedValidReg && !toHead
-  private val deqFire = headFree && returnedReg
-  when(enqFire && !deqFire) {
-    queuedReg := queuedReg + 1.U
-    returnedReg := true.B
-  }.elsewhen(deqFire && !enqFire) {
-    queuedReg := queuedReg - 1.U
-    returnedReg := queuedReg =/= 1.U
-  }
+  private val deqFire = headFree && returnedAny
+  queued.step(enqFire, deqFire)
   when(allocFire && haveFreshReg) {
     freshReg := freshReg + 1.U
     haveFreshReg := freshReg =/= (numIds - 1).U
@@ -141,8 +134,8 @@ class RayIdFreeList(numIds: Int, lateCheck: Boolean = false) extends Module {
   assert(inFlight === PopCount(inUseReg), "id_count: the in-flight count disagrees with the IDs in use")
   assert(haveFreshReg === (freshReg =/= numIds.U), "id_fresh: the fresh flag disagrees with the fresh counter")
   assert(!returned.io.enq.valid || returned.io.enq.ready, "no_overflow_returned: a freed ID found the FIFO full")
-  assert(returnedReg === returned.io.deq.valid, "id_returned: the FIFO's flag disagrees with the FIFO")
-  assert(queuedReg === returned.io.count, "id_queued: the FIFO's count disagrees with the FIFO")
+  assert(returnedAny === returned.io.deq.valid, "id_returned: the FIFO's flag disagrees with the FIFO")
+  assert(queued.countReg === returned.io.count, "id_queued: the FIFO's count disagrees with the FIFO")
 
   io.inFlight := inFlight
   io.doubleFree := doubleFreeReg

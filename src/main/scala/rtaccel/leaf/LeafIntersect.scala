@@ -114,7 +114,7 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   // the tables by its own answers. Checked against the tables below.
   private val issueOccReg = RegInit(false.B) // occludedReg(issueIdReg)
   private val issueErrReg = RegInit(0.U(ErrorFlags.width.W)) // leafErrorsReg(issueIdReg)
-  private val issueOutReg = RegInit(0.U(cfg.leafCountBits.W)) // counts.countsReg(issueIdReg)
+  private val issueOutReg = RegInit(0.U(cfg.leafCountBits.W)) // counts.counts(issueIdReg)
   private val issueHitReg = RegInit(false.B) // hasHitReg(issueIdReg)
 
   private val stopEarly = busyReg && issueOccReg
@@ -275,16 +275,16 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
     issueHitReg := taken.hit
   }
   assert(
-    !job.fire || counts.countsReg(job.bits.token.rayId) === 0.U,
+    !job.fire || counts.counts(job.bits.token.rayId) === 0.U,
     "leaf_job_drained: a ray's job was taken while it still had triangle requests outstanding"
   )
   assert(
-    !issuing || (issueOutReg === counts.countsReg(issueIdReg) && issueOccReg === occludedReg(issueIdReg) &&
+    !issuing || (issueOutReg === counts.counts(issueIdReg) && issueOccReg === occludedReg(issueIdReg) &&
       issueErrReg === leafErrorsReg(issueIdReg) && issueHitReg === hasHitReg(issueIdReg)),
     "leaf_issue_view: the issuing ray's registers differ from its table entries"
   )
   assert(
-    !reduce || (done.lastReg === (counts.countsReg(doneId) === 1.U) && done.hasHitReg === hasHitReg(doneId) &&
+    !reduce || (done.lastReg === (counts.counts(doneId) === 1.U) && done.hasHitReg === hasHitReg(doneId) &&
       done.occludedReg === occludedReg(doneId) && done.errorsReg === leafErrorsReg(doneId)),
     // (not `best`: a fourth read port would replicate the memory; the specs compare every hit)
     "leaf_done_view: the reduce stage's registers differ from the answered ray's table entries"
@@ -381,7 +381,7 @@ class LeafIntersect[T <: Data](cfg: AccelConfig, gen: T, mkPrim: () => PrimInter
   // `exits`, or lost by the checked enqueue above): a 128-wide popcount into
   // `held` was the unit's longest path. The popcount stays as an assertion
   // (simulation and formal only), as RayIdFreeList checks its in-flight count.
-  private val working = (0 until n).map(i => counts.countsReg(i) =/= 0.U || (issuing && issueIdReg === i.U))
+  private val working = (0 until n).map(i => counts.counts(i) =/= 0.U || (issuing && issueIdReg === i.U))
   private val betweenReg = RegInit(0.U(log2Ceil(n + 1).W))
   private val leaves = lastAnswer || issueExit
   betweenReg := betweenReg + job.fire.asUInt - leaves.asUInt

@@ -68,7 +68,7 @@ class LeafReadAhead(cfg: AccelConfig, t: LeafTables, w: LeafWrites, pre2Id: UInt
   private val hitPre2Reg = RegNext(w.anyHit && toPre2)
   private val occPre2Reg = RegNext(w.occludes && toPre2)
   private val errPre2Reg = RegNext(Mux(w.reduce && toPre2, w.errors, 0.U))
-  private val outIsPre = GroupedRead(t.counts.isReg, pre2Id)
+  private val outIsPre = GroupedRead(t.counts.flags, pre2Id)
   private val hasHitPre = !clrPre2Reg && (GroupedRead(t.hasHit.map(_.asUInt), pre2Id).asBool || hitPre2Reg)
   private val occPre = !clrPre2Reg && (GroupedRead(t.occluded.map(_.asUInt), pre2Id).asBool || occPre2Reg)
   private val errPre = Mux(clrPre2Reg, 0.U, GroupedRead(t.errors, pre2Id) | errPre2Reg)

@@ -2,6 +2,7 @@ package rtaccel.system
 
 import chisel3._
 import chisel3.util._
+import rtaccel.StepCount
 
 /** A first-in first-out queue of `entries` in block RAM whose every decision starts at a register: the memory is
   * read synchronously at a pointer register, its data lands in a three-entry output buffer of registers whose head
@@ -33,9 +34,11 @@ class RamQueue[T <: Data](gen: T, val entries: Int) extends Module {
   private val mem = SyncReadMem(entries, gen)
   private val wrPtrReg = RegInit(0.U(ptrBits.W))
   private val rdPtrReg = RegInit(0.U(ptrBits.W))
-  private val storedReg = RegInit(0.U(log2Ceil(entries + 1).W)) // written, not yet read
-  private val fullReg = RegInit(false.B) // storedReg === entries
-  private val haveReg = RegInit(false.B) // storedReg =/= 0
+  // Written, not yet read; flagged full and empty beside the count, so the writer's valid, which comes late,
+  // meets one select on its way to them (StepCount).
+  private val stored = new StepCount("stored", log2Ceil(entries + 1), Seq(0, entries))
+  private val full = stored.is(entries)
+  private val have = !stored.is(0)
   private def bump(p: UInt): UInt = if (isPow2(entries)) p + 1.U else Mux(p === (entries - 1).U, 0.U, p + 1.U)
 
   // ---- Output buffer: three registers, the head first; an entry moves toward the head as the one ahead leaves ----
@@ -46,9 +49,9 @@ class RamQueue[T <: Data](gen: T, val entries: Int) extends Module {
   // Started only when the buffer is sure to have room when its data lands: at most two entries in the buffer and
   // on the way (registers only; one may leave meanwhile, which only leaves more room).
   private val occupiedReg = RegInit(0.U(2.W)) // buffer entries + the read on its way, as of this cycle, capped at 3
-  private val start = haveReg && occupiedReg < slots.U
+  private val start = have && occupiedReg < slots.U
 
-  io.enq.ready := !fullReg
+  io.enq.ready := !full
   private val write = io.enq.fire
   when(write) {
     mem.write(wrPtrReg, io.enq.bits)
@@ -58,14 +61,7 @@ class RamQueue[T <: Data](gen: T, val entries: Int) extends Module {
   when(start) { rdPtrReg := bump(rdPtrReg) }
   inFlightReg := start
 
-  // The stored count moves by at most one a cycle: its next value and flags are selected by the two events from
-  // values formed from registers alone (its ±1, its compares), so the writer's valid, which comes late, meets one
-  // select. As a sum and compares after it, the writer's valid ran through the carry chain into the flags.
-  private val up = write && !start
-  private val down = start && !write
-  storedReg := Mux(up, storedReg + 1.U, Mux(down, storedReg - 1.U, storedReg))
-  fullReg := Mux(up, storedReg === (entries - 1).U, !down && fullReg)
-  haveReg := Mux(down, storedReg =/= 1.U, up || haveReg)
+  stored.step(write, start)
 
   io.deq.valid := validRegs(0)
   io.deq.bits := dataRegs(0)
@@ -86,12 +82,14 @@ class RamQueue[T <: Data](gen: T, val entries: Int) extends Module {
   assert(!arrive || buffered - leave.asUInt < slots.U, "ram_queue_room: a read's data found the output buffer full")
 
   // Counted as entries pass, by the same select (a register: the units add their queues' counts).
-  private val countReg = RegInit(0.U(log2Ceil(entries + 4).W))
-  private val in = write && !leave
-  private val out = leave && !write
-  countReg := Mux(in, countReg + 1.U, Mux(out, countReg - 1.U, countReg))
-  assert(countReg === storedReg +& inFlightReg.asUInt +& buffered, "ram_queue_count: the count differs from its parts")
-  io.count := countReg
+  private val held = new StepCount("count", log2Ceil(entries + 4))
+  held.step(write, leave)
+  assert(
+    held.countReg === stored.countReg +& inFlightReg.asUInt +& buffered,
+    "ram_queue_count: the count differs from its parts"
+  )
+  assert(stored.flagsAgree, "ram_queue_flags: the stored count's full or empty flag disagrees with it")
+  io.count := held.countReg
 }
 
 object RamQueue {

@@ -2,6 +2,7 @@ package rtaccel.system
 
 import chisel3._
 import chisel3.util._
+import rtaccel.StepCount
 import rtaccel.axi.{Axi4, Axi4Addr, Axi4Master, Axi4Params}
 
 /** The DMA window: every burst that reaches m_axi lies inside
@@ -122,21 +123,14 @@ class WindowGuard(p: Axi4Params) extends Module {
     out
   }
 
-  /** Outstanding real bursts, and whether there are none, both registers. At most the fabric's read slots plus fill
-    * bursts: 16 bits never wrap. The count's next value is a choice of count + 1, count - 1 and count, each formed
-    * from the register alone, so the handshakes feed a multiplexer, not a carry chain.
+  /** Whether no real burst is outstanding, a register kept beside their count (StepCount: the handshakes feed a
+    * select, not a carry chain). At most the fabric's read slots plus fill bursts are outstanding: 16 bits never
+    * wrap.
     */
-  private def outstanding(issue: Bool, retire: Bool): Bool = {
-    val countReg = RegInit(0.U(16.W))
-    val noneReg = RegInit(true.B)
-    when(issue && !retire) {
-      countReg := countReg + 1.U
-      noneReg := false.B
-    }.elsewhen(retire && !issue) {
-      countReg := countReg - 1.U
-      noneReg := countReg === 1.U
-    }
-    noneReg
+  private def outstanding(name: String, issue: Bool, retire: Bool): Bool = {
+    val count = new StepCount(name, 16, Seq(0))
+    count.step(issue, retire)
+    count.is(0)
   }
 
   // ---- reads ----
@@ -150,7 +144,7 @@ class WindowGuard(p: Axi4Params) extends Module {
   ar.ready := !fakeRValidReg && (io.out.ar.ready || !arOk)
   private val arRefused = ar.fire && !arOk
   when(arRefused) { fakeRValidReg := true.B; fakeRIdReg := ar.bits.a.id; fakeRLeftReg := ar.bits.a.len }
-  private val noReads = outstanding(io.out.ar.fire, io.out.r.fire && io.out.r.bits.last)
+  private val noReads = outstanding("reads", io.out.ar.fire, io.out.r.fire && io.out.r.bits.last)
   private val fakeR = fakeRValidReg && noReads
   io.in.r.valid := io.out.r.valid || fakeR
   io.in.r.bits := io.out.r.bits
@@ -199,7 +193,7 @@ class WindowGuard(p: Axi4Params) extends Module {
   private val dropNow = wLast && !wOk
   private val awRefused = aw.fire && !awOk
   when(awRefused) { fakeBValidReg := true.B; fakeBIdReg := aw.bits.a.id }
-  private val noWrites = outstanding(io.out.aw.fire, io.out.b.fire)
+  private val noWrites = outstanding("writes", io.out.aw.fire, io.out.b.fire)
   private val fakeB = fakeBValidReg && noWrites && (droppedReg =/= 0.U || dropNow)
   io.in.b.valid := io.out.b.valid || fakeB
   io.in.b.bits := io.out.b.bits
