@@ -7,8 +7,8 @@ import chisel3.util._
   * below it, shifted right by the exponent difference `d`, and the sticky bit of what falls off, as the
   * product `x * 2^(sw - min(d, sw))` (sw = p + extra) on [[DspMul]]. As a barrel shifter with its sticky
   * logic beside it, this was about a fifth of the adder's LUTs (107 of 506 at FP32); here the fabric keeps
-  * only the decode of `d` into the one-hot multiplier (sw + 1 bits: two DSP48E1s at FP32, one for p + extra
-  * <= 16) and an OR of the product's low bits.
+  * only the decode of `d` into the one-hot multiplier (sw + 1 bits: two DSP48E1s at FP32, one for p
+  * <= 13, whose one-hot and its sign bit fit the B port) and an OR of the product's low bits.
   *
   * Exactness: for d <= sw, `(x << extra) >> d` = floor(x 2^(extra - d)) = floor(P / 2^p) with
   * P = x 2^(sw - d), since sw - p = extra, and the bits it drops are P mod 2^p. For d > sw the shift
