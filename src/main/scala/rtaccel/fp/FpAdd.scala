@@ -5,10 +5,12 @@ import chisel3.util._
 
 /** Floating-point adder (or subtractor, with `subtract`): `a + b` (`a - b`)
   * rounded once in the mode. Front: compare the magnitudes and swap; align
-  * the smaller significand with guard/round/sticky bits; add or subtract;
-  * then [[FpRound]]. Cut points ([[FpPipeline]]): after the swap, after the
-  * alignment, after the add, the rounder's, and the output; the default
-  * latency puts one register on each.
+  * the smaller significand with guard/round/sticky bits (a product on
+  * DSP48E1s, [[FpAlign]]); add or subtract; then [[FpAddNorm]] and the
+  * rounder's last stages. Cut points ([[FpPipeline]]): after the swap, after
+  * the alignment's multiplier, the product's ([[DspMul]]), after the aligned
+  * significand, after the add, the normaliser's and rounder's, and the output;
+  * the default latency puts one register on each.
   *
   * @param rm      Some(mode) fixes the mode at elaboration; None adds an `rm` input
   * @param latency cycles from `in` to `out`
@@ -25,20 +27,14 @@ class FpAdd(
   private val pipe = new FpPipeline(latency, FpAdd.cuts(fmt))
   private val stages = new FpStages(pipe, io.in.valid)
   private val mid = stages(FpAdd.front(fmt, io.in.bits, subtract, stages, r => Seq(FpUnitIO.roundingMode(rm, r))))
-  private val rounded = FpRound.inModes(
-    fmt,
-    mid.raw,
-    Seq((FpUnitIO.roundingMode(rm, mid.rm), mid.signs(0))),
-    Some(FpAdd.minExp(fmt)),
-    Some(stages)
-  ).head
+  private val rounded = FpAddNorm(fmt, mid, Seq(FpUnitIO.roundingMode(rm, mid.rm)), stages).head
   io.out := pipe.cut(stages.valid, rounded)
   pipe.done()
 }
 
 /** [[FpAdd]] (or its subtractor) rounded both down (RDN) and up (RUP) from
   * one exact sum: one front and normaliser, two final roundings
-  * (FpRound.inModes). Each result is bit for bit the single-mode unit's
+  * (FpRound.finish). Each result is bit for bit the single-mode unit's
   * (an exact zero's sign included); same cuts and latency.
   */
 class FpAddDnUp(val fmt: FloatFormat, val latency: Int = FpAdd.defaultLatency, val subtract: Boolean = false)
@@ -50,8 +46,7 @@ class FpAddDnUp(val fmt: FloatFormat, val latency: Int = FpAdd.defaultLatency, v
   private val pipe = new FpPipeline(latency, FpAdd.cuts(fmt))
   private val stages = new FpStages(pipe, io.in.valid)
   private val mid = stages(FpAdd.front(fmt, io.in.bits, subtract, stages, _ => modes))
-  private val rounded =
-    FpRound.inModes(fmt, mid.raw, modes.zip(mid.signs), Some(FpAdd.minExp(fmt)), Some(stages))
+  private val rounded = FpAddNorm(fmt, mid, modes, stages)
   io.out := pipe.cut(stages.valid, FpDnUp(fmt, rounded))
   pipe.done()
 }
@@ -61,23 +56,21 @@ class FpAddFront(fmt: FloatFormat, dynamicRm: Boolean) extends Bundle {
   private val p = fmt.precision
   val big = new FpUnpacked(fmt)
   val smallSig = UInt(p.W)
+
+  /** The larger operand's exponent field, 1 for a subnormal (the biased exponent of its hidden bit's place). */
+  val bigExp = UInt(fmt.expBits.W)
   val dist = UInt((fmt.expBits + 1).W)
   val effSub = Bool()
   val isNaN = Bool()
   val isInf = Bool()
   val infSign = Bool()
+
+  /** The alignment's multiplier ([[FpAlign]]) and its product's partials. */
+  val shift = UInt(FpAlign.width(fmt).W)
+  val dsp = new DspPartials(p + 1, FpAlign.width(fmt) + 1)
   val smallAligned = UInt((p + FpAdd.extra).W)
   val sticky = Bool()
   val rm = Option.when(dynamicRm)(UInt(RoundingMode.width.W))
-}
-
-/** The adder's exact sum before rounding, with the result's sign in each mode
-  * (they differ only for an exact zero from x + (-x)).
-  */
-class FpAddMid(sigWidth: Int, expWidth: Int, dynamicRm: Boolean, modes: Int) extends Bundle {
-  val raw = new FpRaw(sigWidth, expWidth)
-  val rm = Option.when(dynamicRm)(UInt(RoundingMode.width.W))
-  val signs = Vec(modes, Bool())
 }
 
 object FpAdd {
@@ -89,8 +82,8 @@ object FpAdd {
   val extra: Int = 3
 
   /** The front: swap, align, add (three cuts of `stages`), up to the
-    * rounder's input, for the modes `modesOf` gives from the carried runtime
-    * mode (if any).
+    * normaliser's input, for the modes `modesOf` gives from the carried
+    * runtime mode (if any).
     */
   def front(
       fmt: FloatFormat,
@@ -102,7 +95,6 @@ object FpAdd {
     val p = fmt.precision
     val extra = FpAdd.extra
     val sw = p + extra
-    val ew = FpUnpack.expWidth(fmt)
 
     val ua = FpUnpack(fmt, in.a)
     val ub0 = FpUnpack(fmt, in.b)
@@ -130,6 +122,8 @@ object FpAdd {
     // the raw fields, picked after them (with the subnormal fix in front of each chain, 5.05 ns).
     val (ea, eb) = (in.a(fmt.width - 2, fmt.manBits), in.b(fmt.width - 2, fmt.manBits))
     val (eaZero, ebZero) = (ea === 0.U, eb === 0.U)
+    // max(field, 1): set the low bit of a zero field.
+    f0.bigExp := Mux(aBig, Cat(ea(fmt.expBits - 1, 1), ea(0) || eaZero), Cat(eb(fmt.expBits - 1, 1), eb(0) || ebZero))
     def less1(x: UInt, y: UInt): UInt = (x +& ~y)(fmt.expBits - 1, 0) // x - y - 1 when x > y
     f0.dist := Mux(
       aBig,
@@ -142,25 +136,44 @@ object FpAdd {
     f0.infSign := Mux(ua.isInf, ua.sign, ub.sign)
     val f1 = stages(f0)
 
-    // Cut 2: align the smaller significand (its sticky bit beside the shifter).
+    // Cut 2: the alignment's one-hot multiplier (into the DSP48E1s' input registers); then the product's
+    // cuts (DspMul), the operands carried unchanged through them.
     val f2 = Wire(new FpAddFront(fmt, dynamicRm))
     f2 := f1
-    val (smallAligned, sticky) = FpUnpack.shiftRightSticky(Cat(f1.smallSig, 0.U(extra.W)), f1.dist)
-    f2.smallAligned := smallAligned
-    f2.sticky := sticky
-    val f3 = stages(f2)
+    f2.shift := FpAlign.oneHot(fmt, f1.dist)
+    val last = (1 to DspMul.cuts(FpAlign.width(fmt) + 1)).foldLeft(stages(f2)) { (prev, s) =>
+      val n = Wire(new FpAddFront(fmt, dynamicRm))
+      n := prev
+      n.dsp := DspMul.step(s, prev.smallSig.zext, prev.shift.zext, prev.dsp)
+      stages(n)
+    }
+    // Cut: the aligned significand and its sticky bit in registers. The sticky bit is an OR of the product's
+    // low bits, and the add's carry chain takes it as its carry in: DSP48E1.P, the OR, the chain in one
+    // cycle were 6.28 ns.
+    val f3w = Wire(new FpAddFront(fmt, dynamicRm))
+    f3w := last
+    val product = DspMul.result(last.smallSig.zext, last.shift.zext, last.dsp).asUInt
+    val (aligned, lost) = FpAlign.aligned(fmt, product)
+    f3w.smallAligned := aligned
+    f3w.sticky := lost
+    val f3 = stages(f3w)
 
-    // Cut 3: add or subtract. A true difference is big - (smallAligned + d),
-    // d in (0,1) when sticky: = (big - smallAligned - 1) + (1 - d), so subtract
-    // the sticky bit too. big >= smallAligned + sticky (the swap, and sticky needs the exponents apart), so
-    // the difference is never negative: big + ~smallAligned + !sticky, the sticky's borrow as the chain's carry
-    // in (an extra low bit: 1 + !sticky carries exactly !sticky), one two-operand chain.
+    // Cut 3: add or subtract, in one carry chain (the operand's inversion sits in the chain's LUTs). A true
+    // difference is big - (smallAligned + d), d in (0,1) when sticky: = (big - smallAligned - 1) + (1 - d),
+    // so subtract the sticky bit too. big >= smallAligned + sticky (the swap, and sticky needs the exponents
+    // apart), so the difference is never negative: big + ~smallAligned + !sticky, the sticky's borrow as the
+    // chain's carry in (an extra low bit: effSub + (effSub && !sticky) carries exactly that), and the carry
+    // out of a difference (2^sw) dropped. A sum's extra low bits are 0 + 0 and carry nothing.
     //
-    // Timing (docs/fmax.md): the carry chains feed only the final mux, and the exact-zero test, which the
-    // result's sign waits on, reads the operands beside the chains, not their result.
+    // Timing (docs/fmax.md): the carry chain feeds only the register, and the exact-zero test, which the
+    // result's sign waits on, reads the operands beside the chain, not its result.
+    val sub = f3.effSub
     val bigExt = Cat(f3.big.sig, 0.U(extra.W))
-    val diff = (Cat(bigExt, 1.U(1.W)) + Cat(~f3.smallAligned, !f3.sticky))(sw, 1)
-    val mag = Mux(f3.effSub, diff, bigExt +& f3.smallAligned)
+    // The top bit: a difference always carries out of bit sw (big + 2^sw - 1 - smallAligned + !sticky >= 2^sw),
+    // so an operand bit `sub` there makes the sum bit 0 for a difference and the carry for a sum, from the
+    // chain itself (as an AND behind the chain it was the adder's longest path).
+    val chain = Cat(0.U(1.W), bigExt, sub) + Cat(sub, f3.smallAligned ^ Fill(sw, sub), sub && !f3.sticky)
+    val mag = chain(sw + 1, 1)
     // mag === 0, from the operands. A difference with sticky set is never 0: sticky needs the
     // exponents extra + 1 or more apart, so big is normal, bigExt >= 2^(p + extra - 1) and
     // smallAligned < 2^(p - 1). Without sticky it is 0 exactly when the aligned significands
@@ -172,29 +185,26 @@ object FpAdd {
     )
 
     val modes = modesOf(f3.rm)
-    val front = Wire(new FpAddMid(sw + 1, ew + 1, dynamicRm, modes.size))
-    val raw = front.raw
+    val front = Wire(new FpAddMid(fmt, dynamicRm, modes.size))
     front.rm.foreach(_ := f3.rm.get)
-    raw.isNaN := f3.isNaN
-    raw.isInf := f3.isInf
+    front.isNaN := f3.isNaN
+    front.isInf := f3.isInf
     // Exact zero: (-0)+(-0) = -0, x+(-x) = +0 except -0 in RDN (IEEE 754 6.3).
-    raw.isZero := magZero && !f3.sticky
+    front.isZero := magZero && !f3.sticky
     for ((m, j) <- modes.zipWithIndex)
       front.signs(j) := MuxCase(
         f3.big.sign,
         Seq(f3.isInf -> f3.infSign, (magZero && f3.effSub) -> (m === RoundingMode.RDN.code.U))
       )
-    raw.sign := front.signs(0)
-    raw.sig := mag
-    raw.exp := f3.big.exp -& extra.S
-    raw.sticky := f3.sticky
+    front.sig := mag
+    front.sticky := f3.sticky
+    front.bigExp := f3.bigExp
     front
   }
 
-  def minExp(fmt: FloatFormat): Int = fmt.emin - fmt.manBits - extra
-
-  /** Swap, align, add, the rounder's cut points, the output. */
-  def cuts(fmt: FloatFormat): Int = 3 + FpRound.cuts(fmt, fmt.precision + extra + 1, Some(minExp(fmt))) + 1
+  /** Swap, the alignment's multiplier and its product ([[DspMul]]), the aligned significand, add, the normaliser's and rounder's cut
+    * points, the output. */
+  def cuts(fmt: FloatFormat): Int = 4 + DspMul.cuts(FpAlign.width(fmt) + 1) + FpAddNorm.cuts + 1
 
   /** One register per cut point (docs/fmax.md). */
   def defaultLatency: Int = cuts(FloatFormat.FP32)

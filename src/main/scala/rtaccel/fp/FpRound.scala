@@ -13,12 +13,13 @@ import chisel3.util._
   * the right of "MSB at the top" (independent of the leading-zero count), so
   * if that is never positive one left shift, stopped at the grid, normalises
   * every result and the right shifter is left out (the adder and same-range
-  * conversions). Otherwise the rounder normalises fully, keeps p+2 bits plus
-  * a sticky bit, and shifts those right onto the grid.
+  * conversions). Otherwise one shift of `sig` in a frame p + 2 bits wider
+  * does both the normalisation and the right shift onto the grid.
   *
   * Pipelining: a unit that passes its [[FpStages]] gets [[FpRound.cuts]] cut
   * points inside the rounder (after the leading-zero count, after the
-  * shift(s), after the rounding decision); without, the rounder is
+  * shift amount (general path only), after the shift, after the rounding
+  * decision); without, the rounder is
   * combinational. The exponent arithmetic is arranged so that no carry chain
   * waits on another inside a stage (the tiny test and the shifts read the
   * leading-zero count and exponent sums computed beside it); every value is
@@ -40,7 +41,7 @@ object FpRound {
     * carries the guard pad, and the exponent is replaced from stage 1 on by `eTop`/`eTopM1`, so an
     * FpRaw field would carry a dead exponent through every cut.
     */
-  private class State(w: Int, p: Int, ew: Int, lzw: Int, dynamicRm: Boolean, modes: Int) extends Bundle {
+  private[fp] class State(w: Int, p: Int, ew: Int, lzw: Int, dynamicRm: Boolean, modes: Int) extends Bundle {
     val isNaN = Bool()
     val isInf = Bool()
     val zero = Bool()
@@ -56,14 +57,14 @@ object FpRound {
     val eTopM1 = SInt(ew.W)
     val eTopP1 = SInt(ew.W)
 
-    /** eTopM1 + p + 2: the right shift onto the subnormal grid passes the whole window when lz exceeds it. */
+    /** eTopM1 + p + 2: the shift of the window's frame (w + p + 2 bits) that stops at the subnormal grid. */
     val eShiftOut = SInt(ew.W)
     val biasedExp = SInt(ew.W)
     val biasedExpP1 = SInt(ew.W)
     val tiny = Bool()
 
-    /** The right shift onto the subnormal grid, already clamped to the window's p + 2 bits. */
-    val subShift = UInt(log2Ceil(p + 3).W)
+    /** The one shift of the general path, left in a frame of w + p + 2 bits (see FpRound.inModes). */
+    val shift = UInt(log2Ceil(w + p + 2).W)
 
     /** The kept p bits, guard and round (`window`); any 1 below them (`tail`). */
     val window = UInt((p + 2).W)
@@ -108,13 +109,16 @@ object FpRound {
     // At least a guard bit and one more below the kept bits.
     val pd = pad(fmt, raw.sigWidth)
     val w = raw.sigWidth + pd
-    val ew = raw.expWidth.max(FpUnpack.expWidth(fmt)) + log2Ceil(w + 1) + 2
+    // Every exponent here is raw.exp, less the pad (< w), plus a constant of at most w + bias + p, less at
+    // most lz < w: with |raw.exp| <= 2^(E-1) (E its width) and X = 3w + bias + p + 2, ew signed bits hold
+    // them all when 2^(ew-1) > 2^(E-1) + X, which ew = max(E, log2Ceil(X + 1) + 1) + 1 gives. (A wider
+    // margin made every exponent chain and compare 19 bits in the FP32 multiplier; these are 12.)
+    val ew = raw.expWidth.max(FpUnpack.expWidth(fmt)).max(log2Ceil(3 * w + fmt.bias + p + 3) + 1) + 1
     val lzw = log2Ceil(w)
     val dynamicRm = !rm.isLit
     require(nModes >= 1 && (!dynamicRm || nModes == 1), s"FpRound: $nModes modes, a runtime one among them")
     def cut(s: State): State = stages.fold(s)(_(s))
     def next(s: State): State = { val n = Wire(new State(w, p, ew, lzw, dynamicRm, nModes)); n := s; n }
-    def rmOf(s: State, j: Int): UInt = s.rm.getOrElse(modes(j)._1)
 
     // Stage 1: leading zeros, and the exponent sums the next stage compares them with.
     val s0 = Wire(new State(w, p, ew, lzw, dynamicRm, nModes))
@@ -144,12 +148,7 @@ object FpRound {
     s2.biasedExp := s1.eTop - lzS
     s2.biasedExpP1 := s1.eTopP1 - lzS // the rounding carry's exponent, beside it: no chain on a chain next stage
     s2.tiny := s1.eTopM1 < lzS
-    // Whether `sig << amount` has a 1 below the window (its low w - p - 2 bits), formed beside the
-    // shifter: those are the bits of `sig` below w - p - 2 - amount, so `sig` masked by a decode of the
-    // amount (bit j kept when j + amount < w - p - 2). As an OR of the shifter's output it was the
-    // multiplier's longest path, 8 cells (2 LUT, 6 MUXF), 5.36 ns.
-    def below(amount: UInt): Bool =
-      if (w > p + 2) (s1.sig(w - p - 3, 0) & (Fill(w - p - 2, 1.U(1.W)) >> amount)).orR else false.B
+    def below(amount: UInt): Bool = FpRound.below(s1.sig, p, amount)
     val s3 =
       if (fast) {
         // Never below the subnormal grid: one left shift, stopped at the grid, does both.
@@ -162,28 +161,52 @@ object FpRound {
         s2.tail := Mux(s2.tiny, below(atGrid), below(s1.lz)) || s1.sticky
         cut(s2)
       } else {
-        // Normalise, keep p+2 bits and a sticky, then (next stage) shift right onto the
-        // subnormal grid (a (p+2)-bit shifter instead of a 2w-bit one).
-        val n = (s1.sig << s1.lz)(w - 1, 0)
-        s2.window := n(w - 1, w - p - 2)
-        s2.tail := below(s1.lz) || s1.sticky
-        // The right shift, clamped here to the window's p + 2 bits by a compare beside the tiny
-        // test (lz - (eTop - 1) > p + 2 is lz > eShiftOut), so that the next stage's shifter
-        // does not wait on a compare of its amount. Past p + 2 every window bit goes to the
-        // sticky, as with the unclamped amount.
-        val shiftOut = s1.eShiftOut < lzS // implies tiny
-        val sw = s2.subShift.getWidth
-        s2.subShift := Mux(shiftOut, (p + 2).U, Mux(s2.tiny, (lzS - s1.eTopM1).asUInt(sw - 1, 0), 0.U))
+        // One shift does both the normalising left shift and the right shift onto the subnormal grid: the
+        // window is the top p + 2 bits of sig 2^amt with amt = min(lz, eTop - 1) (negative: a right shift),
+        // taken from Y = sig under k = p + 2 zero bits (a frame of w + k bits) shifted left by s = amt + k.
+        // Not tiny, s = lz + k: the normalised window. Tiny, s = eTop - 1 + k = eShiftOut, clamped at 0: for
+        // amt <= -k the window is 0 and every bit of sig is in the tail, as at s = 0. Stage 2 forms s beside
+        // the tiny compare, stage 3 shifts by the registered s. (A normalising shift of all w bits and then a
+        // right shift of the window took two shifters: half the FP32 multiplier's LUTs, 243 of 450.)
+        val k = p + 2
+        val sw = s2.shift.getWidth
+        val atGrid = Mux(s1.eShiftOut < 0.S, 0.U, s1.eShiftOut.asUInt(sw - 1, 0))
+        s2.shift := Mux(s2.tiny, atGrid, s1.lz +& k.U)
         val s2b = cut(s2)
         val s3 = next(s2b)
-        val (r, lost) = FpUnpack.shiftRightStickyClamped(s2b.window, s2b.subShift)
-        s3.window := r
-        s3.tail := s2b.tail || lost
+        // The bits of Y << s below the window (index < w) are sig's bits j with j + s < w.
+        s3.window := FpUnpack.shiftLeftMsbFirst(Cat(0.U(k.W), s2b.sig), s2b.shift)(w + k - 1, w)
+        s3.tail := (s2b.sig & (Fill(w, 1.U(1.W)) >> s2b.shift)).orR || s2b.sticky
         cut(s3)
       }
 
+    finish(fmt, s3, modes.map(_._1), stages)
+  }
+
+  /** Whether `sig << amount` has a 1 below the window of p + 2 bits at its top (its low w - p - 2 bits),
+    * formed beside the shifter: those are the bits of `sig` below w - p - 2 - amount, so `sig` masked by a
+    * decode of the amount (bit j kept when j + amount < w - p - 2). As an OR of the shifter's output it was
+    * the multiplier's longest path, 8 cells (2 LUT, 6 MUXF), 5.36 ns.
+    */
+  private[fp] def below(sig: UInt, p: Int, amount: UInt): Bool = {
+    val w = sig.getWidth
+    if (w > p + 2) (sig(w - p - 3, 0) & (Fill(w - p - 2, 1.U(1.W)) >> amount)).orR else false.B
+  }
+
+  /** The rounder's last two stages, shared with [[FpAddNorm]]: from the normalised `s3` (its `window`,
+    * `tail`, `sign`, `tiny`, `biasedExp`, `biasedExpP1`, the flags and the runtime mode, if any) the
+    * rounding decision and both candidate exponents with their overflow tests (one cut of `stages`), then
+    * the increment, the encoding and the special values, per mode (`modes`, literal or the one runtime mode).
+    */
+  private[fp] def finish(fmt: FloatFormat, s3: State, modes: Seq[UInt], stages: Option[FpStages]): Seq[UInt] = {
+    val p = fmt.precision
+    val nModes = modes.size
+    val ew = s3.biasedExp.getWidth
+    def cut(s: State): State = stages.fold(s)(_(s))
+    def rmOf(s: State, j: Int): UInt = s.rm.getOrElse(modes(j))
+    val s4 = Wire(chiselTypeOf(s3))
+    s4 := s3
     // Stage 3: the rounding decision, and both candidate exponents with their overflow tests.
-    val s4 = next(s3)
     val kept0 = s3.window(p + 1, 2)
     val guard = s3.window(1)
     val rest = s3.window(0) || s3.tail

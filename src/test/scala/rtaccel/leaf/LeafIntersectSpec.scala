@@ -259,7 +259,7 @@ class LeafIntersectSpec extends AnyFlatSpec with ChiselScalatestTester {
     run(Latency.Uniform(5, 60), primLatency = 6, cycles = 20000, "LeafIntersect.ooo")
   }
   // Behind the real triangle unit a leaf's first answer comes at least
-  // 5 + 1 + zc706PrimLatency cycles (92 for FP32 watertight) after its first request,
+  // 5 + 1 + zc706PrimLatency cycles (117 for FP32 watertight) after its first request,
   // while its <= 15 requests issue in about 15 / 0.8 cycles: a shadow ray can
   // stop early only when the outstanding limit holds its issue back that long,
   // which is rare, so early exits are counted, not required, here.
