@@ -25,8 +25,8 @@ import rtaccel.mem.{MemPortParams, MemResponse}
   * A request hits when the store is loaded, its address is 16-byte aligned
   * relative to `base` and the whole record lies below base + storedBytes.
   * Latency: request accepted in cycle t, response offered from t +
-  * `TriStore.Latency` = 4 (the request register, the BRAM read, the realigned record's register, then the
-  * output queue) on a port of its own, one cycle more on a shared one. Full rate: one record per port per
+  * `TriStore.Latency` = 4 (the request register, the BRAM read, the ordered line pair's register, then the
+  * record's shift into the output queue) on a port of its own, one cycle more on a shared one. Full rate: one record per port per
   * cycle.
   */
 class TriStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: Int, fillId: Int, copies: Int = 1)
@@ -55,6 +55,12 @@ class TriStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: 
   private val pairBits = 8 * (recBytes + B - TriStore.Grain)
 
   val io = IO(new StoreIO(p, port, clients))
+
+  /** The record from a registered line pair, `Cat(offset, pair)`: the pair shifted down by the offset's grains. */
+  private def shifted(d: UInt): UInt = {
+    val sub = d(pairBits + subBits - 1, pairBits)
+    (d(pairBits - 1, 0) >> (sub << (grainBits + 3)))(8 * recBytes - 1, 0)
+  }
 
   // ---- Fill: whole lines (a record's second line is filled with the first) ----
   private val fill = StoreFill(p, io, capacityBytes, B, fillId)
@@ -121,12 +127,7 @@ class TriStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: 
       val pair = Mux(s1OddReg, Cat(rdata(0), rdata(1)), Cat(rdata(1), rdata(0)))
       Cat(s1SubReg, pair(pairBits - 1, 0))
     }
-    val shift = (d: UInt) =>
-      (d(pairBits - 1, 0) >> (d(pairBits + subBits - 1, pairBits) << (grainBits + 3)))(
-        8 * recBytes - 1,
-        0
-      )
-    when(sp.answer(records, shift)) { errorReg := true.B }
+    when(sp.answer(records, shifted)) { errorReg := true.B }
   }
 }
 
@@ -135,7 +136,7 @@ object TriStore {
   /** Record alignment inside the array: a 48-byte triangle starts on a 16-byte boundary. */
   val Grain = 16
 
-  /** The registers on a read's realigned record before its answer queue (StorePort's data stages). */
+  /** The registers on a read's ordered line pair before the record's shift (StorePort's data stages). */
   val DataStages = 1
 
   /** Request to response offered, in cycles, on a port of its own: NodeStore's, and the record's register. */
