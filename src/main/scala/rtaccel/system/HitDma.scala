@@ -97,10 +97,11 @@ class HitDma(sys: SystemConfig) extends Module {
   private val s2HeldRecReg = Reg(UInt(HitDma.UsedBits.W))
   // Whether the slot's record (as read, and S2's own hit forwarded) is this hit's partner, compared in S1 (in S2 the
   // compare lay in front of the held bits' clear and the hit queue's fields, 4.94 ns at 128 slots). The compare
-  // with the slot as read lands in two registers, one per half of the bits compared, and S2 ANDs them beside its
-  // other terms: behind the `numbers` read, one 25-bit equality was four LUTs into one register (5.72 ns with
-  // the input slice's distributed-RAM read in front, docs/fmax.md).
-  private val s2PartnerReadRegs = Reg(Vec(2, Bool()))
+  // with the slot as read lands in one register per part of `HitDma.PartnerPart` bits, and S2 ANDs them beside its
+  // other terms: behind the `numbers` read, one 25-bit equality was four LUTs into one register (5.72 ns with the
+  // input slice's distributed-RAM read in front), and two halves a LUT and a MUXF7 each (5.18 ns, docs/fmax.md).
+  private val partnerParts = HitDma.partnerParts(slotBits)
+  private val s2PartnerReadRegs = Reg(Vec(partnerParts.size, Bool()))
   private val s2PartnerFwdReg = Reg(Bool())
   // The hit's two compares with RAY_COUNT, made in S1 (COUNT is set by START, before any hit of its batch): in S2
   // they would lie in front of the held bits' write decode (7.6 ns at 128 slots).
@@ -187,16 +188,12 @@ class HitDma(sys: SystemConfig) extends Module {
     s2HeldRecReg := Mux(fwd && s2Stores, rec, readRec)
     // The held hit shares the slot's bits with this one's pair by construction: its partner differs in bit 0 only,
     // so the compare reads the bits above the slot's and bit 0. Both candidates (the slot as read, S2's own hit)
-    // are compared side by side; S2 picks one by the forward. The slot as read is compared in two parts: the
-    // upper half of the bits above the slot's, and the lower half with bit 0.
-    val cut = slotBits + 1 + (31 - slotBits) / 2
-    def upper(held: UInt): Bool = held(31, cut) === in.bits.number(31, cut)
-    def lower(held: UInt): Bool =
-      (if (cut > slotBits + 1) held(cut - 1, slotBits + 1) === in.bits.number(cut - 1, slotBits + 1) else true.B) &&
-        held(0) =/= in.bits.number(0)
+    // are compared side by side; S2 picks one by the forward. The slot as read is compared part by part.
+    def partner(held: UInt, part: Seq[Int]): Bool =
+      part.map(b => if (b == 0) held(0) =/= in.bits.number(0) else held(b) === in.bits.number(b)).reduce(_ && _)
     val number = numbers(readSlot)
-    s2PartnerReadRegs := VecInit(upper(number), lower(number))
-    s2PartnerFwdReg := upper(rec) && lower(rec)
+    s2PartnerReadRegs := VecInit(partnerParts.map(partner(number, _)))
+    s2PartnerFwdReg := partnerParts.map(partner(rec, _)).reduce(_ && _)
   }
   when(in.fire) { s2ValidReg := true.B }.elsewhen(s2Fire) { s2ValidReg := false.B }
 
@@ -246,4 +243,14 @@ object HitDma {
   /** Entries of the register slice after the cores' arbiter (a HeadQueue): two take a hit a cycle with a
     * registered ready. */
   val InSlice = 2
+
+  /** Bits of a hit's number per register of the partner compare: three. At 128 slots a part is the select of the
+    * distributed RAM's two halves and two LUTs behind the read (4.89 ns from the read's slot select); two
+    * halves of the compare took a MUXF7 more (5.18 ns); two bits a part leave the held bits' multiplexer the
+    * unit's longest path at 4.94 ns in that netlist (docs/fmax.md). */
+  val PartnerPart = 3
+
+  /** The bits the partner compare reads (bit 0, which differs, and the bits above the slot's, which agree), in
+    * parts of [[PartnerPart]]. */
+  def partnerParts(slotBits: Int): Seq[Seq[Int]] = (0 +: (slotBits + 1 until 32)).grouped(PartnerPart).toSeq
 }

@@ -40,16 +40,24 @@ import chisel3.util._
   *   (`NodeStore.OutDepth`) so that a client picked every cycle still gets
   *   one answer per cycle.
   *
+  * `dataStages` registers on the read data (the store's logic behind the
+  * BRAM in front of the first, the rest after the last: TriStore's line
+  * order, then its record's shift) delay each answer by as many cycles.
+  * The answer queue is as many entries deeper and the credit counts the
+  * reads in those stages too, so the queue never overflows and a client
+  * picked every cycle still gets one answer per cycle.
+  *
   * An enqueue that finds the answer queue full, or two reads of one client
   * landing in one cycle (neither ever expected), is reported by [[answer]],
   * the store's error.
   */
-class StorePort[F <: Data](io: StoreIO, clients: Seq[Int], fields: UInt => F, ports: Int = 1) {
+class StorePort[F <: Data](io: StoreIO, clients: Seq[Int], fields: UInt => F, ports: Int = 1, dataStages: Int = 0) {
   require(clients.nonEmpty, "StorePort: a port with no client")
   require(ports >= 1 && ports <= clients.size, s"StorePort: ${clients.size} clients cannot use $ports ports")
   require(ports == 1 || clients.size > 1, "StorePort: one client reads on one port")
+  require(dataStages >= 0, s"StorePort: $dataStages data stages")
   private val n = clients.size
-  private val depth = StorePort.SharedOutDepth
+  private val depth = StorePort.SharedOutDepth + dataStages
   private val outQs = clients.map(c => Module(new Queue(chiselTypeOf(io.resp(c).bits), depth)))
   for ((c, j) <- clients.zipWithIndex) io.resp(c) <> outQs(j).io.deq
   private val clientBits = log2Ceil(n).max(1)
@@ -63,10 +71,20 @@ class StorePort[F <: Data](io: StoreIO, clients: Seq[Int], fields: UInt => F, po
   val s1Valid: Seq[Bool] = s0Valid.map(v => RegNext(v, false.B))
   private val s1ClientRegs = (0 until ports).map(k => RegEnable(s0ClientRegs(k), s0Valid(k)))
 
+  /** Per port and stage: a read's valid and client from s1 (stage 0) to its landing in the answer queue (stage
+    * `dataStages`). */
+  private val stageValidRegs: Seq[Seq[Bool]] =
+    s1Valid.map(v => Seq.iterate(v, dataStages + 1)(RegNext(_, false.B)))
+  private val stageClientRegs: Seq[Seq[UInt]] = (0 until ports).map { k =>
+    (1 to dataStages).scanLeft(s1ClientRegs(k))((c, i) => RegEnable(c, stageValidRegs(k)(i - 1)))
+  }
+
   private def mine(valid: Bool, client: UInt, j: Int): Bool = if (n == 1) valid else valid && client === j.U
   private def inFlight(j: Int): UInt =
     (0 until ports).map(k =>
-      mine(s0Valid(k), s0ClientRegs(k), j).asUInt +& mine(s1Valid(k), s1ClientRegs(k), j).asUInt
+      (mine(s0Valid(k), s0ClientRegs(k), j) +: (0 to dataStages).map(i =>
+        mine(stageValidRegs(k)(i), stageClientRegs(k)(i), j)
+      )).map(_.asUInt).reduce(_ +& _)
     ).reduce(_ +& _)
   private def held(j: Int): UInt = outQs(j).io.count +& inFlight(j)
 
@@ -93,7 +111,7 @@ class StorePort[F <: Data](io: StoreIO, clients: Seq[Int], fields: UInt => F, po
       }
       // A client's answers queued plus its reads in s0 and s1, counted in a register: reads picked less answers
       // taken. It equals `held` (a read picked in cycle t is in s0 at t + 1, in s1 at t + 2, queued from
-      // t + 3) without the answer queue's count and the sum of the ports' reads in front of the compare: as a
+      // t + 3 + dataStages) without the answer queue's count and the sum of the ports' reads in front of the compare: as a
       // sum it was the stores' longest path with two ports (6.00 ns).
       val heldRegs = Seq.fill(n)(RegInit(0.U(log2Ceil(depth + 1).W)))
       val creditRegs = heldRegs.map(h => RegNext(h <= (depth - 2).U, false.B))
@@ -128,20 +146,26 @@ class StorePort[F <: Data](io: StoreIO, clients: Seq[Int], fields: UInt => F, po
   val s0Fields: Seq[F] = picks.map { case (fire, _, f, _) => RegEnable(f, fire) }
   val s0Tag: Seq[UInt] = picks.map { case (fire, _, _, t) => RegEnable(t, fire) }
 
-  /** Per port: the s0 read's tag in s1. */
-  private val s1Tags = (0 until ports).map(k => RegEnable(s0Tag(k), s0Valid(k)))
+  /** Per port: the s0 read's tag in s1, then down the data stages. */
+  private val landTagRegs = (0 until ports).map { k =>
+    (1 to dataStages).foldLeft(RegEnable(s0Tag(k), s0Valid(k)))((t, i) => RegEnable(t, stageValidRegs(k)(i - 1)))
+  }
 
-  /** Enqueue `data(k)` (the record port k read in s0) for its s1 read's client; true if a queue was full or two
+  /** Enqueue `after(data(k))` (`data(k)`: what port k read in s0, in s1, carried through the data stages;
+    * `after`: the store's logic behind the last stage) for its read's client; true if a queue was full or two
     * ports' reads of one client landed at once (neither ever expected).
     */
-  def answer(data: Seq[UInt]): Bool = {
+  def answer(data: Seq[UInt], after: UInt => UInt = d => d): Bool = {
     require(data.size == ports, s"StorePort.answer: ${data.size} ports' data for $ports ports")
+    val landData = data.zipWithIndex.map { case (d, k) =>
+      after((1 to dataStages).foldLeft(d)((r, i) => RegEnable(r, stageValidRegs(k)(i - 1))))
+    }
     val errors = for (j <- 0 until n) yield {
       val q = outQs(j)
-      val lands = (0 until ports).map(k => mine(s1Valid(k), s1ClientRegs(k), j))
+      val lands = (0 until ports).map(k => mine(stageValidRegs(k)(dataStages), stageClientRegs(k)(dataStages), j))
       q.io.enq.valid := lands.reduce(_ || _)
-      q.io.enq.bits.data := (if (ports == 1) data.head else Mux1H(lands, data))
-      q.io.enq.bits.tag := (if (ports == 1) s1Tags.head else Mux1H(lands, s1Tags))
+      q.io.enq.bits.data := (if (ports == 1) landData.head else Mux1H(lands, landData))
+      q.io.enq.bits.tag := (if (ports == 1) landTagRegs.head else Mux1H(lands, landTagRegs))
       (q.io.enq.valid && !q.io.enq.ready) || (if (ports == 1) false.B else PopCount(lands) > 1.U)
     }
     errors.reduce(_ || _)

@@ -25,8 +25,9 @@ import rtaccel.mem.{MemPortParams, MemResponse}
   * A request hits when the store is loaded, its address is 16-byte aligned
   * relative to `base` and the whole record lies below base + storedBytes.
   * Latency: request accepted in cycle t, response offered from t +
-  * `NodeStore.Latency` = 3 (the request register, the BRAM read, then the output queue) on a port of its
-  * own, one cycle more on a shared one. Full rate: one record per port per cycle.
+  * `TriStore.Latency` = 4 (the request register, the BRAM read, the ordered line pair's register, then the
+  * record's shift into the output queue) on a port of its own, one cycle more on a shared one. Full rate: one record per port per
+  * cycle.
   */
 class TriStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: Int, fillId: Int, copies: Int = 1)
     extends Module {
@@ -49,8 +50,17 @@ class TriStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: 
   private val idxBits = log2Ceil(words).max(1)
   private val lineBits = log2Ceil(B)
   private val grainBits = log2Ceil(TriStore.Grain)
+  // A record's offset in its first line, in grains, and the bits of the line pair it can reach.
+  private val subBits = lineBits - grainBits
+  private val pairBits = 8 * (recBytes + B - TriStore.Grain)
 
   val io = IO(new StoreIO(p, port, clients))
+
+  /** The record from a registered line pair, `Cat(offset, pair)`: the pair shifted down by the offset's grains. */
+  private def shifted(d: UInt): UInt = {
+    val sub = d(pairBits + subBits - 1, pairBits)
+    (d(pairBits - 1, 0) >> (sub << (grainBits + 3)))(8 * recBytes - 1, 0)
+  }
 
   // ---- Fill: whole lines (a record's second line is filled with the first) ----
   private val fill = StoreFill(p, io, capacityBytes, B, fillId)
@@ -86,7 +96,13 @@ class TriStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: 
     // L+1, bank 1 the odd one. (L + 1) / 2 is (addr - (base - B)) / 2B: one subtraction, not a subtraction and
     // an increment. (L+1)/2 past the last word (L the last line, odd) wraps to word 0, a power of two: that line
     // is then not part of the record (it lies below the stored end).
-    val sp = new StorePort(io, g.clients, (a: UInt) => VecInit(a - baseReg, a - baseLessLineReg), g.ports.size)
+    val sp = new StorePort(
+      io,
+      g.clients,
+      (a: UInt) => VecInit(a - baseReg, a - baseLessLineReg),
+      g.ports.size,
+      TriStore.DataStages
+    )
     val records = g.ports.zipWithIndex.map { case (port, i) =>
       val rel = sp.s0Fields(i)(0)
       val line = rel >> lineBits
@@ -102,11 +118,16 @@ class TriStore(p: Axi4Params, port: MemPortParams, clients: Int, capacityBytes: 
       when(read && wEnable) { errorReg := true.B }
       val s1OddReg = RegEnable(line(0), read)
       val s1SubReg = RegEnable(rel(lineBits - 1, grainBits), read)
-      // As in NodeStore: no register on the read data (Yosys would double the memory); the BRAM's output is it.
-      val pair = Mux(s1OddReg, Cat(rdata(0), rdata(1)), Cat(rdata(1), rdata(0))) // line L+1 above line L
-      (pair >> (s1SubReg << (grainBits + 3)))(8 * recBytes - 1, 0)
+      // The two lines are put in order (line L+1 above line L) and registered with the record's offset by the
+      // StorePort's data stage, which shifts the record down after it. Not a register straight on the read data:
+      // Yosys would fold it into the memory (as in NodeStore), so a LUT lies in front of it. Into the answer
+      // queue in one cycle, the BRAM's 2.46 ns clock-to-out, the read-during-write bypass Yosys adds on port B
+      // (the fill writes on port A), the order and the shift were 5.16 ns (docs/fmax.md). Only the pair's bytes
+      // that a record can reach are registered.
+      val pair = Mux(s1OddReg, Cat(rdata(0), rdata(1)), Cat(rdata(1), rdata(0)))
+      Cat(s1SubReg, pair(pairBits - 1, 0))
     }
-    when(sp.answer(records)) { errorReg := true.B }
+    when(sp.answer(records, shifted)) { errorReg := true.B }
   }
 }
 
@@ -114,4 +135,13 @@ object TriStore {
 
   /** Record alignment inside the array: a 48-byte triangle starts on a 16-byte boundary. */
   val Grain = 16
+
+  /** The registers on a read's ordered line pair before the record's shift (StorePort's data stages). */
+  val DataStages = 1
+
+  /** Request to response offered, in cycles, on a port of its own: NodeStore's, and the record's register. */
+  val Latency: Int = NodeStore.Latency + DataStages
+
+  /** The same on a port that several clients share (the request's queue first). */
+  val SharedLatency: Int = NodeStore.SharedLatency + DataStages
 }

@@ -99,8 +99,8 @@ class MemoryFabricSpec extends AnyFlatSpec with ChiselScalatestTester {
         val triLat = env.storeOnly(records = (TriStoreBytes - 48) / 48 + 1, pair = (2, 6), base = TriBase, stride = 48)
         assert(m.readBursts == triBursts, "a triangle-store hit went to DRAM")
         assert(
-          triLat.forall(_ == NodeStoreLatency),
-          s"triangle-store latencies ${triLat.distinct}, expected $NodeStoreLatency"
+          triLat.forall(_ == TriStoreLatency),
+          s"triangle-store latencies ${triLat.distinct}, expected $TriStoreLatency"
         )
 
         // 2. Every node of the store, back to back on both node clients: no DRAM read, a fixed latency.
@@ -168,4 +168,7 @@ object MemoryFabricSpec {
 
   /** Request accepted in cycle t, response offered from t + NodeStore.Latency. */
   val NodeStoreLatency: Int = rtaccel.system.NodeStore.Latency
+
+  /** The same for the triangle store (its realigned record is registered): TriStore.Latency. */
+  val TriStoreLatency: Int = rtaccel.system.TriStore.Latency
 }

@@ -88,7 +88,8 @@ final class StoreDriver(
       io.error.expect(false.B, s"saturated cycle $cycle: error")
     }
     for (c <- 0 until clients) io.req(c).valid.poke(false.B)
-    clock.step(NodeStore.SharedLatency + NodeStore.OutDepth + 2) // drain
+    // drain (the triangle store's data stage and its answer queue's extra entry included)
+    clock.step(TriStore.SharedLatency + NodeStore.OutDepth + TriStore.DataStages + 2)
     got.toSeq
   }
 
