@@ -123,7 +123,7 @@ object FpAdd {
     val (ea, eb) = (in.a(fmt.width - 2, fmt.manBits), in.b(fmt.width - 2, fmt.manBits))
     val (eaZero, ebZero) = (ea === 0.U, eb === 0.U)
     // max(field, 1): set the low bit of a zero field.
-    f0.bigExp := Mux(aBig, Cat(ea(fmt.expBits - 1, 1), ea(0) || eaZero), Cat(eb(fmt.expBits - 1, 1), eb(0) || ebZero))
+    f0.bigExp := Mux(aBig, ea | eaZero.asUInt, eb | ebZero.asUInt)
     def less1(x: UInt, y: UInt): UInt = (x +& ~y)(fmt.expBits - 1, 0) // x - y - 1 when x > y
     f0.dist := Mux(
       aBig,

@@ -176,7 +176,7 @@ object FpRound {
         val s3 = next(s2b)
         // The bits of Y << s below the window (index < w) are sig's bits j with j + s < w.
         s3.window := FpUnpack.shiftLeftMsbFirst(Cat(0.U(k.W), s2b.sig), s2b.shift)(w + k - 1, w)
-        s3.tail := (s2b.sig & (Fill(w, 1.U(1.W)) >> s2b.shift)).orR || s2b.sticky
+        s3.tail := FpRound.below(Cat(0.U(k.W), s2b.sig), p, s2b.shift) || s2b.sticky
         cut(s3)
       }
 

@@ -79,6 +79,10 @@ class StorePort[F <: Data](io: StoreIO, clients: Seq[Int], fields: UInt => F, po
     (1 to dataStages).scanLeft(s1ClientRegs(k))((c, i) => RegEnable(c, stageValidRegs(k)(i - 1)))
   }
 
+  /** `x`, entering port k's first data stage with its s1 read, carried to the last (a register per stage). */
+  private def throughStages[T <: Data](k: Int, x: T): T =
+    (1 to dataStages).foldLeft(x)((r, i) => RegEnable(r, stageValidRegs(k)(i - 1)))
+
   private def mine(valid: Bool, client: UInt, j: Int): Bool = if (n == 1) valid else valid && client === j.U
   private def inFlight(j: Int): UInt =
     (0 until ports).map(k =>
@@ -148,7 +152,7 @@ class StorePort[F <: Data](io: StoreIO, clients: Seq[Int], fields: UInt => F, po
 
   /** Per port: the s0 read's tag in s1, then down the data stages. */
   private val landTagRegs = (0 until ports).map { k =>
-    (1 to dataStages).foldLeft(RegEnable(s0Tag(k), s0Valid(k)))((t, i) => RegEnable(t, stageValidRegs(k)(i - 1)))
+    throughStages(k, RegEnable(s0Tag(k), s0Valid(k)))
   }
 
   /** Enqueue `after(data(k))` (`data(k)`: what port k read in s0, in s1, carried through the data stages;
@@ -158,7 +162,7 @@ class StorePort[F <: Data](io: StoreIO, clients: Seq[Int], fields: UInt => F, po
   def answer(data: Seq[UInt], after: UInt => UInt = d => d): Bool = {
     require(data.size == ports, s"StorePort.answer: ${data.size} ports' data for $ports ports")
     val landData = data.zipWithIndex.map { case (d, k) =>
-      after((1 to dataStages).foldLeft(d)((r, i) => RegEnable(r, stageValidRegs(k)(i - 1))))
+      after(throughStages(k, d))
     }
     val errors = for (j <- 0 until n) yield {
       val q = outQs(j)
