@@ -109,6 +109,7 @@ class FloatRayPrep(cfg: AccelConfig, dp: FloatDatapath) extends RayPrepUnit[RayC
   override def desiredName: String = s"RayPrep_${dp.name}"
   // One pipeline: both arithmetics' units and delays follow the one valid chain.
   private val valid = new ValidChain(io.in.valid)
+  atModuleBodyEnd(valid.finish())
   private val boxAr = new HwArith(dp.boxFmt, valid)
   // One arithmetic for both when the formats agree: the setup is shared, built once.
   private val triAr = if (dp.split) new HwArith(dp.triFmt, valid) else boxAr
@@ -139,6 +140,7 @@ class FloatRayPrep(cfg: AccelConfig, dp: FloatDatapath) extends RayPrepUnit[RayC
 class FloatBox(cfg: AccelConfig, dp: FloatDatapath) extends BoxLane[RayConsts](cfg, dp.gen) {
   override def desiredName: String = s"BoxLane_${dp.name}"
   private val ar = new HwArith(dp.boxFmt, new ValidChain(io.in.valid))
+  atModuleBodyEnd(ar.valid.finish())
   private val q = io.in.bits
   private val out = BoxKernel(
     ar,
@@ -161,6 +163,7 @@ class FloatBox(cfg: AccelConfig, dp: FloatDatapath) extends BoxLane[RayConsts](c
 class FloatPrim(cfg: AccelConfig, dp: FloatDatapath) extends PrimIntersect[RayConsts](cfg, dp.gen) {
   override def desiredName: String = s"PrimIntersect_${dp.name}"
   private val ar = new HwArith(dp.triFmt, new ValidChain(io.in.valid))
+  atModuleBodyEnd(ar.valid.finish())
   private val q = io.in.bits
   private val ray = RayConsts.readTri(ar, q.ray)
   private val verts = for (v <- 0 until 3; a <- 0 until 3) yield ar.input(TriangleRecord.vertexWord(q.triangle, v, a))

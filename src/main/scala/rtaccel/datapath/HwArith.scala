@@ -8,39 +8,104 @@ import scala.collection.mutable
 
 /** The valid bit of an II = 1 pipeline at each of its cycles: `at(c)` is the
   * input's valid delayed by `c` (reset to false), one shared register chain.
-  * It enables every data register of the pipeline ([[Timed]], the FP units'
-  * `in.valid`), so a slot that carries no operation loads nothing: the
-  * result of a valid operation is the same bits (each stage loads exactly when
-  * that operation is at it), an idle unit holds its registers still (the
-  * FPGA's clock enables; an idle unit costs no toggling), and the C++ model
-  * skips the unit's logic on idle cycles (docs/cppsim.md).
+  *
+  * It also enables the pipeline's delay registers ([[Timed]]). A register
+  * whose output some logic reads loads when its own slot is valid, `at(c)`,
+  * and so does one in a short run of registers that only pass a value on; a
+  * run of at least [[ValidChain.ShiftRun]] loads on `load(c)`: the input's
+  * valid at c = 0, past it one enable shared by the whole pipeline, `busyReg`
+  * (some slot after the input is valid). Either way a valid operation's value
+  * moves a stage every cycle it is in the pipeline and arrives unchanged (the
+  * same bits as with free-running registers), and an idle unit holds its
+  * registers still (the C++ model skips its logic, docs/cppsim.md). With one
+  * enable, the pass-through registers of a delay chain become shift-register
+  * LUTs (SRLC32E: 32 stages of a bit in one LUT) instead of a flip-flop per bit
+  * and stage, and each value the logic reads still leaves a flip-flop: an SRL's
+  * clock-to-out is about a nanosecond longer (docs/fmax.md).
+  *
+  * The owning module calls [[finish]] when its body is done
+  * (`atModuleBodyEnd`): the chains are built then, when every use is known.
   */
 final class ValidChain(valid: Bool) {
   private val taps = mutable.ArrayBuffer[Bool](valid)
+  private val delayed = mutable.ArrayBuffer[Timed[_ <: Data]]()
+  private var finished = false
   def at(cycle: Int): Bool = {
     require(cycle >= 0, s"ValidChain: cycle $cycle < 0")
     while (taps.size <= cycle) taps += RegNext(taps.last, false.B)
     taps(cycle)
   }
+
+  private var busyUsed = false
+  private lazy val busy: Bool = { busyUsed = true; Wire(Bool()) }
+
+  /** The enable of a pass-through delay register whose input is at cycle `cycle`. */
+  def load(cycle: Int): Bool = {
+    require(cycle >= 0, s"ValidChain: cycle $cycle < 0")
+    if (cycle == 0) valid else busy
+  }
+
+  private[datapath] def delays(t: Timed[_ <: Data]): Unit = {
+    require(!finished, "ValidChain: a delay used after finish()")
+    delayed += t
+  }
+
+  /** Builds every delay chain, then `busyReg`: at cycle t the OR of every tap at t - 1, so true exactly when some
+    * slot from cycle 1 to the chain's end is valid at t. A chain not finished leaves its uses' wires undriven,
+    * which FIRRTL refuses. */
+  def finish(): Unit = {
+    require(!finished, "ValidChain: finished twice")
+    finished = true
+    delayed.foreach(_.build())
+    if (busyUsed) {
+      val busyReg = RegNext(taps.reduce(_ || _), false.B)
+      busy := busyReg
+    }
+  }
+}
+
+object ValidChain {
+
+  /** Pass-through runs at least this long load on the shared enable and become shift-register LUTs; shorter ones
+    * stay flip-flops. A run of r registers of a bit is r flip-flops or one LUT (up to 32 stages), and LUTs are the
+    * scarcer: runs of 16 and more hold most of the flip-flops for half the LUTs that every run of 3 and more (the
+    * shortest Yosys maps) would take (docs/fmax.md). */
+  val ShiftRun: Int = 16
 }
 
 /** A hardware value with the pipeline cycle at which it is valid. `at(c)`
   * gives it delayed to cycle `c`; delays share one register chain per value
   * (every consumer taps the same chain), so aligning an operand for several
-  * later operations costs the longest delay once, not once per use. Each
-  * delay register loads only when the pipeline's slot at its input is valid
-  * (`valid`), so a valid operation's value arrives unchanged; between
-  * operations the chain holds. Constants are valid at every cycle and cost no
-  * registers.
+  * later operations costs the longest delay once, not once per use. The chain
+  * is built by its [[ValidChain]]'s `finish`: the registers whose outputs are
+  * used load when their slot is valid, the others on the shared enable, so
+  * a valid operation's value arrives unchanged; between operations the chain
+  * holds. Constants are valid at every cycle and cost no registers.
   */
 final class Timed[T <: Data](val value: T, val ready: Int, val valid: ValidChain, val constant: Boolean = false) {
-  private val taps = mutable.ArrayBuffer[T](value)
+  private val uses = mutable.LinkedHashMap.empty[Int, T]
   def at(cycle: Int): T = {
     require(constant || cycle >= ready, s"Timed: value ready at $ready used at $cycle")
-    if (constant) value
-    else {
-      while (taps.size <= cycle - ready) taps += RegEnable(taps.last, valid.at(ready + taps.size - 1))
-      taps(cycle - ready)
+    if (constant || cycle == ready) value
+    else
+      uses.getOrElseUpdate(
+        cycle - ready, {
+          if (uses.isEmpty) valid.delays(this)
+          Wire(chiselTypeOf(value))
+        }
+      )
+  }
+
+  private[datapath] def build(): Unit = {
+    val used = (0 +: uses.keys.toSeq.sorted).toIndexedSeq
+    var x = value
+    for (k <- 1 to used.last) {
+      val c = ready + k - 1
+      // The pass-through registers between two uses: a run shorter than ValidChain.ShiftRun stays flip-flops.
+      val next = used.find(_ >= k).get
+      val run = next - used.filter(_ < k).last - 1
+      x = RegEnable(x, if (uses.contains(k) || run < ValidChain.ShiftRun) valid.at(c) else valid.load(c))
+      uses.get(k).foreach(_ := x)
     }
   }
 }

@@ -170,7 +170,9 @@ object RayKernel {
     // R2: largest |d|, ties to the lowest axis (strict >). On non-NaN magnitudes
     // IEEE < is the unsigned order of the magnitude bits.
     val g1 = lt(mag(0), mag(1))
-    val g2 = lt(mux(g1, mag(1), mag(0)), mag(2))
+    // The larger of the first two is registered before its compare with the third: the select stacked on the
+    // comparator's carry chain was the setup's longest path.
+    val g2 = lt(cut(mux(g1, mag(1), mag(0))), mag(2))
     val kz = Seq(and(not(g2), not(g1)), and(not(g2), g1), g2)
     // R3: kx = kz+1, ky = kz+2 (mod 3), swapped when d[kz] is negative.
     val kxUp = Seq(kz(2), kz(0), kz(1))

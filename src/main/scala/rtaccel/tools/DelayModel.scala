@@ -21,7 +21,11 @@ package rtaccel.tools
   *  - block RAM (RAMB36E1, RAMB18E1) from DS189, the 7-series block RAM's
   *    switching table (Spartan-7, -1, the slowest grade it lists): clock to
   *    data out 2.46 ns without the output register, 0.89 with it; setup
-  *    0.74 (data in; the address's is 0.57).
+  *    0.74 (data in; the address's is 0.57);
+  *  - a shift-register LUT (SRL16E, SRLC32E) launches its output 1.169 ns
+  *    after a flip-flop would: prjxray-db's clock-to-Q, as Yosys's
+  *    xilinx/cells_sim.v quotes it, is 1.472 ns for the SRL and 0.303 for an
+  *    FDRE; the difference is added to `tcko`.
   */
 final case class DelayModel(
     tcko: Double,
@@ -36,6 +40,7 @@ final case class DelayModel(
     bramTcko: Double,
     bramTckoReg: Double,
     bramSetup: Double,
+    srlTcko: Double,
     name: String
 ) {
 
@@ -98,6 +103,7 @@ object DelayModel {
     bramTcko = 2.46,
     bramTckoReg = 0.89,
     bramSetup = 0.74,
+    srlTcko = 0.518 + (1.472 - 0.303),
     name = "Zynq-7000 (xc7z045-2; -1 cell delays, pessimistic), 0.6 ns per routed hop"
   )
 }

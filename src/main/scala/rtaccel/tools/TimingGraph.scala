@@ -200,7 +200,8 @@ object TimingGraph {
       case d if d >= 0 && isBram(cells(d).typ) =>
         val reg = if (drvPort(b).startsWith("DOPB") || drvPort(b).startsWith("DOB")) "DOB_REG" else "DOA_REG"
         if (cells(d).params.get(reg).flatMap(paramInt).contains(1)) model.bramTckoReg else model.bramTcko
-      case _ => model.tcko
+      case d if d >= 0 && cells(d).typ.startsWith("SRL") => model.srlTcko
+      case _                                             => model.tcko
     }
     def inputsOf(b: Int): Array[(Int, Double)] =
       if (drvCell(b) < 0) Array.empty

@@ -54,10 +54,13 @@ class BboxIntersect[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module
     lane.io.in.bits.boxMin := io.in.bits.boxMin(i)
     lane.io.in.bits.boxMax := io.in.bits.boxMax(i)
   }
-  private val present = ShiftRegister(io.in.bits.present, latency)
+  // The last stage has a reset, so it stays a flip-flop: the stages before it become a shift-register LUT, whose
+  // clock-to-out (about a nanosecond longer, docs/fmax.md) would otherwise start the control's decision path.
+  private val presentReg =
+    RegNext(ShiftRegister(io.in.bits.present, latency - 1), 0.U.asTypeOf(io.in.bits.present))
   io.out.valid := lanes.head.io.out.valid
   for ((lane, i) <- lanes.zipWithIndex) {
-    io.out.bits.hit(i) := lane.io.out.bits.hit && present(i)
+    io.out.bits.hit(i) := lane.io.out.bits.hit && presentReg(i)
     io.out.bits.near(i) := lane.io.out.bits.near
   }
   // Compared a cycle before the answer leaves, from each lane's entry distance as it is ready, and registered.

@@ -44,11 +44,12 @@ class GridBboxIntersect(k: Int, p: GridParams, rays: RayConsts) extends Module {
     lane.io.in.bits.node := stage.io.out.bits
     lane.io.in.bits.child := children(i)
   }
-  private val bad = ShiftRegister(stage.io.badScale, lanes.head.latency)
+  // The last stage has a reset, so it stays a flip-flop behind the shift-register LUT (BboxIntersect's present bits).
+  private val badReg = RegNext(ShiftRegister(stage.io.badScale, lanes.head.latency - 1), false.B)
   io.out.valid := lanes.head.io.outValid
   for ((lane, i) <- lanes.zipWithIndex) {
-    io.out.bits.hit(i) := lane.io.hit && !bad
+    io.out.bits.hit(i) := lane.io.hit && !badReg
     io.out.bits.near(i) := lane.io.near
   }
-  io.out.bits.badScale := bad
+  io.out.bits.badScale := badReg
 }

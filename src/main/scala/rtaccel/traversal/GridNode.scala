@@ -106,6 +106,7 @@ class GridNodeStage(p: GridParams, rays: RayConsts) extends Module {
   override def desiredName = s"GridNodeStage_${p.name}"
 
   private val chain = new ValidChain(io.in.valid)
+  atModuleBodyEnd(chain.finish())
   private val ar = new HwArith(fmt, chain)
   private val ray = RayConsts.readBox(ar, io.in.bits.ray)
   private val tmax = BoxKernel.narrowTmax(ar, BoxRounding.Conservative, ar.input(io.in.bits.tmax), rays.triFmt)
