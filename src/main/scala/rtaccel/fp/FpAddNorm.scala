@@ -5,16 +5,16 @@ import chisel3.util._
 
 /** The adder's exact sum before rounding ([[FpAdd.front]]): `(-1)^sign * (sig + d) * 2^e` with `d` as in
   * [[FpRaw]], where the biased exponent of `sig`'s MSB is `bigExp + 1` (`bigExp`: the larger operand's
-  * exponent field, 1 for a subnormal). Each mode has its result's sign (they differ only for an exact zero
-  * from x + (-x)).
+  * exponent field, 1 for a subnormal). The sign is the larger operand's (`bigSign`) unless the sum is an
+  * infinity (`infSign`) or an exact zero of an effective subtraction (its sign depends on the mode); the
+  * normaliser picks it ([[FpAddNorm]]).
   */
-class FpAddMid(fmt: FloatFormat, dynamicRm: Boolean, modes: Int) extends Bundle {
+class FpAddMid(fmt: FloatFormat, dynamicRm: Boolean) extends Bundle {
   val isNaN = Bool()
   val isInf = Bool()
-
-  /** An exact zero: for the adder this is also every `sig` of 0 (see [[FpAddNorm]]). */
-  val isZero = Bool()
-  val signs = Vec(modes, Bool())
+  val infSign = Bool()
+  val bigSign = Bool()
+  val effSub = Bool()
   val sig = UInt(FpAddNorm.width(fmt).W)
   val sticky = Bool()
   val bigExp = UInt(fmt.expBits.W)
@@ -51,9 +51,18 @@ object FpAddNorm {
     s0.rm.foreach(_ := mid.rm.get)
     s0.isNaN := mid.isNaN
     s0.isInf := mid.isInf
-    // A sig of 0 is an exact zero: a difference with sticky set is never 0 ([[FpAdd.front]]).
-    s0.zero := mid.isZero
-    s0.sign := mid.signs
+    // A sig of 0 is an exact zero: a difference with sticky set is never 0 (sticky needs the exponents
+    // extra + 1 or more apart, so the larger operand is normal, its significand with the extra bits is at
+    // least 2^(p + extra - 1) and the aligned smaller one below 2^(p - 1)), and a sum with sticky set has a
+    // nonzero smaller operand. Tested on the registered sum beside the leading-zero count.
+    val zero = mid.sig === 0.U
+    s0.zero := zero
+    // Exact zero: (-0)+(-0) = -0 (the larger operand's sign), x+(-x) = +0 except -0 in RDN (IEEE 754 6.3).
+    for ((m, j) <- modes.zipWithIndex)
+      s0.sign(j) := MuxCase(
+        mid.bigSign,
+        Seq(mid.isInf -> mid.infSign, (zero && mid.effSub) -> (m === RoundingMode.RDN.code.U))
+      )
     s0.sticky := mid.sticky
     s0.sig := mid.sig
     s0.lz := FpUnpack.leadingZeros(mid.sig) // a sig of 0 is flagged apart
