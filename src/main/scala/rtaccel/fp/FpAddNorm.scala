@@ -87,7 +87,12 @@ object FpAddNorm {
     // 5.73 ns, even with both shifts made and `tiny` picking one: the mapper merges them.)
     val s4 = Wire(state)
     s4 := s3
-    s4.window := (s3.sig << s3.lz)(w - 1, w - p - 2)
+    // A shift of 3 or more never moves the sum's two lowest bits into the window: the sum then has 3 or more
+    // leading zeros, which only an effective subtraction of operands at most one exponent apart gives (d >= 2
+    // leaves a difference above 2^(p+1), at most 2 leading zeros), and its aligned operand, shifted by at most
+    // one of its FpAdd.extra bits, has those bits 0 and no sticky bit: so are the difference's.
+    val low = Mux(s3.lz < 3.U, s3.sig(1, 0), 0.U(2.W))
+    s4.window := (Cat(s3.sig(w - 1, 2), low) << s3.lz)(w - 1, w - p - 2)
     s4.tail := FpRound.below(s3.sig, p, s3.lz) || s3.sticky
     FpRound.finish(fmt, stages(s4), modes, Some(stages))
   }
