@@ -88,9 +88,11 @@ object FpAddNorm {
     val s4 = Wire(state)
     s4 := s3
     // A shift of 3 or more never moves the sum's two lowest bits into the window: the sum then has 3 or more
-    // leading zeros, which only an effective subtraction of operands at most one exponent apart gives (d >= 2
-    // leaves a difference above 2^(p+1), at most 2 leading zeros), and its aligned operand, shifted by at most
-    // one of its FpAdd.extra bits, has those bits 0 and no sticky bit: so are the difference's.
+    // leading zeros, which needs operands at most one exponent apart (d <= 1). With the larger operand normal
+    // (as it is for d >= 1), a sum is at least its significand 2^(p+2) (with the extra bits: at most 1 leading
+    // zero), and for d >= 2 a difference exceeds 2^(p+2) - 2^(p+1) (at most 2). For d <= 1 the aligned operand
+    // is shifted by at most one of its FpAdd.extra bits, so its two lowest bits are 0 and there is no sticky
+    // bit: the sum's or difference's two lowest bits are 0 too.
     val low = Mux(s3.lz < 3.U, s3.sig(1, 0), 0.U(2.W))
     s4.window := (Cat(s3.sig(w - 1, 2), low) << s3.lz)(w - 1, w - p - 2)
     s4.tail := FpRound.below(s3.sig, p, s3.lz) || s3.sticky
