@@ -26,7 +26,7 @@ class FpAdd(
 
   private val pipe = new FpPipeline(latency, FpAdd.cuts(fmt))
   private val stages = new FpStages(pipe, io.in.valid)
-  private val mid = stages(FpAdd.front(fmt, io.in.bits, subtract, stages, r => Seq(FpUnitIO.roundingMode(rm, r))))
+  private val mid = stages(FpAdd.front(fmt, io.in.bits, subtract, stages))
   private val rounded = FpAddNorm(fmt, mid, Seq(FpUnitIO.roundingMode(rm, mid.rm)), stages).head
   io.out := pipe.cut(stages.valid, rounded)
   pipe.done()
@@ -45,7 +45,7 @@ class FpAddDnUp(val fmt: FloatFormat, val latency: Int = FpAdd.defaultLatency, v
   private val modes = Seq(RoundingMode.RDN, RoundingMode.RUP).map(_.code.U(RoundingMode.width.W))
   private val pipe = new FpPipeline(latency, FpAdd.cuts(fmt))
   private val stages = new FpStages(pipe, io.in.valid)
-  private val mid = stages(FpAdd.front(fmt, io.in.bits, subtract, stages, _ => modes))
+  private val mid = stages(FpAdd.front(fmt, io.in.bits, subtract, stages))
   private val rounded = FpAddNorm(fmt, mid, modes, stages)
   io.out := pipe.cut(stages.valid, FpDnUp(fmt, rounded))
   pipe.done()
@@ -59,6 +59,8 @@ class FpAddFront(fmt: FloatFormat, dynamicRm: Boolean) extends Bundle {
 
   /** The larger operand's exponent field, 1 for a subnormal (the biased exponent of its hidden bit's place). */
   val bigExp = UInt(fmt.expBits.W)
+
+  /** big.exp - small.exp: never negative (the swap) and at most 2^expBits - 2. */
   val dist = UInt((fmt.expBits + 1).W)
   val effSub = Bool()
   val isNaN = Bool()
@@ -81,16 +83,14 @@ object FpAdd {
     */
   val extra: Int = 3
 
-  /** The front: swap, align, add (three cuts of `stages`), up to the
-    * normaliser's input, for the modes `modesOf` gives from the carried
-    * runtime mode (if any).
+  /** The front: swap, align, add (its cuts of `stages`), up to the
+    * normaliser's input.
     */
   def front(
       fmt: FloatFormat,
       in: FpBinaryIn,
       subtract: Boolean,
-      stages: FpStages,
-      modesOf: Option[UInt] => Seq[UInt]
+      stages: FpStages
   ): FpAddMid = {
     val p = fmt.precision
     val extra = FpAdd.extra
@@ -140,7 +140,7 @@ object FpAdd {
     // cuts (DspMul), the operands carried unchanged through them.
     val f2 = Wire(new FpAddFront(fmt, dynamicRm))
     f2 := f1
-    f2.shift := FpAlign.oneHot(fmt, f1.dist)
+    f2.shift := FpAlign.oneHot(fmt, f1.dist, (1 << fmt.expBits) - 2)
     val last = (1 to DspMul.cuts(FpAlign.width(fmt) + 1)).foldLeft(stages(f2)) { (prev, s) =>
       val n = Wire(new FpAddFront(fmt, dynamicRm))
       n := prev
@@ -165,38 +165,25 @@ object FpAdd {
     // chain's carry in (an extra low bit: effSub + (effSub && !sticky) carries exactly that), and the carry
     // out of a difference (2^sw) dropped. A sum's extra low bits are 0 + 0 and carry nothing.
     //
-    // Timing (docs/fmax.md): the carry chain feeds only the register, and the exact-zero test, which the
-    // result's sign waits on, reads the operands beside the chain, not its result.
+    // Timing (docs/fmax.md): the carry chain feeds only the register.
     val sub = f3.effSub
     val bigExt = Cat(f3.big.sig, 0.U(extra.W))
     // The top bit: a difference always carries out of bit sw (big + 2^sw - 1 - smallAligned + !sticky >= 2^sw),
     // so an operand bit `sub` there makes the sum bit 0 for a difference and the carry for a sum, from the
     // chain itself (as an AND behind the chain it was the adder's longest path).
     val chain = Cat(0.U(1.W), bigExt, sub) + Cat(sub, f3.smallAligned ^ Fill(sw, sub), sub && !f3.sticky)
-    val mag = chain(sw + 1, 1)
-    // mag === 0, from the operands. A difference with sticky set is never 0: sticky needs the
-    // exponents extra + 1 or more apart, so big is normal, bigExt >= 2^(p + extra - 1) and
-    // smallAligned < 2^(p - 1). Without sticky it is 0 exactly when the aligned significands
-    // are equal. A sum is 0 exactly when both are.
-    val magZero = Mux(
-      f3.effSub,
-      !f3.sticky && bigExt === f3.smallAligned,
-      f3.big.sig === 0.U && f3.smallAligned === 0.U
-    )
 
-    val modes = modesOf(f3.rm)
-    val front = Wire(new FpAddMid(fmt, dynamicRm, modes.size))
+    // The exact-zero test and the result's sign wait for the normaliser's first stage ([[FpAddNorm]]), which
+    // tests the registered sum for 0 beside its leading-zero count (as compares of the operands beside the
+    // chain, 27 LUTs at FP32).
+    val front = Wire(new FpAddMid(fmt, dynamicRm))
     front.rm.foreach(_ := f3.rm.get)
     front.isNaN := f3.isNaN
     front.isInf := f3.isInf
-    // Exact zero: (-0)+(-0) = -0, x+(-x) = +0 except -0 in RDN (IEEE 754 6.3).
-    front.isZero := magZero && !f3.sticky
-    for ((m, j) <- modes.zipWithIndex)
-      front.signs(j) := MuxCase(
-        f3.big.sign,
-        Seq(f3.isInf -> f3.infSign, (magZero && f3.effSub) -> (m === RoundingMode.RDN.code.U))
-      )
-    front.sig := mag
+    front.infSign := f3.infSign
+    front.bigSign := f3.big.sign
+    front.effSub := f3.effSub
+    front.sig := chain(sw + 1, 1)
     front.sticky := f3.sticky
     front.bigExp := f3.bigExp
     front

@@ -5,16 +5,16 @@ import chisel3.util._
 
 /** The adder's exact sum before rounding ([[FpAdd.front]]): `(-1)^sign * (sig + d) * 2^e` with `d` as in
   * [[FpRaw]], where the biased exponent of `sig`'s MSB is `bigExp + 1` (`bigExp`: the larger operand's
-  * exponent field, 1 for a subnormal). Each mode has its result's sign (they differ only for an exact zero
-  * from x + (-x)).
+  * exponent field, 1 for a subnormal). The sign is the larger operand's (`bigSign`) unless the sum is an
+  * infinity (`infSign`) or an exact zero of an effective subtraction (its sign depends on the mode); the
+  * normaliser picks it ([[FpAddNorm]]).
   */
-class FpAddMid(fmt: FloatFormat, dynamicRm: Boolean, modes: Int) extends Bundle {
+class FpAddMid(fmt: FloatFormat, dynamicRm: Boolean) extends Bundle {
   val isNaN = Bool()
   val isInf = Bool()
-
-  /** An exact zero: for the adder this is also every `sig` of 0 (see [[FpAddNorm]]). */
-  val isZero = Bool()
-  val signs = Vec(modes, Bool())
+  val infSign = Bool()
+  val bigSign = Bool()
+  val effSub = Bool()
   val sig = UInt(FpAddNorm.width(fmt).W)
   val sticky = Bool()
   val bigExp = UInt(fmt.expBits.W)
@@ -51,9 +51,18 @@ object FpAddNorm {
     s0.rm.foreach(_ := mid.rm.get)
     s0.isNaN := mid.isNaN
     s0.isInf := mid.isInf
-    // A sig of 0 is an exact zero: a difference with sticky set is never 0 ([[FpAdd.front]]).
-    s0.zero := mid.isZero
-    s0.sign := mid.signs
+    // A sig of 0 is an exact zero: a difference with sticky set is never 0 (sticky needs the exponents
+    // extra + 1 or more apart, so the larger operand is normal, its significand with the extra bits is at
+    // least 2^(p + extra - 1) and the aligned smaller one below 2^(p - 1)), and a sum with sticky set has a
+    // nonzero smaller operand. Tested on the registered sum beside the leading-zero count.
+    val zero = mid.sig === 0.U
+    s0.zero := zero
+    // Exact zero: (-0)+(-0) = -0 (the larger operand's sign), x+(-x) = +0 except -0 in RDN (IEEE 754 6.3).
+    for ((m, j) <- modes.zipWithIndex)
+      s0.sign(j) := MuxCase(
+        mid.bigSign,
+        Seq(mid.isInf -> mid.infSign, (zero && mid.effSub) -> (m === RoundingMode.RDN.code.U))
+      )
     s0.sticky := mid.sticky
     s0.sig := mid.sig
     s0.lz := FpUnpack.leadingZeros(mid.sig) // a sig of 0 is flagged apart
@@ -78,7 +87,14 @@ object FpAddNorm {
     // 5.73 ns, even with both shifts made and `tiny` picking one: the mapper merges them.)
     val s4 = Wire(state)
     s4 := s3
-    s4.window := (s3.sig << s3.lz)(w - 1, w - p - 2)
+    // A shift of 3 or more never moves the sum's two lowest bits into the window: the sum then has 3 or more
+    // leading zeros, which needs operands at most one exponent apart (d <= 1). With the larger operand normal
+    // (as it is for d >= 1), a sum is at least its significand 2^(p+2) (with the extra bits: at most 1 leading
+    // zero), and for d >= 2 a difference exceeds 2^(p+2) - 2^(p+1) (at most 2). For d <= 1 the aligned operand
+    // is shifted by at most one of its FpAdd.extra bits, so its two lowest bits are 0 and there is no sticky
+    // bit: the sum's or difference's two lowest bits are 0 too.
+    val low = Mux(s3.lz < 3.U, s3.sig(1, 0), 0.U(2.W))
+    s4.window := (Cat(s3.sig(w - 1, 2), low) << s3.lz)(w - 1, w - p - 2)
     s4.tail := FpRound.below(s3.sig, p, s3.lz) || s3.sticky
     FpRound.finish(fmt, stages(s4), modes, Some(stages))
   }

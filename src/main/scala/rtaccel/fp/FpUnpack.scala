@@ -63,6 +63,9 @@ object FpUnpack {
     tree(padded)._2
   }
 
+  /** Trailing zeros of a nonzero `x`, in log2Ceil(width) bits ([[leadingZeros]] of its bits reversed). */
+  def trailingZeros(x: UInt): UInt = leadingZeros(Reverse(x))
+
   /** `(x << amount)` cut to `x`'s width, by one 2:1 mux stage per amount bit, the amount's
     * most significant bit first: [[leadingZeros]] settles its high bits first (its low bits pass
     * through every level of the tree), so a shift by a count just computed waits on the count's
