@@ -193,8 +193,11 @@ object BenchSystem {
   private def figures(verilog: Path, dp: FloatDatapath, cfg: AccelConfig): VerilogFigures =
     VerilogFigures.read(verilog, expectTitle(dp, cfg), Some(rtaccel.system.SystemConfig.defaultNodeStoreBytes / 1024))
 
-  /** Whole MHz, rounded down, so the DDR latency in cycles is never understated by a fraction. */
-  def wholeMhz(v: VerilogFigures): Int = math.floor(v.fmaxMhz).toInt.max(1)
+  /** Whole MHz, rounded down, so the DDR latency in cycles is never understated by a fraction, and at most the
+    * MIG's user-interface clock, which the system runs on (no clock crossing): a faster estimate is margin, not
+    * speed. */
+  def wholeMhz(v: VerilogFigures): Int =
+    math.floor(v.fmaxMhz.min(BenchSystemMarkdown.ClockCeilingMhz)).toInt.max(1)
 
   private def verilogJson(v: VerilogFigures) =
     ujson.Obj("title" -> v.title, "coresFit" -> v.coresFit, "fmaxNs" -> v.fmaxNs, "slowestUnit" -> v.slowestUnit)

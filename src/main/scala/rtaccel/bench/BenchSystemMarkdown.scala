@@ -55,7 +55,7 @@ object BenchSystemMarkdown {
       "",
       s"From `make verilog` (`build/verilog/resources.md`, ${v.title}): **$fit cores fit** on the xc7z045, and the",
       s"**Fmax estimate is ${f(v.fmaxMhz, 1)} MHz** (slowest unit ${v.slowestUnit}; the longest path by a delay model over Yosys's netlist, `docs/fmax.md`).",
-      s"The estimate uses ${f(mhz, 0)} MHz (rounded down)."
+      s"The estimate uses ${f(mhz, 0)} MHz: the Fmax estimate rounded down, and at most the MIG's ${f(ClockCeilingMhz, 0)} MHz user clock, which the system runs on."
     ) ++ redrawn(r) ++ Seq(
       "",
       s"| rays | simulated | ${cores.map(n => s"$n ${if (n == 1) "core" else "cores"}${if (n == fit) " (fit)" else ""}").mkString(
@@ -148,10 +148,14 @@ object BenchSystemMarkdown {
       s"**Redrawn from the cache** (`make bench BENCH_SYSTEM=cached` or `make bench-embree`): the rays/cycle below were",
       s"simulated at commit ${r.sim.commit} (${r.sim.at}) with the DDR model clocked at ${r.fabricMhz} MHz, when `make verilog` said",
       s"${sim.coresFit} cores fit and ${f(sim.fmaxMhz, 1)} MHz (${sim.slowestUnit}). The cores that fit and the Fmax estimate above are",
-      s"`build/verilog/resources.md` as written at ${p.at} (read at commit ${p.commit}). The rays/cycle were not",
-      s"re-simulated at ${BenchSystem.wholeMhz(now)} MHz: at a faster clock the DDR's 100 ns are more cycles and its 12.8 GB/s fewer bytes",
-      "per cycle, so where the DRAM binds, the estimate below may be optimistic; `make bench` measures it."
-    )
+      s"`build/verilog/resources.md` as written at ${p.at} (read at commit ${p.commit})."
+    ) ++ (if (BenchSystem.wholeMhz(now) == r.fabricMhz)
+            Seq(s"The estimate's clock is the one simulated, ${r.fabricMhz} MHz.")
+          else
+            Seq(
+              s"The rays/cycle were not re-simulated at ${BenchSystem.wholeMhz(now)} MHz: at a faster clock the DDR's 100 ns are more cycles and its 12.8 GB/s fewer bytes",
+              "per cycle, so where the DRAM binds, the estimate below may be optimistic; `make bench` measures it."
+            ))
   }
 
   /** One goal: met or not; if not, each term's headroom against its ceiling and the one that holds the estimate back. */
