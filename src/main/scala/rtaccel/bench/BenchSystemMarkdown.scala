@@ -141,7 +141,7 @@ object BenchSystemMarkdown {
     }
   }
 
-  private def redrawn(r: BenchSystem.Result): Seq[String] = r.now.toSeq.flatMap { case (now, p) =>
+  private def redrawn(r: BenchSystem.Result): Seq[String] = r.now.toSeq.flatMap { case (_, p) =>
     val sim = r.verilog
     Seq(
       "",
@@ -149,11 +149,11 @@ object BenchSystemMarkdown {
       s"simulated at commit ${r.sim.commit} (${r.sim.at}) with the DDR model clocked at ${r.fabricMhz} MHz, when `make verilog` said",
       s"${sim.coresFit} cores fit and ${f(sim.fmaxMhz, 1)} MHz (${sim.slowestUnit}). The cores that fit and the Fmax estimate above are",
       s"`build/verilog/resources.md` as written at ${p.at} (read at commit ${p.commit})."
-    ) ++ (if (BenchSystem.wholeMhz(now) == r.fabricMhz)
+    ) ++ (if (r.estimateMhz == r.fabricMhz)
             Seq(s"The estimate's clock is the one simulated, ${r.fabricMhz} MHz.")
           else
             Seq(
-              s"The rays/cycle were not re-simulated at ${BenchSystem.wholeMhz(now)} MHz: at a faster clock the DDR's 100 ns are more cycles and its 12.8 GB/s fewer bytes",
+              s"The rays/cycle were not re-simulated at ${r.estimateMhz} MHz: at a faster clock the DDR's 100 ns are more cycles and its 12.8 GB/s fewer bytes",
               "per cycle, so where the DRAM binds, the estimate below may be optimistic; `make bench` measures it."
             ))
   }

@@ -105,11 +105,10 @@ object FloatDatapath {
   private[datapath] def readyOf(outs: Seq[Timed[_ <: Data]]): Int = outs.filterNot(_.constant).map(_.ready).max
 }
 
-class FloatRayPrep(cfg: AccelConfig, dp: FloatDatapath) extends RayPrepUnit[RayConsts](cfg, dp.gen) {
+class FloatRayPrep(cfg: AccelConfig, dp: FloatDatapath) extends RayPrepUnit[RayConsts](cfg, dp.gen) with ValidChains {
   override def desiredName: String = s"RayPrep_${dp.name}"
   // One pipeline: both arithmetics' units and delays follow the one valid chain.
-  private val valid = new ValidChain(io.in.valid)
-  atModuleBodyEnd(valid.finish())
+  private val valid = validChain(io.in.valid)
   private val boxAr = new HwArith(dp.boxFmt, valid)
   // One arithmetic for both when the formats agree: the setup is shared, built once.
   private val triAr = if (dp.split) new HwArith(dp.triFmt, valid) else boxAr
@@ -137,10 +136,9 @@ class FloatRayPrep(cfg: AccelConfig, dp: FloatDatapath) extends RayPrepUnit[RayC
   io.out.valid := valid.at(lat)
 }
 
-class FloatBox(cfg: AccelConfig, dp: FloatDatapath) extends BoxLane[RayConsts](cfg, dp.gen) {
+class FloatBox(cfg: AccelConfig, dp: FloatDatapath) extends BoxLane[RayConsts](cfg, dp.gen) with ValidChains {
   override def desiredName: String = s"BoxLane_${dp.name}"
-  private val ar = new HwArith(dp.boxFmt, new ValidChain(io.in.valid))
-  atModuleBodyEnd(ar.valid.finish())
+  private val ar = new HwArith(dp.boxFmt, validChain(io.in.valid))
   private val q = io.in.bits
   private val out = BoxKernel(
     ar,
@@ -160,10 +158,9 @@ class FloatBox(cfg: AccelConfig, dp: FloatDatapath) extends BoxLane[RayConsts](c
   io.nearAhead := out.near.at(lat - 1)
 }
 
-class FloatPrim(cfg: AccelConfig, dp: FloatDatapath) extends PrimIntersect[RayConsts](cfg, dp.gen) {
+class FloatPrim(cfg: AccelConfig, dp: FloatDatapath) extends PrimIntersect[RayConsts](cfg, dp.gen) with ValidChains {
   override def desiredName: String = s"PrimIntersect_${dp.name}"
-  private val ar = new HwArith(dp.triFmt, new ValidChain(io.in.valid))
-  atModuleBodyEnd(ar.valid.finish())
+  private val ar = new HwArith(dp.triFmt, validChain(io.in.valid))
   private val q = io.in.bits
   private val ray = RayConsts.readTri(ar, q.ray)
   private val verts = for (v <- 0 until 3; a <- 0 until 3) yield ar.input(TriangleRecord.vertexWord(q.triangle, v, a))

@@ -23,10 +23,10 @@ import scala.collection.mutable
   * and stage, and each value the logic reads still leaves a flip-flop: an SRL's
   * clock-to-out is about a nanosecond longer (docs/fmax.md).
   *
-  * The owning module calls [[finish]] when its body is done
-  * (`atModuleBodyEnd`): the chains are built then, when every use is known.
+  * A module makes its chains with [[ValidChains.validChain]], which builds
+  * them when the module's body is done, when every use is known.
   */
-final class ValidChain(valid: Bool) {
+final class ValidChain private[datapath] (valid: Bool) {
   private val taps = mutable.ArrayBuffer[Bool](valid)
   private val delayed = mutable.ArrayBuffer[Timed[_ <: Data]]()
   private var finished = false
@@ -36,13 +36,14 @@ final class ValidChain(valid: Bool) {
     taps(cycle)
   }
 
-  private var busyUsed = false
-  private lazy val busy: Bool = { busyUsed = true; Wire(Bool()) }
+  // Made on the first pass-through run that needs it; driven by finish(), once every tap exists.
+  private var busy: Option[Bool] = None
 
   /** The enable of a pass-through delay register whose input is at cycle `cycle`. */
   def load(cycle: Int): Bool = {
     require(cycle >= 0, s"ValidChain: cycle $cycle < 0")
-    if (cycle == 0) valid else busy
+    if (cycle == 0) valid
+    else busy.getOrElse { val w = Wire(Bool()); busy = Some(w); w }
   }
 
   private[datapath] def delays(t: Timed[_ <: Data]): Unit = {
@@ -51,16 +52,25 @@ final class ValidChain(valid: Bool) {
   }
 
   /** Builds every delay chain, then `busyReg`: at cycle t the OR of every tap at t - 1, so true exactly when some
-    * slot from cycle 1 to the chain's end is valid at t. A chain not finished leaves its uses' wires undriven,
-    * which FIRRTL refuses. */
-  def finish(): Unit = {
+    * slot from cycle 1 to the chain's end is valid at t. */
+  private[datapath] def finish(): Unit = {
     require(!finished, "ValidChain: finished twice")
     finished = true
     delayed.foreach(_.build())
-    if (busyUsed) {
+    busy.foreach { b =>
       val busyReg = RegNext(taps.reduce(_ || _), false.B)
-      busy := busyReg
+      b := busyReg
     }
+  }
+}
+
+/** A module whose pipelines follow [[ValidChain]]s: each is finished (its delay chains and shared enable built)
+  * when the module's body is done. */
+trait ValidChains extends RawModule {
+  protected def validChain(valid: Bool): ValidChain = {
+    val c = new ValidChain(valid)
+    atModuleBodyEnd(c.finish())
+    c
   }
 }
 
@@ -97,14 +107,13 @@ final class Timed[T <: Data](val value: T, val ready: Int, val valid: ValidChain
   }
 
   private[datapath] def build(): Unit = {
-    val used = (0 +: uses.keys.toSeq.sorted).toIndexedSeq
     var x = value
-    for (k <- 1 to used.last) {
+    val used = (0 +: uses.keys.toSeq.sorted)
+    // Between two uses, the registers of a run shorter than ValidChain.ShiftRun stay flip-flops; the last one, read
+    // by its use, loads on its own slot's valid either way.
+    for (Seq(prev, next) <- used.sliding(2); k <- prev + 1 to next) {
       val c = ready + k - 1
-      // The pass-through registers between two uses: a run shorter than ValidChain.ShiftRun stays flip-flops.
-      val next = used.find(_ >= k).get
-      val run = next - used.filter(_ < k).last - 1
-      x = RegEnable(x, if (uses.contains(k) || run < ValidChain.ShiftRun) valid.at(c) else valid.load(c))
+      x = RegEnable(x, if (k == next || next - prev - 1 < ValidChain.ShiftRun) valid.at(c) else valid.load(c))
       uses.get(k).foreach(_ := x)
     }
   }

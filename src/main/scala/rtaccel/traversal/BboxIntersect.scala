@@ -54,10 +54,7 @@ class BboxIntersect[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module
     lane.io.in.bits.boxMin := io.in.bits.boxMin(i)
     lane.io.in.bits.boxMax := io.in.bits.boxMax(i)
   }
-  // The last stage has a reset, so it stays a flip-flop: the stages before it become a shift-register LUT, whose
-  // clock-to-out (about a nanosecond longer, docs/fmax.md) would otherwise start the control's decision path.
-  private val presentReg =
-    RegNext(ShiftRegister(io.in.bits.present, latency - 1), 0.U.asTypeOf(io.in.bits.present))
+  private val presentReg = BboxIntersect.delayedToRegister(io.in.bits.present, latency)
   io.out.valid := lanes.head.io.out.valid
   for ((lane, i) <- lanes.zipWithIndex) {
     io.out.bits.hit(i) := lane.io.out.bits.hit && presentReg(i)
@@ -65,4 +62,15 @@ class BboxIntersect[T <: Data](cfg: AccelConfig, dp: Datapath[T]) extends Module
   }
   // Compared a cycle before the answer leaves, from each lane's entry distance as it is ready, and registered.
   if (cfg.boxLanes > 1) io.out.bits.order := RegNext(TraversalControl.order(cfg, lanes.map(_.io.nearAhead)))
+}
+
+object BboxIntersect {
+
+  /** `x` delayed by `n` >= 1 cycles, free-running, its last stage a register with a reset: the stages before it
+    * become a shift-register LUT, and the reset keeps the last one out of it, so the logic that reads the result
+    * starts from a flip-flop, not from the SRL's clock-to-out (about a nanosecond longer, docs/fmax.md). */
+  def delayedToRegister[T <: Data](x: T, n: Int): T = {
+    require(n >= 1, s"BboxIntersect.delayedToRegister: a delay of $n cycles")
+    RegNext(ShiftRegister(x, n - 1), 0.U.asTypeOf(x))
+  }
 }

@@ -44,8 +44,7 @@ class GridBboxIntersect(k: Int, p: GridParams, rays: RayConsts) extends Module {
     lane.io.in.bits.node := stage.io.out.bits
     lane.io.in.bits.child := children(i)
   }
-  // The last stage has a reset, so it stays a flip-flop behind the shift-register LUT (BboxIntersect's present bits).
-  private val badReg = RegNext(ShiftRegister(stage.io.badScale, lanes.head.latency - 1), false.B)
+  private val badReg = BboxIntersect.delayedToRegister(stage.io.badScale, lanes.head.latency)
   io.out.valid := lanes.head.io.outValid
   for ((lane, i) <- lanes.zipWithIndex) {
     io.out.bits.hit(i) := lane.io.hit && !badReg

@@ -90,7 +90,7 @@ class GridNodeIn(rays: RayConsts) extends Bundle {
   * conversions (GridFixed.examine, sums, decide, front and back, a register after each).
   * `out` is valid `latency` cycles after `in`.
   */
-class GridNodeStage(p: GridParams, rays: RayConsts) extends Module {
+class GridNodeStage(p: GridParams, rays: RayConsts) extends Module with ValidChains {
   private val fmt = rays.boxFmt
   require(
     fmt == FloatFormat.FP32,
@@ -105,8 +105,7 @@ class GridNodeStage(p: GridParams, rays: RayConsts) extends Module {
   })
   override def desiredName = s"GridNodeStage_${p.name}"
 
-  private val chain = new ValidChain(io.in.valid)
-  atModuleBodyEnd(chain.finish())
+  private val chain = validChain(io.in.valid)
   private val ar = new HwArith(fmt, chain)
   private val ray = RayConsts.readBox(ar, io.in.bits.ray)
   private val tmax = BoxKernel.narrowTmax(ar, BoxRounding.Conservative, ar.input(io.in.bits.tmax), rays.triFmt)
