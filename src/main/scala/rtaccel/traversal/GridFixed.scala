@@ -156,10 +156,10 @@ object GridFixed {
     * remainder are compares beside the shifter ([[Shift]]). The signed result
     * is one adder (the magnitude, complemented when negative, plus a carry
     * in), and the window's compares read the magnitude beside it.
-    * Combinational: [[examine]], [[sums]], [[decide]], [[front]], then [[back]].
+    * Combinational: [[examine]], [[sums]], [[decide]], [[front]], [[back]], then [[clamp]].
     */
   def hw(fmt: FloatFormat, x: UInt, s: Shift, up: Boolean, lo: BigInt, hi: BigInt): FixedHw =
-    back(front(decide(fmt, sums(fmt, examine(fmt, x)), s, up, lo, hi), lo, hi), up, lo, hi)
+    clamp(back(front(decide(fmt, sums(fmt, examine(fmt, x)), s, up, lo, hi), lo, hi), up, lo, hi), up, lo, hi)
 
   /** What [[examine]] hands to [[decide]]: `x`'s fields and its significand's leading and trailing zeros. */
   class Examined(fmt: FloatFormat) extends Bundle {
@@ -255,23 +255,49 @@ object GridFixed {
     f
   }
 
-  /** The signed, clamped result of a [[front]] (the same `up` and window). */
-  def back(f: Front, up: Boolean, lo: BigInt, hi: BigInt): FixedHw = {
+  /** What [[back]] hands to [[clamp]]: the signed result's window bits, and its compares with the window's ends
+    * for each sign and rounding bump (index 2 sign + bump), of which [[clamp]] picks one.
+    */
+  class Backed(w: Int) extends Bundle {
+    val v = SInt(w.W)
+    val belowBy = Vec(4, Bool())
+    val aboveBy = Vec(4, Bool())
+    val side = new Side
+  }
+
+  /** The signed result of a [[front]] (the same `up` and window) and the compares that place it in the window,
+    * side by side, each on the magnitude and a constant: GridNodeStage registers them, so that neither the pick
+    * among them nor the clamp's select is behind a compare.
+    */
+  def back(f: Front, up: Boolean, lo: BigInt, hi: BigInt): Backed = {
     val w = widthOf(lo, hi)
     val m = w - 1
     val (mag, bump, sign) = (f.mag, f.side.bump, f.side.sign)
     // -(mag + bump) = ~mag + !bump in m + 2 bits.
     val v = ((mag.pad(m + 2) ^ Fill(m + 2, sign)) + Mux(sign, !bump, bump)).asSInt
-    // v < lo and v > hi from mag, per sign and bump (each a compare with a constant).
+    // v < lo and v > hi from mag, per sign and bump: a positive v is mag + bump, a negative one -(mag + bump).
     def magLt(c: BigInt) = mag.zext < c.S
     def magGt(c: BigInt) = mag.zext > c.S
-    def byBump(g: BigInt => Bool, c: BigInt) = Mux(bump, g(c - 1), g(c))
-    val below = Mux(f.side.isNaN, (!up).B, Mux(sign, byBump(magGt, -lo), byBump(magLt, lo)))
-    val above = Mux(f.side.isNaN, up.B, Mux(sign, byBump(magLt, -hi), byBump(magGt, hi)))
+    val out = Wire(new Backed(w))
+    out.v := v(w - 1, 0).asSInt
+    out.belowBy := VecInit(magLt(lo), magLt(lo - 1), magGt(-lo), magGt(-lo - 1))
+    out.aboveBy := VecInit(magGt(hi), magGt(hi - 1), magLt(-hi), magLt(-hi - 1))
+    out.side := f.side
+    out
+  }
+
+  /** A [[back]]'s result (the same `up` and window) clamped to the window lo..hi; a NaN goes to the edge on the
+    * rounding's side.
+    */
+  def clamp(b: Backed, up: Boolean, lo: BigInt, hi: BigInt): FixedHw = {
+    val w = widthOf(lo, hi)
+    val pick = Cat(b.side.sign, b.side.bump)
+    val below = Mux(b.side.isNaN, (!up).B, b.belowBy(pick))
+    val above = Mux(b.side.isNaN, up.B, b.aboveBy(pick))
     val out = Wire(new FixedHw(w))
     out.below := below
     out.above := above
-    out.value := Mux(below, lo.S(w.W), Mux(above, hi.S(w.W), v(w - 1, 0).asSInt))
+    out.value := Mux(below, lo.S(w.W), Mux(above, hi.S(w.W), b.v))
     out
   }
 }

@@ -85,9 +85,9 @@ object GridLane {
   }
 }
 
-/** [[GridLane.soft]] in hardware: 3 cycles (products; sums and clamps;
-  * max/min and comparisons), II = 1. Every register loads only on a valid
-  * slot (the datapath's clock-enable rule, HwArith.ValidChain).
+/** [[GridLane.soft]] in hardware: 5 cycles (distances and their signs; step selects; products; sums and clamps;
+  * max/min and comparisons), II = 1. Every register loads only on a valid slot (the datapath's clock-enable rule,
+  * HwArith.ValidChain).
   */
 class GridLane(p: GridParams) extends Module {
   val io = IO(new Bundle {
@@ -100,63 +100,108 @@ class GridLane(p: GridParams) extends Module {
     val outValid = Output(Bool())
   })
   override def desiredName = s"GridLane_${p.name}"
-  val latency = 3
+  val latency = 5
   private val v1 = RegNext(io.in.valid, false.B)
   private val v2 = RegNext(v1, false.B)
-  io.outValid := RegNext(v2, false.B)
+  private val v3 = RegNext(v2, false.B)
+  private val v4 = RegNext(v3, false.B)
+  io.outValid := RegNext(v4, false.B)
 
   private val n = io.in.bits.node
   private val c = io.in.bits.child
-  // Cycle 1: offsets renumbered from the entry side, their distances from c, products. qMax - q is ~q
-  // (qMax = 2^qBits - 1), no carry chain; each distance's sign is a compare of its operands, beside the
-  // subtraction, so the step it picks for the multiplier does not wait on the difference.
-  private val s1 = (0 until 3).map { i =>
+  // The multiply is unsigned, as Yosys packs it into one DSP48E1 (a signed product, which the Verilog writes
+  // with sign-extended operands, would take two). A distance d of dBits bits is biased into an unsigned
+  // a = d + 2^(dBits-1) (its sign bit inverted, no logic), and the post-adder's C input takes the bias back:
+  // a step + C = d step + r with C = -(step 2^(dBits-1)) + r, r the round-up's 2^f - 1 for an upper bound (0
+  // for a lower one; an OR, since -(step 2^(dBits-1)) has dBits - 1 low zero bits and r < 2^f <= 2^(dBits-1)).
+  private val bias = p.dBits - 1
+  private val f = p.cFracBits
+  require(f <= bias, s"GridLane: cFracBits $f above the distance's bias $bias")
+  private def biased(d: SInt) = Cat(!d(p.dBits - 1), d(p.dBits - 2, 0))
+
+  // Cycle 1: offsets renumbered from the entry side and their distances from c: per distance, a LUT (qMax - q
+  // is ~q, qMax = 2^qBits - 1) and a subtraction, nothing after it.
+  private val s0 = (0 until 3).map { i =>
     val a = n.axes(i)
     val qe = Mux(a.neg, ~c.qMax(i), c.qMin(i))
     val qx = Mux(a.neg, ~c.qMin(i), c.qMax(i))
-    val qeF = (qe << p.cFracBits).zext
-    val qxF = (qx << p.cFracBits).zext
-    val dLo = qeF - a.cHi
-    val dHi = qxF - a.cLo
-    val dLoNeg = qeF < a.cHi
-    val dHiPos = qxF > a.cLo
+    // dBits holds every q' - c (GridParams.dBits): the low bits are the exact difference.
+    val dLo = ((qe << p.cFracBits).zext - a.cHi)(p.dBits - 1, 0).asSInt
+    val dHi = ((qx << p.cFracBits).zext - a.cLo)(p.dBits - 1, 0).asSInt
     val en = io.in.valid
-    val pLo = dLo * Mux(dLoNeg, a.stepHi, a.stepLo).zext
-    val pHi = dHi * Mux(dHiPos, a.stepHi, a.stepLo).zext
-    val loOut = a.flat || a.cHiAbove || (dLoNeg && a.stepHiSat)
-    val hiOut = a.flat || a.cLoBelow || (dHiPos && a.stepHiSat)
     val in = !a.flat || (qe.zext <= a.gHi && a.gLo <= qx.zext)
     (
-      RegEnable(pLo, en),
-      RegEnable(pHi, en),
-      RegEnable(loOut, en),
-      RegEnable(hiOut, en),
-      RegEnable(in && c.qMin(i) <= c.qMax(i), en)
+      (RegEnable(biased(dLo), en), RegEnable(biased(dHi), en)),
+      (RegEnable(a.stepLo, en), RegEnable(a.stepHi, en), RegEnable(a.stepHiSat, en)),
+      (
+        RegEnable(a.flat || a.cHiAbove, en),
+        RegEnable(a.flat || a.cLoBelow, en),
+        RegEnable(in && c.qMin(i) <= c.qMax(i), en)
+      )
     )
   }
-  private val err1 = RegEnable(n.err || !c.present, io.in.valid)
-  private val tmin1 = RegEnable(n.tmin, io.in.valid)
-  private val tmax1 = RegEnable(n.tmax, io.in.valid)
-  // Cycle 2: outward to units of u, v / 2^f rounded down (an arithmetic shift) or up ((v + 2^f - 1) >> f, one add;
-  // the model's -((-v) >> f) is the same integer), then clamped. The clamp compares v itself with the window's
-  // ends scaled by 2^f, beside the add: the rounded value is past top iff v > top 2^f (up) or v >= (top + 1) 2^f
-  // (down), and past bot iff v <= (bot - 1) 2^f (up) or v < bot 2^f (down).
-  private def outward(v: SInt, up: Boolean): SInt = {
-    val f = p.cFracBits
-    val q = ((if (up) v +& ((1 << f) - 1).S else v) >> f).asSInt
-    val below = if (up) v <= ((p.bot - 1) << f).S else v < (p.bot << f).S
-    val above = if (up) v > (p.top << f).S else v >= ((p.top + 1) << f).S
+  private val err0 = RegEnable(n.err || !c.present, io.in.valid)
+  private val tmin0 = RegEnable(n.tmin, io.in.valid)
+  private val tmax0 = RegEnable(n.tmax, io.in.valid)
+  // Cycle 2: each product's operands (the lower step for a lower bound of a positive product, the upper one
+  // otherwise) into registers: the DSP48E1's A, B and C registers, so that the multiply has no fabric logic in
+  // its cycle (docs/fmax.md, Method: a DSP48E1 is timed as a register only when its multiply sits between
+  // registers). A distance's sign is read from its biased form (negative: the top bit clear; positive: the
+  // top bit set and another); the steps' negations are formed beside it.
+  private def cOf(negStep: SInt, up: Boolean) = {
+    val c = (negStep << bias).asSInt
+    if (up) (c.asUInt | ((1 << f) - 1).U).asSInt else c
+  }
+  private val s1 = s0.map { case ((aLo, aHi), (stepLo, stepHi, sat), (loFlag, hiFlag, ok)) =>
+    val loNeg = !aLo(bias)
+    val hiPos = aHi(bias) && aHi(bias - 1, 0).orR
+    val (negLo, negHi) = (-(stepLo.zext), -(stepHi.zext))
+    (
+      (
+        RegEnable(aLo, v1),
+        RegEnable(Mux(loNeg, stepHi, stepLo), v1),
+        RegEnable(cOf(Mux(loNeg, negHi, negLo), up = false), v1)
+      ),
+      (
+        RegEnable(aHi, v1),
+        RegEnable(Mux(hiPos, stepHi, stepLo), v1),
+        RegEnable(cOf(Mux(hiPos, negHi, negLo), up = true), v1)
+      ),
+      (RegEnable(loFlag || (loNeg && sat), v1), RegEnable(hiFlag || (hiPos && sat), v1), RegEnable(ok, v1))
+    )
+  }
+  private val err1 = RegEnable(err0, v1)
+  private val tmin1 = RegEnable(tmin0, v1)
+  private val tmax1 = RegEnable(tmax0, v1)
+  // Cycle 3: the products (dBits x stepBits unsigned) and their post-adds, one DSP48E1 each, into its P register:
+  // d step for a lower bound, d step + 2^f - 1 for an upper one.
+  private def dsp(ops: (UInt, UInt, SInt)) = RegEnable((ops._1 * ops._2).zext + ops._3, v2)
+  private val prods = s1.map { case (lo, hi, (loOut, hiOut, ok)) =>
+    (dsp(lo), dsp(hi), RegEnable(loOut, v2), RegEnable(hiOut, v2), RegEnable(ok, v2))
+  }
+  private val errP = RegEnable(err1, v2)
+  private val tminP = RegEnable(tmin1, v2)
+  private val tmaxP = RegEnable(tmax1, v2)
+  // Cycle 4: outward to units of u, v / 2^f rounded down (an arithmetic shift of v) or up (of v + 2^f - 1, formed
+  // in the DSP; the model's -((-v) >> f) is the same integer), then clamped. The clamp compares the DSP's sum
+  // itself with the window's ends scaled by 2^f: the rounded value is past top iff v > top 2^f (up) or
+  // v >= (top + 1) 2^f (down), and past bot iff v <= (bot - 1) 2^f (up) or v < bot 2^f (down).
+  private def outward(sum: SInt, up: Boolean): SInt = {
+    val r = if (up) (1 << f) - 1 else 0
+    val q = (sum >> f).asSInt
+    val below = if (up) sum <= (((p.bot - 1) << f) + r).S else sum < (p.bot << f).S
+    val above = if (up) sum > ((p.top << f) + r).S else sum >= ((p.top + 1) << f).S
     Mux(below, p.bot.S(p.width.W), Mux(above, p.top.S(p.width.W), q(p.width - 1, 0).asSInt))
   }
-  private val s2 = s1.map { case (pLo, pHi, loOut, hiOut, ok) =>
+  private val s2 = prods.map { case (pLo, pHi, loOut, hiOut, ok) =>
     val lo = Mux(loOut, p.bot.S(p.width.W), outward(pLo, up = false))
     val hi = Mux(hiOut, p.top.S(p.width.W), outward(pHi, up = true))
-    (RegEnable(lo, v1), RegEnable(hi, v1), RegEnable(ok, v1))
+    (RegEnable(lo, v3), RegEnable(hi, v3), RegEnable(ok, v3))
   }
-  private val err2 = RegEnable(err1, v1)
-  private val tmin2 = RegEnable(tmin1, v1)
-  private val tmax2 = RegEnable(tmax1, v1)
-  // Cycle 3: the slab test on integers. near <= far, tmin <= far and near <= tmax, with near the largest lo and
+  private val err2 = RegEnable(errP, v3)
+  private val tmin2 = RegEnable(tminP, v3)
+  private val tmax2 = RegEnable(tmaxP, v3)
+  // Cycle 5: the slab test on integers. near <= far, tmin <= far and near <= tmax, with near the largest lo and
   // far the least hi, hold exactly when every lo is at most every hi and tmax, and tmin at most every hi: 15
   // compares side by side, where the max and min in front of the compares were the lane's longest path.
   private val los = s2.map(_._1)
@@ -168,6 +213,6 @@ class GridLane(p: GridParams) extends Module {
   private val ge02 = los(0) >= los(2)
   private val ge12 = los(1) >= los(2)
   private val near = Mux(ge01 && ge02, los(0), Mux(!ge01 && ge12, los(1), los(2)))
-  io.hit := RegEnable(hit, v2)
-  io.near := RegEnable(near, v2)
+  io.hit := RegEnable(hit, v4)
+  io.near := RegEnable(near, v4)
 }

@@ -86,8 +86,8 @@ class GridNodeIn(rays: RayConsts) extends Bundle {
 }
 
 /** [[GridNode.soft]] in hardware: the FP32 [[GridKernel]] pipeline (HwArith
-  * units, each enabled by the slot's valid), then five cycles of
-  * conversions (GridFixed.examine, sums, decide, front and back, a register after each).
+  * units, each enabled by the slot's valid), then six cycles of
+  * conversions (GridFixed.examine, sums, decide, front, back and clamp, a register after each).
   * `out` is valid `latency` cycles after `in`.
   */
 class GridNodeStage(p: GridParams, rays: RayConsts) extends Module with ValidChains {
@@ -142,9 +142,10 @@ class GridNodeStage(p: GridParams, rays: RayConsts) extends Module with ValidCha
   private val eu = new Timed(Mux(timed(flat0.reduce(_ && _)).at(3), 0.S, es3 - p.fracBits.S), 3, chain)
 
   val latency: Int =
-    (k.axes.flatMap(a => Seq(a.cLo, a.cHi, a.diffLo, a.diffHi)) ++ Seq(k.tminR, k.tmaxR)).map(_.ready).max + 5
-  // The conversions: examine in cycle c, sums in c + 1, decide in c + 2, front in c + 3, back in c + 4.
-  private val c = latency - 5
+    (k.axes.flatMap(a => Seq(a.cLo, a.cHi, a.diffLo, a.diffHi)) ++ Seq(k.tminR, k.tmaxR)).map(_.ready).max + 6
+  // The conversions: examine in cycle c, sums in c + 1, decide in c + 2, front in c + 3, back in c + 4, clamp in
+  // c + 5.
+  private val c = latency - 6
   // The conversions' shifts, prepared ahead (GridFixed.shift) and registered for decide.
   private val euP = eu.at(c - 1)
   private val sP = sInt.map(timed(_).at(c - 1))
@@ -156,7 +157,8 @@ class GridNodeStage(p: GridParams, rays: RayConsts) extends Module with ValidCha
     val ex = new Timed(GridFixed.examine(fmt, x), c, chain).at(c + 1)
     val su = new Timed(GridFixed.sums(fmt, ex), c + 1, chain).at(c + 2)
     val d = new Timed(GridFixed.decide(fmt, su, sh, up, lo, hi), c + 2, chain).at(c + 3)
-    GridFixed.back(new Timed(GridFixed.front(d, lo, hi), c + 3, chain).at(c + 4), up, lo, hi)
+    val b = GridFixed.back(new Timed(GridFixed.front(d, lo, hi), c + 3, chain).at(c + 4), up, lo, hi)
+    GridFixed.clamp(new Timed(b, c + 4, chain).at(c + 5), up, lo, hi)
   }
   private def negF(x: UInt) = Cat(!x(fmt.width - 1), x(fmt.width - 2, 0))
   private val node = Wire(new GridNodeHw(p))
@@ -170,8 +172,8 @@ class GridNodeStage(p: GridParams, rays: RayConsts) extends Module with ValidCha
     val sHi = fx(rcpHiC(i), kS, up = true, 0, p.stepMax)
     val cLo = fx(a.cLo.at(c), kC, up = false, p.cLo, p.cHi)
     val cHi = fx(a.cHi.at(c), kC, up = true, p.cLo, p.cHi)
-    o.flat := a.flat.at(c + 4)
-    o.neg := a.neg.at(c + 4)
+    o.flat := a.flat.at(c + 5)
+    o.neg := a.neg.at(c + 5)
     o.stepLo := sLo.value.asUInt(p.stepBits - 1, 0)
     o.stepHi := sHi.value.asUInt(p.stepBits - 1, 0)
     o.stepHiSat := sHi.above
@@ -185,8 +187,8 @@ class GridNodeStage(p: GridParams, rays: RayConsts) extends Module with ValidCha
   private val kT = shift(-euP, p.bot, p.top)
   node.tmin := fx(k.tminR.at(c), kT, up = false, p.bot, p.top).value(p.width - 1, 0).asSInt
   node.tmax := fx(k.tmaxR.at(c), kT, up = true, p.bot, p.top).value(p.width - 1, 0).asSInt
-  node.err := k.err.at(c + 4)
+  node.err := k.err.at(c + 5)
   io.out.valid := chain.at(latency)
-  io.out.bits := RegEnable(node, chain.at(c + 4))
+  io.out.bits := RegEnable(node, chain.at(c + 5))
   io.badScale := timed(bad).at(latency)
 }
