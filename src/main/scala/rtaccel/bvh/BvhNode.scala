@@ -62,11 +62,16 @@ class BvhNode(cfg: AccelConfig) extends Bundle {
 }
 
 /** A node record as a staged fetch registers it first (BvhNode.record): the record and, in the quantized layouts,
-  * its slots' QuantNode.befores counts (none otherwise).
+  * its slots' QuantNode.befores counts, the inner slots and the leaf counts before each (none otherwise).
   */
 class NodeRecord(cfg: AccelConfig) extends Bundle {
+  private val n = if (cfg.layout.quantized) cfg.boxLanes else 0
   val data = UInt((cfg.layout.nodeBytes * 8).W)
-  val before = Vec(if (cfg.layout.quantized) cfg.boxLanes else 0, UInt(QuantNode.BeforeBits.W))
+  val innerBefore = Vec(n, UInt(QuantNode.InnerBits.W))
+  val trisBefore = Vec(n, UInt(QuantNode.BeforeBits.W))
+
+  /** Per slot, the inner slots and the leaf counts before it, as QuantNode reads them. */
+  def before: Seq[(UInt, UInt)] = innerBefore.zip(trisBefore)
 }
 
 /** A node record's slots as 32-byte wide-slot words (BvhNode.words): word0 (kind or leaf count), word1 (child
@@ -117,7 +122,11 @@ object BvhNode {
   def record(cfg: AccelConfig, data: UInt): NodeRecord = {
     val r = Wire(new NodeRecord(cfg))
     r.data := data
-    if (cfg.layout.quantized) r.before := VecInit(QuantNode.befores(cfg.boxLanes, data))
+    if (cfg.layout.quantized) {
+      val before = QuantNode.befores(cfg.boxLanes, data)
+      r.innerBefore := VecInit(before.map(_._1))
+      r.trisBefore := VecInit(before.map(_._2))
+    }
     r
   }
 

@@ -49,7 +49,7 @@ object QuantNode {
   /** The k slots of a little-endian quantized node record. One FP32 adder
     * (combinational, exact for valid images) per plane per slot.
     */
-  def decode(k: Int, record: UInt, before: Seq[UInt]): Seq[SlotWords[UInt]] = {
+  def decode(k: Int, record: UInt, before: Seq[(UInt, UInt)]): Seq[SlotWords[UInt]] = {
     require(record.getWidth == nodeBytes(k) * 8, s"QuantNode.decode: record must be ${nodeBytes(k) * 8} bits")
     val origin = (0 until 3).map(a => wordAt(record, 4 * a))
     val exp = (0 until 3).map(a => byteAt(record, 12 + a))
@@ -73,7 +73,7 @@ object QuantNode {
     */
   final case class Grid(slots: Seq[SlotWords[UInt]], origin: Seq[UInt], exp: Seq[UInt], bad: Bool)
 
-  def decodeGrid(k: Int, record: UInt, before: Seq[UInt]): Grid = {
+  def decodeGrid(k: Int, record: UInt, before: Seq[(UInt, UInt)]): Grid = {
     require(record.getWidth == nodeBytes(k) * 8, s"QuantNode.decodeGrid: record must be ${nodeBytes(k) * 8} bits")
     val origin = (0 until 3).map(a => record(32 * a + 31, 32 * a))
     val exp = (0 until 3).map(a => byteAt(record, 12 + a))
@@ -83,31 +83,69 @@ object QuantNode {
     Grid(slots, origin, exp, bad)
   }
 
-  /** Width of a slot's [[befores]] count: at most 7 leaf counts of up to 127 triangles. */
+  /** Width of a slot's [[befores]] leaf count: at most 7 leaf counts of up to 127 triangles. */
   val BeforeBits = 11
 
-  /** Per slot, what its child index adds to its base: the inner slots before it (an inner slot), the leaf counts
-    * before it (a leaf), 0 (empty). A prefix sum over the slots' meta bytes: a fetch may register these before
-    * the index adders ([[refs]]), so that the prefix sum and the 32-bit adds are not one path (BvhNode.staged).
+  /** Width of a slot's [[befores]] inner count: at most 7 inner slots. */
+  val InnerBits = 3
+
+  /** Per slot, what its child index adds to the node's bases: the inner slots before it (read by an inner slot)
+    * and the leaf counts before it (read by a leaf). Sums over the meta bytes before the slot: a fetch registers
+    * them before the index adders ([[refs]]), so that these sums and the 32-bit adds are not one path
+    * (BvhNode.staged). Both counts are kept, the slot's kind picking one in [[refs]] beside its adders, and each is
+    * shallow, as it starts at the node answer: the inner slots are counted in logic ([[ones]]), and the leaf
+    * counts are added by full adders in logic down to two operands, then in one carry chain ([[total]]). A chain
+    * of adders, each entered from the one before, and the kind's select behind them take 5.59 ns by the delay
+    * model of docs/fmax.md, over the 200 MHz clock; these take 4.10 ns.
     */
-  def befores(k: Int, record: UInt): Seq[UInt] = {
-    var innerBefore: UInt = 0.U(4.W)
-    var trisBefore: UInt = 0.U(BeforeBits.W)
-    for (s <- 0 until k) yield {
-      val m = byteAt(record, FixedBytes + s)
-      val (isInner, isLeaf) = (m === MetaInner.U, m(7))
-      val before = Mux(isInner, innerBefore.pad(BeforeBits), Mux(isLeaf, trisBefore, 0.U))
-      innerBefore = innerBefore +& isInner.asUInt
-      trisBefore = trisBefore +& Mux(isLeaf, m(6, 0), 0.U)
-      before(BeforeBits - 1, 0)
+  def befores(k: Int, record: UInt): Seq[(UInt, UInt)] = {
+    val meta = (0 until k).map(s => byteAt(record, FixedBytes + s))
+    val inner = meta.map(_ === MetaInner.U)
+    val count = meta.map(m => Mux(m(7), m(6, 0), 0.U))
+    for (s <- 0 until k) yield (ones(inner.take(s), InnerBits), total(count.take(s), BeforeBits))
+  }
+
+  /** How many of `bits` are set, as `width` bits: full and half adders in logic, no carry chain (a few bits' count
+    * is a LUT or two). Each column of equal weight is reduced to one bit, its carries going to the next column.
+    */
+  private def ones(bits: Seq[Bool], width: Int): UInt = {
+    require(bits.size < (1 << width), s"QuantNode.ones: ${bits.size} bits do not fit a $width-bit count")
+    var column = bits
+    val out = for (_ <- 0 until width) yield {
+      var carries = Seq.empty[Bool]
+      while (column.size > 1) {
+        val (x, rest) = column.splitAt(3)
+        column = rest :+ x.reduce(_ ^ _)
+        carries :+= (if (x.size == 3) x(0) & x(1) | x(0) & x(2) | x(1) & x(2) else x(0) & x(1))
+      }
+      val bit = column.headOption.getOrElse(false.B)
+      column = carries
+      bit
+    }
+    VecInit(out).asUInt
+  }
+
+  /** The sum of `xs`, as `width` bits (the sum must fit): full adders in logic (carry-save: the bitwise sum and the
+    * majority, one place up) take three operands to two until two are left, which one carry chain adds.
+    */
+  private def total(xs: Seq[UInt], width: Int): UInt = {
+    def fit(x: UInt): UInt = x.pad(width)(width - 1, 0)
+    xs match {
+      case Seq()     => 0.U(width.W)
+      case Seq(a)    => fit(a)
+      case Seq(a, b) => fit(a +& b)
+      case a +: b +: c +: rest =>
+        val n = Seq(a, b, c).map(_.getWidth).max
+        val (x, y, z) = (a.pad(n), b.pad(n), c.pad(n))
+        total(rest :+ (x ^ y ^ z) :+ Cat(x & y | x & z | y & z, 0.U(1.W)), width)
     }
   }
 
-  /** Slot s's word0 and word1 (a 32-byte wide slot's) from its meta byte, the bases and its [[befores]] count. */
-  private def refs(k: Int, record: UInt, before: Seq[UInt]): Seq[(UInt, UInt)] = {
+  /** Slot s's word0 and word1 (a 32-byte wide slot's) from its meta byte, the bases and its [[befores]] counts. */
+  private def refs(k: Int, record: UInt, before: Seq[(UInt, UInt)]): Seq[(UInt, UInt)] = {
     require(before.length == k, s"QuantNode.refs: ${before.length} counts for $k slots")
     val (childBase, triBase) = (wordAt(record, 16), wordAt(record, 20))
-    for (s <- 0 until k) yield {
+    for ((s, (innerBefore, trisBefore)) <- (0 until k).zip(before)) yield {
       val m = byteAt(record, FixedBytes + s)
       val (isEmpty, isInner, isLeaf) = (m === MetaEmpty.U, m === MetaInner.U, m(7))
       val count = m(6, 0)
@@ -117,7 +155,7 @@ object QuantNode {
         Mux(isInner, 0.U(32.W), Mux(isLeaf, Cat(1.U(1.W), 0.U(24.W), count), m.pad(32)))
       )
       // Both sums, then the select: the meta byte's compares run beside the adders, not before them.
-      val w1 = Mux(isInner, childBase +% before(s), Mux(isLeaf, triBase +% before(s), 0.U))
+      val w1 = Mux(isInner, childBase +% innerBefore, Mux(isLeaf, triBase +% trisBefore, 0.U))
       (w0, w1)
     }
   }
