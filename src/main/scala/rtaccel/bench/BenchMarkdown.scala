@@ -30,6 +30,13 @@ object BenchMarkdown {
       title: Option[String] = None
   ): String = {
     def f(v: ujson.Value, d: Int) = v match { case ujson.Num(x) => s"%.${d}f".format(x); case _ => "–" }
+    // The window's share of its own bound (Report.steady), with its limiter where it is not the batch's.
+    def steady(r: ujson.Value) = r.obj.get("steady") match {
+      case Some(w: ujson.Obj) =>
+        f(w("efficiency"), 2) + (if (w("boundLimitedBy") == r("boundLimitedBy")) ""
+                                 else s" (${w("boundLimitedBy").str})")
+      case _ => "–"
+    }
     val header = Seq(
       "# " + title.getOrElse(
         if (notes.getFileName.toString.startsWith("quant-")) "Quantized wide nodes: speed (`make bench-quant`)"
@@ -55,12 +62,15 @@ object BenchMarkdown {
       "",
       "The bound is the least of: node tests (1 per cycle: BboxIntersect takes a whole node) per ray, triangle tests",
       "(1 per cycle) per ray, decisions of the busier TraversalControl lane (box results, leaf returns: 1 per cycle",
-      "each) per ray and, on DDR, DRAM bytes per cycle over DRAM bytes per ray (`limited by`).",
+      "each) per ray and, on DDR, DRAM bytes per cycle over DRAM bytes per ray (`limited by`). `of bound` is the whole",
+      "batch's rays/cycle over it; `steady` is the same share between the run's 20% and 80% answers (the counters'",
+      "growth in that window over its cycles: the limiting resource's busy share once the pipelines have filled and",
+      "before the batch drains, which a longer stream of rays approaches).",
       "Box-lane LUTs: K copies of the box unit, synthesised alone by Yosys (`synth_xilinx -family xc7`; the same",
       "cached run as `make verilog`), written to `build/bench/area.json`.",
       "",
-      "| rays | layout | memory | rays/cycle | of bound | limited by | node tests/ray | node bytes/ray | triangle tests/ray | DRAM bytes/ray | golden mismatches | Embree mismatches | box-lane LUTs |",
-      "| --- | --- | --- | ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
+      "| rays | layout | memory | rays/cycle | of bound | steady | limited by | node tests/ray | node bytes/ray | triangle tests/ray | DRAM bytes/ray | golden mismatches | Embree mismatches | box-lane LUTs |",
+      "| --- | --- | --- | ---: | ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
     )
     val order = Bench.Runs.map(_.name)
     val layouts = rows.map(_("layout").str).distinct // in the order asked for
@@ -70,7 +80,7 @@ object BenchMarkdown {
     val body = sorted.map { r =>
       val layout = r("layout").str
       s"| ${r("run").str} (${r("rays").num.toInt} of ${r("raySetSize").num.toInt}) | $layout | ${r("memoryKind").str} | " +
-        s"${f(r("raysPerCycle"), 4)} | ${f(r("efficiency"), 2)} | ${r("boundLimitedBy").str} | ${f(r("nodeTestsPerRay"), 1)} | " +
+        s"${f(r("raysPerCycle"), 4)} | ${f(r("efficiency"), 2)} | ${steady(r)} | ${r("boundLimitedBy").str} | ${f(r("nodeTestsPerRay"), 1)} | " +
         s"${f(r("nodeBytesPerRay"), 0)} | ${f(r("triangleTestsPerRay"), 1)} | ${f(r("dramBytesPerRay"), 0)} | " +
         s"${r("goldenMismatches").num.toInt} | ${r("embreeMismatches").num.toInt} | ${areaLuts.get(layout).fold("–")(x => f"$x%.0f")} |"
     }

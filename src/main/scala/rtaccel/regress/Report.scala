@@ -70,6 +70,7 @@ object Report {
       "triangleTestsPerRay" -> perRay("triTests"),
       "decisionsPerRay" -> perRay("decisions"),
       "meanRaysInFlight" -> p("inFlightSum") / r.cycles.toDouble,
+      "steady" -> steady(r),
       "goldenMismatches" -> goldenMismatches,
       "errorRays" -> errorRays,
       "memory" -> ujson.Obj(
@@ -127,6 +128,29 @@ object Report {
     out
   }
 
+  /** The run's middle (RunResult.window): the rays answered between its snapshots over the cycles between, and
+    * the bound of the same terms over the counters' growth in that window. A term's share is its resource's busy
+    * share there (the bound is linear in the rays), so `efficiency` is how busy the limiting resource was once
+    * the pipelines had filled and before the batch drained. Null when the run has no window.
+    */
+  def steady(r: RunResult): ujson.Value = r.window.fold[ujson.Value](ujson.Null) { case (a, b) =>
+    val (rays, cycles) = (b.hits - a.hits, (b.cycle - a.cycle).max(1L))
+    val perf = b.perf.map { case (k, v) => k -> (v - a.perf.getOrElse(k, BigInt(0))) }
+    val dram = for (x <- a.dram; y <- b.dram)
+      yield rtaccel.sim.mem.DramStats(cycles, y.bytes - x.bytes, y.bytesPerCycle, y.burstBytes, y.busyCycles - x.busyCycles)
+    val bound = Bound(rays, perf, dram, dram.fold(0L)(_.bytes))
+    ujson.Obj(
+      "fromShare" -> rtaccel.sim.RunResult.WindowFrom,
+      "toShare" -> rtaccel.sim.RunResult.WindowTo,
+      "rays" -> rays,
+      "cycles" -> cycles.toDouble,
+      "raysPerCycle" -> rays / cycles.toDouble,
+      "boundRaysPerCycle" -> bound.raysPerCycle,
+      "boundLimitedBy" -> bound.limitedBy,
+      "efficiency" -> (rays / cycles.toDouble) / bound.raysPerCycle
+    )
+  }
+
   private def n(v: ujson.Value, digits: Int = 4): String = v match {
     case ujson.Num(x) if x == x.round.toDouble && math.abs(x) < 1e15 => f"${x.toLong}%,d"
     case ujson.Num(x)                                                => s"%.${digits}f".format(x)
@@ -153,6 +177,12 @@ object Report {
       "node / triangle tests per ray" -> s"${n(r("nodeTestsPerRay"), 2)} / ${n(r("triangleTestsPerRay"), 2)}",
       "node bytes per ray" -> n(r("nodeBytesPerRay"), 1),
       "mean rays in flight" -> n(r("meanRaysInFlight"), 1),
+      "steady state" -> (r.obj.get("steady") match {
+        case Some(w: ujson.Obj) =>
+          f"${n(w("raysPerCycle"))} rays/cycle, ${n(w("efficiency"), 2)} of its bound (${w("boundLimitedBy").str}" +
+            f"; answers ${100 * w("fromShare").num}%.0f-${100 * w("toShare").num}%.0f %%, ${n(w("cycles"))} cycles)"
+        case _ => "- (no window: SIM=cpp or too few rays)"
+      }),
       "golden mismatches" -> n(r("goldenMismatches")),
       "vs Embree" -> s"${n(m("total"))} mismatches (false miss ${n(m("falseMiss"))}, false hit ${n(m("falseHit"))}, wrong prim ${n(
           m("wrongPrim")

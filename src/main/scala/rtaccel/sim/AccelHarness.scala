@@ -24,15 +24,35 @@ final case class Environment(
     seed: Long = 1
 )
 
-/** `dram` is the shared DRAM's account (None on chip). */
+/** What the counters said at one moment of a run: after `hits` answers, at `cycle`. */
+final case class Snapshot(hits: Int, cycle: Long, perf: Map[String, BigInt], dram: Option[DramStats])
+
+/** `dram` is the shared DRAM's account (None on chip). `window`: the counters when the run had answered
+  * [[RunResult.WindowFrom]] and [[RunResult.WindowTo]] of its rays (None if the harness took none): the batch's
+  * middle, away from its start, when the pipelines fill, and its end, when the last rays drain.
+  */
 final case class RunResult(
     hits: Seq[HitRecord],
     cycles: Long,
     perf: Map[String, BigInt],
     node: MemStats,
     tri: MemStats,
-    dram: Option[DramStats]
+    dram: Option[DramStats],
+    window: Option[(Snapshot, Snapshot)] = None
 )
+
+object RunResult {
+
+  /** The window's ends, as shares of a run's answers. */
+  val WindowFrom = 0.2
+  val WindowTo = 0.8
+
+  /** The answer counts at which a run of `rays` takes its snapshots (none for a run too short to have a middle). */
+  def windowHits(rays: Int): Option[(Int, Int)] = {
+    val (from, to) = ((rays * WindowFrom).ceil.toInt, (rays * WindowTo).floor.toInt)
+    if (from >= 1 && to > from) Some((from, to)) else None
+  }
+}
 
 /** Runs rays through an RtAccel (in its SimTop wrapper) cycle by cycle (single-threaded, no `fork`),
   * with memory models on both ports, sharing one DRAM (or each on chip). Each
@@ -77,6 +97,9 @@ object AccelHarness {
     require(rays.map(_.number).distinct.size == rays.size, "ray numbers must be distinct")
     val inFlight = mutable.Set.empty[Long]
     val hits = mutable.ArrayBuffer.empty[HitRecord]
+    // The counters at the window's ends (RunResult.window): two peeks of the performance counters per run.
+    val windowAt = RunResult.windowHits(rays.size)
+    val snapshots = mutable.ArrayBuffer.empty[Snapshot]
     var next = 0
     var cycle = 0L
     var lastProgress = 0L
@@ -115,6 +138,10 @@ object AccelHarness {
           )
         hits += h
         lastProgress = cycle
+        // After this cycle's step the counters include it; taken before the step, they stop at the cycle before,
+        // at both ends alike.
+        if (windowAt.exists { case (a, b) => hits.size == a || hits.size == b })
+          snapshots += Snapshot(hits.size, cycle, perf(dut), dram.map(_.stats(cycle)))
       }
       if (offer && bit("raysReady")) {
         inFlight += rays(next).number
@@ -141,7 +168,8 @@ object AccelHarness {
       cycle += 1
       if ((cycle & 0xfff) == 0) progress(hits.size)
     }
-    RunResult(hits.toSeq, cycle, perf(dut), node.model.stats, tri.model.stats, dram.map(_.stats(cycle)))
+    val window = snapshots.toSeq match { case Seq(a, b) => Some((a, b)); case _ => None }
+    RunResult(hits.toSeq, cycle, perf(dut), node.model.stats, tri.model.stats, dram.map(_.stats(cycle)), window)
   }
 
   def perf[T <: Data](dut: SimTop[T]): Map[String, BigInt] =

@@ -1,7 +1,7 @@
 package rtaccel.regress
 
 import org.scalatest.flatspec.AnyFlatSpec
-import rtaccel.sim.RunResult
+import rtaccel.sim.{RunResult, Snapshot}
 import rtaccel.sim.mem.{DramStats, MemStats}
 
 /** The bound: one term per hardware resource, the least wins, and nothing
@@ -61,5 +61,38 @@ class ReportSpec extends AnyFlatSpec {
     assert(s("dramBytesPerRay").num == 480 && s("nodeBytesPerRay").num == 80)
     assert(s("boundLimitedBy").str == "boxLanes" && s("boundRaysPerCycle").num == 0.05)
     assert(s("boundTerms")("dram").num == 64.0 / 480 && s("memory")("dram")("busyShare").num == 0.15)
+  }
+
+  it should "measure the window between its snapshots: the rays answered there, and its resources' busy share" in {
+    def port(name: String) = MemStats(name, 1000, 32, 50, 50, 0, 0, 0, 0, 0, 0, 0, 0, 0)
+    // 100 rays in 1000 cycles; between the 20th and the 80th answer (cycles 300 to 800), 60 rays, 450 node tests,
+    // 100 triangle tests and 400 decisions: box lanes busy 450 of 500 cycles.
+    val a = Snapshot(20, 300, perf(250, 50, 300), None)
+    val b = Snapshot(80, 800, perf(700, 150, 700), None)
+    val r = RunResult(
+      Nil,
+      1000,
+      perf(1000, 200, 1100) ++ Map[String, BigInt]("inFlightSum" -> 0),
+      port("node"),
+      port("triangle"),
+      None,
+      Some((a, b))
+    )
+    def stats(r: RunResult) = Report.stats(
+      RegressArgs(java.nio.file.Paths.get("p"), java.nio.file.Paths.get("o")),
+      rtaccel.AccelConfig.zc706,
+      "dp",
+      100,
+      r,
+      1,
+      1,
+      0,
+      0
+    )
+    val w = stats(r)("steady")
+    assert(w("rays").num == 60 && w("cycles").num == 500 && w("raysPerCycle").num == 60.0 / 500)
+    assert(w("boundLimitedBy").str == "boxLanes" && math.abs(w("efficiency").num - 450.0 / 500) < 1e-12)
+    assert(stats(r.copy(window = None))("steady") == ujson.Null)
+    assert(RunResult.windowHits(100) == Some((20, 80)) && RunResult.windowHits(1) == None)
   }
 }
