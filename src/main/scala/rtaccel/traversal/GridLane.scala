@@ -2,6 +2,7 @@ package rtaccel.traversal
 
 import chisel3._
 import chisel3.util._
+import rtaccel.datapath.{Timed, ValidChains}
 
 /** One axis of a node in integer form: what every child lane of the node reads.
   * Steps are in units u = 2^eu of t (GridNode); cLo..cHi bound the ray's grid
@@ -89,7 +90,7 @@ object GridLane {
   * max/min and comparisons), II = 1. Every register loads only on a valid slot (the datapath's clock-enable rule,
   * HwArith.ValidChain).
   */
-class GridLane(p: GridParams) extends Module {
+class GridLane(p: GridParams) extends Module with ValidChains {
   val io = IO(new Bundle {
     val in = Flipped(Valid(new Bundle {
       val node = new GridNodeHw(p)
@@ -101,14 +102,15 @@ class GridLane(p: GridParams) extends Module {
   })
   override def desiredName = s"GridLane_${p.name}"
   val latency = 5
-  private val v1 = RegNext(io.in.valid, false.B)
-  private val v2 = RegNext(v1, false.B)
-  private val v3 = RegNext(v2, false.B)
-  private val v4 = RegNext(v3, false.B)
-  io.outValid := RegNext(v4, false.B)
+  private val chain = validChain(io.in.valid)
+  private val Seq(v1, v2, v3, v4) = (1 to 4).map(chain.at)
+  io.outValid := chain.at(latency)
 
   private val n = io.in.bits.node
   private val c = io.in.bits.child
+  // What only the last cycle reads, carried to it.
+  private def toLast[T <: Data](x: T): T = new Timed(x, 0, chain).at(4)
+  private val (err, tmin, tmax) = (toLast(n.err || !c.present), toLast(n.tmin), toLast(n.tmax))
   // The multiply is unsigned, as Yosys packs it into one DSP48E1 (a signed product, which the Verilog writes
   // with sign-extended operands, would take two). A distance d of dBits bits is biased into an unsigned
   // a = d + 2^(dBits-1) (its sign bit inverted, no logic), and the post-adder's C input takes the bias back:
@@ -128,7 +130,7 @@ class GridLane(p: GridParams) extends Module {
     // dBits holds every q' - c (GridParams.dBits): the low bits are the exact difference.
     val dLo = ((qe << p.cFracBits).zext - a.cHi)(p.dBits - 1, 0).asSInt
     val dHi = ((qx << p.cFracBits).zext - a.cLo)(p.dBits - 1, 0).asSInt
-    val en = io.in.valid
+    val en = chain.at(0)
     val in = !a.flat || (qe.zext <= a.gHi && a.gLo <= qx.zext)
     (
       (RegEnable(biased(dLo), en), RegEnable(biased(dHi), en)),
@@ -140,9 +142,6 @@ class GridLane(p: GridParams) extends Module {
       )
     )
   }
-  private val err0 = RegEnable(n.err || !c.present, io.in.valid)
-  private val tmin0 = RegEnable(n.tmin, io.in.valid)
-  private val tmax0 = RegEnable(n.tmax, io.in.valid)
   // Cycle 2: each product's operands (the lower step for a lower bound of a positive product, the upper one
   // otherwise) into registers: the DSP48E1's A, B and C registers, so that the multiply has no fabric logic in
   // its cycle (docs/fmax.md, Method: a DSP48E1 is timed as a register only when its multiply sits between
@@ -170,18 +169,12 @@ class GridLane(p: GridParams) extends Module {
       (RegEnable(loFlag || (loNeg && sat), v1), RegEnable(hiFlag || (hiPos && sat), v1), RegEnable(ok, v1))
     )
   }
-  private val err1 = RegEnable(err0, v1)
-  private val tmin1 = RegEnable(tmin0, v1)
-  private val tmax1 = RegEnable(tmax0, v1)
   // Cycle 3: the products (dBits x stepBits unsigned) and their post-adds, one DSP48E1 each, into its P register:
   // d step for a lower bound, d step + 2^f - 1 for an upper one.
   private def dsp(ops: (UInt, UInt, SInt)) = RegEnable((ops._1 * ops._2).zext + ops._3, v2)
   private val prods = s1.map { case (lo, hi, (loOut, hiOut, ok)) =>
     (dsp(lo), dsp(hi), RegEnable(loOut, v2), RegEnable(hiOut, v2), RegEnable(ok, v2))
   }
-  private val errP = RegEnable(err1, v2)
-  private val tminP = RegEnable(tmin1, v2)
-  private val tmaxP = RegEnable(tmax1, v2)
   // Cycle 4: outward to units of u, v / 2^f rounded down (an arithmetic shift of v) or up (of v + 2^f - 1, formed
   // in the DSP; the model's -((-v) >> f) is the same integer), then clamped. The clamp compares the DSP's sum
   // itself with the window's ends scaled by 2^f: the rounded value is past top iff v > top 2^f (up) or
@@ -198,16 +191,13 @@ class GridLane(p: GridParams) extends Module {
     val hi = Mux(hiOut, p.top.S(p.width.W), outward(pHi, up = true))
     (RegEnable(lo, v3), RegEnable(hi, v3), RegEnable(ok, v3))
   }
-  private val err2 = RegEnable(errP, v3)
-  private val tmin2 = RegEnable(tminP, v3)
-  private val tmax2 = RegEnable(tmaxP, v3)
   // Cycle 5: the slab test on integers. near <= far, tmin <= far and near <= tmax, with near the largest lo and
   // far the least hi, hold exactly when every lo is at most every hi and tmax, and tmin at most every hi: 15
   // compares side by side, where the max and min in front of the compares were the lane's longest path.
   private val los = s2.map(_._1)
   private val his = s2.map(_._2)
-  private val ordered = (for (lo <- los; hi <- his) yield lo <= hi) ++ los.map(_ <= tmax2) ++ his.map(tmin2 <= _)
-  private val hit = !err2 && s2.map(_._3).reduce(_ && _) && ordered.reduce(_ && _)
+  private val ordered = (for (lo <- los; hi <- his) yield lo <= hi) ++ los.map(_ <= tmax) ++ his.map(tmin <= _)
+  private val hit = !err && s2.map(_._3).reduce(_ && _) && ordered.reduce(_ && _)
   // near (the largest lo) from the three pairwise compares at once, not two compares in a row.
   private val ge01 = los(0) >= los(1)
   private val ge02 = los(0) >= los(2)
